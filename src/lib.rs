@@ -1,0 +1,17 @@
+//! envshadow: batch rendering of turntable animations of glTF scenes lit by HDR environment maps,
+//! with shadows from every light, most of them predicted from coherence instead of traced
+//! (Ben-Artzi, Ramamoorthi & Agrawala 2004).
+//!
+//! The pipeline, one module per stage:
+//! - [`scene`] loads glTF or builds the `shapes` scene; [`envmap`] loads lat-long maps;
+//!   [`lights`] reduces a map to N directional lights with O(1) cell lookup.
+//! - [`accel`] wraps the BVH; [`camera`] makes primary rays.
+//! - [`predict`] decides each (pixel, light) visibility: traced or predicted.
+//! - [`tile`] splits a frame; [`frame`] renders one tile; [`film`] assembles tiles;
+//!   [`coordinator`] schedules frames × tiles over threads and streams them to the writer.
+//! - [`output`] writes EXR/PNG/CSV/JSON atomically; [`anim`] parses animation specs.
+
+pub mod error;
+pub mod envmap;
+pub mod lights;
+pub mod scene;
