@@ -11,7 +11,19 @@
 //!   [`coordinator`] schedules frames × tiles over threads and streams them to the writer.
 //! - [`output`] writes EXR/PNG/CSV/JSON atomically; [`anim`] parses animation specs.
 
-pub mod error;
+pub mod accel;
+pub mod anim;
+pub mod bench;
+pub mod camera;
+pub mod cli;
+pub mod coordinator;
 pub mod envmap;
+pub mod error;
+pub mod film;
+pub mod frame;
 pub mod lights;
+pub mod output;
+pub mod predict;
 pub mod scene;
+pub mod stubs_tmp;
+pub mod tile;

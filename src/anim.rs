@@ -1,0 +1,719 @@
+//! Animation specs: a TOML file in `anims/` says what to render; flags may override it.
+//!
+//! ```toml
+//! [scene]
+//! builtin = "shapes"            # or: file = "../assets/bunny_on_plane.glb"
+//! [environment]
+//! builtin = "sky"               # or: file = "../assets/grace.hdr"
+//! rotation = 0.0                # degrees about +Y
+//! intensity = 1.0
+//! [lights]
+//! count = 100
+//! sampler = "sis"               # or "median-cut"
+//! [camera]
+//! target = [0.0, 0.5, 0.0]      # default: the scene's bounding-box centre
+//! distance = 7.0                # default: frames the scene's bounding sphere
+//! elevation = 25.0              # degrees above the horizon
+//! azimuth = 20.0                # degrees from +Z towards +X
+//! vfov = 40.0                   # vertical field of view, degrees
+//! # position = [x, y, z]        # instead of distance/elevation/azimuth
+//! # from_file = true            # use the glTF file's camera
+//! [motion]
+//! kind = "orbit"                # camera orbits the target; "spin": the scene turns; "none"
+//! frames = 24
+//! turn_degrees = 360.0          # the whole animation's turn; or degrees_per_frame = 3.0
+//! [render]
+//! width = 320
+//! height = 240
+//! method = "brute"
+//! exposure = 1.0                # PNG preview exposure
+//! tile = 64
+//! threads = 0                   # 0: all cores
+//! [output]
+//! dir = "out/shapes"
+//! ```
+//! Input paths are relative to the spec file's folder; the output folder is relative to the
+//! working directory. Unknown keys are errors.
+
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use glam::{Mat4, Vec3};
+use serde::Deserialize;
+
+use crate::bail_input;
+use crate::camera::Camera;
+use crate::error::{Result, input_error};
+use crate::lights::Sampler;
+use crate::predict::Method;
+use crate::scene::Scene;
+
+/// Limits checked before any work starts.
+pub mod limits {
+    /// Largest width or height.
+    pub const MAX_DIM: u32 = 16384;
+    /// Largest frame, in pixels.
+    pub const MAX_PIXELS: u64 = 64 << 20;
+    /// Most lights (visibility bitsets and per-pixel work grow with it).
+    pub const MAX_LIGHTS: usize = 4096;
+    /// Most frames in one animation.
+    pub const MAX_FRAMES: usize = 1_000_000;
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Spec {
+    #[serde(default)]
+    name: Option<String>,
+    scene: SceneSpec,
+    #[serde(default)]
+    environment: EnvSpec,
+    #[serde(default)]
+    lights: LightsSpec,
+    #[serde(default)]
+    camera: CameraSpec,
+    #[serde(default)]
+    motion: MotionSpec,
+    #[serde(default)]
+    render: RenderSpec,
+    #[serde(default)]
+    output: OutputSpec,
+}
+
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SceneSpec {
+    builtin: Option<String>,
+    file: Option<PathBuf>,
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct EnvSpec {
+    builtin: Option<String>,
+    file: Option<PathBuf>,
+    #[serde(default)]
+    rotation: f32,
+    #[serde(default = "one")]
+    intensity: f32,
+}
+
+impl Default for EnvSpec {
+    fn default() -> Self {
+        EnvSpec {
+            builtin: Some("sky".into()),
+            file: None,
+            rotation: 0.0,
+            intensity: 1.0,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LightsSpec {
+    #[serde(default = "default_lights")]
+    count: usize,
+    #[serde(default = "default_sampler")]
+    sampler: String,
+}
+
+impl Default for LightsSpec {
+    fn default() -> Self {
+        LightsSpec {
+            count: default_lights(),
+            sampler: default_sampler(),
+        }
+    }
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CameraSpec {
+    target: Option<[f32; 3]>,
+    distance: Option<f32>,
+    #[serde(default = "default_elevation")]
+    elevation: f32,
+    #[serde(default = "default_azimuth")]
+    azimuth: f32,
+    #[serde(default = "default_vfov")]
+    vfov: f32,
+    #[serde(default = "default_up")]
+    up: [f32; 3],
+    position: Option<[f32; 3]>,
+    #[serde(default)]
+    from_file: bool,
+}
+
+impl Default for CameraSpec {
+    fn default() -> Self {
+        CameraSpec {
+            target: None,
+            distance: None,
+            elevation: default_elevation(),
+            azimuth: default_azimuth(),
+            vfov: default_vfov(),
+            up: default_up(),
+            position: None,
+            from_file: false,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MotionSpec {
+    #[serde(default = "default_kind")]
+    kind: String,
+    #[serde(default = "default_frames")]
+    frames: usize,
+    degrees_per_frame: Option<f32>,
+    turn_degrees: Option<f32>,
+    pivot: Option<[f32; 3]>,
+}
+
+impl Default for MotionSpec {
+    fn default() -> Self {
+        MotionSpec {
+            kind: default_kind(),
+            frames: default_frames(),
+            degrees_per_frame: None,
+            turn_degrees: None,
+            pivot: None,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RenderSpec {
+    #[serde(default = "default_width")]
+    width: u32,
+    #[serde(default = "default_height")]
+    height: u32,
+    #[serde(default = "default_method")]
+    method: String,
+    #[serde(default = "one")]
+    exposure: f32,
+    #[serde(default = "default_tile")]
+    tile: u32,
+    #[serde(default)]
+    threads: usize,
+}
+
+impl Default for RenderSpec {
+    fn default() -> Self {
+        RenderSpec {
+            width: default_width(),
+            height: default_height(),
+            method: default_method(),
+            exposure: 1.0,
+            tile: default_tile(),
+            threads: 0,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct OutputSpec {
+    #[serde(default = "default_out")]
+    dir: PathBuf,
+}
+
+impl Default for OutputSpec {
+    fn default() -> Self {
+        OutputSpec { dir: default_out() }
+    }
+}
+
+fn one() -> f32 {
+    1.0
+}
+fn default_lights() -> usize {
+    200
+}
+fn default_sampler() -> String {
+    "sis".into()
+}
+fn default_elevation() -> f32 {
+    25.0
+}
+fn default_azimuth() -> f32 {
+    20.0
+}
+fn default_vfov() -> f32 {
+    40.0
+}
+fn default_up() -> [f32; 3] {
+    [0.0, 1.0, 0.0]
+}
+fn default_kind() -> String {
+    "orbit".into()
+}
+fn default_frames() -> usize {
+    1
+}
+fn default_width() -> u32 {
+    640
+}
+fn default_height() -> u32 {
+    480
+}
+fn default_method() -> String {
+    Method::default().name().into()
+}
+fn default_tile() -> u32 {
+    64
+}
+fn default_out() -> PathBuf {
+    PathBuf::from("out")
+}
+
+/// Where the scene comes from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SceneSource {
+    Shapes,
+    File(PathBuf),
+}
+
+/// Where the environment comes from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum EnvSource {
+    Sky,
+    File(PathBuf),
+}
+
+/// What moves from frame to frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MotionKind {
+    /// The camera circles the target about the vertical axis; scene and environment fixed.
+    Orbit,
+    /// The scene turns about a vertical axis; camera and environment fixed.
+    Spin,
+    /// Nothing moves.
+    Still,
+}
+
+/// How the camera is placed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CameraRig {
+    pub target: Option<Vec3>,
+    pub distance: Option<f32>,
+    pub elevation_deg: f32,
+    pub azimuth_deg: f32,
+    pub vfov_deg: f32,
+    pub up: Vec3,
+    pub position: Option<Vec3>,
+    pub from_file: bool,
+}
+
+/// Flags that override the spec (`None` keeps the spec's value).
+#[derive(Clone, Debug, Default)]
+pub struct Overrides {
+    pub frames: Option<FrameRange>,
+    pub lights: Option<usize>,
+    pub sampler: Option<Sampler>,
+    pub width: Option<u32>,
+    pub height: Option<u32>,
+    pub method: Option<Method>,
+    pub threads: Option<usize>,
+    pub tile: Option<u32>,
+    pub out: Option<PathBuf>,
+    pub exposure: Option<f32>,
+}
+
+/// A frame selection from `--frames`: `A..B` (B excluded), `A..=B`, or `A`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FrameRange {
+    pub start: usize,
+    pub end: usize,
+}
+
+impl std::str::FromStr for FrameRange {
+    type Err = String;
+    fn from_str(s: &str) -> std::result::Result<FrameRange, String> {
+        let num = |t: &str| {
+            t.trim()
+                .parse::<usize>()
+                .map_err(|_| format!("{t:?} is not a frame number (expected A..B, A..=B or A)"))
+        };
+        let (start, end) = if let Some((a, b)) = s.split_once("..=") {
+            (num(a)?, num(b)? + 1)
+        } else if let Some((a, b)) = s.split_once("..") {
+            (num(a)?, num(b)?)
+        } else {
+            let a = num(s)?;
+            (a, a + 1)
+        };
+        if end <= start {
+            return Err(format!("frame range {s:?} is empty"));
+        }
+        Ok(FrameRange { start, end })
+    }
+}
+
+/// A resolved animation: the spec with defaults filled in and flags applied.
+#[derive(Clone, Debug)]
+pub struct Animation {
+    /// The spec file (or `builtin` for programmatic animations).
+    pub spec_path: PathBuf,
+    pub name: String,
+    pub scene: SceneSource,
+    pub env: EnvSource,
+    pub env_rotation_deg: f32,
+    pub env_intensity: f32,
+    pub lights: usize,
+    pub sampler: Sampler,
+    pub camera: CameraRig,
+    pub motion: MotionKind,
+    pub degrees_per_frame: f32,
+    pub pivot: Option<Vec3>,
+    /// Frames in the whole animation.
+    pub frame_count: usize,
+    /// Frames this run renders.
+    pub frames: Range<usize>,
+    pub width: u32,
+    pub height: u32,
+    pub method: Method,
+    pub exposure: f32,
+    pub tile: u32,
+    pub threads: usize,
+    pub out_dir: PathBuf,
+}
+
+impl Animation {
+    /// Reads and resolves a spec file, then applies `overrides`.
+    pub fn load(path: &Path, overrides: &Overrides) -> Result<Animation> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| input_error(path, format!("cannot read animation spec: {e}")))?;
+        Animation::parse(&text, path, overrides)
+    }
+
+    /// Parses spec text; `path` names it in errors and anchors relative input paths.
+    pub fn parse(text: &str, path: &Path, overrides: &Overrides) -> Result<Animation> {
+        let spec: Spec =
+            toml::from_str(text).map_err(|e| input_error(path, one_line(&e.to_string())))?;
+        let base = path.parent().unwrap_or(Path::new("")).to_path_buf();
+        let rel = |p: &Path| {
+            if p.is_absolute() {
+                p.to_path_buf()
+            } else {
+                base.join(p)
+            }
+        };
+
+        let scene = match (&spec.scene.builtin, &spec.scene.file) {
+            (Some(b), None) if b == "shapes" => SceneSource::Shapes,
+            (Some(b), None) => bail_input!(
+                path,
+                "[scene] builtin = {b:?}: the only built-in scene is \"shapes\""
+            ),
+            (None, Some(f)) => SceneSource::File(rel(f)),
+            _ => bail_input!(path, "[scene] needs exactly one of `builtin` or `file`"),
+        };
+        let env = match (&spec.environment.builtin, &spec.environment.file) {
+            (Some(b), None) if b == "sky" => EnvSource::Sky,
+            (Some(b), None) => bail_input!(
+                path,
+                "[environment] builtin = {b:?}: the only built-in environment is \"sky\""
+            ),
+            (None, Some(f)) => EnvSource::File(rel(f)),
+            (Some(_), Some(_)) => {
+                bail_input!(path, "[environment] takes `builtin` or `file`, not both")
+            }
+            (None, None) => EnvSource::Sky,
+        };
+        let sampler = parse_sampler(&spec.lights.sampler)
+            .map_err(|m| input_error(path, format!("[lights] sampler: {m}")))?;
+        let method: Method = spec
+            .render
+            .method
+            .parse()
+            .map_err(|m| input_error(path, format!("[render] method: {m}")))?;
+        let motion = match spec.motion.kind.as_str() {
+            "orbit" => MotionKind::Orbit,
+            "spin" => MotionKind::Spin,
+            "none" => MotionKind::Still,
+            k => bail_input!(
+                path,
+                "[motion] kind = {k:?}: expected \"orbit\", \"spin\" or \"none\""
+            ),
+        };
+        let frame_count = spec.motion.frames;
+        let degrees_per_frame = match (spec.motion.degrees_per_frame, spec.motion.turn_degrees) {
+            (Some(_), Some(_)) => bail_input!(
+                path,
+                "[motion] takes `degrees_per_frame` or `turn_degrees`, not both"
+            ),
+            (Some(d), None) => d,
+            (None, Some(t)) => t / frame_count.max(1) as f32,
+            (None, None) => 360.0 / frame_count.max(1) as f32,
+        };
+        let v3 = |a: [f32; 3]| Vec3::from_array(a);
+        let camera = CameraRig {
+            target: spec.camera.target.map(v3),
+            distance: spec.camera.distance,
+            elevation_deg: spec.camera.elevation,
+            azimuth_deg: spec.camera.azimuth,
+            vfov_deg: spec.camera.vfov,
+            up: v3(spec.camera.up),
+            position: spec.camera.position.map(v3),
+            from_file: spec.camera.from_file,
+        };
+        let mut anim = Animation {
+            spec_path: path.to_path_buf(),
+            name: spec.name.clone().unwrap_or_else(|| {
+                path.file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_else(|| "animation".into())
+            }),
+            scene,
+            env,
+            env_rotation_deg: spec.environment.rotation,
+            env_intensity: spec.environment.intensity,
+            lights: spec.lights.count,
+            sampler,
+            camera,
+            motion,
+            degrees_per_frame,
+            pivot: spec.motion.pivot.map(v3),
+            frame_count,
+            frames: 0..frame_count,
+            width: spec.render.width,
+            height: spec.render.height,
+            method,
+            exposure: spec.render.exposure,
+            tile: spec.render.tile,
+            threads: spec.render.threads,
+            out_dir: spec.output.dir.clone(),
+        };
+        anim.apply(overrides, path)?;
+        Ok(anim)
+    }
+
+    /// Applies flag overrides and checks every limit.
+    pub fn apply(&mut self, o: &Overrides, path: &Path) -> Result<()> {
+        if let Some(r) = o.frames {
+            if r.end > self.frame_count {
+                bail_input!(
+                    "--frames",
+                    "{}..{} is outside the animation's {} frames (0..{})",
+                    r.start,
+                    r.end,
+                    self.frame_count,
+                    self.frame_count
+                );
+            }
+            self.frames = r.start..r.end;
+        }
+        if let Some(v) = o.lights {
+            self.lights = v;
+        }
+        if let Some(v) = o.sampler {
+            self.sampler = v;
+        }
+        if let Some(v) = o.width {
+            self.width = v;
+        }
+        if let Some(v) = o.height {
+            self.height = v;
+        }
+        if let Some(v) = o.method {
+            self.method = v;
+        }
+        if let Some(v) = o.threads {
+            self.threads = v;
+        }
+        if let Some(v) = o.tile {
+            self.tile = v;
+        }
+        if let Some(v) = &o.out {
+            self.out_dir = v.clone();
+        }
+        if let Some(v) = o.exposure {
+            self.exposure = v;
+        }
+        self.validate(path)
+    }
+
+    fn validate(&self, path: &Path) -> Result<()> {
+        use limits::*;
+        if self.width == 0 || self.height == 0 || self.width > MAX_DIM || self.height > MAX_DIM {
+            bail_input!(
+                path,
+                "resolution {}x{} is out of range: each side must be 1..={MAX_DIM}",
+                self.width,
+                self.height
+            );
+        }
+        let px = self.width as u64 * self.height as u64;
+        if px > MAX_PIXELS {
+            bail_input!(
+                path,
+                "resolution {}x{} is {px} pixels; at most {MAX_PIXELS} (about {} MB of film) are allowed",
+                self.width,
+                self.height,
+                px * 20 / 1_000_000
+            );
+        }
+        if self.lights == 0 {
+            bail_input!(
+                path,
+                "zero lights: the environment must be sampled into at least 1 light"
+            );
+        }
+        if self.lights > MAX_LIGHTS {
+            bail_input!(
+                path,
+                "{} lights requested; at most {MAX_LIGHTS} are allowed (each pixel keeps a bit per light and traces up to one ray per light)",
+                self.lights
+            );
+        }
+        if self.frame_count == 0 || self.frame_count > MAX_FRAMES {
+            bail_input!(
+                path,
+                "[motion] frames = {}: must be 1..={MAX_FRAMES}",
+                self.frame_count
+            );
+        }
+        if self.tile != 0 && self.tile < 8 {
+            bail_input!(
+                path,
+                "tile size {} is too small: use 0 (whole frame) or at least 8",
+                self.tile
+            );
+        }
+        let finite = [
+            self.env_rotation_deg,
+            self.env_intensity,
+            self.degrees_per_frame,
+            self.exposure,
+            self.camera.vfov_deg,
+            self.camera.elevation_deg,
+            self.camera.azimuth_deg,
+        ];
+        if finite.iter().any(|v| !v.is_finite()) {
+            bail_input!(path, "a number in the spec is not finite");
+        }
+        if self.env_intensity < 0.0 {
+            bail_input!(
+                path,
+                "[environment] intensity = {} must be ≥ 0",
+                self.env_intensity
+            );
+        }
+        if !(self.camera.vfov_deg > 0.0 && self.camera.vfov_deg < 179.0) {
+            bail_input!(
+                path,
+                "[camera] vfov = {} must be between 0 and 179 degrees",
+                self.camera.vfov_deg
+            );
+        }
+        if let Some(d) = self.camera.distance
+            && !(d.is_finite() && d > 0.0)
+        {
+            bail_input!(path, "[camera] distance = {d} must be positive");
+        }
+        Ok(())
+    }
+
+    /// The scene's world transform at `frame` (spin only), about the vertical axis through the
+    /// pivot (default: the camera target).
+    pub fn scene_transform(&self, frame: usize, target: Vec3) -> Option<Mat4> {
+        if self.motion != MotionKind::Spin {
+            return None;
+        }
+        let pivot = self.pivot.unwrap_or(target);
+        let angle = (self.degrees_per_frame * frame as f32).to_radians();
+        Some(
+            Mat4::from_translation(pivot)
+                * Mat4::from_rotation_y(angle)
+                * Mat4::from_translation(-pivot),
+        )
+    }
+
+    /// The camera at `frame`. `scene` is the unposed scene (bounds and file camera).
+    pub fn camera(&self, scene: &Scene, frame: usize) -> Result<Camera> {
+        let rig = &self.camera;
+        let (lo, hi) = scene.bounds();
+        let centre = (lo + hi) * 0.5;
+        let radius = ((hi - lo) * 0.5).length().max(1e-6);
+        let (mut position, target, vfov) = if rig.from_file {
+            let Some(c) = scene.camera else {
+                bail_input!(
+                    &self.spec_path,
+                    "[camera] from_file = true, but {} has no camera",
+                    scene.source
+                );
+            };
+            let dist = (centre - c.position).length().max(1e-3);
+            (c.position, c.position + c.forward * dist, c.vfov_deg)
+        } else {
+            let target = rig.target.unwrap_or(centre);
+            let position = match rig.position {
+                Some(p) => p,
+                None => {
+                    let dist = rig
+                        .distance
+                        .unwrap_or_else(|| radius / (rig.vfov_deg.to_radians() * 0.5).sin() * 1.05);
+                    let (el, az) = (rig.elevation_deg.to_radians(), rig.azimuth_deg.to_radians());
+                    target + dist * Vec3::new(el.cos() * az.sin(), el.sin(), el.cos() * az.cos())
+                }
+            };
+            (position, target, rig.vfov_deg)
+        };
+        if self.motion == MotionKind::Orbit {
+            let angle = (self.degrees_per_frame * frame as f32).to_radians();
+            position = target + Mat4::from_rotation_y(angle).transform_vector3(position - target);
+        }
+        if (position - target).length() < 1e-9 {
+            bail_input!(&self.spec_path, "[camera] position and target coincide");
+        }
+        Ok(Camera::look_at(
+            position,
+            target,
+            rig.up,
+            vfov,
+            self.width,
+            self.height,
+        ))
+    }
+}
+
+/// `sis` or `median-cut`.
+pub fn parse_sampler(s: &str) -> std::result::Result<Sampler, String> {
+    match s {
+        "sis" => Ok(Sampler::Sis),
+        "median-cut" => Ok(Sampler::MedianCut),
+        _ => Err(format!(
+            "unknown sampler {s:?}; expected \"sis\" or \"median-cut\""
+        )),
+    }
+}
+
+/// The sampler's name as specs and the CLI spell it.
+pub fn sampler_name(s: Sampler) -> &'static str {
+    match s {
+        Sampler::Sis => "sis",
+        Sampler::MedianCut => "median-cut",
+    }
+}
+
+/// toml's messages span several lines (a source excerpt); keep the first line with the
+/// position, and the explanation.
+fn one_line(msg: &str) -> String {
+    let lines: Vec<&str> = msg
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect();
+    match (lines.first(), lines.last()) {
+        (Some(first), Some(last)) if lines.len() > 1 => {
+            let last = last.trim_start_matches('|').trim();
+            format!("{first} {last}")
+        }
+        (Some(first), _) => first.to_string(),
+        _ => msg.to_string(),
+    }
+}

@@ -1,0 +1,113 @@
+//! A pinhole camera: one primary ray through each pixel centre (ALGORITHM.md §2 [ours]).
+
+use glam::Vec3;
+
+/// A perspective camera looking from `position` at `target`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    pub position: Vec3,
+    pub target: Vec3,
+    pub up: Vec3,
+    /// Vertical field of view, degrees.
+    pub vfov_deg: f32,
+    pub width: u32,
+    pub height: u32,
+    // Orthonormal frame and scale, derived once.
+    forward: Vec3,
+    right: Vec3,
+    true_up: Vec3,
+    tan_half: f32,
+    aspect: f32,
+}
+
+impl Camera {
+    /// A camera for a `width`×`height` image. `up` need not be orthogonal to the view direction,
+    /// only not parallel to it (a parallel `up` falls back to +Z, then +X).
+    pub fn look_at(
+        position: Vec3,
+        target: Vec3,
+        up: Vec3,
+        vfov_deg: f32,
+        width: u32,
+        height: u32,
+    ) -> Camera {
+        let forward = (target - position).normalize_or(Vec3::NEG_Z);
+        let mut right = forward.cross(up);
+        if right.length_squared() < 1e-12 {
+            right = forward.cross(Vec3::Z);
+            if right.length_squared() < 1e-12 {
+                right = forward.cross(Vec3::X);
+            }
+        }
+        let right = right.normalize();
+        let true_up = right.cross(forward);
+        Camera {
+            position,
+            target,
+            up,
+            vfov_deg,
+            width,
+            height,
+            forward,
+            right,
+            true_up,
+            tan_half: (vfov_deg.to_radians() * 0.5).tan(),
+            aspect: width as f32 / height.max(1) as f32,
+        }
+    }
+
+    /// Unit direction of the primary ray through the centre of pixel (x, y); y = 0 is the top row.
+    #[inline]
+    pub fn ray_dir(&self, x: u32, y: u32) -> Vec3 {
+        let sx = ((x as f32 + 0.5) / self.width as f32 * 2.0 - 1.0) * self.tan_half * self.aspect;
+        let sy = (1.0 - (y as f32 + 0.5) / self.height as f32 * 2.0) * self.tan_half;
+        (self.forward + self.right * sx + self.true_up * sy).normalize()
+    }
+
+    /// Continuous pixel coordinates (x, y) at which world point `p` appears, or `None` behind
+    /// the camera. Pixel (i, j)'s centre is at (i + 0.5, j + 0.5).
+    pub fn project(&self, p: Vec3) -> Option<(f32, f32)> {
+        let d = p - self.position;
+        let z = d.dot(self.forward);
+        if z <= 1e-9 {
+            return None;
+        }
+        let sx = d.dot(self.right) / (z * self.tan_half * self.aspect);
+        let sy = d.dot(self.true_up) / (z * self.tan_half);
+        Some((
+            (sx + 1.0) * 0.5 * self.width as f32,
+            (1.0 - sy) * 0.5 * self.height as f32,
+        ))
+    }
+
+    /// Unit view direction.
+    pub fn forward(&self) -> Vec3 {
+        self.forward
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn centre_ray_looks_at_target_and_projection_inverts_rays() {
+        let cam = Camera::look_at(Vec3::new(0.0, 1.0, 5.0), Vec3::ZERO, Vec3::Y, 40.0, 64, 48);
+        // Even size: the target lies between the four centre pixels.
+        let (x, y) = cam.project(Vec3::ZERO).unwrap();
+        assert!((x - 32.0).abs() < 1e-3 && (y - 24.0).abs() < 1e-3);
+        for (px, py) in [(0, 0), (63, 0), (10, 40), (63, 47)] {
+            let p = cam.position + cam.ray_dir(px, py) * 3.0;
+            let (x, y) = cam.project(p).unwrap();
+            assert!((x - (px as f32 + 0.5)).abs() < 1e-3, "{x} {px}");
+            assert!((y - (py as f32 + 0.5)).abs() < 1e-3, "{y} {py}");
+        }
+        // Top row looks up, left column looks left (−X from this viewpoint).
+        assert!(cam.ray_dir(32, 0).y > cam.ray_dir(32, 47).y);
+        assert!(cam.ray_dir(0, 24).x < 0.0);
+        // Vertical field of view: the top edge is at half the fov from the centre.
+        let top = (cam.forward() + cam.true_up * cam.tan_half).normalize();
+        assert!((top.angle_between(cam.forward()).to_degrees() - 20.0).abs() < 1e-3);
+        assert!(cam.project(cam.position - cam.forward()).is_none());
+    }
+}

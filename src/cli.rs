@@ -1,0 +1,349 @@
+//! The command line: argument definitions (clap) and the progress display. The library does
+//! the work; this module turns flags into library calls and library reports into output.
+
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Instant;
+
+use clap::{Args, Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+
+use crate::anim::{Animation, FrameRange, Overrides, parse_sampler};
+use crate::bench;
+use crate::coordinator::{self, Progress, RunOptions};
+use crate::envmap::EnvMap;
+use crate::error::{Result, input_error};
+use crate::lights::{LightSet, Sampler};
+use crate::output::stats::FrameStats;
+use crate::predict::Method;
+use crate::tile::Rect;
+
+const AFTER_HELP: &str = "\
+Exit codes: 0 success; 1 internal failure (a bug, or the disk); 2 bad input (a file, a flag or
+an animation spec is wrong; the message names it); 130 interrupted (complete frames are kept;
+run again with --resume).
+
+Examples:
+  envshadow render anims/shapes-turntable.toml
+  envshadow render anims/bunny-turntable.toml --frames 0..8 --lights 400 --out out/bunny
+  envshadow lights assets/grace.hdr -n 200 --json lights.json --png cells.png";
+
+/// Batch renderer for turntable animations of glTF scenes lit by HDR environment maps, with
+/// shadows from every light direction (Ben-Artzi, Ramamoorthi & Agrawala 2004).
+#[derive(Parser, Debug)]
+#[command(name = "envshadow", version, about, after_help = AFTER_HELP)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Render an animation spec (TOML) into frames, stats.csv and lights.json.
+    Render(RenderArgs),
+    /// Reduce an environment map to N directional lights; write them as JSON and a picture.
+    Lights(LightsArgs),
+    /// Measure seconds per frame and shadow rays per second (see BENCHMARKS.md).
+    Bench(bench::BenchArgs),
+}
+
+/// Flags shared by every command that renders an animation: each overrides the spec.
+#[derive(Args, Debug, Clone, Default)]
+pub struct AnimFlags {
+    /// Frames to render: A..B (B excluded), A..=B, or A. Default: all of the animation.
+    #[arg(long, value_name = "RANGE")]
+    pub frames: Option<FrameRange>,
+    /// Number of directional lights the environment is reduced to.
+    #[arg(long, value_name = "N")]
+    pub lights: Option<usize>,
+    /// Light sampler: sis (structured importance sampling) or median-cut.
+    #[arg(long, value_parser = parse_sampler)]
+    pub sampler: Option<Sampler>,
+    /// Image width in pixels.
+    #[arg(long, value_name = "W")]
+    pub width: Option<u32>,
+    /// Image height in pixels.
+    #[arg(long, value_name = "H")]
+    pub height: Option<u32>,
+    /// Shadow method: brute (trace every shadow ray) or none (no shadows).
+    #[arg(long, value_name = "METHOD")]
+    pub method: Option<Method>,
+    /// Worker threads (0: one per core).
+    #[arg(long, value_name = "N")]
+    pub threads: Option<usize>,
+    /// Tile size in pixels (0: the whole frame is one tile; otherwise at least 8).
+    #[arg(long, value_name = "N")]
+    pub tile: Option<u32>,
+    /// Output folder (default: the spec's [output] dir).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Exposure of the PNG previews (the EXR keeps linear radiance).
+    #[arg(long, value_name = "X")]
+    pub exposure: Option<f32>,
+}
+
+impl AnimFlags {
+    pub fn overrides(&self) -> Overrides {
+        Overrides {
+            frames: self.frames,
+            lights: self.lights,
+            sampler: self.sampler,
+            width: self.width,
+            height: self.height,
+            method: self.method,
+            threads: self.threads,
+            tile: self.tile,
+            out: self.out.clone(),
+            exposure: self.exposure,
+        }
+    }
+}
+
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    /// The animation spec, e.g. anims/shapes-turntable.toml.
+    pub spec: PathBuf,
+    #[command(flatten)]
+    pub flags: AnimFlags,
+    /// Skip frames whose EXR and PNG already exist in the output folder.
+    #[arg(long)]
+    pub resume: bool,
+    /// Render only the pixel rectangle x0,y0,x1,y1 (x1, y1 excluded); the rest stays black.
+    #[arg(long, value_name = "x0,y0,x1,y1", value_parser = parse_region)]
+    pub region: Option<Rect>,
+    /// No progress output.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+#[derive(Args, Debug)]
+pub struct LightsArgs {
+    /// Environment map: a lat-long .exr or .hdr file, or `builtin:sky`.
+    pub map: String,
+    /// Number of lights.
+    #[arg(short = 'n', long = "count", default_value_t = 200)]
+    pub count: usize,
+    /// Light sampler: sis or median-cut.
+    #[arg(long, value_parser = parse_sampler, default_value = "sis")]
+    pub sampler: Sampler,
+    /// Rotate the map about the up axis, degrees.
+    #[arg(long, default_value_t = 0.0)]
+    pub rotation: f32,
+    /// Scale the map's radiance.
+    #[arg(long, default_value_t = 1.0)]
+    pub intensity: f32,
+    /// Write the lights as JSON here.
+    #[arg(long, value_name = "FILE")]
+    pub json: Option<PathBuf>,
+    /// Write a picture of the cells and light positions over the map here.
+    #[arg(long, value_name = "FILE")]
+    pub png: Option<PathBuf>,
+}
+
+fn parse_region(s: &str) -> std::result::Result<Rect, String> {
+    let v: Vec<u32> = s
+        .split(',')
+        .map(|t| t.trim().parse::<u32>())
+        .collect::<std::result::Result<_, _>>()
+        .map_err(|_| format!("{s:?}: expected four pixel bounds x0,y0,x1,y1"))?;
+    match v[..] {
+        [x0, y0, x1, y1] if x1 > x0 && y1 > y0 => Ok(Rect::new(x0, y0, x1, y1)),
+        [_, _, _, _] => Err(format!(
+            "{s:?}: the region is empty (need x1 > x0 and y1 > y0)"
+        )),
+        _ => Err(format!("{s:?}: expected four pixel bounds x0,y0,x1,y1")),
+    }
+}
+
+/// Runs a parsed command line.
+pub fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Render(args) => render(args),
+        Command::Lights(args) => lights(args),
+        Command::Bench(args) => bench::run(&args),
+    }
+}
+
+fn render(args: RenderArgs) -> Result<()> {
+    let anim = Animation::load(&args.spec, &args.flags.overrides())?;
+    if let Some(r) = args.region
+        && (r.x1 > anim.width || r.y1 > anim.height)
+    {
+        return Err(input_error(
+            "--region",
+            format!(
+                "{r} reaches outside the {}x{} frame",
+                anim.width, anim.height
+            ),
+        ));
+    }
+    let opts = RunOptions {
+        resume: args.resume,
+        region: args.region,
+    };
+    let progress: Box<dyn Progress> = if args.quiet {
+        Box::new(coordinator::Silent)
+    } else {
+        Box::new(Reporter::new(std::io::stderr().is_terminal()))
+    };
+    let summary = coordinator::render_animation(&anim, &opts, progress.as_ref())?;
+    if !args.quiet {
+        eprintln!(
+            "{}: {} frames rendered, {} skipped in {:.1} s; {} shadow queries, {} rays traced ({:.2} %); output in {}",
+            anim.name,
+            summary.rendered,
+            summary.skipped,
+            summary.seconds,
+            summary.counts.queries,
+            summary.counts.rays,
+            summary.counts.percent_traced(),
+            anim.out_dir.display()
+        );
+    }
+    Ok(())
+}
+
+fn lights(args: LightsArgs) -> Result<()> {
+    let env = if args.map == "builtin:sky" {
+        EnvMap::builtin_sky()
+    } else {
+        EnvMap::load(std::path::Path::new(&args.map))?
+    };
+    let env = env
+        .with_rotation(args.rotation)
+        .with_intensity(args.intensity)?;
+    if args.count == 0 {
+        return Err(input_error("-n", "zero lights: ask for at least 1"));
+    }
+    if args.count > crate::anim::limits::MAX_LIGHTS {
+        return Err(input_error(
+            "-n",
+            format!(
+                "{} lights requested; at most {} are allowed",
+                args.count,
+                crate::anim::limits::MAX_LIGHTS
+            ),
+        ));
+    }
+    let set = LightSet::build(&env, args.count, args.sampler)?;
+    let total: f64 = set
+        .lights
+        .iter()
+        .map(|l| l.energy.element_sum() as f64)
+        .sum();
+    println!(
+        "{}: {} lights ({}), total energy {:.6} (RGB sum)",
+        env.source,
+        set.len(),
+        crate::anim::sampler_name(args.sampler),
+        total
+    );
+    if let Some(p) = &args.json {
+        set.write_json(p)?;
+        println!("wrote {}", p.display());
+    }
+    if let Some(p) = &args.png {
+        crate::stubs_tmp::picture_cells_png_tmp(&env, &set, p)?;
+        println!("wrote {}", p.display());
+    }
+    Ok(())
+}
+
+/// Progress as an indicatif bar on a terminal, plain lines (one per frame) otherwise.
+pub struct Reporter {
+    bar: Option<ProgressBar>,
+    start: Instant,
+    rays: AtomicU64,
+    frames: Mutex<(usize, usize)>,
+    tiles: AtomicU64,
+}
+
+impl Reporter {
+    pub fn new(terminal: bool) -> Reporter {
+        Reporter {
+            bar: terminal.then(ProgressBar::hidden),
+            start: Instant::now(),
+            rays: AtomicU64::new(0),
+            frames: Mutex::new((0, 0)),
+            tiles: AtomicU64::new(0),
+        }
+    }
+
+    fn rays_per_second(&self) -> f64 {
+        self.rays.load(Ordering::Relaxed) as f64 / self.start.elapsed().as_secs_f64().max(1e-9)
+    }
+}
+
+impl Progress for Reporter {
+    fn begin(&self, frames: usize, tiles: usize) {
+        *self.frames.lock().unwrap() = (0, frames);
+        if let Some(bar) = &self.bar {
+            bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+            bar.set_length((frames * tiles) as u64);
+            bar.set_style(
+                ProgressStyle::with_template(
+                    "{spinner} [{elapsed_precise}] {bar:30} {msg} tiles {pos}/{len} ETA {eta}",
+                )
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+            );
+            bar.set_message(format!("frame 0/{frames}"));
+        } else {
+            eprintln!("rendering {frames} frames of {tiles} tiles");
+        }
+    }
+
+    fn tile_done(&self, rays: u64) {
+        self.rays.fetch_add(rays, Ordering::Relaxed);
+        self.tiles.fetch_add(1, Ordering::Relaxed);
+        if let Some(bar) = &self.bar {
+            bar.inc(1);
+        }
+    }
+
+    fn frame_done(&self, s: &FrameStats) {
+        let (done, total) = {
+            let mut f = self.frames.lock().unwrap();
+            f.0 += 1;
+            *f
+        };
+        let line = format!(
+            "frame {} ({done}/{total}): {:.2} s, {:.2} % of {} queries traced, {:.1} M rays/s",
+            s.frame,
+            s.seconds,
+            s.counts.percent_traced(),
+            s.counts.queries,
+            self.rays_per_second() / 1e6
+        );
+        match &self.bar {
+            Some(bar) => {
+                bar.set_message(format!(
+                    "frame {done}/{total} {:.1} Mrays/s",
+                    self.rays_per_second() / 1e6
+                ));
+                bar.println(line);
+            }
+            None => eprintln!("{line}"),
+        }
+    }
+
+    fn frame_skipped(&self, frame: usize) {
+        self.note(&format!(
+            "frame {frame}: already rendered, skipped (--resume)"
+        ));
+    }
+
+    fn note(&self, msg: &str) {
+        match &self.bar {
+            Some(bar) => bar.println(msg),
+            None => eprintln!("{msg}"),
+        }
+    }
+
+    fn finish(&self) {
+        if let Some(bar) = &self.bar {
+            bar.finish_and_clear();
+        }
+    }
+}

@@ -1,0 +1,241 @@
+//! The coordinator: loads an animation's inputs once, renders its frames tile by tile over a
+//! worker pool, and streams finished frames over a bounded channel to one writer thread, so
+//! the next frame renders while the last one is written. Memory stays bounded: at most the
+//! frame being rendered plus the channel's two frames in flight.
+
+use std::path::Path;
+use std::time::Instant;
+
+use anyhow::Context;
+use crossbeam_channel::bounded;
+use rayon::prelude::*;
+
+use crate::accel::Accel;
+use crate::anim::{Animation, EnvSource, SceneSource};
+use crate::envmap::EnvMap;
+use crate::error::Result;
+use crate::film::Film;
+use crate::frame::{FrameContext, TileWork, render_tile};
+use crate::lights::LightSet;
+use crate::output::stats::{Counts, FrameStats, StatsFile};
+use crate::output::{self, frame_path};
+use crate::scene::Scene;
+use crate::tile::{Rect, tiles};
+
+/// Progress reports from the library; the CLI decides how to show them (a bar or log lines).
+pub trait Progress: Sync {
+    /// The run starts: `frames` to render, `tiles` per frame.
+    fn begin(&self, _frames: usize, _tiles: usize) {}
+    /// A tile finished after tracing `rays` shadow rays.
+    fn tile_done(&self, _rays: u64) {}
+    /// A frame finished rendering (it is being written).
+    fn frame_done(&self, _stats: &FrameStats) {}
+    /// A frame was skipped because its files exist (`--resume`).
+    fn frame_skipped(&self, _frame: usize) {}
+    /// A one-line note for the user.
+    fn note(&self, _msg: &str) {}
+    /// The run ended.
+    fn finish(&self) {}
+}
+
+/// Reports nothing.
+pub struct Silent;
+impl Progress for Silent {}
+
+/// An animation's inputs, loaded once per run.
+pub struct Inputs {
+    pub scene: Scene,
+    pub env: EnvMap,
+    pub lights: LightSet,
+}
+
+impl Inputs {
+    /// Loads the scene and environment and samples the lights.
+    pub fn load(anim: &Animation) -> Result<Inputs> {
+        let scene = match &anim.scene {
+            SceneSource::Shapes => Scene::shapes(),
+            SceneSource::File(p) => Scene::load(p)
+                .with_context(|| format!("while loading {}", anim.spec_path.display()))?,
+        };
+        let env = match &anim.env {
+            EnvSource::Sky => EnvMap::builtin_sky(),
+            EnvSource::File(p) => EnvMap::load(p)
+                .with_context(|| format!("while loading {}", anim.spec_path.display()))?,
+        };
+        let env = env
+            .with_rotation(anim.env_rotation_deg)
+            .with_intensity(anim.env_intensity)?;
+        let lights = LightSet::build(&env, anim.lights, anim.sampler)?;
+        Ok(Inputs { scene, env, lights })
+    }
+}
+
+/// Options of a run beyond the animation itself.
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    /// Skip frames whose EXR and PNG already exist.
+    pub resume: bool,
+    /// Render only this pixel rectangle (the rest of the frame stays black).
+    pub region: Option<Rect>,
+}
+
+/// What a run did.
+#[derive(Clone, Debug, Default)]
+pub struct RunSummary {
+    pub rendered: usize,
+    pub skipped: usize,
+    pub counts: Counts,
+    pub seconds: f64,
+}
+
+/// Renders one frame: poses the scene, builds its BVH, renders every tile on the current
+/// rayon pool and assembles the film. Tiles are added in tile order, so the film does not
+/// depend on which thread finished first.
+pub fn render_frame(
+    anim: &Animation,
+    inputs: &Inputs,
+    frame: usize,
+    region: Option<Rect>,
+    progress: &dyn Progress,
+) -> Result<(Film, FrameStats)> {
+    let start = Instant::now();
+    let camera0 = anim.camera(&inputs.scene, 0)?;
+    let posed;
+    let scene = match anim.scene_transform(frame, camera0.target) {
+        Some(m) => {
+            posed = inputs.scene.transformed(m);
+            &posed
+        }
+        None => &inputs.scene,
+    };
+    let camera = anim.camera(&inputs.scene, frame)?;
+    let accel = Accel::build(&scene.positions, &scene.triangles);
+    let predictor = anim.method.predictor();
+    let ctx = FrameContext::new(
+        scene,
+        &accel,
+        camera,
+        &inputs.lights,
+        &inputs.env,
+        predictor.as_ref(),
+    );
+    let list = tiles(anim.width, anim.height, anim.tile, region);
+    let results: Vec<_> = list
+        .par_iter()
+        .map_init(TileWork::default, |work, t| {
+            let r = render_tile(&ctx, t.rect, work);
+            progress.tile_done(r.counts.rays);
+            r
+        })
+        .collect();
+    let mut film = Film::new(anim.width, anim.height);
+    for r in &results {
+        film.add(r);
+    }
+    let stats = FrameStats {
+        frame,
+        method: anim.method.name().to_string(),
+        lights: inputs.lights.len(),
+        width: anim.width,
+        height: anim.height,
+        counts: film.counts,
+        seconds: start.elapsed().as_secs_f64(),
+        camera_position: camera.position,
+        camera_target: camera.target,
+        camera_up: camera.up,
+        vfov_deg: camera.vfov_deg,
+    };
+    Ok((film, stats))
+}
+
+/// Writes one frame's files: `frame_NNNN.exr` (beauty + AOVs) and `frame_NNNN.png`.
+pub fn write_frame_files(dir: &Path, frame: usize, film: &Film, exposure: f32) -> Result<()> {
+    output::exr::write_frame(&frame_path(dir, frame, "exr"), film, &[])?;
+    output::png::write_preview(
+        &frame_path(dir, frame, "png"),
+        film.width,
+        film.height,
+        &film.beauty,
+        exposure,
+    )
+}
+
+/// A thread pool with `threads` workers (0: one per core).
+pub fn thread_pool(threads: usize) -> Result<rayon::ThreadPool> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .thread_name(|i| format!("envshadow-worker-{i}"))
+        .build()
+        .context("starting the worker threads")
+}
+
+/// Renders the animation's selected frames into its output folder.
+pub fn render_animation(
+    anim: &Animation,
+    opts: &RunOptions,
+    progress: &dyn Progress,
+) -> Result<RunSummary> {
+    let start = Instant::now();
+    let dir = &anim.out_dir;
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("creating output folder {}", dir.display()))?;
+    let inputs = Inputs::load(anim)?;
+    inputs.lights.write_json(&dir.join("lights.json"))?;
+
+    let todo: Vec<usize> = anim
+        .frames
+        .clone()
+        .filter(|&f| {
+            let done = opts.resume
+                && frame_path(dir, f, "exr").exists()
+                && frame_path(dir, f, "png").exists();
+            if done {
+                progress.frame_skipped(f);
+            }
+            !done
+        })
+        .collect();
+    let mut summary = RunSummary {
+        skipped: anim.frames.len() - todo.len(),
+        ..Default::default()
+    };
+    let tiles_per_frame = tiles(anim.width, anim.height, anim.tile, opts.region).len();
+    progress.begin(todo.len(), tiles_per_frame);
+    let pool = thread_pool(anim.threads)?;
+    let stats_path = dir.join("stats.csv");
+    let mut stats_file = StatsFile::open(&stats_path);
+
+    let (tx, rx) = bounded::<(Film, FrameStats)>(2);
+    let result: Result<()> = std::thread::scope(|s| {
+        let writer = s.spawn(|| -> Result<()> {
+            for (film, stats) in rx {
+                write_frame_files(dir, stats.frame, &film, anim.exposure)?;
+                stats_file.set(&stats);
+                stats_file.write(&stats_path)?;
+            }
+            Ok(())
+        });
+        let rendering = (|| -> Result<()> {
+            for &f in &todo {
+                let (film, stats) =
+                    pool.install(|| render_frame(anim, &inputs, f, opts.region, progress))?;
+                progress.frame_done(&stats);
+                summary.counts += stats.counts;
+                summary.rendered += 1;
+                if tx.send((film, stats)).is_err() {
+                    break; // the writer failed; its error is reported below
+                }
+            }
+            Ok(())
+        })();
+        drop(tx);
+        let written = writer
+            .join()
+            .map_err(|_| anyhow::anyhow!("the writer thread panicked"))?;
+        rendering.and(written)
+    });
+    result?;
+    summary.seconds = start.elapsed().as_secs_f64();
+    progress.finish();
+    Ok(summary)
+}

@@ -1,0 +1,50 @@
+//! Writing results: EXR frames with AOV layers, PNG previews, `stats.csv`, all published
+//! atomically (written under a temporary name in the same folder, then renamed), so a reader
+//! or a crash never sees half a file.
+
+pub mod exr;
+pub mod png;
+pub mod stats;
+
+use std::fs;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use anyhow::Context;
+
+use crate::error::Result;
+
+/// The temporary name a file is written under before it is renamed into place.
+pub fn temp_path(path: &Path) -> PathBuf {
+    let mut name = path.file_name().unwrap_or_default().to_os_string();
+    name.push(format!(".{}.tmp", std::process::id()));
+    path.with_file_name(name)
+}
+
+/// Writes a file atomically with `write`, which receives the temporary path.
+pub fn write_atomic_with(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    let tmp = temp_path(path);
+    if let Err(e) = write(&tmp) {
+        let _ = fs::remove_file(&tmp);
+        return Err(e.context(format!("writing {}", path.display())));
+    }
+    fs::rename(&tmp, path).with_context(|| {
+        let _ = fs::remove_file(&tmp);
+        format!("publishing {}", path.display())
+    })
+}
+
+/// Writes `bytes` to `path` atomically.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    write_atomic_with(path, |tmp| {
+        let mut f = fs::File::create(tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        Ok(())
+    })
+}
+
+/// `DIR/frame_0042.ext`.
+pub fn frame_path(dir: &Path, frame: usize, ext: &str) -> PathBuf {
+    dir.join(format!("frame_{frame:04}.{ext}"))
+}

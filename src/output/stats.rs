@@ -1,0 +1,139 @@
+//! Ray-savings statistics: counts per tile and frame, and `stats.csv` (one row per frame).
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::ops::AddAssign;
+use std::path::Path;
+
+use glam::Vec3;
+
+use crate::error::Result;
+
+/// Work counted while deciding visibility.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Counts {
+    /// Shadow queries: (pixel, light) pairs with N·ω > 0 [paper].
+    pub queries: u64,
+    /// Shadow rays traced for the tile's own pixels.
+    pub rays: u64,
+}
+
+impl AddAssign for Counts {
+    fn add_assign(&mut self, o: Counts) {
+        self.queries += o.queries;
+        self.rays += o.rays;
+    }
+}
+
+impl Counts {
+    /// Rays traced as a percentage of queries (100 when there were no queries).
+    pub fn percent_traced(&self) -> f64 {
+        if self.queries == 0 {
+            100.0
+        } else {
+            100.0 * self.rays as f64 / self.queries as f64
+        }
+    }
+}
+
+/// One frame's row of `stats.csv`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameStats {
+    pub frame: usize,
+    pub method: String,
+    pub lights: usize,
+    pub width: u32,
+    pub height: u32,
+    pub counts: Counts,
+    /// Wall-clock seconds to render the frame (scene setup, BVH, tiles; not file writing).
+    pub seconds: f64,
+    pub camera_position: Vec3,
+    pub camera_target: Vec3,
+    pub camera_up: Vec3,
+    pub vfov_deg: f32,
+}
+
+/// The header of `stats.csv`.
+pub const HEADER: &str = "frame,method,lights,width,height,queries,rays_traced,percent_traced,seconds,\
+camera_x,camera_y,camera_z,target_x,target_y,target_z,up_x,up_y,up_z,vfov_deg";
+
+impl FrameStats {
+    /// The CSV row (no newline), columns as in [`HEADER`].
+    pub fn csv_row(&self) -> String {
+        let mut s = String::new();
+        let (p, t, u) = (self.camera_position, self.camera_target, self.camera_up);
+        let _ = write!(
+            s,
+            "{},{},{},{},{},{},{},{:.4},{:.4},{},{},{},{},{},{},{},{},{},{}",
+            self.frame,
+            self.method,
+            self.lights,
+            self.width,
+            self.height,
+            self.counts.queries,
+            self.counts.rays,
+            self.counts.percent_traced(),
+            self.seconds,
+            p.x,
+            p.y,
+            p.z,
+            t.x,
+            t.y,
+            t.z,
+            u.x,
+            u.y,
+            u.z,
+            self.vfov_deg
+        );
+        s
+    }
+}
+
+/// `stats.csv` in an output folder: rows keyed by frame, so a partial or resumed run replaces
+/// the rows of the frames it rendered and keeps the others.
+pub struct StatsFile {
+    rows: BTreeMap<usize, String>,
+}
+
+impl StatsFile {
+    /// Reads the rows already in `path` (none if it does not exist or has another header:
+    /// rows with other columns are not ours to keep).
+    pub fn open(path: &Path) -> StatsFile {
+        let mut rows = BTreeMap::new();
+        if let Ok(text) = std::fs::read_to_string(path) {
+            let mut lines = text.lines();
+            if lines.next() == Some(HEADER) {
+                for line in lines {
+                    if let Some(frame) = line.split(',').next().and_then(|f| f.parse().ok()) {
+                        rows.insert(frame, line.to_string());
+                    }
+                }
+            }
+        }
+        StatsFile { rows }
+    }
+
+    pub fn set(&mut self, stats: &FrameStats) {
+        self.rows.insert(stats.frame, stats.csv_row());
+    }
+
+    pub fn len(&self) -> usize {
+        self.rows.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.rows.is_empty()
+    }
+
+    /// Writes all rows, sorted by frame, atomically.
+    pub fn write(&self, path: &Path) -> Result<()> {
+        let mut text = String::with_capacity(64 * (self.rows.len() + 1));
+        text.push_str(HEADER);
+        text.push('\n');
+        for row in self.rows.values() {
+            text.push_str(row);
+            text.push('\n');
+        }
+        super::write_atomic(path, text.as_bytes())
+    }
+}
