@@ -177,9 +177,10 @@ pub fn render_animation(
 ) -> Result<RunSummary> {
     let start = Instant::now();
     let dir = &anim.out_dir;
+    // Inputs first: a bad input leaves nothing behind, not even an empty folder.
+    let inputs = Inputs::load(anim)?;
     std::fs::create_dir_all(dir)
         .with_context(|| format!("creating output folder {}", dir.display()))?;
-    let inputs = Inputs::load(anim)?;
     inputs.lights.write_json(&dir.join("lights.json"))?;
 
     let todo: Vec<usize> = anim

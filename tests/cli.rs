@@ -1,0 +1,254 @@
+//! The binary end to end: a small render, its files, determinism, resume, and bad inputs.
+
+mod common;
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use envshadow::output::exr::read_frame;
+
+fn shapes_spec(dir: &Path, extra: &str) -> PathBuf {
+    let spec = dir.join("anim.toml");
+    fs::write(
+        &spec,
+        format!(
+            "[scene]\nbuiltin = \"shapes\"\n[lights]\ncount = 30\n[motion]\nframes = 3\n\
+             [render]\nwidth = 64\nheight = 48\ntile = 16\n[output]\ndir = \"{}\"\n{extra}",
+            dir.join("out").display()
+        ),
+    )
+    .unwrap();
+    spec
+}
+
+fn frame_files(dir: &Path) -> Vec<String> {
+    let Ok(rd) = fs::read_dir(dir) else {
+        return Vec::new();
+    };
+    let mut v: Vec<String> = rd
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with("frame_") || n.ends_with(".tmp"))
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn render_writes_frames_stats_and_lights_deterministically() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = shapes_spec(tmp.path(), "");
+    let out = tmp.path().join("out");
+    let run = |extra: &[&str]| {
+        let o = common::bin()
+            .arg("render")
+            .arg(&spec)
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stderr).into_owned()
+    };
+    run(&["--frames", "0..2"]);
+    assert_eq!(
+        frame_files(&out),
+        ["frame_0000.exr", "frame_0000.png", "frame_0001.exr", "frame_0001.png"]
+    );
+    let exr = read_frame(&out.join("frame_0001.exr")).unwrap();
+    assert_eq!((exr.width, exr.height), (64, 48));
+    for ch in ["R", "G", "B", "rays", "visible"] {
+        assert!(exr.channel(ch).is_some(), "channel {ch} missing");
+    }
+    let rays: f32 = exr.channel("rays").unwrap().iter().sum();
+    assert!(rays > 0.0);
+    let png = image::open(out.join("frame_0000.png")).unwrap();
+    assert_eq!((png.width(), png.height()), (64, 48));
+
+    let stats = fs::read_to_string(out.join("stats.csv")).unwrap();
+    let lines: Vec<&str> = stats.lines().collect();
+    assert_eq!(lines.len(), 3, "{stats}");
+    assert!(lines[0].starts_with("frame,method,lights,width,height,queries,rays_traced,percent_traced,seconds,camera_x"));
+    let row: Vec<&str> = lines[1].split(',').collect();
+    assert_eq!(&row[..5], ["0", "brute", "30", "64", "48"]);
+    assert_eq!(row[5], row[6], "brute traces every query");
+    assert_eq!(row[7], "100.0000");
+
+    let lights: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(out.join("lights.json")).unwrap()).unwrap();
+    assert_eq!(lights["lights"].as_array().unwrap().len(), 30);
+
+    // Same inputs, other thread count and tile size: identical files.
+    let first = fs::read(out.join("frame_0001.exr")).unwrap();
+    let first_png = fs::read(out.join("frame_0001.png")).unwrap();
+    run(&["--frames", "1", "--threads", "1", "--tile", "0"]);
+    assert_eq!(first, fs::read(out.join("frame_0001.exr")).unwrap());
+    assert_eq!(first_png, fs::read(out.join("frame_0001.png")).unwrap());
+
+    // Resume renders only the missing frame and keeps the other rows.
+    let log = run(&["--resume"]);
+    assert!(log.contains("frame 0: already rendered"), "{log}");
+    assert!(log.contains("1 frames rendered, 2 skipped"), "{log}");
+    assert_eq!(frame_files(&out).len(), 6);
+    let stats = fs::read_to_string(out.join("stats.csv")).unwrap();
+    assert_eq!(stats.lines().count(), 4);
+}
+
+#[test]
+fn lights_command_writes_json_and_picture() {
+    let tmp = tempfile::tempdir().unwrap();
+    let json = tmp.path().join("lights.json");
+    let png = tmp.path().join("cells.png");
+    let o = common::bin()
+        .args(["lights"])
+        .arg(common::asset("grace.hdr"))
+        .args(["-n", "50", "--json"])
+        .arg(&json)
+        .arg("--png")
+        .arg(&png)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_str(&fs::read_to_string(&json).unwrap()).unwrap();
+    let lights = v["lights"].as_array().unwrap();
+    assert_eq!(lights.len(), 50);
+    for l in lights {
+        assert_eq!(l["direction"].as_array().unwrap().len(), 3);
+        assert!(l["solid_angle"].as_f64().unwrap() > 0.0);
+    }
+    let img = image::open(&png).unwrap();
+    assert!(img.width() >= 256);
+}
+
+/// Runs `envshadow ARGS` expecting a bad-input failure: exit code 2, one line on stderr that
+/// contains every `needle`, no panic, and no frame left in `out`.
+fn expect_bad_input(args: &[&std::ffi::OsStr], needles: &[&str], out: &Path) {
+    let o = common::bin().args(args).output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "args {args:?}: stderr {err}");
+    assert!(!err.contains("panicked"), "{err}");
+    let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
+    assert_eq!(lines.len(), 1, "one line expected: {err}");
+    for n in needles {
+        assert!(
+            err.to_lowercase().contains(&n.to_lowercase()),
+            "{n:?} not in {err}"
+        );
+    }
+    assert!(frame_files(out).is_empty(), "{:?}", frame_files(out));
+}
+
+#[test]
+fn bad_inputs_fail_with_one_clear_line_and_no_output() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let out = dir.join("out");
+    let os = |s: &str| std::ffi::OsString::from(s);
+    let render = |spec: &Path, extra: &[&str]| {
+        let mut v = vec![os("render"), spec.as_os_str().to_owned()];
+        v.extend(extra.iter().map(|s| os(s)));
+        v
+    };
+    let check = |args: Vec<std::ffi::OsString>, needles: &[&str]| {
+        let refs: Vec<&std::ffi::OsStr> = args.iter().map(|a| a.as_os_str()).collect();
+        expect_bad_input(&refs, needles, &out);
+    };
+
+    // The spec itself.
+    check(render(&dir.join("nope.toml"), &[]), &["nope.toml", "cannot read"]);
+    let write_spec = |name: &str, text: &str| {
+        let p = dir.join(name);
+        fs::write(&p, text).unwrap();
+        p
+    };
+    let base = format!("[output]\ndir = \"{}\"\n", out.display());
+    let p = write_spec("syntax.toml", &format!("{base}[scene\nbuiltin = 1\n"));
+    check(render(&p, &[]), &["syntax.toml", "line"]);
+    let p = write_spec(
+        "unknown.toml",
+        &format!("{base}[scene]\nbuiltin = \"shapes\"\n[render]\nwidht = 10\n"),
+    );
+    check(render(&p, &[]), &["unknown.toml", "widht"]);
+    let p = write_spec(
+        "type.toml",
+        &format!("{base}[scene]\nbuiltin = \"shapes\"\n[render]\nwidth = \"wide\"\n"),
+    );
+    check(render(&p, &[]), &["type.toml", "width"]);
+    let p = write_spec(
+        "zero.toml",
+        &format!("{base}[scene]\nbuiltin = \"shapes\"\n[lights]\ncount = 0\n"),
+    );
+    check(render(&p, &[]), &["zero.toml", "zero lights"]);
+    let good = write_spec("good.toml", &format!("{base}[scene]\nbuiltin = \"shapes\"\n"));
+    check(render(&good, &["--lights", "0"]), &["zero lights"]);
+    check(
+        render(&good, &["--width", "100000", "--height", "100000"]),
+        &["good.toml", "100000x100000"],
+    );
+    check(render(&good, &["--lights", "1000000"]), &["1000000 lights"]);
+    check(render(&good, &["--method", "magic"]), &["magic"]);
+    check(render(&good, &["--frames", "5..9"]), &["--frames", "outside"]);
+
+    // Scene files.
+    let scene_spec = |name: &str, file: &Path| {
+        write_spec(
+            name,
+            &format!("{base}[scene]\nfile = \"{}\"\n[render]\nwidth = 16\nheight = 16\n", file.display()),
+        )
+    };
+    check(
+        render(&scene_spec("s1.toml", &dir.join("missing.glb")), &[]),
+        &["missing.glb"],
+    );
+    let bad_json = dir.join("broken.gltf");
+    fs::write(&bad_json, "{ \"asset\": { \"version\": \"2.0\" }, \"meshes\": [ {").unwrap();
+    check(render(&scene_spec("s2.toml", &bad_json), &[]), &["broken.gltf"]);
+    let glb = fs::read(common::asset("bunny_res4.glb")).unwrap();
+    let truncated = dir.join("truncated.glb");
+    fs::write(&truncated, &glb[..glb.len() / 2]).unwrap();
+    check(render(&scene_spec("s3.toml", &truncated), &[]), &["truncated.glb"]);
+
+    // Environment maps.
+    let env_spec = |name: &str, file: &Path| {
+        write_spec(
+            name,
+            &format!(
+                "{base}[scene]\nbuiltin = \"shapes\"\n[environment]\nfile = \"{}\"\n[render]\nwidth = 16\nheight = 16\n",
+                file.display()
+            ),
+        )
+    };
+    let garbage = dir.join("garbage.exr");
+    fs::write(&garbage, b"this is not an exr file at all").unwrap();
+    check(render(&env_spec("e1.toml", &garbage), &[]), &["garbage.exr"]);
+    let hdr = dir.join("badheader.hdr");
+    fs::write(&hdr, b"#?NOTRADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 2\n").unwrap();
+    check(render(&env_spec("e2.toml", &hdr), &[]), &["badheader.hdr"]);
+    for (name, value, what) in [("nan.exr", f32::NAN, "nan"), ("neg.exr", -1.0, "negative")] {
+        let path = dir.join(name);
+        write_float_exr(&path, 8, 4, |x, y| if (x, y) == (3, 2) { value } else { 1.0 });
+        check(render(&env_spec("e3.toml", &path), &[]), &[name, what]);
+    }
+    check(
+        render(&env_spec("e4.toml", &dir.join("nothere.hdr")), &[]),
+        &["nothere.hdr"],
+    );
+    let lights_out = dir.join("l.json");
+    let o = common::bin()
+        .arg("lights")
+        .arg(&garbage)
+        .arg("--json")
+        .arg(&lights_out)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(!lights_out.exists());
+}
+
+fn write_float_exr(path: &Path, w: usize, h: usize, f: impl Fn(usize, usize) -> f32) {
+    use exr::prelude::*;
+    let layer = SpecificChannels::rgb(|Vec2(x, y)| (f(x, y), 1.0f32, 1.0f32));
+    Image::from_channels((w, h), layer)
+        .write()
+        .to_file(path)
+        .unwrap();
+}
