@@ -229,7 +229,11 @@ if [[ "$MODE" == "copy" ]]; then
     n_done=$((n_done + 1))
   done
 else
-  echo "fetch-assets: shared folder $SOURCE not found (or --download given);"
+  if [[ -d "$SOURCE" ]]; then
+    echo "fetch-assets: --download given; ignoring shared folder $SOURCE"
+  else
+    echo "fetch-assets: shared folder $SOURCE not found"
+  fi
   echo "fetch-assets: downloading from pinned public origins into $DEST"
   command -v curl >/dev/null 2>&1 || die "curl is needed to download the assets"
   for entry in "${MANIFEST[@]}"; do
