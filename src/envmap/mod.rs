@@ -193,6 +193,19 @@ impl EnvMap {
         self.rotation_deg.to_radians().sin_cos()
     }
 
+    /// A direction in the map's own frame turned into world space (the rotation applied).
+    #[inline]
+    pub fn to_world(&self, map_dir: Vec3) -> Vec3 {
+        rotate_y(map_dir, self.rot())
+    }
+
+    /// A world direction turned into the map's own frame (the rotation undone).
+    #[inline]
+    pub fn to_map(&self, world_dir: Vec3) -> Vec3 {
+        let (s, c) = self.rot();
+        rotate_y(world_dir, (-s, c))
+    }
+
     /// World direction (rotation applied) of the centre of texel (x, y).
     pub fn texel_dir(&self, x: usize, y: usize) -> Vec3 {
         let uv = Vec2::new(
@@ -224,8 +237,7 @@ impl EnvMap {
     /// Radiance seen looking along unit direction `dir` (rotation applied): bilinear between
     /// texel centres, wrapping in longitude and clamping at the poles.
     pub fn radiance(&self, dir: Vec3) -> Vec3 {
-        let (s, c) = self.rot();
-        let uv = dir_to_uv(rotate_y(dir, (-s, c)));
+        let uv = dir_to_uv(self.to_map(dir));
         let fx = uv.x * self.width as f32 - 0.5;
         let fy = uv.y * self.height as f32 - 0.5;
         let x0f = fx.floor();
