@@ -296,10 +296,8 @@ impl LightSet {
                 has[a as usize] = true;
                 has[b as usize] = true;
             }
-            for j in 0..n {
-                if !has[j] {
-                    add(j as u32, self.nearest_other(j), &mut pairs);
-                }
+            for (j, _) in has.iter().enumerate().filter(|(_, h)| !**h) {
+                add(j as u32, self.nearest_other(j), &mut pairs);
             }
             pairs.sort_unstable();
             pairs.dedup();
