@@ -231,7 +231,10 @@ impl LightSet {
     /// Cell adjacency by sampling [ours]: a fine lat-long grid over the whole sphere (wrapping
     /// in longitude) plus, around each light, a small gnomonic grid scaled to its nearest
     /// neighbour's distance, so tiny cells (a cluster of lights on a sun) are resolved too.
-    /// Two samples next to each other in different cells make their lights neighbours.
+    /// Two samples next to each other in different cells make their lights candidate neighbours;
+    /// each candidate pair is then checked exactly ([`LightSet::share_border`]), which drops the
+    /// pairs that sampling finds across a Voronoi vertex (the mean degree is then 6 − 12/N, as
+    /// Euler's formula wants for a spherical Voronoi diagram).
     /// A light whose neighbours were all missed gets its nearest other light.
     fn build_adjacency(&mut self) {
         let n = self.dirs.len();
@@ -291,6 +294,9 @@ impl LightSet {
             }
             pairs.sort_unstable();
             pairs.dedup();
+            // Sampling can pair two cells that only come close near a Voronoi vertex; keep
+            // only the pairs whose shared border really exists.
+            pairs.retain(|&(a, b)| self.share_border(a as usize, b as usize));
             let mut has = vec![false; n];
             for &(a, b) in &pairs {
                 has[a as usize] = true;
@@ -324,6 +330,46 @@ impl LightSet {
         }
         self.adj_offsets = offsets;
         self.adj_ids = ids;
+    }
+
+    /// Whether the cells of lights `a` and `b` share a border of positive length: some arc of
+    /// their bisector great circle has no other light nearer. Every other light c cuts the
+    /// circle to the half where (ω_a − ω_c)·p ≥ 0; the intersection of these half-circles is one
+    /// arc (or empty). Coincident lights count as sharing a border.
+    fn share_border(&self, a: usize, b: usize) -> bool {
+        use std::f64::consts::{FRAC_PI_2, PI, TAU};
+        let v = |d: Vec3| glam::DVec3::new(d.x as f64, d.y as f64, d.z as f64);
+        let (da, db) = (v(self.dirs[a]), v(self.dirs[b]));
+        let Some(m) = (da - db).try_normalize() else {
+            return true;
+        };
+        let (e1, e2) = m.any_orthonormal_pair();
+        let mut arc: Option<(f64, f64)> = None;
+        for (c, &dc) in self.dirs.iter().enumerate() {
+            if c == a || c == b {
+                continue;
+            }
+            let g = da - v(dc);
+            let (x, y) = (g.dot(e1), g.dot(e2));
+            if x.hypot(y) < 1e-12 {
+                continue;
+            }
+            let phi = y.atan2(x);
+            arc = Some(match arc {
+                None => (phi - FRAC_PI_2, phi + FRAC_PI_2),
+                Some((lo, hi)) => {
+                    let mid = 0.5 * (lo + hi);
+                    let phi = phi + TAU * ((mid - phi) / TAU).round();
+                    let (lo, hi) = (lo.max(phi - FRAC_PI_2), hi.min(phi + FRAC_PI_2));
+                    if hi - lo <= 1e-7 {
+                        return false;
+                    }
+                    debug_assert!(hi - lo <= PI + 1e-9);
+                    (lo, hi)
+                }
+            });
+        }
+        true
     }
 
     /// The light nearest to light `j` other than itself (ties to the lower index).
