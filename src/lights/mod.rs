@@ -1,11 +1,27 @@
 //! Directional lights from an environment map (ALGORITHM.md §1).
 //!
-//! STUB: filled in by the lights helper.
+//! A sampler ([`sis`] or [`median_cut`]) only places the N light directions. Everything else is
+//! shared [ours]: the spherical Voronoi cell of light j is the set of directions closer to ω_j
+//! than to any other light; every texel goes to `cell_of(texel direction)`, and light j gets
+//! E_j = Σ L·Δω and solid_angle_j = Σ Δω over its texels. So ΣE_j is the map's integral exactly
+//! (up to rounding), whatever the sampler did. The same `cell_of` answers the renderer's
+//! "which light is this direction in" queries, and cells that share a border are neighbours.
+
+mod json;
+mod lookup;
+pub mod median_cut;
+pub mod picture;
+pub mod sis;
 
 use glam::Vec3;
+use std::path::Path;
 
+use crate::bail_input;
 use crate::envmap::EnvMap;
 use crate::error::Result;
+use lookup::CellTable;
+
+pub use json::read_json;
 
 /// One directional light: the spherical Voronoi cell of `dir` with the map's radiance integrated over it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -28,33 +44,369 @@ pub enum Sampler {
     MedianCut,
 }
 
+impl Sampler {
+    /// The name used on the command line and in the lights JSON: `sis` or `median-cut`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Sampler::Sis => "sis",
+            Sampler::MedianCut => "median-cut",
+        }
+    }
+}
+
+impl std::str::FromStr for Sampler {
+    type Err = String;
+    fn from_str(s: &str) -> std::result::Result<Sampler, String> {
+        match s {
+            "sis" => Ok(Sampler::Sis),
+            "median-cut" | "mediancut" | "median_cut" => Ok(Sampler::MedianCut),
+            _ => Err(format!(
+                "unknown light sampler '{s}' (expected sis or median-cut)"
+            )),
+        }
+    }
+}
+
+/// What the lights were sampled from, for the JSON and for logs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnvSummary {
+    pub source: String,
+    pub rotation_deg: f32,
+    pub intensity: f32,
+    pub width: usize,
+    pub height: usize,
+    /// ∫ L dω of the map, RGB.
+    pub integral: [f64; 3],
+}
+
+impl EnvSummary {
+    pub fn of(env: &EnvMap) -> EnvSummary {
+        EnvSummary {
+            source: env.source.clone(),
+            rotation_deg: env.rotation_deg,
+            intensity: env.intensity,
+            width: env.width,
+            height: env.height,
+            integral: env.integral(),
+        }
+    }
+}
+
 /// N directional lights, their cells, an O(1) `cell_of` lookup and the cells' adjacency.
 #[derive(Clone, Debug)]
 pub struct LightSet {
     pub lights: Vec<Light>,
+    /// The sampler that placed the lights; `None` for hand-placed ones ([`LightSet::from_lights`]).
+    pub sampler: Option<Sampler>,
+    /// The map they came from; `None` for hand-placed lights.
+    pub environment: Option<EnvSummary>,
+    /// Unit directions, a copy of `lights[j].dir` packed for the lookup.
+    dirs: Vec<Vec3>,
+    table: CellTable,
+    /// CSR adjacency: `adj_ids[adj_offsets[j]..adj_offsets[j + 1]]`, ascending.
+    adj_offsets: Vec<u32>,
+    adj_ids: Vec<u32>,
 }
 
 impl LightSet {
     /// Samples `n` lights from `env` with `sampler`. Deterministic. `n == 0` is an error.
-    pub fn build(_env: &EnvMap, _n: usize, _sampler: Sampler) -> Result<LightSet> {
-        unimplemented!()
+    pub fn build(env: &EnvMap, n: usize, sampler: Sampler) -> Result<LightSet> {
+        if n == 0 {
+            bail_input!("lights", "the number of lights must be at least 1, got 0");
+        }
+        let dirs = match sampler {
+            Sampler::Sis => sis::directions(env, n, sis::Thresholds::default()),
+            Sampler::MedianCut => median_cut::directions(env, n),
+        };
+        debug_assert_eq!(dirs.len(), n);
+        let lights = dirs
+            .iter()
+            .map(|&d| Light {
+                dir: d.normalize(),
+                energy: Vec3::ZERO,
+                solid_angle: 0.0,
+            })
+            .collect();
+        let mut set = LightSet::from_lights(lights);
+        set.sampler = Some(sampler);
+        set.environment = Some(EnvSummary::of(env));
+        set.integrate(env);
+        Ok(set)
     }
+
     /// Builds the set from given lights (directions normalised), e.g. one light for a test.
-    pub fn from_lights(_lights: Vec<Light>) -> LightSet {
-        unimplemented!()
+    /// Energies and solid angles are kept as given. An empty list gives an empty set whose
+    /// `cell_of` must not be called.
+    pub fn from_lights(mut lights: Vec<Light>) -> LightSet {
+        for l in &mut lights {
+            // Already-unit directions are kept bit for bit, so a JSON round trip is exact.
+            if (l.dir.length_squared() - 1.0).abs() > 1e-6 {
+                l.dir = l.dir.normalize_or(Vec3::Y);
+            }
+        }
+        let dirs: Vec<Vec3> = lights.iter().map(|l| l.dir).collect();
+        let mut set = LightSet {
+            lights,
+            sampler: None,
+            environment: None,
+            table: if dirs.is_empty() {
+                CellTable::default()
+            } else {
+                CellTable::build(&dirs)
+            },
+            dirs,
+            adj_offsets: Vec::new(),
+            adj_ids: Vec::new(),
+        };
+        set.build_adjacency();
+        set
     }
+
     pub fn len(&self) -> usize {
         self.lights.len()
     }
     pub fn is_empty(&self) -> bool {
         self.lights.is_empty()
     }
+
     /// The light whose cell contains unit direction `dir` (nearest light; ties to the lower index).
-    pub fn cell_of(&self, _dir: Vec3) -> u32 {
-        unimplemented!()
+    /// O(1): a cube-map texel lookup and an exact argmax over its few candidates.
+    #[inline]
+    pub fn cell_of(&self, dir: Vec3) -> u32 {
+        self.table.nearest(&self.dirs, dir)
     }
-    /// Lights whose cells share a border with light `j`'s cell (symmetric).
-    pub fn neighbors(&self, _j: usize) -> &[u32] {
-        unimplemented!()
+
+    /// The nearest light by brute force over all lights (same rule as [`LightSet::cell_of`]);
+    /// for tests and checks.
+    pub fn cell_of_brute_force(&self, dir: Vec3) -> u32 {
+        let mut best = 0u32;
+        let mut best_dot = f32::NEG_INFINITY;
+        for (k, d) in self.dirs.iter().enumerate() {
+            let dd = d.dot(dir);
+            if dd > best_dot {
+                best_dot = dd;
+                best = k as u32;
+            }
+        }
+        best
+    }
+
+    /// Lights whose cells share a border with light `j`'s cell (symmetric, ascending).
+    pub fn neighbors(&self, j: usize) -> &[u32] {
+        &self.adj_ids[self.adj_offsets[j] as usize..self.adj_offsets[j + 1] as usize]
+    }
+
+    /// Mean number of `cell_of` candidates per lookup-table texel.
+    pub fn mean_lookup_candidates(&self) -> f64 {
+        self.table.mean_candidates()
+    }
+
+    /// Sets every light's energy and solid angle from its Voronoi cell: the texels whose
+    /// directions it is nearest to [ours]. f64 sums, so ΣE_j matches `env.integral()`.
+    fn integrate(&mut self, env: &EnvMap) {
+        let n = self.lights.len();
+        let mut energy = vec![[0.0f64; 3]; n];
+        let mut solid = vec![0.0f64; n];
+        for y in 0..env.height {
+            let dw = env.texel_solid_angle_f64(y);
+            for x in 0..env.width {
+                let j = self.cell_of(env.texel_dir(x, y)) as usize;
+                let t = env.texel(x, y);
+                energy[j][0] += t.x as f64 * dw;
+                energy[j][1] += t.y as f64 * dw;
+                energy[j][2] += t.z as f64 * dw;
+                solid[j] += dw;
+            }
+        }
+        for (j, l) in self.lights.iter_mut().enumerate() {
+            l.energy = Vec3::new(
+                energy[j][0] as f32,
+                energy[j][1] as f32,
+                energy[j][2] as f32,
+            );
+            l.solid_angle = solid[j] as f32;
+        }
+    }
+
+    /// Cell adjacency by sampling [ours]: a fine lat-long grid over the whole sphere (wrapping
+    /// in longitude) plus, around each light, a small gnomonic grid scaled to its nearest
+    /// neighbour's distance, so tiny cells (a cluster of lights on a sun) are resolved too.
+    /// Two samples next to each other in different cells make their lights candidate neighbours;
+    /// each candidate pair is then checked exactly ([`LightSet::share_border`]), which drops the
+    /// pairs that sampling finds across a Voronoi vertex (the mean degree is then 6 − 12/N, as
+    /// Euler's formula wants for a spherical Voronoi diagram).
+    /// A light whose neighbours were all missed gets its nearest other light.
+    fn build_adjacency(&mut self) {
+        let n = self.dirs.len();
+        let mut pairs: Vec<(u32, u32)> = Vec::new();
+        let add = |a: u32, b: u32, pairs: &mut Vec<(u32, u32)>| {
+            if a != b {
+                pairs.push((a.min(b), a.max(b)));
+            }
+        };
+        if n >= 2 {
+            // Global grid: about 8 samples across a typical cell.
+            let h = (((n as f64).sqrt() * 40.0) as usize).clamp(256, 1024);
+            let w = 2 * h;
+            let mut prev_row = vec![0u32; w];
+            let mut row = vec![0u32; w];
+            for y in 0..h {
+                for (x, cell) in row.iter_mut().enumerate() {
+                    let uv =
+                        glam::Vec2::new((x as f32 + 0.5) / w as f32, (y as f32 + 0.5) / h as f32);
+                    *cell = self.cell_of(crate::envmap::uv_to_dir(uv));
+                }
+                for x in 0..w {
+                    add(row[x], row[(x + 1) % w], &mut pairs);
+                    if y > 0 {
+                        add(row[x], prev_row[x], &mut pairs);
+                    }
+                }
+                std::mem::swap(&mut row, &mut prev_row);
+            }
+            // Local grids around each light.
+            const L: usize = 24;
+            let mut grid = vec![0u32; L * L];
+            for j in 0..n {
+                let d = self.dirs[j];
+                let nearest = self.nearest_other(j);
+                let angle = d.dot(self.dirs[nearest as usize]).clamp(-1.0, 1.0).acos();
+                let half = (1.5 * angle).min(1.2).tan();
+                let (t1, t2) = d.any_orthonormal_pair();
+                for gy in 0..L {
+                    for gx in 0..L {
+                        let a = ((gx as f32 + 0.5) / L as f32 * 2.0 - 1.0) * half;
+                        let b = ((gy as f32 + 0.5) / L as f32 * 2.0 - 1.0) * half;
+                        grid[gy * L + gx] = self.cell_of((d + a * t1 + b * t2).normalize());
+                    }
+                }
+                for gy in 0..L {
+                    for gx in 0..L {
+                        let c = grid[gy * L + gx];
+                        if gx + 1 < L {
+                            add(c, grid[gy * L + gx + 1], &mut pairs);
+                        }
+                        if gy + 1 < L {
+                            add(c, grid[(gy + 1) * L + gx], &mut pairs);
+                        }
+                    }
+                }
+            }
+            pairs.sort_unstable();
+            pairs.dedup();
+            // Sampling can pair two cells that only come close near a Voronoi vertex; keep
+            // only the pairs whose shared border really exists.
+            pairs.retain(|&(a, b)| self.share_border(a as usize, b as usize));
+            let mut has = vec![false; n];
+            for &(a, b) in &pairs {
+                has[a as usize] = true;
+                has[b as usize] = true;
+            }
+            for (j, _) in has.iter().enumerate().filter(|(_, h)| !**h) {
+                add(j as u32, self.nearest_other(j), &mut pairs);
+            }
+            pairs.sort_unstable();
+            pairs.dedup();
+        }
+        let mut degree = vec![0u32; n + 1];
+        for &(a, b) in &pairs {
+            degree[a as usize] += 1;
+            degree[b as usize] += 1;
+        }
+        let mut offsets = vec![0u32; n + 1];
+        for j in 0..n {
+            offsets[j + 1] = offsets[j] + degree[j];
+        }
+        let mut fill = offsets.clone();
+        let mut ids = vec![0u32; offsets[n] as usize];
+        for &(a, b) in &pairs {
+            ids[fill[a as usize] as usize] = b;
+            fill[a as usize] += 1;
+            ids[fill[b as usize] as usize] = a;
+            fill[b as usize] += 1;
+        }
+        for j in 0..n {
+            ids[offsets[j] as usize..offsets[j + 1] as usize].sort_unstable();
+        }
+        self.adj_offsets = offsets;
+        self.adj_ids = ids;
+    }
+
+    /// Whether the cells of lights `a` and `b` share a border of positive length: some arc of
+    /// their bisector great circle has no other light nearer. Every other light c cuts the
+    /// circle to the half where (ω_a − ω_c)·p ≥ 0; the intersection of these half-circles is one
+    /// arc (or empty). Coincident lights count as sharing a border.
+    fn share_border(&self, a: usize, b: usize) -> bool {
+        use std::f64::consts::{FRAC_PI_2, PI, TAU};
+        let v = |d: Vec3| glam::DVec3::new(d.x as f64, d.y as f64, d.z as f64);
+        let (da, db) = (v(self.dirs[a]), v(self.dirs[b]));
+        let Some(m) = (da - db).try_normalize() else {
+            return true;
+        };
+        let (e1, e2) = m.any_orthonormal_pair();
+        let mut arc: Option<(f64, f64)> = None;
+        for (c, &dc) in self.dirs.iter().enumerate() {
+            if c == a || c == b {
+                continue;
+            }
+            let g = da - v(dc);
+            let (x, y) = (g.dot(e1), g.dot(e2));
+            if x.hypot(y) < 1e-12 {
+                continue;
+            }
+            let phi = y.atan2(x);
+            arc = Some(match arc {
+                None => (phi - FRAC_PI_2, phi + FRAC_PI_2),
+                Some((lo, hi)) => {
+                    let mid = 0.5 * (lo + hi);
+                    let phi = phi + TAU * ((mid - phi) / TAU).round();
+                    let (lo, hi) = (lo.max(phi - FRAC_PI_2), hi.min(phi + FRAC_PI_2));
+                    if hi - lo <= 1e-7 {
+                        return false;
+                    }
+                    debug_assert!(hi - lo <= PI + 1e-9);
+                    (lo, hi)
+                }
+            });
+        }
+        true
+    }
+
+    /// The light nearest to light `j` other than itself (ties to the lower index).
+    fn nearest_other(&self, j: usize) -> u32 {
+        let mut best = if j == 0 { 1 } else { 0 };
+        let mut best_dot = f32::NEG_INFINITY;
+        for (k, d) in self.dirs.iter().enumerate() {
+            if k != j {
+                let dd = d.dot(self.dirs[j]);
+                if dd > best_dot {
+                    best_dot = dd;
+                    best = k;
+                }
+            }
+        }
+        best as u32
+    }
+
+    /// Sum of the lights' energies, f64.
+    pub fn total_energy(&self) -> [f64; 3] {
+        let mut s = [0.0f64; 3];
+        for l in &self.lights {
+            s[0] += l.energy.x as f64;
+            s[1] += l.energy.y as f64;
+            s[2] += l.energy.z as f64;
+        }
+        s
+    }
+
+    /// The set as JSON (format in [`json`]).
+    pub fn to_json(&self) -> serde_json::Value {
+        json::to_json(self)
+    }
+
+    /// Writes [`LightSet::to_json`] to `path` atomically (a `.tmp` beside it, then a rename).
+    pub fn write_json(&self, path: &Path) -> Result<()> {
+        let text = serde_json::to_string_pretty(&self.to_json())?;
+        crate::lights::json::write_atomic(path, text.as_bytes())
     }
 }

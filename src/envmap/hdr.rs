@@ -1,0 +1,34 @@
+//! Radiance RGBE (`.hdr`) maps through the `image` crate's decoder.
+
+use glam::Vec3;
+use image::ImageDecoder;
+use std::io::BufReader;
+use std::path::Path;
+
+use super::check_size;
+use crate::bail_input;
+use crate::error::Result;
+
+/// Reads `path` as (width, height, texels). Validation of the values is the caller's.
+pub(super) fn read(path: &Path) -> Result<(usize, usize, Vec<Vec3>)> {
+    let file = match std::fs::File::open(path) {
+        Ok(f) => f,
+        Err(e) => bail_input!(path, "cannot open environment map: {e}"),
+    };
+    let decoder = match image::codecs::hdr::HdrDecoder::new(BufReader::new(file)) {
+        Ok(d) => d,
+        Err(e) => bail_input!(path, "not a valid Radiance HDR file: {e}"),
+    };
+    // The header's size is checked before the decoder allocates the pixels.
+    let (w, h) = decoder.dimensions();
+    check_size(path, w as usize, h as usize)?;
+    let image = match image::DynamicImage::from_decoder(decoder) {
+        Ok(i) => i.into_rgb32f(),
+        Err(e) => bail_input!(path, "cannot decode Radiance HDR pixels: {e}"),
+    };
+    let texels = image
+        .pixels()
+        .map(|p| Vec3::new(p.0[0], p.0[1], p.0[2]))
+        .collect();
+    Ok((w as usize, h as usize, texels))
+}

@@ -1,0 +1,190 @@
+//! The lights JSON: what was sampled from what, and every light's direction, energy and cell
+//! solid angle.
+//!
+//! ```json
+//! {"environment": {"source": "grace.hdr", "rotation_deg": 0, "intensity": 1,
+//!                  "width": 256, "height": 128, "integral": [r, g, b]},
+//!  "sampler": "sis", "count": 2,
+//!  "lights": [{"index": 0, "direction": [x, y, z], "energy": [r, g, b], "solid_angle": s}, ...]}
+//! ```
+//! `environment` is `null` and `sampler` is `"given"` for hand-placed lights.
+
+use glam::Vec3;
+use serde_json::{Value, json};
+use std::path::Path;
+
+use super::{EnvSummary, Light, LightSet, Sampler};
+use crate::bail_input;
+use crate::error::{Result, input_error};
+
+pub(super) fn to_json(set: &LightSet) -> Value {
+    let environment = match &set.environment {
+        Some(e) => json!({
+            "source": e.source,
+            "rotation_deg": e.rotation_deg,
+            "intensity": e.intensity,
+            "width": e.width,
+            "height": e.height,
+            "integral": e.integral,
+        }),
+        None => Value::Null,
+    };
+    let lights: Vec<Value> = set
+        .lights
+        .iter()
+        .enumerate()
+        .map(|(i, l)| {
+            json!({
+                "index": i,
+                "direction": [l.dir.x, l.dir.y, l.dir.z],
+                "energy": [l.energy.x, l.energy.y, l.energy.z],
+                "solid_angle": l.solid_angle,
+            })
+        })
+        .collect();
+    json!({
+        "environment": environment,
+        "sampler": set.sampler.map_or("given", |s| s.name()),
+        "count": set.lights.len(),
+        "lights": lights,
+    })
+}
+
+/// Writes `bytes` to `<path>.tmp` in the same folder, then renames it over `path`, so a reader
+/// never sees half a file.
+pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    let mut tmp_name = path
+        .file_name()
+        .ok_or_else(|| input_error(path, "not a file path"))?
+        .to_os_string();
+    tmp_name.push(".tmp");
+    let tmp = path.with_file_name(tmp_name);
+    std::fs::write(&tmp, bytes)
+        .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", tmp.display()))?;
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        anyhow::anyhow!("cannot rename {} to {}: {e}", tmp.display(), path.display())
+    })
+}
+
+fn finite_array<const K: usize>(path: &Path, v: Option<&Value>, what: &str) -> Result<[f64; K]> {
+    let Some(arr) = v.and_then(Value::as_array) else {
+        bail_input!(path, "{what}: missing or not an array");
+    };
+    if arr.len() != K {
+        bail_input!(path, "{what}: expected {K} numbers, found {}", arr.len());
+    }
+    let mut out = [0.0; K];
+    for (k, x) in arr.iter().enumerate() {
+        match x.as_f64() {
+            Some(f) if f.is_finite() => out[k] = f,
+            _ => bail_input!(path, "{what}[{k}]: not a finite number ({x})"),
+        }
+    }
+    Ok(out)
+}
+
+fn finite_number(path: &Path, v: Option<&Value>, what: &str) -> Result<f64> {
+    match v.and_then(Value::as_f64) {
+        Some(f) if f.is_finite() => Ok(f),
+        _ => bail_input!(path, "{what}: missing or not a finite number"),
+    }
+}
+
+/// Reads a lights JSON written by [`LightSet::write_json`] and rebuilds the lookup and adjacency.
+/// Energies and solid angles are taken from the file.
+pub fn read_json(path: &Path) -> Result<LightSet> {
+    let text = match std::fs::read_to_string(path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            bail_input!(path, "lights file not found")
+        }
+        Err(e) => bail_input!(path, "cannot read lights file: {e}"),
+    };
+    let root: Value = match serde_json::from_str(&text) {
+        Ok(v) => v,
+        Err(e) => bail_input!(path, "not valid JSON: {e}"),
+    };
+    let sampler = match root.get("sampler").and_then(Value::as_str) {
+        Some("given") => None,
+        Some(s) => match s.parse::<Sampler>() {
+            Ok(s) => Some(s),
+            Err(e) => bail_input!(path, "sampler: {e}"),
+        },
+        None => bail_input!(path, "sampler: missing or not a string"),
+    };
+    let environment = match root.get("environment") {
+        None | Some(Value::Null) => None,
+        Some(e) => {
+            let source = match e.get("source").and_then(Value::as_str) {
+                Some(s) => s.to_string(),
+                None => bail_input!(path, "environment.source: missing or not a string"),
+            };
+            let size = |key: &str| -> Result<usize> {
+                match e.get(key).and_then(Value::as_u64) {
+                    Some(v) => Ok(v as usize),
+                    None => bail_input!(path, "environment.{key}: missing or not an integer"),
+                }
+            };
+            Some(EnvSummary {
+                source,
+                rotation_deg: finite_number(
+                    path,
+                    e.get("rotation_deg"),
+                    "environment.rotation_deg",
+                )? as f32,
+                intensity: finite_number(path, e.get("intensity"), "environment.intensity")? as f32,
+                width: size("width")?,
+                height: size("height")?,
+                integral: finite_array::<3>(path, e.get("integral"), "environment.integral")?,
+            })
+        }
+    };
+    let Some(items) = root.get("lights").and_then(Value::as_array) else {
+        bail_input!(path, "lights: missing or not an array");
+    };
+    let count = match root.get("count").and_then(Value::as_u64) {
+        Some(c) => c as usize,
+        None => bail_input!(path, "count: missing or not an integer"),
+    };
+    if count == 0 {
+        bail_input!(path, "count must be at least 1");
+    }
+    if count != items.len() {
+        bail_input!(
+            path,
+            "count is {count} but {} lights are listed",
+            items.len()
+        );
+    }
+    let mut lights = Vec::with_capacity(count);
+    for (i, item) in items.iter().enumerate() {
+        let what = |k: &str| format!("lights[{i}].{k}");
+        let d = finite_array::<3>(path, item.get("direction"), &what("direction"))?;
+        let e = finite_array::<3>(path, item.get("energy"), &what("energy"))?;
+        let s = finite_number(path, item.get("solid_angle"), &what("solid_angle"))?;
+        let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        if (len - 1.0).abs() > 1e-3 {
+            bail_input!(
+                path,
+                "{}: not a unit vector (length {len})",
+                what("direction")
+            );
+        }
+        if e.iter().any(|&x| x < 0.0) {
+            bail_input!(path, "{}: negative energy {:?}", what("energy"), e);
+        }
+        if s < 0.0 {
+            bail_input!(path, "{}: negative solid angle {s}", what("solid_angle"));
+        }
+        lights.push(Light {
+            dir: Vec3::new(d[0] as f32, d[1] as f32, d[2] as f32),
+            energy: Vec3::new(e[0] as f32, e[1] as f32, e[2] as f32),
+            solid_angle: s as f32,
+        });
+    }
+    let mut set = LightSet::from_lights(lights);
+    set.sampler = sampler;
+    set.environment = environment;
+    Ok(set)
+}

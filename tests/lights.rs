@@ -1,0 +1,472 @@
+//! Lights: energy conservation, exact O(1) cell lookup, adjacency, determinism, JSON, errors.
+
+mod common;
+
+use envshadow::envmap::EnvMap;
+use envshadow::error::InputError;
+use envshadow::lights::{Light, LightSet, Sampler, read_json};
+use glam::Vec3;
+use std::sync::OnceLock;
+
+fn map(name: &str) -> &'static EnvMap {
+    static MAPS: OnceLock<Vec<(String, EnvMap)>> = OnceLock::new();
+    let maps = MAPS.get_or_init(|| {
+        [
+            "grace.hdr",
+            "studio_small_03_1k.hdr",
+            "rooitou_park_1k.hdr",
+            "KernerEnvLatLong.exr",
+        ]
+        .iter()
+        .map(|n| (n.to_string(), EnvMap::load(&common::asset(n)).unwrap()))
+        .chain([("sky".to_string(), EnvMap::builtin_sky())])
+        .collect()
+    });
+    &maps.iter().find(|(n, _)| n == name).unwrap().1
+}
+
+/// splitmix64: a deterministic stream for random directions.
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    fn unit(&mut self) -> f32 {
+        (self.next() >> 40) as f32 / (1u64 << 24) as f32
+    }
+    fn dir(&mut self) -> Vec3 {
+        let y = 1.0 - 2.0 * self.unit();
+        let phi = std::f32::consts::TAU * self.unit();
+        let r = (1.0 - y * y).max(0.0).sqrt();
+        Vec3::new(r * phi.cos(), y, r * phi.sin())
+    }
+}
+
+fn check_energy(env: &EnvMap, set: &LightSet, what: &str) {
+    let total = set.total_energy();
+    let want = env.integral();
+    for k in 0..3 {
+        let rel = (total[k] - want[k]).abs() / want[k];
+        assert!(
+            rel < 1e-4,
+            "{what}: channel {k}: {} vs {} ({rel})",
+            total[k],
+            want[k]
+        );
+    }
+    let sa: f64 = set.lights.iter().map(|l| l.solid_angle as f64).sum();
+    assert!(
+        (sa - 4.0 * std::f64::consts::PI).abs() < 1e-3,
+        "{what}: Σ solid angle {sa}"
+    );
+    assert!(set.lights.iter().all(|l| l.energy.min_element() >= 0.0));
+}
+
+#[test]
+fn energy_is_conserved_for_every_map_and_sampler() {
+    let cases: &[(&str, &[usize])] = &[
+        ("grace.hdr", &[50, 200, 400]),
+        ("studio_small_03_1k.hdr", &[50, 400]),
+        ("rooitou_park_1k.hdr", &[200]),
+        ("KernerEnvLatLong.exr", &[400]),
+        ("sky", &[50, 200]),
+    ];
+    for &(name, ns) in cases {
+        let env = map(name);
+        for &n in ns {
+            for s in [Sampler::Sis, Sampler::MedianCut] {
+                let set = LightSet::build(env, n, s).unwrap();
+                assert_eq!(set.len(), n, "{name} {s:?}");
+                check_energy(env, &set, &format!("{name} {s:?} n={n}"));
+                // No two lights coincide.
+                let mut d: Vec<[u32; 3]> = set
+                    .lights
+                    .iter()
+                    .map(|l| l.dir.to_array().map(f32::to_bits))
+                    .collect();
+                d.sort_unstable();
+                d.dedup();
+                assert_eq!(d.len(), n, "{name} {s:?} n={n}: duplicate directions");
+            }
+        }
+    }
+}
+
+#[test]
+fn rotated_map_conserves_energy_and_rotates_lights() {
+    let env = map("grace.hdr");
+    let rot = env.clone().with_rotation(90.0);
+    let a = LightSet::build(env, 100, Sampler::Sis).unwrap();
+    let b = LightSet::build(&rot, 100, Sampler::Sis).unwrap();
+    check_energy(&rot, &b, "rotated");
+    // The brightest light turns with the map: +90° takes (x, y, z) to (z, y, −x).
+    let brightest = |s: &LightSet| {
+        s.lights
+            .iter()
+            .max_by(|p, q| p.energy.y.total_cmp(&q.energy.y))
+            .unwrap()
+            .dir
+    };
+    let (da, db) = (brightest(&a), brightest(&b));
+    assert!(
+        (Vec3::new(da.z, da.y, -da.x) - db).length() < 0.05,
+        "{da} → {db}"
+    );
+}
+
+#[test]
+fn cell_of_matches_brute_force() {
+    let mut rng = Rng(0x5EED);
+    for (name, n, s) in [
+        ("rooitou_park_1k.hdr", 50, Sampler::Sis),
+        ("rooitou_park_1k.hdr", 400, Sampler::MedianCut),
+        ("studio_small_03_1k.hdr", 200, Sampler::Sis),
+        ("grace.hdr", 400, Sampler::Sis),
+        ("grace.hdr", 200, Sampler::MedianCut),
+        ("sky", 50, Sampler::MedianCut),
+    ] {
+        let set = LightSet::build(map(name), n, s).unwrap();
+        let mut wrong = 0;
+        for _ in 0..120_000 {
+            let d = rng.dir();
+            if set.cell_of(d) != set.cell_of_brute_force(d) {
+                wrong += 1;
+            }
+        }
+        // Directions right next to each light (inside tiny cells of clustered lights).
+        for l in &set.lights {
+            for _ in 0..50 {
+                let d = (l.dir + 0.002 * rng.dir()).normalize();
+                if set.cell_of(d) != set.cell_of_brute_force(d) {
+                    wrong += 1;
+                }
+            }
+        }
+        assert_eq!(wrong, 0, "{name} {s:?} n={n}");
+        // Each light is in its own cell, unless another light is so close that the f32 dot
+        // products tie (median cut's several lights inside one sun texel).
+        for (j, l) in set.lights.iter().enumerate() {
+            let crowded = set
+                .lights
+                .iter()
+                .enumerate()
+                .any(|(k, o)| k != j && o.dir.dot(l.dir) > 1.0 - 1e-6);
+            if !crowded {
+                assert_eq!(set.cell_of(l.dir), j as u32, "{name} light {j}");
+            }
+        }
+    }
+}
+
+#[test]
+fn cell_of_on_the_cube_edges_and_ties() {
+    // Two lights symmetric about the plane z = 0: ties on it go to the lower index.
+    let set = LightSet::from_lights(vec![
+        Light {
+            dir: Vec3::new(0.0, 0.0, -1.0),
+            energy: Vec3::ONE,
+            solid_angle: 0.0,
+        },
+        Light {
+            dir: Vec3::new(0.0, 0.0, 1.0),
+            energy: Vec3::ONE,
+            solid_angle: 0.0,
+        },
+    ]);
+    assert_eq!(set.cell_of(Vec3::X), 0);
+    assert_eq!(set.cell_of(Vec3::Y), 0);
+    assert_eq!(set.cell_of(Vec3::new(0.3, 0.1, 0.9).normalize()), 1);
+    // Cube edges and corners for a real set.
+    let set = LightSet::build(map("studio_small_03_1k.hdr"), 200, Sampler::Sis).unwrap();
+    for x in [-1.0f32, 0.0, 1.0] {
+        for y in [-1.0f32, 0.0, 1.0] {
+            for z in [-1.0f32, 0.0, 1.0] {
+                let d = Vec3::new(x, y, z);
+                if d != Vec3::ZERO {
+                    let d = d.normalize();
+                    assert_eq!(set.cell_of(d), set.cell_of_brute_force(d), "{d}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn adjacency_is_symmetric_and_plausible() {
+    for (name, s) in [
+        ("studio_small_03_1k.hdr", Sampler::Sis),
+        ("rooitou_park_1k.hdr", Sampler::MedianCut),
+        ("grace.hdr", Sampler::Sis),
+    ] {
+        let set = LightSet::build(map(name), 200, s).unwrap();
+        let mut total = 0;
+        for j in 0..set.len() {
+            let nb = set.neighbors(j);
+            assert!(!nb.is_empty(), "{name}: light {j} has no neighbour");
+            assert!(
+                nb.windows(2).all(|w| w[0] < w[1]),
+                "{name}: not sorted/deduped"
+            );
+            for &k in nb {
+                assert_ne!(k as usize, j, "{name}: self-loop at {j}");
+                assert!(
+                    set.neighbors(k as usize).contains(&(j as u32)),
+                    "{name}: {j}→{k} not symmetric"
+                );
+            }
+            total += nb.len();
+        }
+        let mean = total as f64 / set.len() as f64;
+        assert!(
+            (4.0..=8.0).contains(&mean),
+            "{name} {s:?}: mean degree {mean}"
+        );
+    }
+    // Two lights are neighbours; one light has none.
+    let two = LightSet::from_lights(vec![
+        Light {
+            dir: Vec3::X,
+            energy: Vec3::ONE,
+            solid_angle: 1.0,
+        },
+        Light {
+            dir: Vec3::Y * 2.0,
+            energy: Vec3::ONE,
+            solid_angle: 1.0,
+        },
+    ]);
+    assert_eq!(two.neighbors(0), &[1]);
+    assert_eq!(two.neighbors(1), &[0]);
+    assert_eq!(two.lights[1].dir, Vec3::Y);
+    let one = LightSet::from_lights(vec![Light {
+        dir: Vec3::Z,
+        energy: Vec3::ONE,
+        solid_angle: 1.0,
+    }]);
+    assert!(one.neighbors(0).is_empty());
+    assert_eq!(one.cell_of(-Vec3::Z), 0);
+}
+
+#[test]
+fn build_is_deterministic() {
+    for s in [Sampler::Sis, Sampler::MedianCut] {
+        let a = LightSet::build(map("KernerEnvLatLong.exr"), 200, s).unwrap();
+        let b = LightSet::build(map("KernerEnvLatLong.exr"), 200, s).unwrap();
+        let bits = |set: &LightSet| -> Vec<u32> {
+            set.lights
+                .iter()
+                .flat_map(|l| {
+                    l.dir
+                        .to_array()
+                        .into_iter()
+                        .chain(l.energy.to_array())
+                        .chain([l.solid_angle])
+                        .map(f32::to_bits)
+                })
+                .collect()
+        };
+        assert_eq!(bits(&a), bits(&b), "{s:?}");
+        for j in 0..a.len() {
+            assert_eq!(a.neighbors(j), b.neighbors(j));
+        }
+    }
+}
+
+#[test]
+fn sis_puts_lights_on_the_sun() {
+    // rooitou_park: 65 % of the power in 16 texels around px (614, 226). SIS must put several
+    // lights there, and the light holding the sun carries a large share of the energy.
+    let env = map("rooitou_park_1k.hdr");
+    let sun = env.texel_dir(614, 226);
+    let set = LightSet::build(env, 200, Sampler::Sis).unwrap();
+    let near = set
+        .lights
+        .iter()
+        .filter(|l| l.dir.dot(sun) > (2.0f32).to_radians().cos())
+        .count();
+    assert!(near >= 3, "{near} lights near the sun");
+    let j = set.cell_of(sun) as usize;
+    assert!(set.lights[j].energy.y as f64 > 0.05 * env.integral()[1]);
+}
+
+#[test]
+fn tiny_and_uniform_maps_work() {
+    let env = EnvMap::from_texels(4, 2, vec![Vec3::ONE; 8], "white").unwrap();
+    for s in [Sampler::Sis, Sampler::MedianCut] {
+        for n in [1, 3, 50] {
+            let set = LightSet::build(&env, n, s).unwrap();
+            assert_eq!(set.len(), n);
+            check_energy(&env, &set, &format!("white {s:?} {n}"));
+        }
+    }
+    let black = EnvMap::from_texels(16, 8, vec![Vec3::ZERO; 128], "black").unwrap();
+    let set = LightSet::build(&black, 10, Sampler::Sis).unwrap();
+    assert_eq!(set.len(), 10);
+    assert_eq!(set.total_energy(), [0.0; 3]);
+    let set = LightSet::build(&black, 10, Sampler::MedianCut).unwrap();
+    assert_eq!(set.len(), 10);
+}
+
+#[test]
+fn zero_lights_is_an_input_error() {
+    let e = LightSet::build(map("grace.hdr"), 0, Sampler::Sis).expect_err("n = 0");
+    assert!(e.downcast_ref::<InputError>().is_some());
+    let t = format!("{e:#}");
+    assert!(t.starts_with("lights:") && t.contains("at least 1"), "{t}");
+}
+
+#[test]
+fn json_round_trip_and_errors() {
+    let env = map("grace.hdr");
+    let set = LightSet::build(env, 50, Sampler::MedianCut).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("lights.json");
+    set.write_json(&p).unwrap();
+    assert!(!dir.path().join("lights.json.tmp").exists());
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
+    assert_eq!(v["sampler"], "median-cut");
+    assert_eq!(v["count"], 50);
+    assert_eq!(v["environment"]["width"], 256);
+    assert!(
+        v["environment"]["source"]
+            .as_str()
+            .unwrap()
+            .ends_with("grace.hdr")
+    );
+    assert_eq!(v["lights"][3]["index"], 3);
+    let back = read_json(&p).unwrap();
+    assert_eq!(back.lights, set.lights);
+    assert_eq!(back.sampler, Some(Sampler::MedianCut));
+    assert_eq!(back.environment, set.environment);
+    for j in 0..50 {
+        assert_eq!(back.neighbors(j), set.neighbors(j));
+    }
+
+    let bad = |name: &str, text: &str, needle: &str| {
+        let p = dir.path().join(name);
+        std::fs::write(&p, text).unwrap();
+        let e = read_json(&p).expect_err(name);
+        assert!(e.downcast_ref::<InputError>().is_some());
+        let t = format!("{e:#}");
+        assert!(t.contains(name) && t.contains(needle), "{t}");
+    };
+    bad("a.json", "{not json", "not valid JSON");
+    bad(
+        "b.json",
+        r#"{"sampler":"sis","count":0,"lights":[]}"#,
+        "count must be at least 1",
+    );
+    bad(
+        "c.json",
+        r#"{"sampler":"sis","count":1,"lights":[{"direction":[0,2,0],"energy":[1,1,1],"solid_angle":1}]}"#,
+        "not a unit vector",
+    );
+    bad(
+        "d.json",
+        r#"{"sampler":"sis","count":1,"lights":[{"direction":[0,1,0],"energy":[1,-1,1],"solid_angle":1}]}"#,
+        "negative energy",
+    );
+    bad(
+        "e.json",
+        r#"{"sampler":"sis","count":1,"lights":[{"direction":[0,1,0],"energy":[1,"x",1],"solid_angle":1}]}"#,
+        "lights[0].energy[1]",
+    );
+    bad(
+        "f.json",
+        r#"{"sampler":"best","count":1,"lights":[]}"#,
+        "unknown light sampler",
+    );
+    bad(
+        "g.json",
+        r#"{"sampler":"sis","count":2,"lights":[{"direction":[0,1,0],"energy":[1,1,1],"solid_angle":1}]}"#,
+        "count is 2",
+    );
+    let e = read_json(&dir.path().join("missing.json")).expect_err("missing");
+    assert!(format!("{e:#}").contains("missing.json: lights file not found"));
+}
+
+#[test]
+fn cells_png_is_written() {
+    let env = map("grace.hdr");
+    let set = LightSet::build(env, 100, Sampler::Sis).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("cells.png");
+    envshadow::lights::picture::cells_png(env, &set, &p).unwrap();
+    let img = image::open(&p).unwrap().into_rgb8();
+    assert_eq!((img.width(), img.height()), (1024, 512));
+    let magenta = img.pixels().filter(|p| p.0 == [255, 0, 255]).count();
+    assert!(magenta > 1000, "{magenta} border pixels");
+    assert!(!dir.path().join("cells.png.tmp").exists());
+}
+
+/// Measures the SIS layer-threshold choice: RMS relative error of unshadowed diffuse
+/// irradiance from the lights against the map's exact irradiance. Run with
+/// `cargo test --release --test lights -- --ignored --nocapture sis_layer_thresholds`.
+#[test]
+#[ignore]
+fn sis_layer_thresholds() {
+    use envshadow::lights::sis::{Thresholds, directions};
+    let mut rng = Rng(7);
+    let normals: Vec<Vec3> = (0..300).map(|_| rng.dir()).collect();
+    for name in [
+        "grace.hdr",
+        "studio_small_03_1k.hdr",
+        "rooitou_park_1k.hdr",
+        "KernerEnvLatLong.exr",
+        "sky",
+    ] {
+        let env = map(name);
+        let exact: Vec<f64> = normals
+            .iter()
+            .map(|n| {
+                let mut e = 0.0f64;
+                for y in 0..env.height {
+                    let dw = env.texel_solid_angle_f64(y);
+                    for x in 0..env.width {
+                        let c = n.dot(env.texel_dir(x, y)).max(0.0) as f64;
+                        e += c * envshadow::envmap::luminance(env.texel(x, y)) as f64 * dw;
+                    }
+                }
+                e
+            })
+            .collect();
+        for n in [50, 200, 400] {
+            let mut line = format!("{name:24} n={n:3}");
+            for th in [Thresholds::Sigma, Thresholds::MuPlusSigma] {
+                let dirs = directions(env, n, th);
+                let lights = dirs
+                    .iter()
+                    .map(|&d| Light {
+                        dir: d,
+                        energy: Vec3::ZERO,
+                        solid_angle: 0.0,
+                    })
+                    .collect();
+                let set = LightSet::from_lights(lights);
+                let mut e = vec![0.0f64; n];
+                for y in 0..env.height {
+                    let dw = env.texel_solid_angle_f64(y);
+                    for x in 0..env.width {
+                        e[set.cell_of(env.texel_dir(x, y)) as usize] +=
+                            envshadow::envmap::luminance(env.texel(x, y)) as f64 * dw;
+                    }
+                }
+                let mut sq = 0.0;
+                for (i, nn) in normals.iter().enumerate() {
+                    let approx: f64 = (0..n).map(|j| e[j] * nn.dot(dirs[j]).max(0.0) as f64).sum();
+                    let mean = exact.iter().sum::<f64>() / exact.len() as f64;
+                    sq += ((approx - exact[i]) / mean).powi(2);
+                }
+                line += &format!(
+                    "  {th:?}: {:.4}%",
+                    100.0 * (sq / normals.len() as f64).sqrt()
+                );
+            }
+            println!("{line}");
+        }
+    }
+}
