@@ -68,7 +68,10 @@ pub struct Interrupted;
 
 impl fmt::Display for Interrupted {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "interrupted; complete frames are kept, run again with --resume to continue")
+        write!(
+            f,
+            "interrupted; complete frames are kept, run again with --resume to continue"
+        )
     }
 }
 

@@ -11,7 +11,7 @@
 //!   [`coordinator`] schedules frames × tiles over threads and streams them to the writer.
 //! - [`output`] writes EXR/PNG/CSV/JSON atomically; [`anim`] parses animation specs.
 
-pub mod error;
 pub mod envmap;
+pub mod error;
 pub mod lights;
 pub mod scene;

@@ -179,7 +179,10 @@ impl Loader<'_> {
     /// parent × child.
     fn walk(&mut self) -> Result<()> {
         let document = self.document;
-        let roots: Vec<Node> = match document.default_scene().or_else(|| document.scenes().next()) {
+        let roots: Vec<Node> = match document
+            .default_scene()
+            .or_else(|| document.scenes().next())
+        {
             Some(scene) => scene.nodes().collect(),
             None => {
                 // No scenes: every node that is nobody's child is a root.
@@ -194,7 +197,11 @@ impl Loader<'_> {
         };
         let mut visited = vec![false; document.nodes().len()];
         // Reversed so that popping visits nodes in file order.
-        let mut stack: Vec<(Node, Mat4)> = roots.into_iter().rev().map(|n| (n, Mat4::IDENTITY)).collect();
+        let mut stack: Vec<(Node, Mat4)> = roots
+            .into_iter()
+            .rev()
+            .map(|n| (n, Mat4::IDENTITY))
+            .collect();
         while let Some((node, parent)) = stack.pop() {
             let n = node.index();
             if visited[n] {
@@ -269,8 +276,12 @@ impl Loader<'_> {
         let p = primitive.index();
         let at = format!("mesh {m} primitive {p}");
         let mode = primitive.mode();
-        if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
-            let message = format!("mesh {m} primitive {p}: mode {mode:?} is not triangles, skipped");
+        if !matches!(
+            mode,
+            Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+        ) {
+            let message =
+                format!("mesh {m} primitive {p}: mode {mode:?} is not triangles, skipped");
             self.warn(message);
             return Ok(());
         }
@@ -278,7 +289,10 @@ impl Loader<'_> {
             bail_input!(self.path, "{at}: no POSITION attribute");
         };
         let positions = self.read_floats::<3>(&at, &pos_acc)?;
-        if let Some(i) = positions.iter().position(|v| !v.iter().all(|c| c.is_finite())) {
+        if let Some(i) = positions
+            .iter()
+            .position(|v| !v.iter().all(|c| c.is_finite()))
+        {
             bail_input!(
                 self.path,
                 "{at}: accessor {} (POSITION): vertex {i} is not finite ({:?})",
@@ -297,7 +311,11 @@ impl Loader<'_> {
         };
 
         let material = self.material(primitive.material())?;
-        let tex_coord = match primitive.material().pbr_metallic_roughness().base_color_texture() {
+        let tex_coord = match primitive
+            .material()
+            .pbr_metallic_roughness()
+            .base_color_texture()
+        {
             Some(info) => info.tex_coord(),
             None => 0,
         };
@@ -376,7 +394,11 @@ impl Loader<'_> {
                 .map(|(&n, &fallback)| {
                     let n = (nm * Vec3::from_array(n)).normalize_or_zero();
                     // Zero or non-finite file normals: use the computed one instead.
-                    if n != Vec3::ZERO && n.is_finite() { n } else { fallback }
+                    if n != Vec3::ZERO && n.is_finite() {
+                        n
+                    } else {
+                        fallback
+                    }
                 })
                 .collect(),
             None => smooth,
@@ -391,9 +413,14 @@ impl Loader<'_> {
         self.scene.normals.extend(world_nrm);
         match uvs {
             Some(uvs) => self.scene.uvs.extend(uvs.into_iter().map(Vec2::from_array)),
-            None => self.scene.uvs.extend(std::iter::repeat_n(Vec2::ZERO, count)),
+            None => self
+                .scene
+                .uvs
+                .extend(std::iter::repeat_n(Vec2::ZERO, count)),
         }
-        self.scene.tri_material.extend(std::iter::repeat_n(material, tris.len()));
+        self.scene
+            .tri_material
+            .extend(std::iter::repeat_n(material, tris.len()));
         self.scene
             .triangles
             .extend(tris.into_iter().map(|t| t.map(|i| i + vertex_base)));
@@ -468,7 +495,11 @@ impl Loader<'_> {
                 .map_err(|e| input_error(self.path, format!("{at}: {e}")))?,
             ::gltf::image::Source::View { view, .. } => {
                 let range = view.offset()..view.offset().saturating_add(view.length());
-                match self.buffers.get(view.buffer().index()).and_then(|b| b.get(range)) {
+                match self
+                    .buffers
+                    .get(view.buffer().index())
+                    .and_then(|b| b.get(range))
+                {
                     Some(bytes) => bytes.to_vec(),
                     None => bail_input!(
                         self.path,
@@ -508,7 +539,10 @@ impl Loader<'_> {
     /// Reads an index accessor (SCALAR of unsigned bytes, shorts or ints).
     fn read_indices(&self, at: &str, acc: &Accessor) -> Result<Vec<u32>> {
         if acc.dimensions() != Dimensions::Scalar
-            || !matches!(acc.data_type(), DataType::U8 | DataType::U16 | DataType::U32)
+            || !matches!(
+                acc.data_type(),
+                DataType::U8 | DataType::U16 | DataType::U32
+            )
         {
             bail_input!(
                 self.path,
@@ -538,10 +572,21 @@ impl Loader<'_> {
         let mut values = match acc.view() {
             Some(view) => {
                 let bytes = self.view_bytes(&view).ok_or_else(|| {
-                    err(format!("buffer view {} lies outside its buffer", view.index()))
+                    err(format!(
+                        "buffer view {} lies outside its buffer",
+                        view.index()
+                    ))
                 })?;
-                read_elements(bytes, acc.offset(), view.stride(), count, dims, ty, normalized)
-                    .map_err(err)?
+                read_elements(
+                    bytes,
+                    acc.offset(),
+                    view.stride(),
+                    count,
+                    dims,
+                    ty,
+                    normalized,
+                )
+                .map_err(err)?
             }
             None => {
                 if count.saturating_mul(dims) > MAX_ZERO_ELEMENTS {
@@ -562,15 +607,23 @@ impl Loader<'_> {
             let index_bytes = self.view_bytes(&indices.view()).ok_or_else(|| {
                 err("sparse indices' buffer view lies outside its buffer".to_string())
             })?;
-            let targets = read_elements(index_bytes, indices.offset(), None, n, 1, index_type, false)
-                .map_err(|e| err(format!("sparse indices: {e}")))?;
+            let targets =
+                read_elements(index_bytes, indices.offset(), None, n, 1, index_type, false)
+                    .map_err(|e| err(format!("sparse indices: {e}")))?;
             let value_view = sparse.values().view();
             let value_bytes = self.view_bytes(&value_view).ok_or_else(|| {
                 err("sparse values' buffer view lies outside its buffer".to_string())
             })?;
-            let replacements =
-                read_elements(value_bytes, sparse.values().offset(), None, n, dims, ty, normalized)
-                    .map_err(|e| err(format!("sparse values: {e}")))?;
+            let replacements = read_elements(
+                value_bytes,
+                sparse.values().offset(),
+                None,
+                n,
+                dims,
+                ty,
+                normalized,
+            )
+            .map_err(|e| err(format!("sparse values: {e}")))?;
             for (k, &target) in targets.iter().enumerate() {
                 let target = target as usize;
                 if target >= count {
@@ -608,7 +661,9 @@ fn read_elements(
     let element = size * dims;
     let stride = stride.unwrap_or(element);
     if stride < element {
-        return Err(format!("byteStride {stride} is smaller than the element size {element}"));
+        return Err(format!(
+            "byteStride {stride} is smaller than the element size {element}"
+        ));
     }
     if count == 0 {
         return Ok(Vec::new());
@@ -651,7 +706,11 @@ fn component(b: &[u8], ty: DataType, normalized: bool) -> f64 {
         }
         DataType::I16 => {
             let v = f64::from(i16::from_le_bytes([b[0], b[1]]));
-            if normalized { (v / 32767.0).max(-1.0) } else { v }
+            if normalized {
+                (v / 32767.0).max(-1.0)
+            } else {
+                v
+            }
         }
         DataType::U16 => {
             let v = f64::from(u16::from_le_bytes([b[0], b[1]]));

@@ -209,12 +209,8 @@ impl Scene {
         self.positions.extend(other.positions);
         self.normals.extend(other.normals);
         self.uvs.extend(other.uvs);
-        self.triangles.extend(
-            other
-                .triangles
-                .iter()
-                .map(|t| t.map(|i| i + vertex_base)),
-        );
+        self.triangles
+            .extend(other.triangles.iter().map(|t| t.map(|i| i + vertex_base)));
         self.tri_material
             .extend(other.tri_material.iter().map(|m| m + material_base));
         self.materials

@@ -162,7 +162,11 @@ impl Builder {
 fn sphere(b: &mut Builder, r: f32) {
     b.surface(96, 48, |u, v| {
         let (phi, theta) = (TAU * u, PI * v);
-        let n = Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin());
+        let n = Vec3::new(
+            theta.sin() * phi.cos(),
+            theta.cos(),
+            theta.sin() * phi.sin(),
+        );
         (r * n, n)
     });
 }
@@ -217,7 +221,11 @@ fn disc(b: &mut Builder, r: f32, y: f32, n: Vec3) {
 fn torus(b: &mut Builder, big: f32, small: f32) {
     b.surface(96, 32, |u, v| {
         let (phi, theta) = (TAU * u, TAU * v);
-        let n = Vec3::new(theta.cos() * phi.cos(), theta.sin(), theta.cos() * phi.sin());
+        let n = Vec3::new(
+            theta.cos() * phi.cos(),
+            theta.sin(),
+            theta.cos() * phi.sin(),
+        );
         let centre = Vec3::new(big * phi.cos(), 0.0, big * phi.sin());
         (centre + small * n, n)
     });

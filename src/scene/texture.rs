@@ -26,7 +26,13 @@ impl Texture {
             .collect();
         let texels = rgb
             .chunks_exact(3)
-            .map(|c| Vec3::new(table[c[0] as usize], table[c[1] as usize], table[c[2] as usize]))
+            .map(|c| {
+                Vec3::new(
+                    table[c[0] as usize],
+                    table[c[1] as usize],
+                    table[c[2] as usize],
+                )
+            })
             .collect();
         Some(Texture {
             width,
