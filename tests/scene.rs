@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 // A small glTF writer: accessors go into one binary buffer, written as `.gltf` + `.bin`, as
 // `.gltf` with a `data:` URI, or as `.glb`.
 
-#[derive(Default)]
+#[derive(Clone, Default)]
 struct Gltf {
     bin: Vec<u8>,
     views: Vec<Value>,
@@ -603,7 +603,12 @@ fn missing_normals_are_smooth_area_weighted() {
     // The faces keep their outward winding (a tetrahedron's corner normals may be at 90° to
     // a face, so compare faces with their own normals here).
     assert_close(geometric(&scene, 8), Vec3::NEG_Z, 1e-6, "tet face 0");
-    assert_close(geometric(&scene, 11), Vec3::ONE.normalize(), 1e-6, "tet face 3");
+    assert_close(
+        geometric(&scene, 11),
+        Vec3::ONE.normalize(),
+        1e-6,
+        "tet face 3",
+    );
     for t in 0..8 {
         assert_close(geometric(&scene, t), Vec3::Z, 1e-6, "grid face");
     }
@@ -790,6 +795,118 @@ fn byte_stride_smaller_than_element_is_refused_not_a_panic() {
         &["stride.glb", "accessor 0", "byteStride 4"],
     );
 }
+
+/// Loading must give a scene or an input error, never a panic or an internal error.
+fn load_survives(path: &Path, what: &str) {
+    if let Err(e) = Scene::load(path) {
+        assert_eq!(exit_code(&e), 2, "{what}: not an input error: {e:#}");
+    }
+}
+
+#[test]
+fn hostile_field_values_never_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut base = Gltf::default();
+    let png = png_2x2();
+    let doc = textured_file(&mut base, json!({"mimeType": "image/png"}), Some(&png));
+    let numbers: [u64; 12] = [0, 1, 2, 3, 4, 7, 12, 255, 4096, 65_535, 1 << 32, 1 << 62];
+    let mut case = 0;
+    let mut run = |g: &Gltf, what: String| {
+        case += 1;
+        let path = g.write_glb(dir.path(), &format!("case{case}"), doc.clone());
+        load_survives(&path, &what);
+    };
+    for a in 0..base.accessors.len() {
+        for field in ["count", "byteOffset"] {
+            for &n in &numbers {
+                let mut g = base.clone();
+                g.accessors[a][field] = json!(n);
+                run(&g, format!("accessor {a} {field} = {n}"));
+            }
+        }
+        for ty in [5120, 5121, 5122, 5123, 5125, 5126] {
+            let mut g = base.clone();
+            g.accessors[a]["componentType"] = json!(ty);
+            run(&g, format!("accessor {a} componentType {ty}"));
+        }
+        for ty in ["SCALAR", "VEC2", "VEC3", "VEC4", "MAT4"] {
+            let mut g = base.clone();
+            g.accessors[a]["type"] = json!(ty);
+            run(&g, format!("accessor {a} type {ty}"));
+        }
+        let mut g = base.clone();
+        g.accessors[a]["normalized"] = json!(true);
+        g.accessors[a]["componentType"] = json!(5121);
+        run(&g, format!("accessor {a} normalized bytes"));
+        let mut g = base.clone();
+        g.accessors[a].as_object_mut().unwrap().remove("bufferView");
+        run(&g, format!("accessor {a} without view"));
+        for (count, index) in [(1u64, 0u64), (1, 99), (3, 2), (1 << 20, 0)] {
+            let mut g = base.clone();
+            g.accessors[a]["sparse"] = json!({
+                "count": count,
+                "indices": {"bufferView": 0, "componentType": 5125, "byteOffset": index},
+                "values": {"bufferView": 1}
+            });
+            run(&g, format!("accessor {a} sparse {count} at {index}"));
+        }
+    }
+    for v in 0..base.views.len() {
+        for field in ["byteOffset", "byteLength", "byteStride"] {
+            for &n in &numbers {
+                let mut g = base.clone();
+                g.views[v][field] = json!(n);
+                run(&g, format!("view {v} {field} = {n}"));
+            }
+        }
+    }
+}
+
+#[test]
+fn flipped_bytes_never_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    let original = std::fs::read(common::asset("bunny_res4.glb")).unwrap();
+    // A fixed LCG: the same mutations every run.
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut next = move || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1);
+        (state >> 33) as usize
+    };
+    let path = dir.path().join("flipped.glb");
+    for round in 0..150 {
+        let mut bytes = original.clone();
+        for _ in 0..1 + round % 4 {
+            let at = next() % bytes.len();
+            bytes[at] = (next() & 0xff) as u8;
+        }
+        if round % 10 == 0 {
+            bytes.truncate(next() % bytes.len());
+        }
+        std::fs::write(&path, &bytes).unwrap();
+        load_survives(&path, &format!("round {round}"));
+    }
+
+    // Digits changed in the JSON of a small file keep it parseable and reach deeper checks.
+    let mut g = Gltf::default();
+    let doc = hierarchy_file(&mut g);
+    let gltf_path = g.write_gltf(dir.path(), "digits", doc);
+    let text = std::fs::read(&gltf_path).unwrap();
+    let digits: Vec<usize> = (0..text.len())
+        .filter(|&i| text[i].is_ascii_digit())
+        .collect();
+    for round in 0..DIGIT_ROUNDS {
+        let mut bytes = text.clone();
+        for _ in 0..1 + round % 3 {
+            bytes[digits[next() % digits.len()]] = b'0' + (next() % 10) as u8;
+        }
+        std::fs::write(&gltf_path, &bytes).unwrap();
+        load_survives(&gltf_path, &format!("digit round {round}"));
+    }
+}
+
+const DIGIT_ROUNDS: usize = 300;
 
 // ---------------------------------------------------------------------------------------------
 // Built-in shapes.

@@ -25,9 +25,13 @@ const MAX_ZERO_ELEMENTS: usize = 1 << 26;
 /// Loads a glTF file into a world-space [`Scene`].
 pub(super) fn load(path: &Path) -> Result<Scene> {
     let bytes = std::fs::read(path).map_err(|e| input_error(path, format!("cannot read: {e}")))?;
-    let ::gltf::Gltf { document, blob } = ::gltf::Gltf::from_slice(&bytes)
+    let ::gltf::Gltf { document, blob } = ::gltf::Gltf::from_slice_without_validation(&bytes)
         .map_err(|e| input_error(path, format!("not a valid glTF/GLB file: {e}")))?;
     drop(bytes);
+    let root = document.into_json();
+    check_position_references(path, &root)?;
+    let document = Document::from_json(root)
+        .map_err(|e| input_error(path, format!("not a valid glTF/GLB file: {e}")))?;
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
     let buffers = load_buffers(path, &base, &document, blob)?;
     let mut loader = Loader {
@@ -49,6 +53,30 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
         bail_input!(path, "no triangles in the default scene");
     }
     Ok(scene)
+}
+
+/// gltf-json's validation indexes the accessor list with each POSITION reference before checking
+/// it is in range (a panic), so those references are checked first.
+fn check_position_references(path: &Path, root: &::gltf::json::Root) -> Result<()> {
+    use ::gltf::json::validation::Checked;
+    let n = root.accessors.len();
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            let position = primitive
+                .attributes
+                .get(&Checked::Valid(::gltf::json::mesh::Semantic::Positions));
+            if let Some(a) = position {
+                if a.value() >= n {
+                    bail_input!(
+                        path,
+                        "mesh {m} primitive {p}: POSITION refers to accessor {}, but the file has {n} accessors",
+                        a.value()
+                    );
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Reads every buffer: the GLB binary chunk, a `data:` URI, or a file beside the glTF.
@@ -373,6 +401,13 @@ impl Loader<'_> {
             .iter()
             .map(|&v| world.transform_point3(Vec3::from_array(v)))
             .collect();
+        if world_pos.iter().any(|p| !p.is_finite()) {
+            bail_input!(
+                self.path,
+                "{at}: accessor {} (POSITION): a vertex is not finite once transformed by its node",
+                pos_acc.index()
+            );
+        }
         if world.determinant() < 0.0 {
             // A mirror turns counter-clockwise into clockwise; swap to keep the front side.
             for t in &mut tris {
