@@ -1,31 +1,11 @@
-//! The built-in `shapes` scene, made in code.
-//!
-//! Layout (metres-ish units, +Y up, everything resting on the ground at y = 0):
-//!
-//! | object | material | colour (linear) | placement and size |
-//! |---|---|---|---|
-//! | ground | `ground` | (0.5, 0.5, 0.5) | square x, z ∈ [−5, 5] at y = 0, 8 × 8 quads, normal +Y |
-//! | sphere | `sphere` | (0.75, 0.18, 0.15) red | centre (0, 0.5, 0), radius 0.5 |
-//! | box | `box` | (0.2, 0.35, 0.75) blue | 0.8 cube, centre (−1.25, 0.4, −0.5), turned 30° about +Y |
-//! | cylinder | `cylinder` | (0.25, 0.6, 0.25) green | axis x = 1.2, z = −0.7, radius 0.3, y ∈ [0, 1.2] |
-//! | cone | `cone` | (0.85, 0.65, 0.2) yellow | base centre (1.1, 0, 0.9), radius 0.45, apex at y = 1.0 |
-//! | torus | `torus` | (0.55, 0.3, 0.7) purple | lying flat, centre (−1.0, 0.14, 1.0), ring radius 0.45, tube radius 0.14 |
-//! | slab | `slab` | (0.85, 0.82, 0.75) off-white | thin upright wall, centre (0.1, 0.45, −1.5), 1.4 (x) × 0.9 (y) × 0.04 (z) |
-//!
-//! The objects fill x ∈ [−1.83, 1.55], y ∈ [0, 1.2], z ∈ [−1.52, 1.59]; the whole scene,
-//! ground included, is x, z ∈ [−5, 5], y ∈ [0, 1.2]. Frame the objects around (0, 0.5, 0),
-//! e.g. from (0, 2.5, 5.5) looking at (0, 0.4, 0) with a 40° vertical field of view.
-//! The torus is concave (it shadows itself), the slab is thin (its shadow comes from a
-//! 4 cm-thick occluder), and the box and cylinder cast onto the sphere and slab for
-//! low lights. About 17,000 triangles: curved surfaces share vertices with smooth normals;
-//! box faces and caps have their own vertices, so creases stay sharp.
+//! The built-in `shapes` scene, made in code. The layout is documented on [`Scene::shapes`].
 
 use glam::{Mat3, Mat4, Quat, Vec2, Vec3};
 use std::f32::consts::{PI, TAU};
 
 use super::{Material, Scene, normal_matrix};
 
-/// Builds the scene described in the module documentation.
+/// Builds the scene documented on [`Scene::shapes`].
 pub(super) fn build() -> Scene {
     let mut b = Builder {
         scene: Scene {
