@@ -25,6 +25,17 @@ const MAX_ZERO_ELEMENTS: usize = 1 << 26;
 /// Loads a glTF file into a world-space [`Scene`].
 pub(super) fn load(path: &Path) -> Result<Scene> {
     let bytes = std::fs::read(path).map_err(|e| input_error(path, format!("cannot read: {e}")))?;
+    // The gltf crate reports a short GLB as "could not completely read the object"; say more.
+    if let (Some(b"glTF"), Some(declared)) = (bytes.get(..4), bytes.get(8..12)) {
+        let declared = u32::from_le_bytes([declared[0], declared[1], declared[2], declared[3]]);
+        if declared as usize > bytes.len() {
+            bail_input!(
+                path,
+                "truncated GLB: the header says {declared} bytes, the file has {}",
+                bytes.len()
+            );
+        }
+    }
     let ::gltf::Gltf { document, blob } = ::gltf::Gltf::from_slice_without_validation(&bytes)
         .map_err(|e| input_error(path, format!("not a valid glTF/GLB file: {e}")))?;
     drop(bytes);
@@ -783,7 +794,7 @@ fn assemble(mode: Mode, idx: &[u32]) -> Vec<[u32; 3]> {
 /// Area-weighted vertex normals (the sum of unnormalised face normals), normalised. A vertex
 /// whose sum cancels (back-to-back faces) takes its largest incident face's normal; a vertex no
 /// triangle uses gets +Y, which nothing will see.
-pub(super) fn smooth_normals(positions: &[Vec3], tris: &[[u32; 3]]) -> Vec<Vec3> {
+fn smooth_normals(positions: &[Vec3], tris: &[[u32; 3]]) -> Vec<Vec3> {
     let mut sum = vec![Vec3::ZERO; positions.len()];
     let mut largest = vec![Vec3::ZERO; positions.len()];
     for t in tris {
