@@ -1,0 +1,823 @@
+//! glTF 2.0 loading (`.gltf` + external or `data:` resources, `.glb`).
+//!
+//! The `gltf` crate parses and validates the JSON (references in range, enums known); buffers,
+//! images and accessors are read here rather than with `gltf::import` and its readers, because
+//! those panic on some malformed files (a byteStride smaller than the element, an accessor type
+//! that does not match its semantic, a bad percent-encoding in a URI) and give errors that do
+//! not say which mesh or accessor is at fault.
+
+use glam::{Mat4, Vec2, Vec3};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use ::gltf::accessor::{DataType, Dimensions};
+use ::gltf::mesh::{Mode, Semantic};
+use ::gltf::{Accessor, Document, Node, Primitive};
+
+use super::{Material, Scene, SceneCamera, Texture, normal_matrix};
+use crate::bail_input;
+use crate::error::{Result, input_error};
+
+/// An accessor without a buffer view is all zeros; more elements than this is surely a broken
+/// file, and refusing it avoids allocating whatever the count says.
+const MAX_ZERO_ELEMENTS: usize = 1 << 26;
+
+/// Loads a glTF file into a world-space [`Scene`].
+pub(super) fn load(path: &Path) -> Result<Scene> {
+    let bytes = std::fs::read(path).map_err(|e| input_error(path, format!("cannot read: {e}")))?;
+    // The gltf crate reports a short GLB as "could not completely read the object"; say more.
+    if let (Some(b"glTF"), Some(declared)) = (bytes.get(..4), bytes.get(8..12)) {
+        let declared = u32::from_le_bytes([declared[0], declared[1], declared[2], declared[3]]);
+        if declared as usize > bytes.len() {
+            bail_input!(
+                path,
+                "truncated GLB: the header says {declared} bytes, the file has {}",
+                bytes.len()
+            );
+        }
+    }
+    let ::gltf::Gltf { document, blob } = ::gltf::Gltf::from_slice_without_validation(&bytes)
+        .map_err(|e| input_error(path, format!("not a valid glTF/GLB file: {e}")))?;
+    drop(bytes);
+    let root = document.into_json();
+    check_position_references(path, &root)?;
+    let document = Document::from_json(root)
+        .map_err(|e| input_error(path, format!("not a valid glTF/GLB file: {e}")))?;
+    let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    let buffers = load_buffers(path, &base, &document, blob)?;
+    let mut loader = Loader {
+        path,
+        base,
+        document: &document,
+        buffers,
+        scene: Scene {
+            source: path.display().to_string(),
+            ..Scene::default()
+        },
+        material_map: HashMap::new(),
+        image_map: HashMap::new(),
+        default_material: None,
+    };
+    loader.walk()?;
+    let scene = loader.scene;
+    if scene.triangles.is_empty() {
+        bail_input!(path, "no triangles in the default scene");
+    }
+    Ok(scene)
+}
+
+/// gltf-json's validation indexes the accessor list with each POSITION reference before checking
+/// it is in range (a panic), so those references are checked first.
+fn check_position_references(path: &Path, root: &::gltf::json::Root) -> Result<()> {
+    use ::gltf::json::validation::Checked;
+    let n = root.accessors.len();
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, primitive) in mesh.primitives.iter().enumerate() {
+            let position = primitive
+                .attributes
+                .get(&Checked::Valid(::gltf::json::mesh::Semantic::Positions));
+            if let Some(a) = position {
+                if a.value() >= n {
+                    bail_input!(
+                        path,
+                        "mesh {m} primitive {p}: POSITION refers to accessor {}, but the file has {n} accessors",
+                        a.value()
+                    );
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Reads every buffer: the GLB binary chunk, a `data:` URI, or a file beside the glTF.
+fn load_buffers(
+    path: &Path,
+    base: &Path,
+    document: &Document,
+    mut blob: Option<Vec<u8>>,
+) -> Result<Vec<Vec<u8>>> {
+    let mut buffers = Vec::new();
+    for buffer in document.buffers() {
+        let i = buffer.index();
+        let data = match buffer.source() {
+            ::gltf::buffer::Source::Bin => match blob.take() {
+                Some(data) => data,
+                None => bail_input!(
+                    path,
+                    "buffer {i} refers to the GLB binary chunk, but the file has none"
+                ),
+            },
+            ::gltf::buffer::Source::Uri(uri) => {
+                read_uri(base, uri).map_err(|e| input_error(path, format!("buffer {i}: {e}")))?
+            }
+        };
+        if data.len() < buffer.length() {
+            bail_input!(
+                path,
+                "buffer {i}: declares {} bytes but holds only {}",
+                buffer.length(),
+                data.len()
+            );
+        }
+        buffers.push(data);
+    }
+    Ok(buffers)
+}
+
+/// The bytes a URI names: `data:…;base64,…`, or a (percent-encoded) path relative to `base`.
+fn read_uri(base: &Path, uri: &str) -> std::result::Result<Vec<u8>, String> {
+    if let Some(rest) = uri.strip_prefix("data:") {
+        let Some((_, payload)) = rest.split_once(";base64,") else {
+            return Err("data: URI is not base64".to_string());
+        };
+        return base64_decode(payload).ok_or_else(|| "data: URI has invalid base64".to_string());
+    }
+    let relative = if let Some(rest) = uri.strip_prefix("file://") {
+        PathBuf::from(percent_decode(rest))
+    } else if uri.contains(':') {
+        return Err(format!("unsupported URI scheme in '{uri}'"));
+    } else {
+        base.join(percent_decode(uri))
+    };
+    std::fs::read(&relative)
+        .map_err(|e| format!("cannot read external file '{}': {e}", relative.display()))
+}
+
+/// Decodes `%XX` escapes; invalid escapes are kept literally, invalid UTF-8 replaced.
+fn percent_decode(s: &str) -> String {
+    let bytes = s.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] == b'%' && i + 2 < bytes.len() {
+            let hex = std::str::from_utf8(&bytes[i + 1..i + 3])
+                .ok()
+                .and_then(|h| u8::from_str_radix(h, 16).ok());
+            if let Some(b) = hex {
+                out.push(b);
+                i += 3;
+                continue;
+            }
+        }
+        out.push(bytes[i]);
+        i += 1;
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+/// Standard base64 (padding optional, whitespace ignored); `None` on any other character.
+fn base64_decode(s: &str) -> Option<Vec<u8>> {
+    let mut out = Vec::with_capacity(s.len() / 4 * 3);
+    let mut acc = 0u32;
+    let mut bits = 0;
+    for c in s.bytes() {
+        let v = match c {
+            b'A'..=b'Z' => c - b'A',
+            b'a'..=b'z' => c - b'a' + 26,
+            b'0'..=b'9' => c - b'0' + 52,
+            b'+' | b'-' => 62,
+            b'/' | b'_' => 63,
+            b'=' | b' ' | b'\n' | b'\r' | b'\t' => continue,
+            _ => return None,
+        };
+        acc = (acc << 6) | u32::from(v);
+        bits += 6;
+        if bits >= 8 {
+            bits -= 8;
+            out.push((acc >> bits) as u8);
+            acc &= (1 << bits) - 1;
+        }
+    }
+    Some(out)
+}
+
+/// State while walking the node hierarchy.
+struct Loader<'a> {
+    path: &'a Path,
+    base: PathBuf,
+    document: &'a Document,
+    buffers: Vec<Vec<u8>>,
+    scene: Scene,
+    /// glTF material index → scene material index.
+    material_map: HashMap<usize, u32>,
+    /// glTF image index → scene texture index.
+    image_map: HashMap<usize, usize>,
+    /// Scene index of the default grey material, once some primitive needed it.
+    default_material: Option<u32>,
+}
+
+impl Loader<'_> {
+    fn warn(&mut self, message: String) {
+        let message = format!("{}: {message}", self.path.display());
+        eprintln!("warning: {message}");
+        self.scene.warnings.push(message);
+    }
+
+    /// Visits the default scene's nodes depth first (pre-order), composing transforms
+    /// parent × child.
+    fn walk(&mut self) -> Result<()> {
+        let document = self.document;
+        let roots: Vec<Node> = match document
+            .default_scene()
+            .or_else(|| document.scenes().next())
+        {
+            Some(scene) => scene.nodes().collect(),
+            None => {
+                // No scenes: every node that is nobody's child is a root.
+                let mut is_child = vec![false; document.nodes().len()];
+                for node in document.nodes() {
+                    for child in node.children() {
+                        is_child[child.index()] = true;
+                    }
+                }
+                document.nodes().filter(|n| !is_child[n.index()]).collect()
+            }
+        };
+        let mut visited = vec![false; document.nodes().len()];
+        // Reversed so that popping visits nodes in file order.
+        let mut stack: Vec<(Node, Mat4)> = roots
+            .into_iter()
+            .rev()
+            .map(|n| (n, Mat4::IDENTITY))
+            .collect();
+        while let Some((node, parent)) = stack.pop() {
+            let n = node.index();
+            if visited[n] {
+                bail_input!(
+                    self.path,
+                    "node {n} is reached twice in the node hierarchy (a cycle, or a node with two parents)"
+                );
+            }
+            visited[n] = true;
+            let local = Mat4::from_cols_array_2d(&node.transform().matrix());
+            if !local.is_finite() {
+                bail_input!(self.path, "node {n}: transform is not finite");
+            }
+            let world = parent * local;
+            if let Some(camera) = node.camera() {
+                self.camera(n, &camera, world);
+            }
+            if let Some(mesh) = node.mesh() {
+                let det = world.determinant();
+                if det == 0.0 || !det.is_finite() {
+                    self.warn(format!(
+                        "node {n}: world transform is singular (zero scale), mesh {} skipped",
+                        mesh.index()
+                    ));
+                } else {
+                    for primitive in mesh.primitives() {
+                        self.primitive(mesh.index(), &primitive, world)?;
+                    }
+                }
+            }
+            let children: Vec<Node> = node.children().collect();
+            stack.extend(children.into_iter().rev().map(|c| (c, world)));
+        }
+        Ok(())
+    }
+
+    /// Keeps the first perspective camera: eye at the node's origin looking down its −Z, +Y up.
+    fn camera(&mut self, node: usize, camera: &::gltf::Camera, world: Mat4) {
+        if self.scene.camera.is_some() {
+            return;
+        }
+        let ::gltf::camera::Projection::Perspective(p) = camera.projection() else {
+            return;
+        };
+        let position = world.transform_point3(Vec3::ZERO);
+        let forward = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
+        let up = world.transform_vector3(Vec3::Y);
+        // Orthogonalise: a sheared node would otherwise give an up tilted toward forward.
+        let up = (up - forward * up.dot(forward)).normalize_or_zero();
+        let vfov_deg = p.yfov().to_degrees();
+        if forward == Vec3::ZERO
+            || up == Vec3::ZERO
+            || !position.is_finite()
+            || !(vfov_deg > 0.0 && vfov_deg < 180.0)
+        {
+            self.warn(format!(
+                "node {node}: camera {} is degenerate (zero scale or bad yfov), ignored",
+                camera.index()
+            ));
+            return;
+        }
+        self.scene.camera = Some(SceneCamera {
+            position,
+            forward,
+            up,
+            vfov_deg,
+        });
+    }
+
+    /// Appends one primitive, transformed by `world`, to the scene.
+    fn primitive(&mut self, m: usize, primitive: &Primitive, world: Mat4) -> Result<()> {
+        let p = primitive.index();
+        let at = format!("mesh {m} primitive {p}");
+        let mode = primitive.mode();
+        if !matches!(
+            mode,
+            Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+        ) {
+            let message =
+                format!("mesh {m} primitive {p}: mode {mode:?} is not triangles, skipped");
+            self.warn(message);
+            return Ok(());
+        }
+        let Some(pos_acc) = primitive.get(&Semantic::Positions) else {
+            bail_input!(self.path, "{at}: no POSITION attribute");
+        };
+        let positions = self.read_floats::<3>(&at, &pos_acc)?;
+        if let Some(i) = positions
+            .iter()
+            .position(|v| !v.iter().all(|c| c.is_finite()))
+        {
+            bail_input!(
+                self.path,
+                "{at}: accessor {} (POSITION): vertex {i} is not finite ({:?})",
+                pos_acc.index(),
+                positions[i]
+            );
+        }
+        let count = positions.len();
+        let normals = match primitive.get(&Semantic::Normals) {
+            Some(acc) => {
+                let normals = self.read_floats::<3>(&at, &acc)?;
+                self.check_count(&at, &acc, "NORMAL", normals.len(), &pos_acc, count)?;
+                Some(normals)
+            }
+            None => None,
+        };
+
+        let material = self.material(primitive.material())?;
+        let tex_coord = match primitive
+            .material()
+            .pbr_metallic_roughness()
+            .base_color_texture()
+        {
+            Some(info) => info.tex_coord(),
+            None => 0,
+        };
+        let uvs = match primitive.get(&Semantic::TexCoords(tex_coord)) {
+            Some(acc) => {
+                let uvs = self.read_floats::<2>(&at, &acc)?;
+                let name = format!("TEXCOORD_{tex_coord}");
+                self.check_count(&at, &acc, &name, uvs.len(), &pos_acc, count)?;
+                if let Some(i) = uvs.iter().position(|v| !v.iter().all(|c| c.is_finite())) {
+                    bail_input!(
+                        self.path,
+                        "{at}: accessor {} ({name}): element {i} is not finite",
+                        acc.index()
+                    );
+                }
+                Some(uvs)
+            }
+            None => {
+                if self.scene.materials[material as usize].texture.is_some() {
+                    self.warn(format!(
+                        "{at}: the material's texture uses TEXCOORD_{tex_coord}, which the primitive lacks; sampled at (0, 0)"
+                    ));
+                }
+                None
+            }
+        };
+
+        let indices: Vec<u32> = match primitive.indices() {
+            Some(acc) => {
+                let indices = self.read_indices(&at, &acc)?;
+                if let Some(&bad) = indices.iter().find(|&&i| i as usize >= count) {
+                    bail_input!(
+                        self.path,
+                        "{at}: accessor {}: index {bad} out of range ({count} vertices)",
+                        acc.index()
+                    );
+                }
+                indices
+            }
+            None => match u32::try_from(count) {
+                Ok(n) => (0..n).collect(),
+                Err(_) => bail_input!(self.path, "{at}: too many vertices ({count})"),
+            },
+        };
+        let mut tris = assemble(mode, &indices);
+        if mode == Mode::Triangles && indices.len() % 3 != 0 {
+            self.warn(format!(
+                "{at}: {} indices is not a multiple of 3, the last {} ignored",
+                indices.len(),
+                indices.len() % 3
+            ));
+        }
+
+        let world_pos: Vec<Vec3> = positions
+            .iter()
+            .map(|&v| world.transform_point3(Vec3::from_array(v)))
+            .collect();
+        if world_pos.iter().any(|p| !p.is_finite()) {
+            bail_input!(
+                self.path,
+                "{at}: accessor {} (POSITION): a vertex is not finite once transformed by its node",
+                pos_acc.index()
+            );
+        }
+        if world.determinant() < 0.0 {
+            // A mirror turns counter-clockwise into clockwise; swap to keep the front side.
+            for t in &mut tris {
+                t.swap(1, 2);
+            }
+        }
+        // Zero-area triangles have no normal and cannot be hit; drop them.
+        tris.retain(|t| {
+            let [a, b, c] = t.map(|i| world_pos[i as usize]);
+            let n = (b - a).cross(c - a);
+            n != Vec3::ZERO && n.is_finite()
+        });
+        let smooth = smooth_normals(&world_pos, &tris);
+        let nm = normal_matrix(world);
+        let world_nrm: Vec<Vec3> = match &normals {
+            Some(normals) => normals
+                .iter()
+                .zip(&smooth)
+                .map(|(&n, &fallback)| {
+                    let n = (nm * Vec3::from_array(n)).normalize_or_zero();
+                    // Zero or non-finite file normals: use the computed one instead.
+                    if n != Vec3::ZERO && n.is_finite() {
+                        n
+                    } else {
+                        fallback
+                    }
+                })
+                .collect(),
+            None => smooth,
+        };
+
+        let vertex_base = self.scene.positions.len();
+        if vertex_base + count > u32::MAX as usize {
+            bail_input!(self.path, "{at}: the scene has more than 2^32 vertices");
+        }
+        let vertex_base = vertex_base as u32;
+        self.scene.positions.extend(world_pos);
+        self.scene.normals.extend(world_nrm);
+        match uvs {
+            Some(uvs) => self.scene.uvs.extend(uvs.into_iter().map(Vec2::from_array)),
+            None => self
+                .scene
+                .uvs
+                .extend(std::iter::repeat_n(Vec2::ZERO, count)),
+        }
+        self.scene
+            .tri_material
+            .extend(std::iter::repeat_n(material, tris.len()));
+        self.scene
+            .triangles
+            .extend(tris.into_iter().map(|t| t.map(|i| i + vertex_base)));
+        Ok(())
+    }
+
+    fn check_count(
+        &self,
+        at: &str,
+        acc: &Accessor,
+        name: &str,
+        n: usize,
+        pos_acc: &Accessor,
+        count: usize,
+    ) -> Result<()> {
+        if n != count {
+            bail_input!(
+                self.path,
+                "{at}: accessor {} ({name}) has {n} elements but accessor {} (POSITION) has {count}",
+                acc.index(),
+                pos_acc.index()
+            );
+        }
+        Ok(())
+    }
+
+    /// The scene material for a glTF material (converted once), or the default grey.
+    fn material(&mut self, material: ::gltf::Material) -> Result<u32> {
+        let Some(index) = material.index() else {
+            if let Some(i) = self.default_material {
+                return Ok(i);
+            }
+            let i = self.scene.materials.len() as u32;
+            self.scene.materials.push(Material::default_grey());
+            self.default_material = Some(i);
+            return Ok(i);
+        };
+        if let Some(&i) = self.material_map.get(&index) {
+            return Ok(i);
+        }
+        let pbr = material.pbr_metallic_roughness();
+        let [r, g, b, _alpha] = pbr.base_color_factor();
+        let base_color = Vec3::new(r, g, b);
+        if !base_color.is_finite() {
+            bail_input!(self.path, "material {index}: baseColorFactor is not finite");
+        }
+        let texture = match pbr.base_color_texture() {
+            Some(info) => Some(self.texture(index, info.texture().source())?),
+            None => None,
+        };
+        let i = self.scene.materials.len() as u32;
+        self.scene.materials.push(Material {
+            name: material
+                .name()
+                .map_or_else(|| format!("material {index}"), str::to_string),
+            base_color,
+            texture,
+        });
+        self.material_map.insert(index, i);
+        Ok(i)
+    }
+
+    /// Decodes an image once and returns its scene texture index.
+    fn texture(&mut self, material: usize, image: ::gltf::Image) -> Result<usize> {
+        let index = image.index();
+        if let Some(&t) = self.image_map.get(&index) {
+            return Ok(t);
+        }
+        let at = format!("material {material}: image {index}");
+        let bytes: Vec<u8> = match image.source() {
+            ::gltf::image::Source::Uri { uri, .. } => read_uri(&self.base, uri)
+                .map_err(|e| input_error(self.path, format!("{at}: {e}")))?,
+            ::gltf::image::Source::View { view, .. } => {
+                let range = view.offset()..view.offset().saturating_add(view.length());
+                match self
+                    .buffers
+                    .get(view.buffer().index())
+                    .and_then(|b| b.get(range))
+                {
+                    Some(bytes) => bytes.to_vec(),
+                    None => bail_input!(
+                        self.path,
+                        "{at}: buffer view {} lies outside its buffer",
+                        view.index()
+                    ),
+                }
+            }
+        };
+        let texture = Texture::decode(&bytes)
+            .map_err(|e| input_error(self.path, format!("{at}: cannot decode: {e}")))?;
+        let t = self.scene.textures.len();
+        self.scene.textures.push(texture);
+        self.image_map.insert(index, t);
+        Ok(t)
+    }
+
+    /// Reads a float attribute of `N` components (VEC2/VEC3); integer components are converted,
+    /// normalised where the accessor says so.
+    fn read_floats<const N: usize>(&self, at: &str, acc: &Accessor) -> Result<Vec<[f32; N]>> {
+        let dims = acc.dimensions().multiplicity();
+        if dims != N {
+            bail_input!(
+                self.path,
+                "{at}: accessor {}: type {:?}, expected {N} components",
+                acc.index(),
+                acc.dimensions()
+            );
+        }
+        let values = self.read_accessor(at, acc)?;
+        Ok(values
+            .chunks_exact(N)
+            .map(|c| std::array::from_fn(|k| c[k] as f32))
+            .collect())
+    }
+
+    /// Reads an index accessor (SCALAR of unsigned bytes, shorts or ints).
+    fn read_indices(&self, at: &str, acc: &Accessor) -> Result<Vec<u32>> {
+        if acc.dimensions() != Dimensions::Scalar
+            || !matches!(
+                acc.data_type(),
+                DataType::U8 | DataType::U16 | DataType::U32
+            )
+        {
+            bail_input!(
+                self.path,
+                "{at}: accessor {} (indices): {:?} {:?}, expected unsigned integer SCALAR",
+                acc.index(),
+                acc.data_type(),
+                acc.dimensions()
+            );
+        }
+        Ok(self
+            .read_accessor(at, acc)?
+            .into_iter()
+            .map(|v| v as u32)
+            .collect())
+    }
+
+    /// Reads all `count × components` values of an accessor (dense, sparse, or zeros), with every
+    /// byte range checked against its view and buffer.
+    fn read_accessor(&self, at: &str, acc: &Accessor) -> Result<Vec<f64>> {
+        let a = acc.index();
+        let count = acc.count();
+        let dims = acc.dimensions().multiplicity();
+        let ty = acc.data_type();
+        let normalized = acc.normalized();
+        let err = |msg: String| input_error(self.path, format!("{at}: accessor {a}: {msg}"));
+
+        let mut values = match acc.view() {
+            Some(view) => {
+                let bytes = self.view_bytes(&view).ok_or_else(|| {
+                    err(format!(
+                        "buffer view {} lies outside its buffer",
+                        view.index()
+                    ))
+                })?;
+                read_elements(
+                    bytes,
+                    acc.offset(),
+                    view.stride(),
+                    count,
+                    dims,
+                    ty,
+                    normalized,
+                )
+                .map_err(err)?
+            }
+            None => {
+                if count.saturating_mul(dims) > MAX_ZERO_ELEMENTS {
+                    return Err(err(format!("count {count} without a buffer view")));
+                }
+                vec![0.0; count * dims]
+            }
+        };
+
+        if let Some(sparse) = acc.sparse() {
+            let n = sparse.count();
+            let indices = sparse.indices();
+            let index_type = match indices.index_type() {
+                ::gltf::accessor::sparse::IndexType::U8 => DataType::U8,
+                ::gltf::accessor::sparse::IndexType::U16 => DataType::U16,
+                ::gltf::accessor::sparse::IndexType::U32 => DataType::U32,
+            };
+            let index_bytes = self.view_bytes(&indices.view()).ok_or_else(|| {
+                err("sparse indices' buffer view lies outside its buffer".to_string())
+            })?;
+            let targets =
+                read_elements(index_bytes, indices.offset(), None, n, 1, index_type, false)
+                    .map_err(|e| err(format!("sparse indices: {e}")))?;
+            let value_view = sparse.values().view();
+            let value_bytes = self.view_bytes(&value_view).ok_or_else(|| {
+                err("sparse values' buffer view lies outside its buffer".to_string())
+            })?;
+            let replacements = read_elements(
+                value_bytes,
+                sparse.values().offset(),
+                None,
+                n,
+                dims,
+                ty,
+                normalized,
+            )
+            .map_err(|e| err(format!("sparse values: {e}")))?;
+            for (k, &target) in targets.iter().enumerate() {
+                let target = target as usize;
+                if target >= count {
+                    return Err(err(format!(
+                        "sparse index {target} out of range ({count} elements)"
+                    )));
+                }
+                values[target * dims..(target + 1) * dims]
+                    .copy_from_slice(&replacements[k * dims..(k + 1) * dims]);
+            }
+        }
+        Ok(values)
+    }
+
+    /// The bytes of a buffer view, if it lies inside its buffer.
+    fn view_bytes(&self, view: &::gltf::buffer::View) -> Option<&[u8]> {
+        let start = view.offset();
+        let end = start.checked_add(view.length())?;
+        self.buffers.get(view.buffer().index())?.get(start..end)
+    }
+}
+
+/// Reads `count` elements of `dims` components of type `ty` from `bytes` (a buffer view),
+/// starting at `offset` with `stride` bytes between elements (tightly packed if `None`).
+fn read_elements(
+    bytes: &[u8],
+    offset: usize,
+    stride: Option<usize>,
+    count: usize,
+    dims: usize,
+    ty: DataType,
+    normalized: bool,
+) -> std::result::Result<Vec<f64>, String> {
+    let size = ty.size();
+    let element = size * dims;
+    let stride = stride.unwrap_or(element);
+    if stride < element {
+        return Err(format!(
+            "byteStride {stride} is smaller than the element size {element}"
+        ));
+    }
+    if count == 0 {
+        return Ok(Vec::new());
+    }
+    let end = (count - 1)
+        .checked_mul(stride)
+        .and_then(|x| x.checked_add(offset))
+        .and_then(|x| x.checked_add(element));
+    match end {
+        Some(end) if end <= bytes.len() => {}
+        _ => {
+            return Err(format!(
+                "{count} elements of {element} bytes (stride {stride}, offset {offset}) do not fit in the {}-byte buffer view",
+                bytes.len()
+            ));
+        }
+    }
+    let mut out = Vec::with_capacity(count * dims);
+    for e in 0..count {
+        let start = offset + e * stride;
+        for k in 0..dims {
+            let b = &bytes[start + k * size..start + (k + 1) * size];
+            out.push(component(b, ty, normalized));
+        }
+    }
+    Ok(out)
+}
+
+/// One little-endian component as f64; normalised integers map to [0, 1] or [−1, 1] as the glTF
+/// spec says.
+fn component(b: &[u8], ty: DataType, normalized: bool) -> f64 {
+    match ty {
+        DataType::I8 => {
+            let v = f64::from(b[0] as i8);
+            if normalized { (v / 127.0).max(-1.0) } else { v }
+        }
+        DataType::U8 => {
+            let v = f64::from(b[0]);
+            if normalized { v / 255.0 } else { v }
+        }
+        DataType::I16 => {
+            let v = f64::from(i16::from_le_bytes([b[0], b[1]]));
+            if normalized {
+                (v / 32767.0).max(-1.0)
+            } else {
+                v
+            }
+        }
+        DataType::U16 => {
+            let v = f64::from(u16::from_le_bytes([b[0], b[1]]));
+            if normalized { v / 65535.0 } else { v }
+        }
+        DataType::U32 => f64::from(u32::from_le_bytes([b[0], b[1], b[2], b[3]])),
+        DataType::F32 => f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]])),
+    }
+}
+
+/// Triangles from an index list: lists as is, strips and fans unrolled per the glTF spec.
+/// Triangles that repeat a vertex (strip restarts) are dropped.
+fn assemble(mode: Mode, idx: &[u32]) -> Vec<[u32; 3]> {
+    let tris: Vec<[u32; 3]> = match mode {
+        Mode::Triangles => idx.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
+        Mode::TriangleStrip => (0..idx.len().saturating_sub(2))
+            .map(|i| {
+                if i % 2 == 0 {
+                    [idx[i], idx[i + 1], idx[i + 2]]
+                } else {
+                    [idx[i], idx[i + 2], idx[i + 1]]
+                }
+            })
+            .collect(),
+        Mode::TriangleFan => (1..idx.len().saturating_sub(1))
+            .map(|i| [idx[i], idx[i + 1], idx[0]])
+            .collect(),
+        _ => Vec::new(),
+    };
+    tris.into_iter()
+        .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+        .collect()
+}
+
+/// Area-weighted vertex normals (the sum of unnormalised face normals), normalised. A vertex
+/// whose sum cancels (back-to-back faces) takes its largest incident face's normal; a vertex no
+/// triangle uses gets +Y, which nothing will see.
+fn smooth_normals(positions: &[Vec3], tris: &[[u32; 3]]) -> Vec<Vec3> {
+    let mut sum = vec![Vec3::ZERO; positions.len()];
+    let mut largest = vec![Vec3::ZERO; positions.len()];
+    for t in tris {
+        let [a, b, c] = t.map(|i| positions[i as usize]);
+        let n = (b - a).cross(c - a);
+        for &i in t {
+            let i = i as usize;
+            sum[i] += n;
+            if n.length_squared() > largest[i].length_squared() {
+                largest[i] = n;
+            }
+        }
+    }
+    sum.iter()
+        .zip(&largest)
+        .map(|(s, l)| {
+            let n = s.normalize_or_zero();
+            if n != Vec3::ZERO {
+                n
+            } else {
+                let l = l.normalize_or_zero();
+                if l != Vec3::ZERO { l } else { Vec3::Y }
+            }
+        })
+        .collect()
+}

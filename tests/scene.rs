@@ -1,0 +1,969 @@
+//! Scene loading: the shared bunny assets, glTF files generated here (hierarchies, textures,
+//! cameras, missing normals, non-triangle primitives, bad inputs), and the built-in shapes.
+
+mod common;
+
+use envshadow::error::{InputError, exit_code};
+use envshadow::scene::Scene;
+use glam::{Mat4, Vec2, Vec3};
+use serde_json::{Value, json};
+use std::path::{Path, PathBuf};
+
+// ---------------------------------------------------------------------------------------------
+// A small glTF writer: accessors go into one binary buffer, written as `.gltf` + `.bin`, as
+// `.gltf` with a `data:` URI, or as `.glb`.
+
+#[derive(Clone, Default)]
+struct Gltf {
+    bin: Vec<u8>,
+    views: Vec<Value>,
+    accessors: Vec<Value>,
+}
+
+impl Gltf {
+    fn view(&mut self, bytes: &[u8]) -> usize {
+        while self.bin.len() % 4 != 0 {
+            self.bin.push(0);
+        }
+        self.views
+            .push(json!({"buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len()}));
+        self.bin.extend_from_slice(bytes);
+        self.views.len() - 1
+    }
+
+    /// A float accessor of `type_` ("VEC2", "VEC3") over `data`.
+    fn floats(&mut self, type_: &str, data: &[f32]) -> usize {
+        let n = match type_ {
+            "VEC2" => 2,
+            "VEC3" => 3,
+            _ => 1,
+        };
+        let bytes: Vec<u8> = data.iter().flat_map(|f| f.to_le_bytes()).collect();
+        let view = self.view(&bytes);
+        let mut acc = json!({"bufferView": view, "componentType": 5126, "count": data.len() / n, "type": type_});
+        if type_ == "VEC3" {
+            // glTF requires min/max on POSITION (f32::min skips NaN); harmless on others.
+            let mut lo = [f32::INFINITY; 3];
+            let mut hi = [f32::NEG_INFINITY; 3];
+            for c in data.chunks(3) {
+                for k in 0..3 {
+                    lo[k] = lo[k].min(c[k]);
+                    hi[k] = hi[k].max(c[k]);
+                }
+            }
+            acc["min"] = json!(lo);
+            acc["max"] = json!(hi);
+        }
+        self.accessors.push(acc);
+        self.accessors.len() - 1
+    }
+
+    fn indices(&mut self, data: &[u32]) -> usize {
+        let bytes: Vec<u8> = data.iter().flat_map(|i| i.to_le_bytes()).collect();
+        let view = self.view(&bytes);
+        self.accessors.push(json!({"bufferView": view, "componentType": 5125, "count": data.len(), "type": "SCALAR"}));
+        self.accessors.len() - 1
+    }
+
+    /// The document: `rest` (meshes, nodes, scenes, …) plus buffers, views and accessors.
+    fn json(&self, rest: Value, buffer_uri: Option<&str>) -> Value {
+        let mut doc = rest;
+        doc["asset"] = json!({"version": "2.0"});
+        let mut buffer = json!({"byteLength": self.bin.len()});
+        if let Some(uri) = buffer_uri {
+            buffer["uri"] = json!(uri);
+        }
+        doc["buffers"] = json!([buffer]);
+        doc["bufferViews"] = json!(self.views);
+        doc["accessors"] = json!(self.accessors);
+        doc
+    }
+
+    /// Writes `name.gltf` + `name.bin` into `dir`.
+    fn write_gltf(&self, dir: &Path, name: &str, rest: Value) -> PathBuf {
+        let bin_name = format!("{name}.bin");
+        std::fs::write(dir.join(&bin_name), &self.bin).unwrap();
+        let path = dir.join(format!("{name}.gltf"));
+        let doc = self.json(rest, Some(&bin_name));
+        std::fs::write(&path, serde_json::to_vec_pretty(&doc).unwrap()).unwrap();
+        path
+    }
+
+    /// Writes `name.gltf` with the buffer inline as a base64 `data:` URI.
+    fn write_gltf_data_uri(&self, dir: &Path, name: &str, rest: Value) -> PathBuf {
+        let uri = format!("data:application/octet-stream;base64,{}", base64(&self.bin));
+        let path = dir.join(format!("{name}.gltf"));
+        let doc = self.json(rest, Some(&uri));
+        std::fs::write(&path, serde_json::to_vec(&doc).unwrap()).unwrap();
+        path
+    }
+
+    /// Writes `name.glb` into `dir`.
+    fn write_glb(&self, dir: &Path, name: &str, rest: Value) -> PathBuf {
+        let mut json = serde_json::to_vec(&self.json(rest, None)).unwrap();
+        while json.len() % 4 != 0 {
+            json.push(b' ');
+        }
+        let mut bin = self.bin.clone();
+        while bin.len() % 4 != 0 {
+            bin.push(0);
+        }
+        let total = 12 + 8 + json.len() + 8 + bin.len();
+        let mut out = Vec::new();
+        out.extend_from_slice(b"glTF");
+        out.extend_from_slice(&2u32.to_le_bytes());
+        out.extend_from_slice(&(total as u32).to_le_bytes());
+        out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+        out.extend_from_slice(b"JSON");
+        out.extend_from_slice(&json);
+        out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+        out.extend_from_slice(b"BIN\0");
+        out.extend_from_slice(&bin);
+        let path = dir.join(format!("{name}.glb"));
+        std::fs::write(&path, out).unwrap();
+        path
+    }
+}
+
+fn base64(data: &[u8]) -> String {
+    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::new();
+    for chunk in data.chunks(3) {
+        let b = [
+            chunk[0],
+            *chunk.get(1).unwrap_or(&0),
+            *chunk.get(2).unwrap_or(&0),
+        ];
+        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
+        for k in 0..4 {
+            if k <= chunk.len() {
+                out.push(ALPHABET[((n >> (18 - 6 * k)) & 63) as usize] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}
+
+fn close(a: Vec3, b: Vec3, tol: f32) -> bool {
+    (a - b).abs().max_element() <= tol
+}
+
+fn assert_close(a: Vec3, b: Vec3, tol: f32, what: &str) {
+    assert!(close(a, b, tol), "{what}: got {a}, expected {b}");
+}
+
+/// Geometric normal of triangle `t`.
+fn geometric(scene: &Scene, t: usize) -> Vec3 {
+    let [a, b, c] = scene.triangle(t);
+    (b - a).cross(c - a).normalize()
+}
+
+/// Every triangle's vertex normals agree with its geometric normal (same side).
+fn assert_winding_agrees(scene: &Scene) {
+    for t in 0..scene.triangle_count() {
+        let g = geometric(scene, t);
+        for &i in &scene.triangles[t] {
+            let n = scene.normals[i as usize];
+            assert!(
+                g.dot(n) > 0.0,
+                "triangle {t}: geometric {g} vs vertex normal {n}"
+            );
+        }
+    }
+}
+
+/// The error must be an InputError (exit code 2) whose message contains every `needle`.
+fn assert_input_error(result: anyhow::Result<Scene>, needles: &[&str]) {
+    let err = match result {
+        Ok(_) => panic!("expected an error containing {needles:?}"),
+        Err(e) => e,
+    };
+    eprintln!("{err:#}");
+    assert_eq!(exit_code(&err), 2, "not an input error: {err:#}");
+    assert!(
+        err.chain()
+            .any(|c| c.downcast_ref::<InputError>().is_some())
+    );
+    let message = format!("{err:#}");
+    for needle in needles {
+        assert!(
+            message.contains(needle),
+            "message {message:?} lacks {needle:?}"
+        );
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Shared assets.
+
+#[test]
+fn bunny_assets_load_with_documented_counts_and_bounds() {
+    let cases = [
+        (
+            "bunny.glb",
+            69_451,
+            [-0.07785, 0.0, -0.06034],
+            [0.07785, 0.15433, 0.06034],
+        ),
+        (
+            "bunny_on_plane.glb",
+            69_453,
+            [-0.3114, 0.0, -0.3114],
+            [0.3114, 0.15433, 0.3114],
+        ),
+        (
+            "bunny_res4.glb",
+            948,
+            [-0.07565, 0.0, -0.05722],
+            [0.07565, 0.14828, 0.05722],
+        ),
+    ];
+    for (name, tris, lo, hi) in cases {
+        let scene = Scene::load(&common::asset(name)).unwrap();
+        assert_eq!(scene.triangle_count(), tris, "{name}");
+        let (min, max) = scene.bounds();
+        // SOURCES.md gives 5 decimals: within half a unit of the last place, plus 1e-4.
+        assert_close(min, Vec3::from_array(lo), 1e-4, name);
+        assert_close(max, Vec3::from_array(hi), 1e-4, name);
+        assert!(
+            scene
+                .normals
+                .iter()
+                .all(|n| (n.length() - 1.0).abs() < 1e-4)
+        );
+        assert!(scene.camera.is_none());
+        assert!(scene.warnings.is_empty());
+        assert_eq!(scene.tri_material.len(), tris);
+        assert!(scene.source.ends_with(name));
+    }
+    let plane = Scene::load(&common::asset("bunny_on_plane.glb")).unwrap();
+    let greys: Vec<f32> = plane.materials.iter().map(|m| m.base_color.x).collect();
+    assert!(greys.contains(&0.8) && greys.contains(&0.5), "{greys:?}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Transforms.
+
+/// One triangle (0,0,0), (1,0,0), (0,1,1) with its true normal (0,−1,1)/√2, instanced under
+/// parent(TRS) → child(matrix) → grandchild(TRS) and under a mirror.
+fn hierarchy_file(g: &mut Gltf) -> Value {
+    let n = Vec3::new(0.0, -1.0, 1.0).normalize();
+    let pos = g.floats("VEC3", &[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 1.0]);
+    let nrm = g.floats("VEC3", &[n.x, n.y, n.z, n.x, n.y, n.z, n.x, n.y, n.z]);
+    let s = std::f32::consts::FRAC_1_SQRT_2;
+    json!({
+        "scene": 0,
+        "scenes": [{"nodes": [0, 3]}],
+        "nodes": [
+            {"translation": [1.0, 2.0, 3.0], "rotation": [0.0, s, 0.0, s], "scale": [2.0, 2.0, 2.0], "children": [1]},
+            // 90° about +Z (x → y, y → −x), then up by 1; column-major.
+            {"matrix": [0.0, 1.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 1.0], "children": [2]},
+            {"translation": [1.0, 0.0, 0.0], "scale": [1.0, 3.0, 1.0], "mesh": 0},
+            {"translation": [0.0, 0.0, -5.0], "scale": [-1.0, 1.0, 1.0], "mesh": 0}
+        ],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": pos, "NORMAL": nrm}}]}]
+    })
+}
+
+fn check_hierarchy(scene: &Scene) {
+    assert_eq!(scene.triangle_count(), 2);
+    // Hand-computed: grandchild (x+1, 3y, z); child (−y, x, z) + (0, 1, 0); parent
+    // (1, 2, 3) + 2·(z, y, −x).
+    let nested = scene.triangle(0);
+    assert_close(nested[0], Vec3::new(1.0, 6.0, 3.0), 1e-5, "nested p0");
+    assert_close(nested[1], Vec3::new(1.0, 8.0, 3.0), 1e-5, "nested p1");
+    assert_close(nested[2], Vec3::new(3.0, 6.0, 9.0), 1e-5, "nested p2");
+    // The normal through the inverse transposes: (0,−1,1) → (0,−1,3) → (1,0,3) → (3,0,−1).
+    let expected = Vec3::new(3.0, 0.0, -1.0).normalize();
+    for &i in &scene.triangles[0] {
+        assert_close(scene.normals[i as usize], expected, 1e-5, "nested normal");
+    }
+    assert_close(
+        geometric(scene, 0),
+        expected,
+        1e-5,
+        "nested geometric normal",
+    );
+
+    // Mirror x → −x, then z − 5: the winding must flip so (p1−p0)×(p2−p0) still faces the normal.
+    let mirrored = scene.triangle(1);
+    let mut got: Vec<[f32; 3]> = mirrored.iter().map(|p| p.to_array()).collect();
+    got.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    let mut want = vec![[0.0, 0.0, -5.0], [-1.0, 0.0, -5.0], [0.0, 1.0, -4.0]];
+    want.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    for (g, w) in got.iter().zip(&want) {
+        assert_close(
+            Vec3::from_array(*g),
+            Vec3::from_array(*w),
+            1e-5,
+            "mirrored vertex",
+        );
+    }
+    let expected = Vec3::new(0.0, -1.0, 1.0).normalize();
+    for &i in &scene.triangles[1] {
+        assert_close(scene.normals[i as usize], expected, 1e-5, "mirrored normal");
+    }
+    assert_close(
+        geometric(scene, 1),
+        expected,
+        1e-5,
+        "mirrored geometric normal",
+    );
+    assert_close(
+        scene.shading_normal(1, (0.2, 0.3)),
+        expected,
+        1e-5,
+        "mirrored shading",
+    );
+}
+
+#[test]
+fn nested_rotated_scaled_and_mirrored_nodes_gltf_and_glb() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut g = Gltf::default();
+    let doc = hierarchy_file(&mut g);
+    check_hierarchy(&Scene::load(&g.write_gltf(dir.path(), "h", doc.clone())).unwrap());
+    check_hierarchy(&Scene::load(&g.write_glb(dir.path(), "h", doc.clone())).unwrap());
+    check_hierarchy(&Scene::load(&g.write_gltf_data_uri(dir.path(), "h64", doc)).unwrap());
+}
+
+#[test]
+fn transformed_moves_normals_and_flips_mirrored_winding() {
+    let shapes = Scene::shapes();
+    let m = Mat4::from_scale(Vec3::new(-1.0, 2.0, 1.0)) * Mat4::from_rotation_y(0.7);
+    let moved = shapes.transformed(m);
+    assert_eq!(moved.triangle_count(), shapes.triangle_count());
+    assert_close(
+        moved.positions[10],
+        m.transform_point3(shapes.positions[10]),
+        1e-6,
+        "moved vertex",
+    );
+    assert_winding_agrees(&moved);
+    // Shading normals still match geometry on a flat face (the ground's first triangle).
+    assert_close(
+        moved.shading_normal(0, (0.3, 0.3)),
+        geometric(&moved, 0),
+        1e-5,
+        "ground",
+    );
+
+    let mut merged = shapes.clone();
+    merged.merge(moved);
+    assert_eq!(merged.triangle_count(), 2 * shapes.triangle_count());
+    assert_eq!(merged.materials.len(), 2 * shapes.materials.len());
+    let t = shapes.triangle_count() + 5;
+    assert_eq!(merged.albedo(t, (0.2, 0.2)), shapes.albedo(5, (0.2, 0.2)));
+}
+
+#[test]
+fn strips_and_fans_become_consistent_triangles() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut g = Gltf::default();
+    // A unit square in z = 0 facing +Z, as a strip (0,1,2,3 zig-zag) and as a fan.
+    let strip = g.floats(
+        "VEC3",
+        &[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0],
+    );
+    let fan = g.floats(
+        "VEC3",
+        &[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0],
+    );
+    let doc = json!({
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [
+            {"attributes": {"POSITION": strip}, "mode": 5},
+            {"attributes": {"POSITION": fan}, "mode": 6}
+        ]}]
+    });
+    let scene = Scene::load(&g.write_gltf(dir.path(), "sf", doc)).unwrap();
+    assert_eq!(scene.triangle_count(), 4);
+    for t in 0..4 {
+        assert_close(geometric(&scene, t), Vec3::Z, 1e-6, "strip/fan winding");
+    }
+    assert_winding_agrees(&scene);
+    let (lo, hi) = scene.bounds();
+    assert_eq!((lo, hi), (Vec3::ZERO, Vec3::new(1.0, 1.0, 0.0)));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Textures.
+
+const TEXELS: [[u8; 3]; 4] = [[255, 0, 0], [0, 255, 0], [0, 0, 255], [200, 100, 50]];
+
+fn png_2x2() -> Vec<u8> {
+    let mut img = image::RgbImage::new(2, 2);
+    for (k, c) in TEXELS.iter().enumerate() {
+        img.put_pixel((k % 2) as u32, (k / 2) as u32, image::Rgb(*c));
+    }
+    let mut out = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut out, image::ImageFormat::Png).unwrap();
+    out.into_inner()
+}
+
+/// The sRGB decode written out independently of the crate's.
+fn decode(c: u8) -> f32 {
+    let c = f32::from(c) / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// A unit quad in z = 0 with the image's top row at the top (y = 1), textured through
+/// TEXCOORD_1 (TEXCOORD_0 holds decoys), base colour (0.5, 1, 0.8).
+fn textured_file(g: &mut Gltf, image: Value, extra_view: Option<&[u8]>) -> Value {
+    let pos = g.floats(
+        "VEC3",
+        &[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 1.0, 0.0],
+    );
+    let decoy = g.floats("VEC2", &[0.5; 8]);
+    let uv = g.floats("VEC2", &[0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0]);
+    let idx = g.indices(&[0, 1, 2, 0, 2, 3]);
+    let mut image = image;
+    if let Some(bytes) = extra_view {
+        image["bufferView"] = json!(g.view(bytes));
+    }
+    json!({
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{
+            "attributes": {"POSITION": pos, "TEXCOORD_0": decoy, "TEXCOORD_1": uv},
+            "indices": idx, "material": 0
+        }]}],
+        "materials": [{"name": "checker", "pbrMetallicRoughness": {
+            "baseColorFactor": [0.5, 1.0, 0.8, 0.3],
+            "baseColorTexture": {"index": 0, "texCoord": 1}
+        }}],
+        "textures": [{"source": 0, "sampler": 0}],
+        "samplers": [{}],
+        "images": [image]
+    })
+}
+
+/// Finds a triangle and barycentrics whose interpolated UV is `uv`.
+fn locate(scene: &Scene, uv: Vec2) -> (usize, (f32, f32)) {
+    for t in 0..scene.triangle_count() {
+        let [a, b, c] = scene.triangles[t].map(|i| scene.uvs[i as usize]);
+        let (e1, e2, d) = (b - a, c - a, uv - a);
+        let det = e1.perp_dot(e2);
+        let u = d.perp_dot(e2) / det;
+        let v = e1.perp_dot(d) / det;
+        if u >= -1e-6 && v >= -1e-6 && u + v <= 1.0 + 1e-6 {
+            return (t, (u, v));
+        }
+    }
+    panic!("uv {uv} not on the quad");
+}
+
+fn check_textured(scene: &Scene) {
+    assert_eq!(scene.textures.len(), 1);
+    assert_eq!((scene.textures[0].width, scene.textures[0].height), (2, 2));
+    let raw: Vec<u8> = TEXELS.iter().flatten().copied().collect();
+    let direct = envshadow::scene::Texture::from_srgb8(2, 2, &raw).unwrap();
+    assert_eq!(direct.texels, scene.textures[0].texels);
+    let base = Vec3::new(0.5, 1.0, 0.8);
+    for (k, c) in TEXELS.iter().enumerate() {
+        let expected = base * Vec3::new(decode(c[0]), decode(c[1]), decode(c[2]));
+        let centre = Vec2::new((k % 2) as f32 * 0.5 + 0.25, (k / 2) as f32 * 0.5 + 0.25);
+        let (t, bary) = locate(scene, centre);
+        assert_close(scene.albedo(t, bary), expected, 1e-3, &format!("texel {k}"));
+        // The UV convention: texel row 0 is at the quad's top (y = 1).
+        let p = {
+            let [a, b, c] = scene.triangle(t);
+            a * (1.0 - bary.0 - bary.1) + b * bary.0 + c * bary.1
+        };
+        assert_close(
+            p,
+            Vec3::new(centre.x, 1.0 - centre.y, 0.0),
+            1e-5,
+            "texel position",
+        );
+    }
+    // Bilinear: halfway between texels 0 and 1 on the top row is their average.
+    let (t, bary) = locate(scene, Vec2::new(0.5, 0.25));
+    let mix = 0.5 * (Vec3::new(decode(255), 0.0, 0.0) + Vec3::new(0.0, decode(255), 0.0));
+    assert_close(scene.albedo(t, bary), base * mix, 1e-3, "bilinear midpoint");
+}
+
+#[test]
+fn textured_quad_external_png_embedded_glb_and_data_uri() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = png_2x2();
+    std::fs::write(dir.path().join("checker texture.png"), &png).unwrap();
+
+    let mut g = Gltf::default();
+    let doc = textured_file(&mut g, json!({"uri": "checker%20texture.png"}), None);
+    check_textured(&Scene::load(&g.write_gltf(dir.path(), "tex", doc)).unwrap());
+
+    let mut g = Gltf::default();
+    let doc = textured_file(&mut g, json!({"mimeType": "image/png"}), Some(&png));
+    check_textured(&Scene::load(&g.write_glb(dir.path(), "tex", doc)).unwrap());
+
+    let mut g = Gltf::default();
+    let uri = format!("data:image/png;base64,{}", base64(&png));
+    let doc = textured_file(&mut g, json!({ "uri": uri }), None);
+    check_textured(&Scene::load(&g.write_gltf_data_uri(dir.path(), "tex64", doc)).unwrap());
+}
+
+#[test]
+fn primitives_without_material_get_default_grey() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut g = Gltf::default();
+    let doc = hierarchy_file(&mut g);
+    let scene = Scene::load(&g.write_gltf(dir.path(), "grey", doc)).unwrap();
+    assert_eq!(scene.materials.len(), 1);
+    assert_eq!(scene.albedo(0, (0.1, 0.1)), Vec3::splat(0.8));
+    assert_eq!(scene.uvs, vec![Vec2::ZERO; 6]);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Cameras, normals, primitive modes.
+
+#[test]
+fn camera_from_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut g = Gltf::default();
+    let pos = g.floats("VEC3", &[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]);
+    let s = std::f32::consts::FRAC_1_SQRT_2;
+    let doc = json!({
+        "scene": 1,
+        "scenes": [{"nodes": [3]}, {"nodes": [0, 2]}],
+        "nodes": [
+            {"translation": [1.0, 0.0, 0.0], "children": [1]},
+            // 90° about +Y: looks down −X instead of −Z.
+            {"translation": [0.0, 1.0, 5.0], "rotation": [0.0, s, 0.0, s], "camera": 0},
+            {"mesh": 0},
+            {"camera": 1, "mesh": 0}
+        ],
+        "cameras": [
+            {"type": "perspective", "perspective": {"yfov": 0.6, "znear": 0.01}},
+            {"type": "perspective", "perspective": {"yfov": 1.0, "znear": 0.01}}
+        ],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": pos}}]}]
+    });
+    let scene = Scene::load(&g.write_glb(dir.path(), "cam", doc)).unwrap();
+    let cam = scene.camera.expect("camera");
+    assert_close(cam.position, Vec3::new(1.0, 1.0, 5.0), 1e-5, "position");
+    assert_close(cam.forward, Vec3::NEG_X, 1e-5, "forward");
+    assert_close(cam.up, Vec3::Y, 1e-5, "up");
+    assert!(
+        (cam.vfov_deg - 0.6f32.to_degrees()).abs() < 1e-4,
+        "{}",
+        cam.vfov_deg
+    );
+}
+
+#[test]
+fn missing_normals_are_smooth_area_weighted() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut g = Gltf::default();
+    // A 2 × 2-quad grid in the plane z = 1, facing +Z.
+    let mut grid = Vec::new();
+    for j in 0..3 {
+        for i in 0..3 {
+            grid.extend_from_slice(&[i as f32 * 0.5, j as f32 * 0.5, 1.0]);
+        }
+    }
+    let grid_pos = g.floats("VEC3", &grid);
+    let mut idx = Vec::new();
+    for j in 0..2u32 {
+        for i in 0..2u32 {
+            let a = j * 3 + i;
+            idx.extend_from_slice(&[a, a + 1, a + 4, a, a + 4, a + 3]);
+        }
+    }
+    let grid_idx = g.indices(&idx);
+    // A tetrahedron with outward faces: corner normals are the area-weighted face averages.
+    let tet_pos = g.floats(
+        "VEC3",
+        &[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0],
+    );
+    let tet_idx = g.indices(&[0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3]);
+    let doc = json!({
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [{"mesh": 0}, {"mesh": 1, "translation": [5.0, 0.0, 0.0]}],
+        "meshes": [
+            {"primitives": [{"attributes": {"POSITION": grid_pos}, "indices": grid_idx}]},
+            {"primitives": [{"attributes": {"POSITION": tet_pos}, "indices": tet_idx}]}
+        ]
+    });
+    let scene = Scene::load(&g.write_gltf(dir.path(), "smooth", doc)).unwrap();
+    assert_eq!(scene.triangle_count(), 8 + 4);
+    for i in 0..9 {
+        assert_close(scene.normals[i], Vec3::Z, 1e-6, "grid normal");
+    }
+    // Vertex 0: three right-angle faces of equal area facing −X, −Y, −Z. Vertex 1: −Z and −Y
+    // faces (|cross| = 1 each) plus the slanted face (cross = (1, 1, 1)) sum to (1, 0, 0).
+    let tet = &scene.normals[9..13];
+    assert_close(tet[0], -Vec3::ONE.normalize(), 1e-6, "tet corner 0");
+    assert_close(tet[1], Vec3::X, 1e-6, "tet corner 1");
+    assert_close(tet[2], Vec3::Y, 1e-6, "tet corner 2");
+    assert_close(tet[3], Vec3::Z, 1e-6, "tet corner 3");
+    // The faces keep their outward winding (a tetrahedron's corner normals may be at 90° to
+    // a face, so compare faces with their own normals here).
+    assert_close(geometric(&scene, 8), Vec3::NEG_Z, 1e-6, "tet face 0");
+    assert_close(
+        geometric(&scene, 11),
+        Vec3::ONE.normalize(),
+        1e-6,
+        "tet face 3",
+    );
+    for t in 0..8 {
+        assert_close(geometric(&scene, t), Vec3::Z, 1e-6, "grid face");
+    }
+}
+
+#[test]
+fn non_triangle_primitives_are_skipped_with_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut g = Gltf::default();
+    let pos = g.floats("VEC3", &[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]);
+    let doc = json!({
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [
+            {"attributes": {"POSITION": pos}, "mode": 0},
+            {"attributes": {"POSITION": pos}, "mode": 1},
+            {"attributes": {"POSITION": pos}}
+        ]}]
+    });
+    let scene = Scene::load(&g.write_gltf(dir.path(), "modes", doc)).unwrap();
+    assert_eq!(scene.triangle_count(), 1);
+    assert_eq!(scene.warnings.len(), 2, "{:?}", scene.warnings);
+    assert!(scene.warnings[0].contains("modes.gltf"));
+    assert!(
+        scene.warnings[0].contains("mesh 0 primitive 0: mode Points is not triangles, skipped")
+    );
+    assert!(scene.warnings[1].contains("mesh 0 primitive 1: mode Lines is not triangles"));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Bad inputs.
+
+/// A one-triangle file with the given attribute and index data.
+fn single(
+    g: &mut Gltf,
+    positions: &[f32],
+    normals: Option<&[f32]>,
+    indices: Option<&[u32]>,
+) -> Value {
+    let pos = g.floats("VEC3", positions);
+    let mut attributes = json!({ "POSITION": pos });
+    if let Some(n) = normals {
+        attributes["NORMAL"] = json!(g.floats("VEC3", n));
+    }
+    let mut primitive = json!({ "attributes": attributes });
+    if let Some(i) = indices {
+        primitive["indices"] = json!(g.indices(i));
+    }
+    json!({
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": pos}}, primitive]}]
+    })
+}
+
+const TRI: [f32; 9] = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+
+#[test]
+fn missing_file() {
+    let dir = tempfile::tempdir().unwrap();
+    assert_input_error(
+        Scene::load(&dir.path().join("nope.glb")),
+        &["nope.glb", "cannot read"],
+    );
+}
+
+#[test]
+fn malformed_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("broken.gltf");
+    std::fs::write(
+        &path,
+        b"{ \"asset\": { \"version\": \"2.0\" }, \"nodes\": [ {",
+    )
+    .unwrap();
+    assert_input_error(Scene::load(&path), &["broken.gltf", "not a valid glTF"]);
+}
+
+#[test]
+fn truncated_glb() {
+    let dir = tempfile::tempdir().unwrap();
+    let bytes = std::fs::read(common::asset("bunny_res4.glb")).unwrap();
+    let path = dir.path().join("half.glb");
+    std::fs::write(&path, &bytes[..bytes.len() / 2]).unwrap();
+    assert_input_error(Scene::load(&path), &["half.glb", "truncated GLB"]);
+}
+
+#[test]
+fn missing_external_buffer() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut g = Gltf::default();
+    let doc = single(&mut g, &TRI, None, None);
+    let path = g.write_gltf(dir.path(), "lost", doc);
+    std::fs::remove_file(dir.path().join("lost.bin")).unwrap();
+    assert_input_error(Scene::load(&path), &["lost.gltf", "buffer 0", "lost.bin"]);
+}
+
+#[test]
+fn index_out_of_range() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut g = Gltf::default();
+    let doc = single(&mut g, &TRI, None, Some(&[0, 1, 7]));
+    let path = g.write_glb(dir.path(), "oob", doc);
+    assert_input_error(
+        Scene::load(&path),
+        &[
+            "oob.glb",
+            "mesh 0 primitive 1",
+            "accessor 1",
+            "index 7 out of range (3 vertices)",
+        ],
+    );
+}
+
+#[test]
+fn nan_position() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut g = Gltf::default();
+    let mut bad = TRI;
+    bad[4] = f32::NAN;
+    let doc = json!({
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": g.floats("VEC3", &TRI)}},
+                                    {"attributes": {"POSITION": g.floats("VEC3", &bad)}}]}]
+    });
+    let path = g.write_gltf(dir.path(), "nan", doc);
+    assert_input_error(
+        Scene::load(&path),
+        &[
+            "nan.gltf",
+            "mesh 0 primitive 1",
+            "accessor 1",
+            "vertex 1 is not finite",
+        ],
+    );
+}
+
+#[test]
+fn attribute_count_mismatch() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut g = Gltf::default();
+    let doc = single(&mut g, &TRI, Some(&[0.0, 0.0, 1.0, 0.0, 0.0, 1.0]), None);
+    let path = g.write_gltf(dir.path(), "count", doc);
+    assert_input_error(
+        Scene::load(&path),
+        &[
+            "count.gltf",
+            "mesh 0 primitive 1",
+            "accessor 1 (NORMAL) has 2 elements",
+            "(POSITION) has 3",
+        ],
+    );
+}
+
+#[test]
+fn no_triangles() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut g = Gltf::default();
+    let pos = g.floats("VEC3", &TRI);
+    let doc = json!({
+        "scenes": [{"nodes": [0, 1]}, {"nodes": [2]}],
+        "nodes": [{"mesh": 0}, {"translation": [1.0, 0.0, 0.0]}, {"mesh": 1}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": pos}, "mode": 0}]},
+                   {"primitives": [{"attributes": {"POSITION": pos}}]}]
+    });
+    // Scene 0 is the one taken (no `scene`): its only mesh is points.
+    let path = g.write_gltf(dir.path(), "empty", doc);
+    assert_input_error(
+        Scene::load(&path),
+        &["empty.gltf", "no triangles in the default scene"],
+    );
+}
+
+#[test]
+fn byte_stride_smaller_than_element_is_refused_not_a_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut g = Gltf::default();
+    let doc = single(&mut g, &TRI, None, None);
+    g.views[0]["byteStride"] = json!(4);
+    let path = g.write_glb(dir.path(), "stride", doc);
+    assert_input_error(
+        Scene::load(&path),
+        &["stride.glb", "accessor 0", "byteStride 4"],
+    );
+}
+
+/// Loading must give a scene or an input error, never a panic or an internal error.
+fn load_survives(path: &Path, what: &str) {
+    if let Err(e) = Scene::load(path) {
+        assert_eq!(exit_code(&e), 2, "{what}: not an input error: {e:#}");
+    }
+}
+
+#[test]
+fn hostile_field_values_never_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut base = Gltf::default();
+    let png = png_2x2();
+    let doc = textured_file(&mut base, json!({"mimeType": "image/png"}), Some(&png));
+    let numbers: [u64; 12] = [0, 1, 2, 3, 4, 7, 12, 255, 4096, 65_535, 1 << 32, 1 << 62];
+    let mut case = 0;
+    let mut run = |g: &Gltf, what: String| {
+        case += 1;
+        let path = g.write_glb(dir.path(), &format!("case{case}"), doc.clone());
+        load_survives(&path, &what);
+    };
+    for a in 0..base.accessors.len() {
+        for field in ["count", "byteOffset"] {
+            for &n in &numbers {
+                let mut g = base.clone();
+                g.accessors[a][field] = json!(n);
+                run(&g, format!("accessor {a} {field} = {n}"));
+            }
+        }
+        for ty in [5120, 5121, 5122, 5123, 5125, 5126] {
+            let mut g = base.clone();
+            g.accessors[a]["componentType"] = json!(ty);
+            run(&g, format!("accessor {a} componentType {ty}"));
+        }
+        for ty in ["SCALAR", "VEC2", "VEC3", "VEC4", "MAT4"] {
+            let mut g = base.clone();
+            g.accessors[a]["type"] = json!(ty);
+            run(&g, format!("accessor {a} type {ty}"));
+        }
+        let mut g = base.clone();
+        g.accessors[a]["normalized"] = json!(true);
+        g.accessors[a]["componentType"] = json!(5121);
+        run(&g, format!("accessor {a} normalized bytes"));
+        let mut g = base.clone();
+        g.accessors[a].as_object_mut().unwrap().remove("bufferView");
+        run(&g, format!("accessor {a} without view"));
+        for (count, index) in [(1u64, 0u64), (1, 99), (3, 2), (1 << 20, 0)] {
+            let mut g = base.clone();
+            g.accessors[a]["sparse"] = json!({
+                "count": count,
+                "indices": {"bufferView": 0, "componentType": 5125, "byteOffset": index},
+                "values": {"bufferView": 1}
+            });
+            run(&g, format!("accessor {a} sparse {count} at {index}"));
+        }
+    }
+    for v in 0..base.views.len() {
+        for field in ["byteOffset", "byteLength", "byteStride"] {
+            for &n in &numbers {
+                let mut g = base.clone();
+                g.views[v][field] = json!(n);
+                run(&g, format!("view {v} {field} = {n}"));
+            }
+        }
+    }
+}
+
+#[test]
+fn flipped_bytes_never_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    let original = std::fs::read(common::asset("bunny_res4.glb")).unwrap();
+    // A fixed LCG: the same mutations every run.
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut next = move || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1);
+        (state >> 33) as usize
+    };
+    let path = dir.path().join("flipped.glb");
+    for round in 0..150 {
+        let mut bytes = original.clone();
+        for _ in 0..1 + round % 4 {
+            let at = next() % bytes.len();
+            bytes[at] = (next() & 0xff) as u8;
+        }
+        if round % 10 == 0 {
+            bytes.truncate(next() % bytes.len());
+        }
+        std::fs::write(&path, &bytes).unwrap();
+        load_survives(&path, &format!("round {round}"));
+    }
+
+    // Digits changed in the JSON of a small file keep it parseable and reach deeper checks.
+    let mut g = Gltf::default();
+    let doc = hierarchy_file(&mut g);
+    let gltf_path = g.write_gltf(dir.path(), "digits", doc);
+    let text = std::fs::read(&gltf_path).unwrap();
+    let digits: Vec<usize> = (0..text.len())
+        .filter(|&i| text[i].is_ascii_digit())
+        .collect();
+    for round in 0..DIGIT_ROUNDS {
+        let mut bytes = text.clone();
+        for _ in 0..1 + round % 3 {
+            bytes[digits[next() % digits.len()]] = b'0' + (next() % 10) as u8;
+        }
+        std::fs::write(&gltf_path, &bytes).unwrap();
+        load_survives(&gltf_path, &format!("digit round {round}"));
+    }
+}
+
+const DIGIT_ROUNDS: usize = 300;
+
+// ---------------------------------------------------------------------------------------------
+// Built-in shapes.
+
+#[test]
+fn shapes_scene_is_sound_and_deterministic() {
+    let scene = Scene::shapes();
+    assert_eq!(scene.source, "builtin:shapes");
+    let n = scene.triangle_count();
+    assert!((5_000..=30_000).contains(&n), "{n} triangles");
+    assert!(scene.materials.len() >= 6);
+    assert_eq!(scene.tri_material.len(), n);
+    assert_eq!(scene.normals.len(), scene.positions.len());
+    assert_eq!(scene.uvs.len(), scene.positions.len());
+    assert!(scene.positions.iter().all(|p| p.is_finite()));
+    assert!(
+        scene
+            .normals
+            .iter()
+            .all(|n| (n.length() - 1.0).abs() < 1e-5)
+    );
+    let (lo, hi) = scene.bounds();
+    assert!(lo.cmpge(Vec3::new(-5.0, 0.0, -5.0) - 1e-5).all(), "{lo}");
+    assert!(hi.cmple(Vec3::new(5.0, 1.2, 5.0) + 1e-5).all(), "{hi}");
+    assert!((hi.y - 1.2).abs() < 1e-5 && lo.y.abs() < 1e-6);
+    assert_winding_agrees(&scene);
+    // Distinct colours per object.
+    for (i, a) in scene.materials.iter().enumerate() {
+        for b in &scene.materials[i + 1..] {
+            assert!(a.base_color != b.base_color, "{} and {}", a.name, b.name);
+        }
+    }
+    // Objects (everything but the ground) stay inside the documented area.
+    let ground = scene
+        .materials
+        .iter()
+        .position(|m| m.name == "ground")
+        .unwrap() as u32;
+    for (t, tri) in scene.triangles.iter().enumerate() {
+        if scene.tri_material[t] == ground {
+            continue;
+        }
+        for &i in tri {
+            let p = scene.positions[i as usize];
+            assert!(
+                p.x.abs() <= 1.83 && p.z.abs() <= 1.6 && p.y >= -1e-6 && p.y <= 1.2 + 1e-5,
+                "{p}"
+            );
+        }
+    }
+    let again = Scene::shapes();
+    assert_eq!(scene.positions, again.positions);
+    assert_eq!(scene.normals, again.normals);
+    assert_eq!(scene.triangles, again.triangles);
+    assert_eq!(scene.tri_material, again.tri_material);
+}
