@@ -700,20 +700,107 @@ pub fn sampler_name(s: Sampler) -> &'static str {
     }
 }
 
-/// toml's messages span several lines (a source excerpt); keep the first line with the
-/// position, and the explanation.
+/// toml's messages span several lines (position, a source excerpt with a caret, the
+/// explanation); fold them into one: `line 6, column 9: invalid type … (at `width = "wide"`)`.
 fn one_line(msg: &str) -> String {
     let lines: Vec<&str> = msg
         .lines()
         .map(str::trim)
         .filter(|l| !l.is_empty())
         .collect();
-    match (lines.first(), lines.last()) {
-        (Some(first), Some(last)) if lines.len() > 1 => {
-            let last = last.trim_start_matches('|').trim();
-            format!("{first} {last}")
-        }
-        (Some(first), _) => first.to_string(),
-        _ => msg.to_string(),
+    let position = lines
+        .first()
+        .map(|l| l.trim_start_matches("TOML parse error at ").to_string())
+        .unwrap_or_default();
+    let excerpt = lines.iter().find_map(|l| {
+        let (num, rest) = l.split_once('|')?;
+        (!num.trim().is_empty() && num.trim().chars().all(|c| c.is_ascii_digit()))
+            .then(|| rest.trim().to_string())
+    });
+    let explanation = lines
+        .iter()
+        .skip(1)
+        .filter(|l| {
+            !l.starts_with('|')
+                && l.split_once('|')
+                    .is_none_or(|(n, _)| n.trim().parse::<u64>().is_err())
+        })
+        .copied()
+        .collect::<Vec<_>>()
+        .join(" ");
+    match excerpt {
+        Some(ex) if !ex.is_empty() => format!("{position}: {explanation} (at `{ex}`)"),
+        _ => format!("{position}: {explanation}"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn toml_errors_fold_into_one_line_with_position_and_key() {
+        let err = Animation::parse(
+            "[scene]\nbuiltin = \"shapes\"\n[render]\nwidth = \"wide\"\n",
+            Path::new("a.toml"),
+            &Overrides::default(),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(!err.contains('\n'), "{err}");
+        assert!(err.starts_with("a.toml: line 4, column 9: "), "{err}");
+        assert!(err.contains("width = \"wide\""), "{err}");
+        let err = Animation::parse(
+            "[scene]\nbuiltin = \"shapes\"\n[render]\nwidht = 1\n",
+            Path::new("b.toml"),
+            &Overrides::default(),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(err.contains("widht") && err.contains("line 4"), "{err}");
+    }
+
+    #[test]
+    fn frame_ranges() {
+        assert_eq!(
+            "2..5".parse::<FrameRange>().unwrap(),
+            FrameRange { start: 2, end: 5 }
+        );
+        assert_eq!(
+            "2..=5".parse::<FrameRange>().unwrap(),
+            FrameRange { start: 2, end: 6 }
+        );
+        assert_eq!(
+            "7".parse::<FrameRange>().unwrap(),
+            FrameRange { start: 7, end: 8 }
+        );
+        assert!("5..5".parse::<FrameRange>().is_err());
+        assert!("a..b".parse::<FrameRange>().is_err());
+    }
+
+    #[test]
+    fn orbit_turns_the_camera_and_spin_turns_the_scene() {
+        let text = "[scene]\nbuiltin = \"shapes\"\n[camera]\ntarget = [0.0, 0.0, 0.0]\ndistance = 2.0\nelevation = 0.0\nazimuth = 0.0\n[motion]\nframes = 4\n";
+        let anim = Animation::parse(text, Path::new("o.toml"), &Overrides::default()).unwrap();
+        let scene = Scene::shapes();
+        let c0 = anim.camera(&scene, 0).unwrap();
+        assert!((c0.position - Vec3::new(0.0, 0.0, 2.0)).length() < 1e-5);
+        // A quarter turn (90° per frame) about +Y takes +Z to +X.
+        let c1 = anim.camera(&scene, 1).unwrap();
+        assert!(
+            (c1.position - Vec3::new(2.0, 0.0, 0.0)).length() < 1e-4,
+            "{}",
+            c1.position
+        );
+        assert!(anim.scene_transform(1, Vec3::ZERO).is_none());
+        let spin = Animation::parse(
+            &text.replace("frames = 4", "frames = 4\nkind = \"spin\""),
+            Path::new("s.toml"),
+            &Overrides::default(),
+        )
+        .unwrap();
+        assert_eq!(spin.camera(&scene, 3).unwrap().position, c0.position);
+        let m = spin.scene_transform(1, Vec3::ZERO).unwrap();
+        assert!((m.transform_point3(Vec3::Z) - Vec3::X).length() < 1e-5);
     }
 }

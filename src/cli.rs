@@ -245,7 +245,7 @@ fn lights(args: LightsArgs) -> Result<()> {
         println!("wrote {}", p.display());
     }
     if let Some(p) = &args.png {
-        crate::stubs_tmp::picture_cells_png_tmp(&env, &set, p)?;
+        crate::lights::picture::cells_png(&env, &set, p)?;
         println!("wrote {}", p.display());
     }
     Ok(())

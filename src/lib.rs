@@ -25,5 +25,4 @@ pub mod lights;
 pub mod output;
 pub mod predict;
 pub mod scene;
-pub mod stubs_tmp;
 pub mod tile;

@@ -52,7 +52,12 @@ fn render_writes_frames_stats_and_lights_deterministically() {
     run(&["--frames", "0..2"]);
     assert_eq!(
         frame_files(&out),
-        ["frame_0000.exr", "frame_0000.png", "frame_0001.exr", "frame_0001.png"]
+        [
+            "frame_0000.exr",
+            "frame_0000.png",
+            "frame_0001.exr",
+            "frame_0001.png"
+        ]
     );
     let exr = read_frame(&out.join("frame_0001.exr")).unwrap();
     assert_eq!((exr.width, exr.height), (64, 48));
@@ -67,7 +72,9 @@ fn render_writes_frames_stats_and_lights_deterministically() {
     let stats = fs::read_to_string(out.join("stats.csv")).unwrap();
     let lines: Vec<&str> = stats.lines().collect();
     assert_eq!(lines.len(), 3, "{stats}");
-    assert!(lines[0].starts_with("frame,method,lights,width,height,queries,rays_traced,percent_traced,seconds,camera_x"));
+    assert!(lines[0].starts_with(
+        "frame,method,lights,width,height,queries,rays_traced,percent_traced,seconds,camera_x"
+    ));
     let row: Vec<&str> = lines[1].split(',').collect();
     assert_eq!(&row[..5], ["0", "brute", "30", "64", "48"]);
     assert_eq!(row[5], row[6], "brute traces every query");
@@ -154,7 +161,10 @@ fn bad_inputs_fail_with_one_clear_line_and_no_output() {
     };
 
     // The spec itself.
-    check(render(&dir.join("nope.toml"), &[]), &["nope.toml", "cannot read"]);
+    check(
+        render(&dir.join("nope.toml"), &[]),
+        &["nope.toml", "cannot read"],
+    );
     let write_spec = |name: &str, text: &str| {
         let p = dir.join(name);
         fs::write(&p, text).unwrap();
@@ -178,7 +188,10 @@ fn bad_inputs_fail_with_one_clear_line_and_no_output() {
         &format!("{base}[scene]\nbuiltin = \"shapes\"\n[lights]\ncount = 0\n"),
     );
     check(render(&p, &[]), &["zero.toml", "zero lights"]);
-    let good = write_spec("good.toml", &format!("{base}[scene]\nbuiltin = \"shapes\"\n"));
+    let good = write_spec(
+        "good.toml",
+        &format!("{base}[scene]\nbuiltin = \"shapes\"\n"),
+    );
     check(render(&good, &["--lights", "0"]), &["zero lights"]);
     check(
         render(&good, &["--width", "100000", "--height", "100000"]),
@@ -186,13 +199,19 @@ fn bad_inputs_fail_with_one_clear_line_and_no_output() {
     );
     check(render(&good, &["--lights", "1000000"]), &["1000000 lights"]);
     check(render(&good, &["--method", "magic"]), &["magic"]);
-    check(render(&good, &["--frames", "5..9"]), &["--frames", "outside"]);
+    check(
+        render(&good, &["--frames", "5..9"]),
+        &["--frames", "outside"],
+    );
 
     // Scene files.
     let scene_spec = |name: &str, file: &Path| {
         write_spec(
             name,
-            &format!("{base}[scene]\nfile = \"{}\"\n[render]\nwidth = 16\nheight = 16\n", file.display()),
+            &format!(
+                "{base}[scene]\nfile = \"{}\"\n[render]\nwidth = 16\nheight = 16\n",
+                file.display()
+            ),
         )
     };
     check(
@@ -200,12 +219,22 @@ fn bad_inputs_fail_with_one_clear_line_and_no_output() {
         &["missing.glb"],
     );
     let bad_json = dir.join("broken.gltf");
-    fs::write(&bad_json, "{ \"asset\": { \"version\": \"2.0\" }, \"meshes\": [ {").unwrap();
-    check(render(&scene_spec("s2.toml", &bad_json), &[]), &["broken.gltf"]);
+    fs::write(
+        &bad_json,
+        "{ \"asset\": { \"version\": \"2.0\" }, \"meshes\": [ {",
+    )
+    .unwrap();
+    check(
+        render(&scene_spec("s2.toml", &bad_json), &[]),
+        &["broken.gltf"],
+    );
     let glb = fs::read(common::asset("bunny_res4.glb")).unwrap();
     let truncated = dir.join("truncated.glb");
     fs::write(&truncated, &glb[..glb.len() / 2]).unwrap();
-    check(render(&scene_spec("s3.toml", &truncated), &[]), &["truncated.glb"]);
+    check(
+        render(&scene_spec("s3.toml", &truncated), &[]),
+        &["truncated.glb"],
+    );
 
     // Environment maps.
     let env_spec = |name: &str, file: &Path| {
@@ -219,13 +248,25 @@ fn bad_inputs_fail_with_one_clear_line_and_no_output() {
     };
     let garbage = dir.join("garbage.exr");
     fs::write(&garbage, b"this is not an exr file at all").unwrap();
-    check(render(&env_spec("e1.toml", &garbage), &[]), &["garbage.exr"]);
+    check(
+        render(&env_spec("e1.toml", &garbage), &[]),
+        &["garbage.exr"],
+    );
     let hdr = dir.join("badheader.hdr");
-    fs::write(&hdr, b"#?NOTRADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 2\n").unwrap();
+    fs::write(
+        &hdr,
+        b"#?NOTRADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 2\n",
+    )
+    .unwrap();
     check(render(&env_spec("e2.toml", &hdr), &[]), &["badheader.hdr"]);
     for (name, value, what) in [("nan.exr", f32::NAN, "nan"), ("neg.exr", -1.0, "negative")] {
         let path = dir.join(name);
-        write_float_exr(&path, 8, 4, |x, y| if (x, y) == (3, 2) { value } else { 1.0 });
+        write_float_exr(
+            &path,
+            8,
+            4,
+            |x, y| if (x, y) == (3, 2) { value } else { 1.0 },
+        );
         check(render(&env_spec("e3.toml", &path), &[]), &[name, what]);
     }
     check(
@@ -244,7 +285,7 @@ fn bad_inputs_fail_with_one_clear_line_and_no_output() {
     assert!(!lights_out.exists());
 }
 
-fn write_float_exr(path: &Path, w: usize, h: usize, f: impl Fn(usize, usize) -> f32) {
+fn write_float_exr(path: &Path, w: usize, h: usize, f: impl Fn(usize, usize) -> f32 + Sync) {
     use exr::prelude::*;
     let layer = SpecificChannels::rgb(|Vec2(x, y)| (f(x, y), 1.0f32, 1.0f32));
     Image::from_channels((w, h), layer)

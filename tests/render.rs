@@ -10,8 +10,7 @@ use glam::Vec3;
 
 fn uniform_env(radiance: f32) -> EnvMap {
     let (w, h) = (64, 32);
-    EnvMap::from_texels(w, h, vec![Vec3::splat(radiance); w * h], "uniform".into())
-        .expect("valid map")
+    EnvMap::from_texels(w, h, vec![Vec3::splat(radiance); w * h], "uniform").expect("valid map")
 }
 
 fn one_light(dir: Vec3) -> LightSet {
@@ -43,7 +42,7 @@ fn sphere_shadow_on_plane_matches_the_analytic_shadow() {
         lights: one_light(light),
     };
     let anim = common::animation(
-        "[camera]\nposition = [-1.0, 9.0, -0.3]\ntarget = [-1.0, 0.0, -0.3]\nup = [0.0, 0.0, -1.0]\nvfov = 50.0\n\
+        "[camera]\nposition = [-1.4, 9.0, -0.4]\ntarget = [-1.4, 0.0, -0.4]\nup = [0.0, 0.0, -1.0]\nvfov = 32.0\n\
          [motion]\nkind = \"none\"\n[render]\nwidth = 200\nheight = 200\ntile = 32\n",
     );
     let (film, _) = render_frame(&anim, &inputs, 0, None, &Silent).unwrap();
@@ -76,10 +75,16 @@ fn sphere_shadow_on_plane_matches_the_analytic_shadow() {
             agree += usize::from(rendered_shadow == (c == 1));
         }
     }
-    assert!(shadowed > 2000, "the view must contain the shadow ({shadowed} px)");
+    assert!(
+        shadowed > 2000,
+        "the view must contain the shadow ({shadowed} px)"
+    );
     assert!(compared - shadowed > 2000, "and lit plane");
     let share = agree as f64 / compared as f64;
-    assert!(share >= 0.995, "{agree}/{compared} pixels agree ({share:.4})");
+    assert!(
+        share >= 0.995,
+        "{agree}/{compared} pixels agree ({share:.4})"
+    );
 }
 
 #[test]
@@ -113,7 +118,10 @@ fn no_shadow_acne_on_the_ground_plane_at_grazing_lights() {
     let mut lights = Vec::new();
     for (k, el) in [0.5f32, 1.0, 2.0, 3.0].iter().enumerate() {
         for az in 0..6 {
-            let (el, az) = (el.to_radians(), (az as f32 * 60.0 + k as f32 * 7.0).to_radians());
+            let (el, az) = (
+                el.to_radians(),
+                (az as f32 * 60.0 + k as f32 * 7.0).to_radians(),
+            );
             lights.push(Light {
                 dir: Vec3::new(el.cos() * az.sin(), el.sin(), el.cos() * az.cos()),
                 energy: Vec3::ONE,
@@ -162,7 +170,9 @@ fn frames_do_not_depend_on_threads_or_tile_size() {
             match &reference {
                 None => reference = Some((film, stats.counts)),
                 Some((f, c)) => {
-                    assert!(f == &film, "threads {threads} tile {tile}: film differs");
+                    let same =
+                        f.beauty == film.beauty && f.rays == film.rays && f.visible == film.visible;
+                    assert!(same, "threads {threads} tile {tile}: film differs");
                     assert_eq!(c, &stats.counts);
                 }
             }

@@ -47,13 +47,24 @@ pub fn add_plane(scene: &mut Scene, size: f32, y: f32, material: u32) {
 }
 
 /// Appends a finely tessellated UV sphere with smooth normals.
-pub fn add_sphere(scene: &mut Scene, centre: Vec3, r: f32, rings: u32, segments: u32, material: u32) {
+pub fn add_sphere(
+    scene: &mut Scene,
+    centre: Vec3,
+    r: f32,
+    rings: u32,
+    segments: u32,
+    material: u32,
+) {
     let base = scene.positions.len() as u32;
     for i in 0..=rings {
         let theta = std::f32::consts::PI * i as f32 / rings as f32;
         for j in 0..=segments {
             let phi = std::f32::consts::TAU * j as f32 / segments as f32;
-            let n = Vec3::new(theta.sin() * phi.cos(), theta.cos(), theta.sin() * phi.sin());
+            let n = Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                theta.sin() * phi.sin(),
+            );
             scene.positions.push(centre + n * r);
             scene.normals.push(n);
             scene.uvs.push(Vec2::ZERO);
@@ -93,8 +104,12 @@ pub fn scene_with_materials(albedos: &[f32]) -> Scene {
 /// supply their own inputs.
 pub fn animation(body: &str) -> Animation {
     let text = format!("[scene]\nbuiltin = \"shapes\"\n{body}");
-    Animation::parse(&text, std::path::Path::new("test.toml"), &Overrides::default())
-        .expect("test spec parses")
+    Animation::parse(
+        &text,
+        std::path::Path::new("test.toml"),
+        &Overrides::default(),
+    )
+    .expect("test spec parses")
 }
 
 /// The envshadow binary built for these tests.
