@@ -109,9 +109,10 @@ impl Accel {
             .ray_traverse_miss(ray, |r, id| self.tris[id].intersect(r))
     }
 
-    /// Like [`occluded`](Self::occluded) but returns a blocking point (the first hit the
-    /// traversal finds, not necessarily the nearest): the blocker the warping predictors re-aim.
-    pub fn blocker(&self, origin: Vec3, dir: Vec3) -> Option<Vec3> {
+    /// Like [`occluded`](Self::occluded) but returns the distance to a blocker along the ray
+    /// (the first hit the traversal finds, not necessarily the nearest): the blocker point
+    /// `origin + t·dir` is what the warping predictors re-aim.
+    pub fn blocker_distance(&self, origin: Vec3, dir: Vec3) -> Option<f32> {
         if self.tris.is_empty() {
             return None;
         }
@@ -124,11 +125,12 @@ impl Accel {
             }
             t
         });
-        if missed {
-            None
-        } else {
-            Some(origin + dir * t_hit)
-        }
+        (!missed).then_some(t_hit)
+    }
+
+    /// The blocking point of [`blocker_distance`](Self::blocker_distance).
+    pub fn blocker(&self, origin: Vec3, dir: Vec3) -> Option<Vec3> {
+        self.blocker_distance(origin, dir).map(|t| origin + dir * t)
     }
 }
 

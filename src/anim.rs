@@ -25,7 +25,12 @@
 //! [render]
 //! width = 320
 //! height = 240
-//! method = "brute"
+//! method = "grid-nowarp-uncertainty"   # or brute, none, scan-warp-boundary, grid-warp-boundary,
+//!                               # grid-nowarp-boundary, grid-warp-uncertainty
+//! validate = false              # also trace every query; record mistakes in stats.csv
+//! h0 = 16                       # coarse grid spacing (power of two)
+//! min_voters = 3                # fewer voters with the light above their horizon → trace it
+//! scan_block = 64               # scanline order restarts every scan_block pixels
 //! exposure = 1.0                # PNG preview exposure
 //! tile = 64
 //! threads = 0                   # 0: all cores
@@ -45,7 +50,7 @@ use crate::bail_input;
 use crate::camera::Camera;
 use crate::error::{Result, input_error};
 use crate::lights::Sampler;
-use crate::predict::Method;
+use crate::predict::{Method, Params};
 use crate::scene::Scene;
 
 /// Limits checked before any work starts.
@@ -199,6 +204,14 @@ struct RenderSpec {
     tile: u32,
     #[serde(default)]
     threads: usize,
+    #[serde(default)]
+    validate: bool,
+    #[serde(default = "default_h0")]
+    h0: u32,
+    #[serde(default = "default_min_voters")]
+    min_voters: u32,
+    #[serde(default = "default_scan_block")]
+    scan_block: u32,
 }
 
 impl Default for RenderSpec {
@@ -210,6 +223,10 @@ impl Default for RenderSpec {
             exposure: 1.0,
             tile: default_tile(),
             threads: 0,
+            validate: false,
+            h0: default_h0(),
+            min_voters: default_min_voters(),
+            scan_block: default_scan_block(),
         }
     }
 }
@@ -266,6 +283,15 @@ fn default_method() -> String {
 fn default_tile() -> u32 {
     64
 }
+fn default_h0() -> u32 {
+    Params::default().h0
+}
+fn default_min_voters() -> u32 {
+    Params::default().min_voters
+}
+fn default_scan_block() -> u32 {
+    Params::default().scan_block
+}
 fn default_out() -> PathBuf {
     PathBuf::from("out")
 }
@@ -321,6 +347,10 @@ pub struct Overrides {
     pub tile: Option<u32>,
     pub out: Option<PathBuf>,
     pub exposure: Option<f32>,
+    pub validate: bool,
+    pub h0: Option<u32>,
+    pub min_voters: Option<u32>,
+    pub scan_block: Option<u32>,
 }
 
 /// A frame selection from `--frames`: `A..B` (B excluded), `A..=B`, or `A`.
@@ -376,6 +406,10 @@ pub struct Animation {
     pub width: u32,
     pub height: u32,
     pub method: Method,
+    /// The methods' parameters (coarse grid spacing, voters, scan block).
+    pub params: Params,
+    /// Trace every query too and record the method's mistakes.
+    pub validate: bool,
     pub exposure: f32,
     pub tile: u32,
     pub threads: usize,
@@ -483,6 +517,12 @@ impl Animation {
             width: spec.render.width,
             height: spec.render.height,
             method,
+            params: Params {
+                h0: spec.render.h0,
+                min_voters: spec.render.min_voters,
+                scan_block: spec.render.scan_block,
+            },
+            validate: spec.render.validate,
             exposure: spec.render.exposure,
             tile: spec.render.tile,
             threads: spec.render.threads,
@@ -534,6 +574,16 @@ impl Animation {
         if let Some(v) = o.exposure {
             self.exposure = v;
         }
+        self.validate |= o.validate;
+        if let Some(v) = o.h0 {
+            self.params.h0 = v;
+        }
+        if let Some(v) = o.min_voters {
+            self.params.min_voters = v;
+        }
+        if let Some(v) = o.scan_block {
+            self.params.scan_block = v;
+        }
         self.validate(path)
     }
 
@@ -576,6 +626,9 @@ impl Animation {
                 "[motion] frames = {}: must be 1..={MAX_FRAMES}",
                 self.frame_count
             );
+        }
+        if let Err(m) = self.params.check() {
+            bail_input!(path, "{m}");
         }
         if self.tile != 0 && self.tile < 8 {
             bail_input!(

@@ -47,6 +47,8 @@ pub enum Command {
     Lights(LightsArgs),
     /// Measure seconds per frame and shadow rays per second (see BENCHMARKS.md).
     Bench(bench::BenchArgs),
+    /// Reproduce the paper's Table 1: % of shadow queries traced per method, validated.
+    Table(crate::table::TableArgs),
 }
 
 /// Flags shared by every command that renders an animation: each overrides the spec.
@@ -67,9 +69,25 @@ pub struct AnimFlags {
     /// Image height in pixels.
     #[arg(long, value_name = "H")]
     pub height: Option<u32>,
-    /// Shadow method: brute (trace every shadow ray) or none (no shadows).
+    /// Shadow method: grid-nowarp-uncertainty (the default), grid-warp-uncertainty,
+    /// grid-nowarp-boundary, grid-warp-boundary, scan-warp-boundary, brute (trace every shadow
+    /// ray) or none (no shadows).
     #[arg(long, value_name = "METHOD")]
     pub method: Option<Method>,
+    /// Also trace every shadow query and record the method's mistakes: stats.csv gains wrong
+    /// pairs, error rate and image error; the EXR gains a `wrong` layer.
+    #[arg(long)]
+    pub validate: bool,
+    /// Coarse grid spacing of the grid methods (a power of two; default 16).
+    #[arg(long, value_name = "N")]
+    pub h0: Option<u32>,
+    /// Uncertainty methods: trace a light when fewer voters than this have it above their
+    /// horizon (1–4; default 3).
+    #[arg(long, value_name = "K")]
+    pub min_voters: Option<u32>,
+    /// Block size at which the scanline order restarts (default 64).
+    #[arg(long, value_name = "N")]
+    pub scan_block: Option<u32>,
     /// Worker threads (0: one per core).
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
@@ -97,6 +115,10 @@ impl AnimFlags {
             tile: self.tile,
             out: self.out.clone(),
             exposure: self.exposure,
+            validate: self.validate,
+            h0: self.h0,
+            min_voters: self.min_voters,
+            scan_block: self.scan_block,
         }
     }
 }
@@ -163,6 +185,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Render(args) => render(args),
         Command::Lights(args) => lights(args),
         Command::Bench(args) => bench::run(&args),
+        Command::Table(args) => crate::table::run(&args),
     }
 }
 

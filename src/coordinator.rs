@@ -110,8 +110,8 @@ pub fn render_frame(
     };
     let camera = anim.camera(&inputs.scene, frame)?;
     let accel = Accel::build(&scene.positions, &scene.triangles);
-    let predictor = anim.method.predictor();
-    let ctx = FrameContext::new(
+    let predictor = anim.method.predictor(anim.params);
+    let mut ctx = FrameContext::new(
         scene,
         &accel,
         camera,
@@ -119,6 +119,7 @@ pub fn render_frame(
         &inputs.env,
         predictor.as_ref(),
     );
+    ctx.validate = anim.validate;
     let list = tiles(anim.width, anim.height, anim.tile, region);
     let results: Vec<_> = list
         .par_iter()
@@ -128,10 +129,11 @@ pub fn render_frame(
             r
         })
         .collect();
-    let mut film = Film::new(anim.width, anim.height);
+    let mut film = Film::new(anim.width, anim.height, anim.validate);
     for r in &results {
         film.add(r);
     }
+    let rendered = region.unwrap_or(Rect::frame(anim.width, anim.height));
     let stats = FrameStats {
         frame,
         method: anim.method.name().to_string(),
@@ -139,6 +141,7 @@ pub fn render_frame(
         width: anim.width,
         height: anim.height,
         counts: film.counts,
+        image_error: film.image_error(rendered, anim.exposure),
         seconds: start.elapsed().as_secs_f64(),
         camera_position: camera.position,
         camera_target: camera.target,
@@ -150,7 +153,14 @@ pub fn render_frame(
 
 /// Writes one frame's files: `frame_NNNN.exr` (beauty + AOVs) and `frame_NNNN.png`.
 pub fn write_frame_files(dir: &Path, frame: usize, film: &Film, exposure: f32) -> Result<()> {
-    output::exr::write_frame(&frame_path(dir, frame, "exr"), film, &[])?;
+    let mut aovs = Vec::new();
+    if let Some(wrong) = &film.wrong {
+        aovs.push(output::exr::Aov {
+            name: "wrong",
+            values: wrong,
+        });
+    }
+    output::exr::write_frame(&frame_path(dir, frame, "exr"), film, &aovs)?;
     output::png::write_preview(
         &frame_path(dir, frame, "png"),
         film.width,

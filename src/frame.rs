@@ -1,5 +1,6 @@
 //! Rendering one tile of one frame: primary rays, shadow visibility (by the chosen
-//! [`Predictor`]), Lambertian shading (ALGORITHM.md §2).
+//! [`Predictor`]), optional validation against brute force, Lambertian shading
+//! (ALGORITHM.md §2).
 
 use glam::Vec3;
 
@@ -8,7 +9,7 @@ use crate::camera::Camera;
 use crate::envmap::EnvMap;
 use crate::lights::LightSet;
 use crate::output::stats::Counts;
-use crate::predict::Predictor;
+use crate::predict::{Predictor, bits};
 use crate::scene::Scene;
 use crate::tile::Rect;
 
@@ -40,6 +41,8 @@ pub struct FrameContext<'a> {
     /// Shadow-ray origin offset along the geometric normal (scene units).
     pub shadow_eps: f32,
     pub predictor: &'a dyn Predictor,
+    /// Also trace every query and count the predictor's mistakes (`--validate`).
+    pub validate: bool,
 }
 
 impl<'a> FrameContext<'a> {
@@ -61,6 +64,7 @@ impl<'a> FrameContext<'a> {
             light_energy: lights.lights.iter().map(|l| l.energy).collect(),
             shadow_eps: shadow_epsilon(scene),
             predictor,
+            validate: false,
         }
     }
 
@@ -81,12 +85,7 @@ impl<'a> FrameContext<'a> {
             return Surface::default();
         };
         let tri = hit.tri as usize;
-        let [i0, i1, i2] = self.scene.triangles[tri];
-        let (p0, p1, p2) = (
-            self.scene.positions[i0 as usize],
-            self.scene.positions[i1 as usize],
-            self.scene.positions[i2 as usize],
-        );
+        let [p0, p1, p2] = self.scene.triangle(tri);
         let p = p0 * (1.0 - hit.u - hit.v) + p1 * hit.u + p2 * hit.v;
         let mut ng = (p1 - p0).cross(p2 - p0).normalize_or_zero();
         let mut n = self.scene.shading_normal(tri, (hit.u, hit.v));
@@ -117,11 +116,12 @@ impl<'a> FrameContext<'a> {
             .occluded(s.p + s.ng * self.shadow_eps, self.light_dir[j])
     }
 
-    /// Like [`trace`](Self::trace), returning the blocker point when the light is blocked.
+    /// Like [`trace`](Self::trace), returning the distance from `s.p` to a blocker when the
+    /// light is blocked (the blocker point is `s.p + t·ω_j`).
     #[inline]
-    pub fn trace_blocker(&self, s: &Surface, j: usize) -> Option<Vec3> {
+    pub fn trace_blocker(&self, s: &Surface, j: usize) -> Option<f32> {
         self.accel
-            .blocker(s.p + s.ng * self.shadow_eps, self.light_dir[j])
+            .blocker_distance(s.p + s.ng * self.shadow_eps, self.light_dir[j])
     }
 
     /// Is light `j` above the horizon of `s`? Only such pairs are shadow queries [paper].
@@ -133,7 +133,7 @@ impl<'a> FrameContext<'a> {
 
 /// The shadow-ray offset: large enough to leave the surface's own triangle at the scene's
 /// float precision, small against any feature. Relative to the scene's size so the same
-/// rule serves a 15 cm bunny and a 6 m shapes scene.
+/// rule serves a 15 cm bunny and a 10 m shapes scene.
 fn shadow_epsilon(scene: &Scene) -> f32 {
     if scene.positions.is_empty() {
         return 1e-4;
@@ -144,54 +144,167 @@ fn shadow_epsilon(scene: &Scene) -> f32 {
     (diag * 2e-5).max(reach * 1e-6).max(1e-7)
 }
 
-/// Per-tile working buffers, reused across tiles by one thread. Flat arrays only.
+/// Blockers of the evaluated pixels, for the warping predictors: per pixel a run of
+/// (light, distance) entries in flat arrays, appended as pixels are evaluated.
+#[derive(Default)]
+pub struct Blockers {
+    pub start: Vec<u32>,
+    pub len: Vec<u32>,
+    pub light: Vec<u16>,
+    pub dist: Vec<f32>,
+}
+
+impl Blockers {
+    fn reset(&mut self, pixels: usize) {
+        self.start.clear();
+        self.start.resize(pixels, 0);
+        self.len.clear();
+        self.len.resize(pixels, 0);
+        self.light.clear();
+        self.dist.clear();
+    }
+
+    /// The blockers of region pixel `i`: (light, distance from the pixel's point).
+    #[inline]
+    pub fn of(&self, i: usize) -> impl Iterator<Item = (usize, f32)> + '_ {
+        let (s, n) = (self.start[i] as usize, self.len[i] as usize);
+        self.light[s..s + n]
+            .iter()
+            .zip(&self.dist[s..s + n])
+            .map(|(&j, &t)| (j as usize, t))
+    }
+
+    /// Starts pixel `i`'s run; push its entries next.
+    #[inline]
+    pub fn begin(&mut self, i: usize) {
+        self.start[i] = self.light.len() as u32;
+        self.len[i] = 0;
+    }
+
+    #[inline]
+    pub fn push(&mut self, i: usize, light: usize, dist: f32) {
+        self.light.push(light as u16);
+        self.dist.push(dist);
+        self.len[i] += 1;
+    }
+
+    /// Bytes held (for the memory figures).
+    pub fn bytes(&self) -> usize {
+        self.start.capacity() * 8 + self.light.capacity() * 2 + self.dist.capacity() * 4
+    }
+}
+
+/// Per-tile working buffers, reused across tiles by one thread. Flat arrays and bitsets only:
+/// `words` u64 per pixel for each bitset, indexed by the pixel's position in `region`.
 #[derive(Default)]
 pub struct TileWork {
     /// The pixels this tile outputs.
     pub tile: Rect,
     /// The pixels the buffers cover: the tile plus whatever halo its method reads.
     pub region: Rect,
-    /// Surfaces over `region`.
-    pub surf: Vec<Surface>,
-    /// Visibility bitsets over `region`, `words` u64 per pixel, bit j set = light j visible.
-    pub vis: Vec<u64>,
     pub words: usize,
-    /// Shadow rays traced per pixel over `region`.
+    /// Surfaces over `region` (valid where `needed`).
+    pub surf: Vec<Surface>,
+    /// Pixels the method evaluated (the tile's own pixels and its halo).
+    pub needed: Vec<bool>,
+    /// Lights above each pixel's horizon: its shadow queries.
+    pub above: Vec<u64>,
+    /// Lights visible from each pixel (traced or predicted).
+    pub vis: Vec<u64>,
+    /// Lights traced at each pixel.
+    pub traced: Vec<u64>,
+    /// Shadow rays traced per pixel.
     pub rays: Vec<u32>,
-    /// Counts for the tile's own pixels (halo work counted apart).
+    /// Blockers, for the warping methods.
+    pub blockers: Blockers,
+    /// Counts for the tile (filled after the method ran).
     pub counts: Counts,
+    /// Scratch of the per-pixel prediction, reused.
+    pub scratch: crate::predict::Scratch,
 }
 
 impl TileWork {
-    /// Prepares the buffers for `tile` reading `region` (⊇ tile) and computes its surfaces.
+    /// Sizes the buffers for `tile` within `region` (⊇ tile); nothing is evaluated yet.
     pub fn prepare(&mut self, ctx: &FrameContext, tile: Rect, region: Rect) {
         self.tile = tile;
         self.region = region;
         self.words = ctx.words();
         let n = region.area();
+        let nw = n * self.words;
         self.surf.clear();
-        self.surf.reserve(n);
-        for y in region.y0..region.y1 {
-            for x in region.x0..region.x1 {
-                self.surf.push(ctx.surface(x, y));
-            }
+        self.surf.resize(n, Surface::default());
+        self.needed.clear();
+        self.needed.resize(n, false);
+        for v in [&mut self.above, &mut self.vis, &mut self.traced] {
+            v.clear();
+            v.resize(nw, 0);
         }
-        self.vis.clear();
-        self.vis.resize(n * self.words, 0);
         self.rays.clear();
         self.rays.resize(n, 0);
+        self.blockers.reset(n);
         self.counts = Counts::default();
+        self.scratch.prepare(ctx.light_count());
     }
 
-    /// The bitset of pixel `i` (index into `region`).
-    #[inline]
-    pub fn vis_of(&self, i: usize) -> &[u64] {
-        &self.vis[i * self.words..(i + 1) * self.words]
+    /// Evaluates pixel (x, y) of the region: its surface and above-horizon lights. Marks it
+    /// needed and returns its region index.
+    pub fn begin_pixel(&mut self, ctx: &FrameContext, x: u32, y: u32) -> usize {
+        let i = self.region.index(x, y);
+        let s = ctx.surface(x, y);
+        self.surf[i] = s;
+        self.needed[i] = true;
+        if s.hit {
+            let w = self.words;
+            let above = &mut self.above[i * w..(i + 1) * w];
+            for (j, d) in ctx.light_dir.iter().enumerate() {
+                if s.n.dot(*d) > 0.0 {
+                    bits::set(above, j);
+                }
+            }
+        }
+        i
     }
 
+    /// Bitset `words` of pixel `i` in one of the per-pixel bitset arrays.
     #[inline]
-    pub fn vis_of_mut(&mut self, i: usize) -> &mut [u64] {
-        &mut self.vis[i * self.words..(i + 1) * self.words]
+    pub fn row(v: &[u64], i: usize, words: usize) -> &[u64] {
+        &v[i * words..(i + 1) * words]
+    }
+
+    /// Traces every above-horizon light of pixel `i` (the coarse pixels and pixels with no
+    /// voters), keeping blockers when `keep_blockers`.
+    pub fn trace_all(&mut self, ctx: &FrameContext, i: usize, keep_blockers: bool) {
+        let w = self.words;
+        let s = self.surf[i];
+        if !s.hit {
+            return;
+        }
+        self.blockers.begin(i);
+        let mut n = 0;
+        for k in 0..w {
+            let mut m = self.above[i * w + k];
+            while m != 0 {
+                let j = k * 64 + m.trailing_zeros() as usize;
+                m &= m - 1;
+                n += 1;
+                let visible = if keep_blockers {
+                    match ctx.trace_blocker(&s, j) {
+                        Some(t) => {
+                            self.blockers.push(i, j, t);
+                            false
+                        }
+                        None => true,
+                    }
+                } else {
+                    ctx.trace(&s, j)
+                };
+                if visible {
+                    self.vis[i * w + k] |= 1 << (j & 63);
+                }
+            }
+            self.traced[i * w + k] = self.above[i * w + k];
+        }
+        self.rays[i] = n;
     }
 }
 
@@ -205,56 +318,119 @@ pub struct TileResult {
     pub rays: Vec<f32>,
     /// Fraction of the above-horizon lights that are visible (0 for background pixels).
     pub visible: Vec<f32>,
+    /// With validation: wrong (pixel, light) pairs per pixel, and the brute-force beauty.
+    pub wrong: Option<Vec<f32>>,
+    pub reference: Option<Vec<[f32; 3]>>,
     pub counts: Counts,
 }
 
-/// Renders one tile: surfaces, visibility by the context's predictor, shading.
+/// Renders one tile: the method decides visibility, then (with validation) every query is
+/// traced to count mistakes, then the tile is shaded.
 pub fn render_tile(ctx: &FrameContext, tile: Rect, work: &mut TileWork) -> TileResult {
     let region = ctx.predictor.region(ctx, tile);
+    debug_assert!(region.intersect(&tile) == tile);
     work.prepare(ctx, tile, region);
     ctx.predictor.solve(ctx, tile, work);
+    count_work(work);
     shade(ctx, work)
 }
 
-/// Lambertian shading from the visibility bits:
-/// `B = Σ_j V_j · ρ/π · E_j · max(0, N·ω_j)`, summed in light order (deterministic).
-fn shade(ctx: &FrameContext, work: &TileWork) -> TileResult {
+/// Queries and rays of the tile's pixels, and the halo's work apart.
+fn count_work(work: &mut TileWork) {
+    let (r, t, w) = (work.region, work.tile, work.words);
+    let mut c = Counts::default();
+    for y in r.y0..r.y1 {
+        for x in r.x0..r.x1 {
+            let i = r.index(x, y);
+            if t.contains(x, y) {
+                debug_assert!(work.needed[i], "method left pixel ({x}, {y}) unevaluated");
+                c.queries += bits::count(TileWork::row(&work.above, i, w)) as u64;
+                c.rays += work.rays[i] as u64;
+            } else if work.needed[i] {
+                c.halo_pixels += 1;
+                c.halo_rays += work.rays[i] as u64;
+            }
+        }
+    }
+    work.counts = c;
+}
+
+/// Lambertian shading of `bits`: `B = Σ_j V_j · ρ/π · E_j · max(0, N·ω_j)`, summed in light
+/// order (deterministic).
+#[inline]
+fn radiance(ctx: &FrameContext, s: &Surface, bits: &[u64]) -> Vec3 {
+    let mut e = Vec3::ZERO;
+    bits::for_each(bits, |j| {
+        e += ctx.light_energy[j] * s.n.dot(ctx.light_dir[j]);
+    });
+    s.albedo * std::f32::consts::FRAC_1_PI * e
+}
+
+fn shade(ctx: &FrameContext, work: &mut TileWork) -> TileResult {
     let tile = work.tile;
+    let w = work.words;
     let n = tile.area();
     let mut beauty = Vec::with_capacity(n);
     let mut rays = Vec::with_capacity(n);
     let mut visible = Vec::with_capacity(n);
-    let inv_pi = std::f32::consts::FRAC_1_PI;
+    let mut wrong = ctx.validate.then(|| Vec::with_capacity(n));
+    let mut reference = ctx.validate.then(|| Vec::with_capacity(n));
+    let mut truth = vec![0u64; w];
     for y in tile.y0..tile.y1 {
         for x in tile.x0..tile.x1 {
             let i = work.region.index(x, y);
-            let s = &work.surf[i];
+            let s = work.surf[i];
             rays.push(work.rays[i] as f32);
             if !s.hit {
-                let r = ctx.env.radiance(ctx.camera.ray_dir(x, y));
-                beauty.push(r.to_array());
+                let r = ctx.env.radiance(ctx.camera.ray_dir(x, y)).to_array();
+                beauty.push(r);
                 visible.push(0.0);
+                if let (Some(wr), Some(rf)) = (&mut wrong, &mut reference) {
+                    wr.push(0.0);
+                    rf.push(r);
+                }
                 continue;
             }
-            let bits = work.vis_of(i);
-            let mut e = Vec3::ZERO;
-            let (mut above, mut lit) = (0u32, 0u32);
-            for j in 0..ctx.light_count() {
-                let c = s.n.dot(ctx.light_dir[j]);
-                if c > 0.0 {
-                    above += 1;
-                    if bits[j >> 6] >> (j & 63) & 1 == 1 {
-                        lit += 1;
-                        e += ctx.light_energy[j] * c;
-                    }
-                }
-            }
-            beauty.push((s.albedo * inv_pi * e).to_array());
-            visible.push(if above > 0 {
-                lit as f32 / above as f32
+            let vis = TileWork::row(&work.vis, i, w);
+            let above = TileWork::row(&work.above, i, w);
+            let lit = radiance(ctx, &s, vis);
+            beauty.push(lit.to_array());
+            let n_above = bits::count(above);
+            visible.push(if n_above > 0 {
+                bits::count(vis) as f32 / n_above as f32
             } else {
                 0.0
             });
+            if let (Some(wr), Some(rf)) = (&mut wrong, &mut reference) {
+                // The truth: every query traced again, those the method traced included,
+                // so a method that mis-records a trace shows up as `wrong_traced`.
+                for k in 0..w {
+                    truth[k] = 0;
+                    let mut m = above[k];
+                    while m != 0 {
+                        let j = k * 64 + m.trailing_zeros() as usize;
+                        m &= m - 1;
+                        if ctx.trace(&s, j) {
+                            truth[k] |= 1 << (j & 63);
+                        }
+                    }
+                }
+                let traced = TileWork::row(&work.traced, i, w);
+                for k in 0..w {
+                    work.counts.wrong_traced +=
+                        ((vis[k] ^ truth[k]) & above[k] & traced[k]).count_ones() as u64;
+                }
+                let (mut wv, mut wb) = (0u64, 0u64);
+                for k in 0..w {
+                    wv += (vis[k] & !truth[k] & above[k]).count_ones() as u64;
+                    wb += (!vis[k] & truth[k] & above[k]).count_ones() as u64;
+                }
+                work.counts.wrong_visible += wv;
+                work.counts.wrong_blocked += wb;
+                work.counts.wrong_pixels += u64::from(wv + wb > 0);
+                wr.push((wv + wb) as f32);
+                rf.push(radiance(ctx, &s, &truth).to_array());
+            }
         }
     }
     TileResult {
@@ -262,6 +438,8 @@ fn shade(ctx: &FrameContext, work: &TileWork) -> TileResult {
         beauty,
         rays,
         visible,
+        wrong,
+        reference,
         counts: work.counts,
     }
 }

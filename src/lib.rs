@@ -25,4 +25,5 @@ pub mod lights;
 pub mod output;
 pub mod predict;
 pub mod scene;
+pub mod table;
 pub mod tile;

@@ -16,12 +16,29 @@ pub struct Counts {
     pub queries: u64,
     /// Shadow rays traced for the tile's own pixels.
     pub rays: u64,
+    /// Pixels outside the tile that its method evaluated (its halo), and their rays.
+    pub halo_pixels: u64,
+    pub halo_rays: u64,
+    /// With validation: pairs predicted visible that are blocked, and the reverse.
+    pub wrong_visible: u64,
+    pub wrong_blocked: u64,
+    /// With validation: pixels with any wrong pair.
+    pub wrong_pixels: u64,
+    /// With validation: wrong pairs among those the method traced (always 0 unless a method
+    /// mis-records its own traces; checked by the tests).
+    pub wrong_traced: u64,
 }
 
 impl AddAssign for Counts {
     fn add_assign(&mut self, o: Counts) {
         self.queries += o.queries;
         self.rays += o.rays;
+        self.halo_pixels += o.halo_pixels;
+        self.halo_rays += o.halo_rays;
+        self.wrong_visible += o.wrong_visible;
+        self.wrong_blocked += o.wrong_blocked;
+        self.wrong_pixels += o.wrong_pixels;
+        self.wrong_traced += o.wrong_traced;
     }
 }
 
@@ -34,6 +51,26 @@ impl Counts {
             100.0 * self.rays as f64 / self.queries as f64
         }
     }
+
+    /// Wrong pairs / queries, in percent (validation only).
+    pub fn error_percent(&self) -> f64 {
+        if self.queries == 0 {
+            0.0
+        } else {
+            100.0 * (self.wrong_visible + self.wrong_blocked) as f64 / self.queries as f64
+        }
+    }
+}
+
+/// How a validated frame's image compares with the brute-force image.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ImageError {
+    /// Root mean square difference of linear RGB, over all pixels and channels.
+    pub rmse: f64,
+    /// `rmse` / the mean of the brute-force image over pixels that hit the scene.
+    pub rel_rmse: f64,
+    /// PSNR of the tone-mapped previews (sRGB in [0, 1], peak 1), dB; infinite when equal.
+    pub psnr_db: f64,
 }
 
 /// One frame's row of `stats.csv`.
@@ -45,7 +82,10 @@ pub struct FrameStats {
     pub width: u32,
     pub height: u32,
     pub counts: Counts,
-    /// Wall-clock seconds to render the frame (scene setup, BVH, tiles; not file writing).
+    /// With validation: the image against brute force.
+    pub image_error: Option<ImageError>,
+    /// Wall-clock seconds to render the frame (scene setup, BVH, tiles, validation traces;
+    /// not file writing).
     pub seconds: f64,
     pub camera_position: Vec3,
     pub camera_target: Vec3,
@@ -54,36 +94,52 @@ pub struct FrameStats {
 }
 
 /// The header of `stats.csv`.
-pub const HEADER: &str = "frame,method,lights,width,height,queries,rays_traced,percent_traced,seconds,\
-camera_x,camera_y,camera_z,target_x,target_y,target_z,up_x,up_y,up_z,vfov_deg";
+pub const HEADER: &str = "frame,method,lights,width,height,queries,rays_traced,percent_traced,\
+halo_pixels,halo_rays,seconds,wrong_visible,wrong_blocked,error_percent,wrong_pixels,rmse,rel_rmse,\
+psnr_db,camera_x,camera_y,camera_z,target_x,target_y,target_z,up_x,up_y,up_z,vfov_deg";
 
 impl FrameStats {
-    /// The CSV row (no newline), columns as in [`HEADER`].
+    /// The CSV row (no newline), columns as in [`HEADER`]. Validation columns are empty for
+    /// frames rendered without `--validate`.
     pub fn csv_row(&self) -> String {
         let mut s = String::new();
+        let c = &self.counts;
         let (p, t, u) = (self.camera_position, self.camera_target, self.camera_up);
         let _ = write!(
             s,
-            "{},{},{},{},{},{},{},{:.4},{:.4},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{:.4},{},{},{:.4},",
             self.frame,
             self.method,
             self.lights,
             self.width,
             self.height,
-            self.counts.queries,
-            self.counts.rays,
-            self.counts.percent_traced(),
+            c.queries,
+            c.rays,
+            c.percent_traced(),
+            c.halo_pixels,
+            c.halo_rays,
             self.seconds,
-            p.x,
-            p.y,
-            p.z,
-            t.x,
-            t.y,
-            t.z,
-            u.x,
-            u.y,
-            u.z,
-            self.vfov_deg
+        );
+        match &self.image_error {
+            Some(e) => {
+                let _ = write!(
+                    s,
+                    "{},{},{:.6},{},{:.6e},{:.6e},{:.3},",
+                    c.wrong_visible,
+                    c.wrong_blocked,
+                    c.error_percent(),
+                    c.wrong_pixels,
+                    e.rmse,
+                    e.rel_rmse,
+                    e.psnr_db
+                );
+            }
+            None => s.push_str(",,,,,,,"),
+        }
+        let _ = write!(
+            s,
+            "{},{},{},{},{},{},{},{},{},{}",
+            p.x, p.y, p.z, t.x, t.y, t.z, u.x, u.y, u.z, self.vfov_deg
         );
         s
     }

@@ -5,7 +5,7 @@ use super::Predictor;
 use crate::frame::{FrameContext, TileWork};
 use crate::tile::Rect;
 
-/// Marks every light visible and traces nothing.
+/// Marks every above-horizon light visible and traces nothing.
 pub struct NoShadows;
 
 impl Predictor for NoShadows {
@@ -14,23 +14,15 @@ impl Predictor for NoShadows {
     }
 
     fn solve(&self, ctx: &FrameContext, tile: Rect, work: &mut TileWork) {
+        let w = work.words;
         for y in tile.y0..tile.y1 {
             for x in tile.x0..tile.x1 {
-                let i = work.region.index(x, y);
-                let s = work.surf[i];
-                if !s.hit {
-                    continue;
-                }
-                let mut above = 0u64;
-                let words = work.words;
-                let bits = &mut work.vis[i * words..(i + 1) * words];
-                for j in 0..ctx.light_count() {
-                    if ctx.above(&s, j) {
-                        above += 1;
-                        bits[j >> 6] |= 1 << (j & 63);
-                    }
-                }
-                work.counts.queries += above;
+                let i = work.begin_pixel(ctx, x, y);
+                let (above, vis) = (
+                    &work.above[i * w..(i + 1) * w],
+                    &mut work.vis[i * w..(i + 1) * w],
+                );
+                vis.copy_from_slice(above);
             }
         }
     }

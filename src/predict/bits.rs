@@ -1,0 +1,93 @@
+//! Visibility bitsets over lights: `u64` words, bit j = light j. Word-wide helpers for the
+//! per-pixel loops.
+
+/// Sets bit `j`.
+#[inline]
+pub fn set(bits: &mut [u64], j: usize) {
+    bits[j >> 6] |= 1 << (j & 63);
+}
+
+/// Clears bit `j`.
+#[inline]
+pub fn clear(bits: &mut [u64], j: usize) {
+    bits[j >> 6] &= !(1 << (j & 63));
+}
+
+/// Reads bit `j`.
+#[inline]
+pub fn get(bits: &[u64], j: usize) -> bool {
+    bits[j >> 6] >> (j & 63) & 1 == 1
+}
+
+/// Number of set bits.
+#[inline]
+pub fn count(bits: &[u64]) -> u32 {
+    bits.iter().map(|w| w.count_ones()).sum()
+}
+
+/// Calls `f(j)` for every set bit, in increasing order.
+#[inline]
+pub fn for_each(bits: &[u64], mut f: impl FnMut(usize)) {
+    for (w, &word) in bits.iter().enumerate() {
+        let mut m = word;
+        while m != 0 {
+            let b = m.trailing_zeros() as usize;
+            f(w * 64 + b);
+            m &= m - 1;
+        }
+    }
+}
+
+/// Per light, whether at least `k` of the given words have the bit set (k in 0..=4):
+/// a bit-sliced counter over up to four voters, one word at a time.
+#[inline]
+pub fn at_least(words: &[u64], k: u32) -> u64 {
+    // ones, twos, fours: the count's binary digits per bit position.
+    let (mut ones, mut twos, mut fours) = (0u64, 0u64, 0u64);
+    for &w in words {
+        let carry1 = ones & w;
+        ones ^= w;
+        let carry2 = twos & carry1;
+        twos ^= carry1;
+        fours |= carry2;
+    }
+    match k {
+        0 => !0,
+        1 => ones | twos | fours,
+        2 => twos | fours,
+        3 => (twos & ones) | fours,
+        4 => fours,
+        _ => 0,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn at_least_counts_voters_per_bit() {
+        let words = [0b1111u64, 0b0111, 0b0011, 0b0001];
+        assert_eq!(at_least(&words, 1), 0b1111);
+        assert_eq!(at_least(&words, 2), 0b0111);
+        assert_eq!(at_least(&words, 3), 0b0011);
+        assert_eq!(at_least(&words, 4), 0b0001);
+        assert_eq!(at_least(&words[..2], 2), 0b0111);
+        assert_eq!(at_least(&[], 1), 0);
+    }
+
+    #[test]
+    fn set_get_iterate() {
+        let mut b = vec![0u64; 3];
+        for j in [0, 63, 64, 130, 191] {
+            set(&mut b, j);
+        }
+        assert!(get(&b, 130) && !get(&b, 129));
+        let mut seen = Vec::new();
+        for_each(&b, |j| seen.push(j));
+        assert_eq!(seen, [0, 63, 64, 130, 191]);
+        assert_eq!(count(&b), 5);
+        clear(&mut b, 64);
+        assert!(!get(&b, 64));
+    }
+}

@@ -1,0 +1,305 @@
+//! Predicting one pixel from its voters, then correcting the prediction by tracing
+//! (ALGORITHM.md §4 and §6).
+//!
+//! Voting: each valid neighbour (inside the frame, not background) votes for the lights it
+//! believes blocked at the current pixel — [`Vote::NoWarp`]: one vote for each light it found
+//! blocked itself; [`Vote::Warp`]: one vote per blocker, for the cell the blocker lands in when
+//! re-aimed from the current point (the paper counts warped blockers per cell). With
+//! K_j = voters with light j above their horizon [ours] and votes_j ≥ K_j read as "all agree":
+//! - uncertainty rule: K_j < min_voters → trace; every such voter voted → blocked; none voted →
+//!   visible; otherwise uncertain → trace, and flood [paper idea, ours exact rule];
+//! - boundary rule: any vote → blocked, else visible; trace lights whose prediction differs
+//!   from an adjacent light's (Agrawala et al. 2000), and lights no voter has above its horizon.
+//!
+//! Flooding: after each trace, if the light was uncertain or its traced value differs from its
+//! prediction, its untraced above-horizon neighbour lights are traced too, until no trace
+//! disagrees. The traced set does not depend on the queue's order.
+//!
+//! Everything per light is a bitset word operation; the only per-light loops are over
+//! lights that are traced or whose cells received warped blockers.
+
+use super::bits;
+use crate::frame::{FrameContext, TileWork};
+
+/// How neighbours vote.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Vote {
+    /// Re-aim each neighbour's blockers from the current point; vote for the cell they hit.
+    Warp,
+    /// A neighbour's blocked light votes for itself.
+    NoWarp,
+}
+
+/// Which lights are traced beyond the prediction.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Flood {
+    /// Trace lights the voters disagree on, and flood from them.
+    Uncertainty,
+    /// Trace lights at the visible/blocked boundary of the prediction, flood on mistakes.
+    Boundary,
+}
+
+/// Reused per-pixel scratch: bitsets, the flood queue, warped-blocker bookkeeping.
+#[derive(Default)]
+pub struct Scratch {
+    words: usize,
+    /// Up to four voters' vote bitsets, then their above-horizon bitsets.
+    voted: Vec<u64>,
+    voter_above: Vec<u64>,
+    pred_vis: Vec<u64>,
+    uncertain: Vec<u64>,
+    queued: Vec<u64>,
+    queue: Vec<u32>,
+    /// Warped blockers per cell, and the cells that got any (set bits: some vote; every
+    /// above-horizon voter's worth of votes).
+    votes: Vec<u8>,
+    vote_any: Vec<u64>,
+    vote_all: Vec<u64>,
+    /// Best warped blocker per cell: alignment with the light and distance along it.
+    best_dot: Vec<f32>,
+    best_dist: Vec<f32>,
+    touched: Vec<u32>,
+    /// Distance to the traced blocker per light (valid where traced and blocked).
+    hit_dist: Vec<f32>,
+}
+
+impl Scratch {
+    /// Sizes the scratch for `lights` lights.
+    pub fn prepare(&mut self, lights: usize) {
+        let w = lights.div_ceil(64);
+        if self.words == w && self.best_dot.len() == lights {
+            return;
+        }
+        self.words = w;
+        self.voted = vec![0; 4 * w];
+        self.voter_above = vec![0; 4 * w];
+        self.pred_vis = vec![0; w];
+        self.uncertain = vec![0; w];
+        self.queued = vec![0; w];
+        self.queue = Vec::with_capacity(lights);
+        self.votes = vec![0; lights];
+        self.vote_any = vec![0; w];
+        self.vote_all = vec![0; w];
+        self.best_dot = vec![f32::NEG_INFINITY; lights];
+        self.best_dist = vec![0.0; lights];
+        self.touched = Vec::with_capacity(lights);
+        self.hit_dist = vec![0.0; lights];
+    }
+}
+
+/// Which rule and order a prediction uses.
+#[derive(Clone, Copy, Debug)]
+pub struct Rule {
+    pub vote: Vote,
+    pub flood: Flood,
+    pub min_voters: u32,
+}
+
+/// Predicts and corrects region pixel `i` (already begun) from the region pixels `voters`
+/// (valid: evaluated, not background; at most four). With no voters every query is traced.
+/// `keep_blockers`: record the pixel's blockers for later warping.
+// Word loops index several parallel bitsets at once; iterator chains would hide that.
+#[allow(clippy::needless_range_loop)]
+pub fn solve_pixel(
+    ctx: &FrameContext,
+    work: &mut TileWork,
+    i: usize,
+    voters: &[usize],
+    rule: Rule,
+    keep_blockers: bool,
+) {
+    let s = work.surf[i];
+    if !s.hit {
+        return;
+    }
+    if voters.is_empty() {
+        work.trace_all(ctx, i, keep_blockers);
+        return;
+    }
+    debug_assert!(voters.len() <= 4);
+    let w = work.words;
+    let nv = voters.len();
+    let TileWork {
+        above,
+        vis,
+        traced,
+        rays,
+        blockers,
+        surf,
+        scratch: sc,
+        ..
+    } = work;
+
+    // 1. Votes. No warp: one bitset per voter (its blocked lights). Warp: each voter's
+    //    blockers, re-aimed from this point, counted per cell they land in [paper].
+    for (k, &q) in voters.iter().enumerate() {
+        sc.voter_above[k * w..(k + 1) * w].copy_from_slice(&above[q * w..(q + 1) * w]);
+        match rule.vote {
+            Vote::NoWarp => {
+                let vv = &mut sc.voted[k * w..(k + 1) * w];
+                for m in 0..w {
+                    vv[m] = above[q * w + m] & !vis[q * w + m];
+                }
+            }
+            Vote::Warp => {
+                let pq = surf[q].p;
+                for (j, t) in blockers.of(q) {
+                    let b = pq + ctx.light_dir[j] * t;
+                    let d = b - s.p;
+                    if s.n.dot(d) <= 0.0 {
+                        continue; // re-aimed below the current horizon: cannot block it
+                    }
+                    let len = d.length();
+                    if len <= 0.0 {
+                        continue;
+                    }
+                    let dn = d / len;
+                    let c = ctx.lights.cell_of(dn) as usize;
+                    if sc.votes[c] == 0 {
+                        sc.touched.push(c as u32);
+                    }
+                    sc.votes[c] = sc.votes[c].saturating_add(1);
+                    // [ours] a light predicted blocked keeps the warped blocker best
+                    // aligned with it, so later pixels can warp it in turn.
+                    let align = dn.dot(ctx.light_dir[c]);
+                    if align > sc.best_dot[c] {
+                        sc.best_dot[c] = align;
+                        sc.best_dist[c] = d.dot(ctx.light_dir[c]).max(0.0);
+                    }
+                }
+            }
+        }
+    }
+
+    // 2. Prediction, word by word: `any` = some vote, `all` = votes_j ≥ K_j.
+    let mine = &above[i * w..(i + 1) * w];
+    let mut above_words = [0u64; 4];
+    if rule.vote == Vote::Warp {
+        sc.vote_any.fill(0);
+        sc.vote_all.fill(0);
+        for &c in &sc.touched {
+            let c = c as usize;
+            bits::set(&mut sc.vote_any, c);
+            let k_j = (0..nv)
+                .filter(|&k| bits::get(&sc.voter_above[k * w..(k + 1) * w], c))
+                .count();
+            if sc.votes[c] as usize >= k_j {
+                bits::set(&mut sc.vote_all, c);
+            }
+        }
+    }
+    for m in 0..w {
+        for k in 0..nv {
+            above_words[k] = sc.voter_above[k * w + m];
+        }
+        let (any, all) = match rule.vote {
+            Vote::Warp => (sc.vote_any[m], sc.vote_all[m]),
+            Vote::NoWarp => {
+                let (mut all, mut any) = (!0u64, 0u64);
+                for k in 0..nv {
+                    let v = sc.voted[k * w + m];
+                    all &= !above_words[k] | v;
+                    any |= v;
+                }
+                (any, all & any)
+            }
+        };
+        let enough = bits::at_least(&above_words[..nv], rule.min_voters);
+        let my = mine[m];
+        let (blocked, unsure) = match rule.flood {
+            Flood::Uncertainty => (my & enough & all, my & (!enough | (any & !all))),
+            Flood::Boundary => (my & any, my & !enough),
+        };
+        sc.pred_vis[m] = my & !blocked;
+        sc.uncertain[m] = unsure;
+        sc.queued[m] = unsure;
+    }
+    if rule.flood == Flood::Boundary {
+        // Lights whose prediction differs from an adjacent above-horizon light's.
+        for m in 0..w {
+            let mut my = mine[m];
+            while my != 0 {
+                let j = m * 64 + my.trailing_zeros() as usize;
+                my &= my - 1;
+                let pj = bits::get(&sc.pred_vis, j);
+                let edge = ctx.lights.neighbors(j).iter().any(|&a| {
+                    let a = a as usize;
+                    bits::get(mine, a) && bits::get(&sc.pred_vis, a) != pj
+                });
+                if edge {
+                    bits::set(&mut sc.queued, j);
+                }
+            }
+        }
+    }
+
+    // 3. Correction: trace the queue, flooding where a trace was uncertain or disagreed.
+    sc.queue.clear();
+    bits::for_each(&sc.queued, |j| sc.queue.push(j as u32));
+    let tr = &mut traced[i * w..(i + 1) * w];
+    let out = &mut vis[i * w..(i + 1) * w];
+    tr.fill(0);
+    out.copy_from_slice(&sc.pred_vis);
+    let mut n = 0u32;
+    let mut head = 0;
+    while head < sc.queue.len() {
+        let j = sc.queue[head] as usize;
+        head += 1;
+        n += 1;
+        bits::set(tr, j);
+        let visible = if keep_blockers {
+            match ctx.trace_blocker(&s, j) {
+                Some(t) => {
+                    sc.hit_dist[j] = t;
+                    false
+                }
+                None => true,
+            }
+        } else {
+            ctx.trace(&s, j)
+        };
+        let predicted = bits::get(&sc.pred_vis, j);
+        if visible {
+            bits::set(out, j);
+        } else {
+            bits::clear(out, j);
+        }
+        let flood = match rule.flood {
+            Flood::Uncertainty => bits::get(&sc.uncertain, j) || visible != predicted,
+            Flood::Boundary => visible != predicted,
+        };
+        if flood {
+            for &a in ctx.lights.neighbors(j) {
+                let a = a as usize;
+                if bits::get(mine, a) && !bits::get(&sc.queued, a) {
+                    bits::set(&mut sc.queued, a);
+                    sc.queue.push(a as u32);
+                }
+            }
+        }
+    }
+    rays[i] = n;
+
+    // 4. Blockers of this pixel: traced hits, and for predicted-blocked lights the warped
+    //    blocker that voted for them.
+    if keep_blockers {
+        blockers.begin(i);
+        for m in 0..w {
+            let mut blocked = mine[m] & !out[m];
+            while blocked != 0 {
+                let j = m * 64 + blocked.trailing_zeros() as usize;
+                blocked &= blocked - 1;
+                if bits::get(tr, j) {
+                    blockers.push(i, j, sc.hit_dist[j]);
+                } else if sc.best_dot[j] > f32::NEG_INFINITY {
+                    blockers.push(i, j, sc.best_dist[j]);
+                }
+            }
+        }
+    }
+    for &c in &sc.touched {
+        sc.best_dot[c as usize] = f32::NEG_INFINITY;
+        sc.votes[c as usize] = 0;
+    }
+    sc.touched.clear();
+}

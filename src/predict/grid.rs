@@ -1,0 +1,208 @@
+//! Coarse-to-fine grid order (ALGORITHM.md §5) [paper].
+//!
+//! Every light is traced at the pixels of a coarse grid with spacing h0, anchored to the frame
+//! (pixels with x ≡ y ≡ 0 mod h0). Then for h = h0, h0/2, …, 2 with s = h/2: pass A predicts
+//! the square centres (x ≡ y ≡ s mod h) from their four diagonal neighbours at (±s, ±s);
+//! pass B predicts the edge midpoints from their four axis neighbours at distance s. A pass
+//! reads only earlier passes, so the pixels of a pass are independent of each other.
+//!
+//! Tiles [ours]: within a level a pixel reads at most s away along an axis, and a pass-B pixel
+//! reads pass-A centres that read s further: 2s = h per level, so dependencies reach at most
+//! h0 + h0/2 + … + 2 = 2(h0 − 1) pixels away, and a tile's region is the tile grown by that. Inside it, only the pixels the tile
+//! transitively depends on are evaluated — marked walking the passes backwards — so a tile
+//! produces exactly the whole-frame render's pixels and counts, with a small halo.
+
+use super::correct::{Flood, Rule, Vote, solve_pixel};
+use super::{Params, Predictor};
+use crate::frame::{FrameContext, TileWork};
+use crate::tile::Rect;
+
+/// A grid method: the coarse-to-fine order with a voting and a correction rule.
+pub struct Grid {
+    name: &'static str,
+    rule: Rule,
+    h0: u32,
+}
+
+impl Grid {
+    pub fn new(name: &'static str, vote: Vote, flood: Flood, params: Params) -> Grid {
+        // Boundary flooding predicts in binary, any vote → blocked [paper]: one voter with the
+        // light above its horizon is enough. The voter threshold is the uncertainty rule's.
+        let min_voters = match flood {
+            Flood::Uncertainty => params.min_voters,
+            Flood::Boundary => 1,
+        };
+        Grid {
+            name,
+            rule: Rule {
+                vote,
+                flood,
+                min_voters,
+            },
+            h0: params.h0,
+        }
+    }
+
+    /// Number of passes: the coarse grid, then A and B for each level.
+    fn passes(&self) -> usize {
+        1 + 2 * self.h0.trailing_zeros() as usize
+    }
+}
+
+/// The pass that evaluates frame pixel (x, y): 0 for the coarse grid, then 2l+1 (A) and
+/// 2l+2 (B) at level l (h = h0 >> l).
+#[inline]
+pub fn pass_of(x: u32, y: u32, h0: u32) -> usize {
+    if x % h0 == 0 && y % h0 == 0 {
+        return 0;
+    }
+    let (mut h, mut p) = (h0, 1);
+    loop {
+        let s = h / 2;
+        if x % s == 0 && y % s == 0 {
+            return if x % h == s && y % h == s { p } else { p + 1 };
+        }
+        h = s;
+        p += 2;
+    }
+}
+
+/// The (up to four) frame pixels a pixel of pass `p` reads, inside the frame.
+#[inline]
+fn voters_of(x: u32, y: u32, p: usize, h0: u32, frame: Rect, out: &mut [(u32, u32); 4]) -> usize {
+    let s = (h0 >> ((p - 1) / 2)) / 2;
+    let (x, y, s) = (x as i64, y as i64, s as i64);
+    let cand = if p % 2 == 1 {
+        [
+            (x - s, y - s),
+            (x + s, y - s),
+            (x - s, y + s),
+            (x + s, y + s),
+        ]
+    } else {
+        [(x, y - s), (x - s, y), (x + s, y), (x, y + s)]
+    };
+    let mut n = 0;
+    for (cx, cy) in cand {
+        if cx >= frame.x0 as i64
+            && cy >= frame.y0 as i64
+            && cx < frame.x1 as i64
+            && cy < frame.y1 as i64
+        {
+            out[n] = (cx as u32, cy as u32);
+            n += 1;
+        }
+    }
+    n
+}
+
+impl Predictor for Grid {
+    fn name(&self) -> &'static str {
+        self.name
+    }
+
+    fn region(&self, ctx: &FrameContext, tile: Rect) -> Rect {
+        let reach = 2 * (self.h0 - 1);
+        let frame = Rect::frame(ctx.camera.width, ctx.camera.height);
+        Rect::new(
+            tile.x0.saturating_sub(reach),
+            tile.y0.saturating_sub(reach),
+            tile.x1 + reach,
+            tile.y1 + reach,
+        )
+        .intersect(&frame)
+    }
+
+    fn solve(&self, ctx: &FrameContext, tile: Rect, work: &mut TileWork) {
+        let region = work.region;
+        let frame = Rect::frame(ctx.camera.width, ctx.camera.height);
+        let passes = self.passes();
+        // Region pixels bucketed by pass, in row-major order within a pass.
+        let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); passes];
+        for y in region.y0..region.y1 {
+            for x in region.x0..region.x1 {
+                buckets[pass_of(x, y, self.h0)].push(region.index(x, y) as u32);
+            }
+        }
+        let rw = region.width();
+        let coords = |i: u32| (region.x0 + i % rw, region.y0 + i / rw);
+        // Mark what the tile needs, walking the passes backwards.
+        let mut need = vec![false; region.area()];
+        for y in tile.y0..tile.y1 {
+            for x in tile.x0..tile.x1 {
+                need[region.index(x, y)] = true;
+            }
+        }
+        let mut nb = [(0u32, 0u32); 4];
+        for p in (1..passes).rev() {
+            for &i in &buckets[p] {
+                if !need[i as usize] {
+                    continue;
+                }
+                let (x, y) = coords(i);
+                let n = voters_of(x, y, p, self.h0, frame, &mut nb);
+                for &(vx, vy) in &nb[..n] {
+                    need[region.index(vx, vy)] = true;
+                }
+            }
+        }
+        // Evaluate forwards. Pixels of the last pass are never read: they keep no blockers.
+        let keep = self.rule.vote == Vote::Warp;
+        let mut voters = [0usize; 4];
+        for (p, bucket) in buckets.iter().enumerate() {
+            for &i in bucket {
+                if !need[i as usize] {
+                    continue;
+                }
+                let (x, y) = coords(i);
+                let i = work.begin_pixel(ctx, x, y);
+                let keep_here = keep && p + 1 < passes;
+                if p == 0 {
+                    work.trace_all(ctx, i, keep_here);
+                    continue;
+                }
+                let n = voters_of(x, y, p, self.h0, frame, &mut nb);
+                let mut nv = 0;
+                for &(vx, vy) in &nb[..n] {
+                    let q = region.index(vx, vy);
+                    if work.surf[q].hit {
+                        voters[nv] = q;
+                        nv += 1;
+                    }
+                }
+                solve_pixel(ctx, work, i, &voters[..nv], self.rule, keep_here);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_pixel_has_one_pass_and_reads_only_earlier_passes() {
+        let h0 = 16;
+        let frame = Rect::frame(70, 50);
+        let mut nb = [(0, 0); 4];
+        let mut per_pass = [0usize; 9];
+        for y in 0..50 {
+            for x in 0..70 {
+                let p = pass_of(x, y, h0);
+                per_pass[p] += 1;
+                if p > 0 {
+                    let n = voters_of(x, y, p, h0, frame, &mut nb);
+                    assert!(n >= 1, "({x}, {y}) pass {p} has no voters");
+                    for &(vx, vy) in &nb[..n] {
+                        assert!(pass_of(vx, vy, h0) < p, "({x},{y}) p{p} reads ({vx},{vy})");
+                        assert!(x.abs_diff(vx) < h0 && y.abs_diff(vy) < h0);
+                    }
+                }
+            }
+        }
+        // 5 × 4 coarse pixels in a 70 × 50 frame.
+        assert_eq!(per_pass[0], 20);
+        // The finest B pass holds about half the pixels.
+        assert!(per_pass[8] > 70 * 50 * 2 / 5);
+    }
+}

@@ -1,0 +1,218 @@
+//! `envshadow table`: the paper's Table 1 — the share of shadow queries each method traces —
+//! rendered for our scenes, beside the paper's figures, with our validated error rates.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use clap::Args;
+
+use crate::anim::{Animation, Overrides};
+use crate::coordinator::{Inputs, Silent, render_frame, thread_pool};
+use crate::error::Result;
+use crate::output::write_atomic;
+use crate::predict::Method;
+
+#[derive(Args, Debug, Clone)]
+pub struct TableArgs {
+    /// `shapes` or `bunny` (anims/paper-shapes.toml, anims/paper-bunny.toml) or a spec file.
+    #[arg(long, default_value = "shapes")]
+    pub scene: String,
+    /// Light counts, comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "50,100,200,400")]
+    pub lights: Vec<usize>,
+    /// Methods, comma-separated (default: the paper's rows).
+    #[arg(long, value_delimiter = ',')]
+    pub methods: Vec<Method>,
+    #[arg(long, default_value_t = 640)]
+    pub width: u32,
+    #[arg(long, default_value_t = 480)]
+    pub height: u32,
+    /// Which frame of the animation.
+    #[arg(long, default_value_t = 0)]
+    pub frame: usize,
+    /// Worker threads (0: one per core).
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
+    /// Also write the rows as CSV here.
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
+}
+
+/// One validated frame of one method at one light count.
+#[derive(Clone, Debug)]
+pub struct TableRow {
+    pub method: Method,
+    pub lights: usize,
+    pub queries: u64,
+    pub rays: u64,
+    pub percent: f64,
+    pub error_percent: f64,
+    pub wrong_pixels: u64,
+    pub rel_rmse: f64,
+    pub seconds: f64,
+    pub paper: Option<f64>,
+}
+
+fn spec_and_key(scene: &str) -> (PathBuf, String) {
+    match scene {
+        "shapes" | "bunny" => (
+            PathBuf::from(format!("anims/paper-{scene}.toml")),
+            scene.to_string(),
+        ),
+        other => {
+            let key = if other.contains("bunny") {
+                "bunny"
+            } else if other.contains("shapes") {
+                "shapes"
+            } else {
+                ""
+            };
+            (PathBuf::from(other), key.to_string())
+        }
+    }
+}
+
+/// Renders every (light count, method) frame with validation.
+pub fn measure(args: &TableArgs, mut log: impl FnMut(&TableRow)) -> Result<Vec<TableRow>> {
+    let (spec, key) = spec_and_key(&args.scene);
+    let methods: Vec<Method> = if args.methods.is_empty() {
+        Method::TABLE1.to_vec()
+    } else {
+        args.methods.clone()
+    };
+    let pool = thread_pool(args.threads)?;
+    let mut rows = Vec::new();
+    for &n in &args.lights {
+        let overrides = Overrides {
+            lights: Some(n),
+            width: Some(args.width),
+            height: Some(args.height),
+            ..Default::default()
+        };
+        let mut anim = Animation::load(&spec, &overrides)?;
+        let inputs = Inputs::load(&anim)?;
+        for &method in &methods {
+            anim.method = method;
+            // Brute force is its own reference: nothing to validate.
+            anim.validate = method != Method::Brute;
+            let (_, stats) =
+                pool.install(|| render_frame(&anim, &inputs, args.frame, None, &Silent))?;
+            let c = stats.counts;
+            let row = TableRow {
+                method,
+                lights: n,
+                queries: c.queries,
+                rays: c.rays,
+                percent: c.percent_traced(),
+                error_percent: c.error_percent(),
+                wrong_pixels: c.wrong_pixels,
+                rel_rmse: stats.image_error.map_or(0.0, |e| e.rel_rmse),
+                seconds: stats.seconds,
+                paper: method.paper_percent(&key, n),
+            };
+            log(&row);
+            rows.push(row);
+        }
+    }
+    Ok(rows)
+}
+
+/// Table 1 as markdown: % traced (the paper's figure in parentheses), then error rates.
+pub fn markdown(rows: &[TableRow], lights: &[usize]) -> String {
+    let mut methods: Vec<Method> = Vec::new();
+    for r in rows {
+        if !methods.contains(&r.method) {
+            methods.push(r.method);
+        }
+    }
+    let head = |title: &str| {
+        let mut s = format!("| {title} |");
+        for n in lights {
+            let _ = write!(s, " {n} |");
+        }
+        s.push_str("\n|---|");
+        for _ in lights {
+            s.push_str("---:|");
+        }
+        s.push('\n');
+        s
+    };
+    let cell = |m: Method, n: usize| rows.iter().find(|r| r.method == m && r.lights == n);
+    let mut s = head("% of shadow queries traced: ours (paper)");
+    for &m in &methods {
+        let _ = write!(s, "| {m} |");
+        for &n in lights {
+            match cell(m, n) {
+                Some(r) => match r.paper {
+                    Some(p) => {
+                        let _ = write!(s, " {:.1} ({p:.1}) |", r.percent);
+                    }
+                    None => {
+                        let _ = write!(s, " {:.1} |", r.percent);
+                    }
+                },
+                None => s.push_str(" – |"),
+            }
+        }
+        s.push('\n');
+    }
+    s.push('\n');
+    s.push_str(&head("wrong pairs, % of queries (relative image RMSE, %)"));
+    for &m in &methods {
+        let _ = write!(s, "| {m} |");
+        for &n in lights {
+            match cell(m, n) {
+                Some(r) => {
+                    let _ = write!(s, " {:.4} ({:.3}) |", r.error_percent, 100.0 * r.rel_rmse);
+                }
+                None => s.push_str(" – |"),
+            }
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// The rows as CSV.
+pub fn csv(rows: &[TableRow], scene: &str) -> String {
+    let mut s = String::from(
+        "scene,method,lights,queries,rays_traced,percent_traced,paper_percent,error_percent,wrong_pixels,rel_rmse,seconds\n",
+    );
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "{scene},{},{},{},{},{:.4},{},{:.6},{},{:.6e},{:.3}",
+            r.method,
+            r.lights,
+            r.queries,
+            r.rays,
+            r.percent,
+            r.paper.map(|p| p.to_string()).unwrap_or_default(),
+            r.error_percent,
+            r.wrong_pixels,
+            r.rel_rmse,
+            r.seconds
+        );
+    }
+    s
+}
+
+/// `envshadow table`.
+pub fn run(args: &TableArgs) -> Result<()> {
+    let rows = measure(args, |r| {
+        eprintln!(
+            "{} lights, {}: {:.2} % traced, {:.4} % wrong, {:.2} s",
+            r.lights, r.method, r.percent, r.error_percent, r.seconds
+        )
+    })?;
+    println!(
+        "Table 1, {} at {}x{}, frame {}:\n",
+        args.scene, args.width, args.height, args.frame
+    );
+    print!("{}", markdown(&rows, &args.lights));
+    if let Some(path) = &args.csv {
+        write_atomic(path, csv(&rows, &args.scene).as_bytes())?;
+        eprintln!("wrote {}", path.display());
+    }
+    Ok(())
+}

@@ -1,0 +1,130 @@
+//! The prediction methods against brute force, and their independence from tiling and threads.
+
+mod common;
+
+use envshadow::anim::{Animation, Overrides};
+use envshadow::coordinator::{Inputs, Silent, render_frame, thread_pool};
+use envshadow::film::Film;
+use envshadow::output::stats::Counts;
+use envshadow::predict::Method;
+
+/// A small shapes frame under the built-in sky and a small bunny frame under grace.hdr.
+fn scenes(width: u32, height: u32, lights: usize) -> Vec<(&'static str, Animation, Inputs)> {
+    let shapes = common::animation(&format!(
+        "[lights]\ncount = {lights}\n[camera]\ntarget = [0.0, 0.45, 0.0]\ndistance = 6.5\nelevation = 25.0\n\
+         [motion]\nframes = 8\n[render]\nwidth = {width}\nheight = {height}\n"
+    ));
+    let bunny_text = format!(
+        "[scene]\nfile = \"{}\"\n[environment]\nfile = \"{}\"\n[lights]\ncount = {lights}\n\
+         [camera]\ntarget = [0.0, 0.075, 0.0]\ndistance = 0.45\nelevation = 25.0\n\
+         [motion]\nframes = 8\n[render]\nwidth = {width}\nheight = {height}\n",
+        common::asset("bunny_on_plane.glb").display(),
+        common::asset("grace.hdr").display()
+    );
+    let bunny = Animation::parse(
+        &bunny_text,
+        std::path::Path::new("bunny.toml"),
+        &Overrides::default(),
+    )
+    .unwrap();
+    let si = Inputs::load(&shapes).unwrap();
+    let bi = Inputs::load(&bunny).unwrap();
+    vec![("shapes", shapes, si), ("bunny", bunny, bi)]
+}
+
+fn render(
+    anim: &Animation,
+    inputs: &Inputs,
+    method: Method,
+    tile: u32,
+    threads: usize,
+) -> (Film, Counts) {
+    let mut a = anim.clone();
+    a.method = method;
+    a.tile = tile;
+    a.validate = true;
+    let pool = thread_pool(threads).unwrap();
+    let (film, stats) = pool
+        .install(|| render_frame(&a, inputs, 1, None, &Silent))
+        .unwrap();
+    (film, stats.counts)
+}
+
+/// Stated bounds on wrong (pixel, light) pairs, in % of queries, for these small frames
+/// (predictions are poorer at 160×120 than at 640×480: voters are further apart in the scene).
+fn error_bound(m: Method) -> f64 {
+    match m {
+        Method::None => f64::INFINITY,
+        Method::Brute => 0.0,
+        Method::GridNowarpUncertainty => 0.15,
+        // Errors travel along the scan until a boundary trace catches them.
+        Method::ScanWarpBoundary => 2.5,
+        _ => 0.5,
+    }
+}
+
+#[test]
+fn every_method_agrees_with_brute_force_within_its_stated_error() {
+    for (name, anim, inputs) in scenes(160, 120, 100) {
+        let (brute, bc) = render(&anim, &inputs, Method::Brute, 64, 0);
+        assert_eq!(bc.rays, bc.queries);
+        for m in Method::ALL {
+            if m == Method::None {
+                continue;
+            }
+            let (film, c) = render(&anim, &inputs, m, 64, 0);
+            assert_eq!(c.queries, bc.queries, "{name} {m}: the same queries");
+            // Where a method traced, it agrees with brute force exactly.
+            assert_eq!(c.wrong_traced, 0, "{name} {m}");
+            // The validation's reference image is the brute-force image.
+            assert_eq!(
+                film.reference.as_ref().unwrap(),
+                &brute.beauty,
+                "{name} {m}"
+            );
+            let err = c.error_percent();
+            assert!(err <= error_bound(m), "{name} {m}: {err:.4} % wrong pairs");
+            if m != Method::Brute {
+                let pct = c.percent_traced();
+                assert!(pct < 50.0, "{name} {m}: traced {pct:.1} %");
+                assert!(c.rays > 0);
+            }
+            // Pixels the method got entirely right match the brute-force image exactly.
+            let wrong = film.wrong.as_ref().unwrap();
+            for (i, w) in wrong.iter().enumerate() {
+                if *w == 0.0 {
+                    assert_eq!(film.beauty[i], brute.beauty[i], "{name} {m} pixel {i}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn tiles_and_threads_give_identical_pixels_and_counts_for_every_method() {
+    for (name, anim, inputs) in scenes(128, 96, 48) {
+        for m in Method::ALL {
+            let (reference, rc) = render(&anim, &inputs, m, 0, 1);
+            assert_eq!(rc.halo_pixels, 0, "a whole-frame tile has no halo");
+            for threads in [1, 2] {
+                for tile in [8, 16, 64, 0] {
+                    let (film, c) = render(&anim, &inputs, m, tile, threads);
+                    let tag = format!("{name} {m} tile {tile} threads {threads}");
+                    assert!(film.beauty == reference.beauty, "{tag}: beauty differs");
+                    assert!(film.rays == reference.rays, "{tag}: rays AOV differs");
+                    assert!(
+                        film.visible == reference.visible,
+                        "{tag}: visible AOV differs"
+                    );
+                    assert!(film.wrong == reference.wrong, "{tag}: wrong AOV differs");
+                    let strip = |c: Counts| Counts {
+                        halo_pixels: 0,
+                        halo_rays: 0,
+                        ..c
+                    };
+                    assert_eq!(strip(c), strip(rc), "{tag}: counts differ");
+                }
+            }
+        }
+    }
+}
