@@ -15,10 +15,11 @@ use crate::anim::{Animation, EnvSource, SceneSource};
 use crate::envmap::EnvMap;
 use crate::error::Result;
 use crate::film::Film;
-use crate::frame::{FrameContext, TileWork, render_tile};
+use crate::frame::{FrameContext, TileWork, render_shared, render_tile};
 use crate::lights::LightSet;
 use crate::output::stats::{Counts, FrameStats, StatsFile};
 use crate::output::{self, frame_path};
+use crate::predict::Lattice;
 use crate::scene::Scene;
 use crate::tile::{Rect, tiles};
 
@@ -121,10 +122,43 @@ pub fn render_frame(
     );
     ctx.validate = anim.validate;
     let list = tiles(anim.width, anim.height, anim.tile, region);
+    // Shared phases (the grid's coarse levels) run over every tile the rendered tiles' halos
+    // reach, so a region render reads exactly what the whole frame would have computed.
+    let phases = predictor.shared_phases();
+    let mut lattice = Lattice::new(
+        anim.width,
+        anim.height,
+        predictor.lattice_step(),
+        ctx.words(),
+    );
+    if phases > 0 {
+        let reach = region.map(|r| {
+            let d = predictor.shared_reach();
+            let grown = Rect::new(
+                r.x0.saturating_sub(d),
+                r.y0.saturating_sub(d),
+                r.x1 + d,
+                r.y1 + d,
+            );
+            tiles(anim.width, anim.height, anim.tile, Some(grown))
+        });
+        let shared_tiles = reach.as_ref().unwrap_or(&list);
+        for phase in 0..phases {
+            let patches: Vec<_> = shared_tiles
+                .par_iter()
+                .map_init(TileWork::default, |work, t| {
+                    render_shared(&ctx, t.rect, work, phase, &lattice)
+                })
+                .collect();
+            for p in &patches {
+                lattice.insert(p);
+            }
+        }
+    }
     let results: Vec<_> = list
         .par_iter()
         .map_init(TileWork::default, |work, t| {
-            let r = render_tile(&ctx, t.rect, work);
+            let r = render_tile(&ctx, t.rect, work, &lattice);
             progress.tile_done(r.counts.rays);
             r
         })

@@ -9,7 +9,7 @@ use crate::camera::Camera;
 use crate::envmap::EnvMap;
 use crate::lights::LightSet;
 use crate::output::stats::Counts;
-use crate::predict::{Predictor, bits};
+use crate::predict::{Lattice, LatticePatch, Predictor, bits};
 use crate::scene::Scene;
 use crate::tile::Rect;
 
@@ -155,7 +155,7 @@ pub struct Blockers {
 }
 
 impl Blockers {
-    fn reset(&mut self, pixels: usize) {
+    pub(crate) fn reset(&mut self, pixels: usize) {
         self.start.clear();
         self.start.resize(pixels, 0);
         self.len.clear();
@@ -324,13 +324,38 @@ pub struct TileResult {
     pub counts: Counts,
 }
 
-/// Renders one tile: the method decides visibility, then (with validation) every query is
-/// traced to count mistakes, then the tile is shaded.
-pub fn render_tile(ctx: &FrameContext, tile: Rect, work: &mut TileWork) -> TileResult {
-    let region = ctx.predictor.region(ctx, tile);
+/// Runs shared phase `phase` of the frame's method on one tile: returns the pixels it
+/// evaluated, for the frame's lattice.
+pub fn render_shared(
+    ctx: &FrameContext,
+    tile: Rect,
+    work: &mut TileWork,
+    phase: usize,
+    lattice: &Lattice,
+) -> LatticePatch {
+    let region = ctx.predictor.region(ctx, tile, phase);
+    work.prepare(ctx, tile, region);
+    let mut patch = LatticePatch::default();
+    ctx.predictor
+        .solve(ctx, tile, work, phase, lattice, &mut patch);
+    patch
+}
+
+/// Renders one tile (the final phase): the method decides visibility, then (with validation)
+/// every query is traced to count mistakes, then the tile is shaded.
+pub fn render_tile(
+    ctx: &FrameContext,
+    tile: Rect,
+    work: &mut TileWork,
+    lattice: &Lattice,
+) -> TileResult {
+    let phase = ctx.predictor.shared_phases();
+    let region = ctx.predictor.region(ctx, tile, phase);
     debug_assert!(region.intersect(&tile) == tile);
     work.prepare(ctx, tile, region);
-    ctx.predictor.solve(ctx, tile, work);
+    let mut unused = LatticePatch::default();
+    ctx.predictor
+        .solve(ctx, tile, work, phase, lattice, &mut unused);
     count_work(work);
     shade(ctx, work)
 }

@@ -128,3 +128,33 @@ fn tiles_and_threads_give_identical_pixels_and_counts_for_every_method() {
         }
     }
 }
+
+#[test]
+fn a_region_render_equals_the_same_pixels_of_the_full_frame() {
+    use envshadow::tile::Rect;
+    for (name, anim, inputs) in scenes(128, 96, 48) {
+        for m in [
+            Method::GridNowarpUncertainty,
+            Method::GridWarpBoundary,
+            Method::ScanWarpBoundary,
+        ] {
+            let mut a = anim.clone();
+            a.method = m;
+            a.tile = 16;
+            let (full, _) = render_frame(&a, &inputs, 1, None, &Silent).unwrap();
+            let region = Rect::new(37, 21, 101, 66);
+            let (part, _) = render_frame(&a, &inputs, 1, Some(region), &Silent).unwrap();
+            for y in 0..96u32 {
+                for x in 0..128u32 {
+                    let i = (y * 128 + x) as usize;
+                    if region.contains(x, y) {
+                        assert_eq!(part.beauty[i], full.beauty[i], "{name} {m} ({x}, {y})");
+                        assert_eq!(part.rays[i], full.rays[i], "{name} {m} ({x}, {y})");
+                    } else {
+                        assert_eq!(part.beauty[i], [0.0; 3], "{name} {m}: outside the region");
+                    }
+                }
+            }
+        }
+    }
+}

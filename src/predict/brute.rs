@@ -1,6 +1,6 @@
 //! `brute`: trace every shadow query (the "true" row of Table 1).
 
-use super::Predictor;
+use super::{Lattice, LatticePatch, Predictor};
 use crate::frame::{FrameContext, TileWork};
 use crate::tile::Rect;
 
@@ -12,7 +12,15 @@ impl Predictor for Brute {
         "brute"
     }
 
-    fn solve(&self, ctx: &FrameContext, tile: Rect, work: &mut TileWork) {
+    fn solve(
+        &self,
+        ctx: &FrameContext,
+        tile: Rect,
+        work: &mut TileWork,
+        _phase: usize,
+        _lattice: &Lattice,
+        _patch: &mut LatticePatch,
+    ) {
         for y in tile.y0..tile.y1 {
             for x in tile.x0..tile.x1 {
                 let i = work.begin_pixel(ctx, x, y);

@@ -13,7 +13,7 @@
 //! produces exactly the whole-frame render's pixels and counts, with a small halo.
 
 use super::correct::{Flood, Rule, Vote, solve_pixel};
-use super::{Params, Predictor};
+use super::{Lattice, LatticePatch, Params, Predictor};
 use crate::frame::{FrameContext, TileWork};
 use crate::tile::Rect;
 
@@ -96,13 +96,98 @@ fn voters_of(x: u32, y: u32, p: usize, h0: u32, frame: Rect, out: &mut [(u32, u3
     n
 }
 
+impl Grid {
+    /// The voters' distance s of pass `p` (≥ 1).
+    fn spacing(&self, p: usize) -> u32 {
+        (self.h0 >> ((p - 1) / 2)) / 2
+    }
+
+    /// How far the final phase's dependencies reach: 2s per unshared level.
+    fn final_reach(&self) -> u32 {
+        (SHARED_PASSES..self.passes())
+            .step_by(2)
+            .map(|p| 2 * self.spacing(p))
+            .sum()
+    }
+
+    fn shared(&self) -> usize {
+        SHARED_PASSES.min(self.passes())
+    }
+
+    /// Copies the lattice pixels inside `region` into `work`; those inside `tile` count as
+    /// the tile's own (their rays are the tile's).
+    fn copy_lattice(&self, lattice: &Lattice, region: Rect, tile: Rect, work: &mut TileWork) {
+        let step = self.lattice_step();
+        let (x0, y0) = (
+            region.x0.div_ceil(step) * step,
+            region.y0.div_ceil(step) * step,
+        );
+        for y in (y0..region.y1).step_by(step as usize) {
+            for x in (x0..region.x1).step_by(step as usize) {
+                let i = region.index(x, y);
+                if lattice.copy_into(x, y, work, i) && tile.contains(x, y) {
+                    work.needed[i] = true;
+                }
+            }
+        }
+    }
+
+    /// The valid voters of pixel (x, y) in pass `p`, as region indices.
+    fn voters(
+        &self,
+        work: &TileWork,
+        frame: Rect,
+        x: u32,
+        y: u32,
+        p: usize,
+        out: &mut [usize; 4],
+    ) -> usize {
+        let mut nb = [(0u32, 0u32); 4];
+        let n = voters_of(x, y, p, self.h0, frame, &mut nb);
+        let mut nv = 0;
+        for &(vx, vy) in &nb[..n] {
+            let q = work.region.index(vx, vy);
+            if work.surf[q].hit {
+                out[nv] = q;
+                nv += 1;
+            }
+        }
+        nv
+    }
+}
+
+/// Passes evaluated once per frame into the lattice: the coarse grid and the h0 level's
+/// A and B passes (lattice spacing h0/2). They hold 1/64 of the pixels at h0 = 16 but, as the
+/// coarse grid traces every light, a large share of the rays; sharing them keeps the halos
+/// cheap (BENCHMARKS.md has the halo figures).
+const SHARED_PASSES: usize = 3;
+
 impl Predictor for Grid {
     fn name(&self) -> &'static str {
         self.name
     }
 
-    fn region(&self, ctx: &FrameContext, tile: Rect) -> Rect {
-        let reach = 2 * (self.h0 - 1);
+    fn shared_phases(&self) -> usize {
+        self.shared()
+    }
+
+    fn shared_reach(&self) -> u32 {
+        // The final phase's reach, plus the shared passes' own: a pass-B pixel reads pass-A
+        // centres h0/2 away, which read the coarse grid h0/2 further.
+        self.final_reach() + if self.shared() > 1 { self.h0 } else { 0 }
+    }
+
+    fn lattice_step(&self) -> u32 {
+        let levels = (self.shared() - 1) / 2;
+        self.h0 >> levels
+    }
+
+    fn region(&self, ctx: &FrameContext, tile: Rect, phase: usize) -> Rect {
+        let reach = if phase < self.shared() {
+            if phase == 0 { 0 } else { self.spacing(phase) }
+        } else {
+            self.final_reach()
+        };
         let frame = Rect::frame(ctx.camera.width, ctx.camera.height);
         Rect::new(
             tile.x0.saturating_sub(reach),
@@ -113,20 +198,58 @@ impl Predictor for Grid {
         .intersect(&frame)
     }
 
-    fn solve(&self, ctx: &FrameContext, tile: Rect, work: &mut TileWork) {
+    fn solve(
+        &self,
+        ctx: &FrameContext,
+        tile: Rect,
+        work: &mut TileWork,
+        phase: usize,
+        lattice: &Lattice,
+        patch: &mut LatticePatch,
+    ) {
         let region = work.region;
         let frame = Rect::frame(ctx.camera.width, ctx.camera.height);
+        let warp = self.rule.vote == Vote::Warp;
+        let mut voters = [0usize; 4];
+        let shared = self.shared();
+        self.copy_lattice(lattice, region, tile, work);
+
+        if phase < shared {
+            // A shared phase: this pass's pixels inside the tile, read by later passes, so
+            // warping methods keep their blockers.
+            let step = self.lattice_step();
+            let (x0, y0) = (tile.x0.div_ceil(step) * step, tile.y0.div_ceil(step) * step);
+            for y in (y0..tile.y1).step_by(step as usize) {
+                for x in (x0..tile.x1).step_by(step as usize) {
+                    if pass_of(x, y, self.h0) != phase {
+                        continue;
+                    }
+                    let i = work.begin_pixel(ctx, x, y);
+                    if phase == 0 {
+                        work.trace_all(ctx, i, warp);
+                    } else {
+                        let nv = self.voters(work, frame, x, y, phase, &mut voters);
+                        solve_pixel(ctx, work, i, &voters[..nv], self.rule, warp);
+                    }
+                    patch.record(lattice, x, y, work, i);
+                }
+            }
+            return;
+        }
+
+        // The final phase: the unshared passes, only at the pixels the tile depends on.
         let passes = self.passes();
-        // Region pixels bucketed by pass, in row-major order within a pass.
         let mut buckets: Vec<Vec<u32>> = vec![Vec::new(); passes];
         for y in region.y0..region.y1 {
             for x in region.x0..region.x1 {
-                buckets[pass_of(x, y, self.h0)].push(region.index(x, y) as u32);
+                let p = pass_of(x, y, self.h0);
+                if p >= shared {
+                    buckets[p].push(region.index(x, y) as u32);
+                }
             }
         }
         let rw = region.width();
         let coords = |i: u32| (region.x0 + i % rw, region.y0 + i / rw);
-        // Mark what the tile needs, walking the passes backwards.
         let mut need = vec![false; region.area()];
         for y in tile.y0..tile.y1 {
             for x in tile.x0..tile.x1 {
@@ -134,7 +257,7 @@ impl Predictor for Grid {
             }
         }
         let mut nb = [(0u32, 0u32); 4];
-        for p in (1..passes).rev() {
+        for p in (shared..passes).rev() {
             for &i in &buckets[p] {
                 if !need[i as usize] {
                     continue;
@@ -146,31 +269,17 @@ impl Predictor for Grid {
                 }
             }
         }
-        // Evaluate forwards. Pixels of the last pass are never read: they keep no blockers.
-        let keep = self.rule.vote == Vote::Warp;
-        let mut voters = [0usize; 4];
-        for (p, bucket) in buckets.iter().enumerate() {
-            for &i in bucket {
+        // Pixels of the last pass are never read: they keep no blockers.
+        for p in shared..passes {
+            let keep = warp && p + 1 < passes;
+            for &i in &buckets[p] {
                 if !need[i as usize] {
                     continue;
                 }
                 let (x, y) = coords(i);
                 let i = work.begin_pixel(ctx, x, y);
-                let keep_here = keep && p + 1 < passes;
-                if p == 0 {
-                    work.trace_all(ctx, i, keep_here);
-                    continue;
-                }
-                let n = voters_of(x, y, p, self.h0, frame, &mut nb);
-                let mut nv = 0;
-                for &(vx, vy) in &nb[..n] {
-                    let q = region.index(vx, vy);
-                    if work.surf[q].hit {
-                        voters[nv] = q;
-                        nv += 1;
-                    }
-                }
-                solve_pixel(ctx, work, i, &voters[..nv], self.rule, keep_here);
+                let nv = self.voters(work, frame, x, y, p, &mut voters);
+                solve_pixel(ctx, work, i, &voters[..nv], self.rule, keep);
             }
         }
     }

@@ -13,6 +13,7 @@ pub mod bits;
 mod brute;
 mod correct;
 mod grid;
+pub mod lattice;
 mod none;
 mod scanline;
 
@@ -22,6 +23,7 @@ use std::str::FromStr;
 pub use brute::Brute;
 pub use correct::{Flood, Scratch, Vote};
 pub use grid::Grid;
+pub use lattice::{Lattice, LatticePatch};
 pub use none::NoShadows;
 pub use scanline::Scanline;
 
@@ -29,20 +31,46 @@ use crate::frame::{FrameContext, TileWork};
 use crate::tile::Rect;
 
 /// A way of deciding shadow visibility for the pixels of a tile.
+///
+/// A frame is rendered in phases: first [`shared_phases`](Self::shared_phases) phases over all
+/// tiles whose pixels go into a frame-wide [`Lattice`] (work every tile reads, done once), then
+/// the final phase that decides every pixel of each tile and shades it.
 pub trait Predictor: Send + Sync {
     /// The method's name as the CLI and `stats.csv` spell it.
     fn name(&self) -> &'static str;
-    /// The pixels whose surfaces and visibility this method may evaluate for `tile`: the tile
-    /// plus its halo (the pixels its predictions depend on), inside the frame.
-    fn region(&self, ctx: &FrameContext, tile: Rect) -> Rect {
-        let _ = ctx;
+    /// Phases whose results are shared through the lattice (0: none).
+    fn shared_phases(&self) -> usize {
+        0
+    }
+    /// Spacing of the lattice that holds the shared phases' pixels (0: none).
+    fn lattice_step(&self) -> u32 {
+        0
+    }
+    /// How far beyond a tile the shared phases' pixels it depends on reach (directly or
+    /// through other shared pixels): a region render runs the shared phases that far out.
+    fn shared_reach(&self) -> u32 {
+        0
+    }
+    /// The pixels whose surfaces and visibility this method may read or evaluate for `tile`
+    /// in `phase`: the tile plus its halo, inside the frame.
+    fn region(&self, ctx: &FrameContext, tile: Rect, phase: usize) -> Rect {
+        let _ = (ctx, phase);
         tile
     }
-    /// Decides visibility for every pixel of `tile`. `work` comes prepared for `tile` and
-    /// [`region`](Self::region); the method evaluates the pixels it needs with
-    /// [`TileWork::begin_pixel`], sets their `vis`, `traced` and `rays`, and marks them
-    /// `needed` (pixels outside the tile so marked are its halo).
-    fn solve(&self, ctx: &FrameContext, tile: Rect, work: &mut TileWork);
+    /// Decides visibility for the pixels of `tile` that `phase` evaluates. `work` comes
+    /// prepared for `tile` and [`region`](Self::region); the method copies what it reads from
+    /// `lattice`, evaluates pixels with [`TileWork::begin_pixel`], sets their `vis`, `traced`
+    /// and `rays`, and marks them `needed` (pixels outside the tile so marked are its halo).
+    /// In a shared phase it records the pixels it evaluated into `patch`.
+    fn solve(
+        &self,
+        ctx: &FrameContext,
+        tile: Rect,
+        work: &mut TileWork,
+        phase: usize,
+        lattice: &Lattice,
+        patch: &mut LatticePatch,
+    );
 }
 
 /// The tunable parameters of the prediction methods (ALGORITHM.md §4–5).

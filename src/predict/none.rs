@@ -1,7 +1,7 @@
 //! `none`: no shadows at all, every light visible. The baseline cost of a frame without
 //! shadows, against which the shadow methods are timed.
 
-use super::Predictor;
+use super::{Lattice, LatticePatch, Predictor};
 use crate::frame::{FrameContext, TileWork};
 use crate::tile::Rect;
 
@@ -13,7 +13,15 @@ impl Predictor for NoShadows {
         "none"
     }
 
-    fn solve(&self, ctx: &FrameContext, tile: Rect, work: &mut TileWork) {
+    fn solve(
+        &self,
+        ctx: &FrameContext,
+        tile: Rect,
+        work: &mut TileWork,
+        _phase: usize,
+        _lattice: &Lattice,
+        _patch: &mut LatticePatch,
+    ) {
         let w = work.words;
         for y in tile.y0..tile.y1 {
             for x in tile.x0..tile.x1 {

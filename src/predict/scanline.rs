@@ -9,7 +9,7 @@
 //! of the block (the default 64) have none.
 
 use super::correct::{Flood, Rule, Vote, solve_pixel};
-use super::{Params, Predictor};
+use super::{Lattice, LatticePatch, Params, Predictor};
 use crate::frame::{FrameContext, TileWork};
 use crate::tile::Rect;
 
@@ -33,12 +33,20 @@ impl Predictor for Scanline {
         self.name
     }
 
-    fn region(&self, _ctx: &FrameContext, tile: Rect) -> Rect {
+    fn region(&self, _ctx: &FrameContext, tile: Rect, _phase: usize) -> Rect {
         let b = self.block;
         Rect::new(tile.x0 / b * b, tile.y0 / b * b, tile.x1, tile.y1)
     }
 
-    fn solve(&self, ctx: &FrameContext, _tile: Rect, work: &mut TileWork) {
+    fn solve(
+        &self,
+        ctx: &FrameContext,
+        _tile: Rect,
+        work: &mut TileWork,
+        _phase: usize,
+        _lattice: &Lattice,
+        _patch: &mut LatticePatch,
+    ) {
         let region = work.region;
         let b = self.block;
         // [paper] any vote → blocked: one voter is enough.

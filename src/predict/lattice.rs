@@ -1,0 +1,140 @@
+//! Pixels shared by every tile of a frame [ours, §8].
+//!
+//! The coarse levels of the grid order are few pixels that trace many rays (the coarse grid
+//! traces every light). A tile whose halo re-evaluated them would repeat the dearest work of
+//! its neighbours. Instead they are evaluated once per frame, level by level, each pixel by the
+//! tile that contains it, and kept here; tiles then copy what they read. A lattice pixel is a
+//! pure function of the frame, so the result is the same whatever evaluates it.
+
+use crate::frame::{Blockers, Surface, TileWork};
+
+/// Evaluated pixels on a frame-anchored lattice (every `step`-th pixel in x and y).
+#[derive(Default)]
+pub struct Lattice {
+    step: u32,
+    cols: u32,
+    rows: u32,
+    words: usize,
+    have: Vec<bool>,
+    surf: Vec<Surface>,
+    /// above, vis and traced bitsets, `3 · words` per pixel.
+    bits: Vec<u64>,
+    rays: Vec<u32>,
+    blockers: Blockers,
+}
+
+/// The pixels one tile evaluated in one shared phase, to be inserted into the lattice.
+#[derive(Default)]
+pub struct LatticePatch {
+    index: Vec<u32>,
+    surf: Vec<Surface>,
+    bits: Vec<u64>,
+    rays: Vec<u32>,
+    blk_len: Vec<u32>,
+    blk_light: Vec<u16>,
+    blk_dist: Vec<f32>,
+}
+
+impl Lattice {
+    /// An empty lattice over a `width`×`height` frame; `step == 0` holds nothing.
+    pub fn new(width: u32, height: u32, step: u32, words: usize) -> Lattice {
+        if step == 0 {
+            return Lattice::default();
+        }
+        let cols = width.div_ceil(step);
+        let rows = height.div_ceil(step);
+        let n = (cols * rows) as usize;
+        let mut blockers = Blockers::default();
+        blockers.reset(n);
+        Lattice {
+            step,
+            cols,
+            rows,
+            words,
+            have: vec![false; n],
+            surf: vec![Surface::default(); n],
+            bits: vec![0; n * 3 * words],
+            rays: vec![0; n],
+            blockers,
+        }
+    }
+
+    /// The lattice index of frame pixel (x, y), if it lies on the lattice.
+    #[inline]
+    pub fn index(&self, x: u32, y: u32) -> Option<usize> {
+        if self.step == 0 || x % self.step != 0 || y % self.step != 0 {
+            return None;
+        }
+        let (c, r) = (x / self.step, y / self.step);
+        (c < self.cols && r < self.rows).then_some((r * self.cols + c) as usize)
+    }
+
+    /// Has pixel (x, y) been evaluated?
+    #[inline]
+    pub fn has(&self, x: u32, y: u32) -> bool {
+        self.index(x, y).is_some_and(|k| self.have[k])
+    }
+
+    /// Copies evaluated pixel (x, y) into region pixel `i` of `work`.
+    pub fn copy_into(&self, x: u32, y: u32, work: &mut TileWork, i: usize) -> bool {
+        let Some(k) = self.index(x, y).filter(|&k| self.have[k]) else {
+            return false;
+        };
+        let w = self.words;
+        work.surf[i] = self.surf[k];
+        let src = &self.bits[k * 3 * w..(k + 1) * 3 * w];
+        work.above[i * w..(i + 1) * w].copy_from_slice(&src[..w]);
+        work.vis[i * w..(i + 1) * w].copy_from_slice(&src[w..2 * w]);
+        work.traced[i * w..(i + 1) * w].copy_from_slice(&src[2 * w..]);
+        work.rays[i] = self.rays[k];
+        work.blockers.begin(i);
+        for (j, t) in self.blockers.of(k) {
+            work.blockers.push(i, j, t);
+        }
+        true
+    }
+
+    /// Adds a tile's newly evaluated pixels.
+    pub fn insert(&mut self, patch: &LatticePatch) {
+        let w = self.words;
+        let mut b = 0usize;
+        for (n, &k) in patch.index.iter().enumerate() {
+            let k = k as usize;
+            self.have[k] = true;
+            self.surf[k] = patch.surf[n];
+            self.bits[k * 3 * w..(k + 1) * 3 * w]
+                .copy_from_slice(&patch.bits[n * 3 * w..(n + 1) * 3 * w]);
+            self.rays[k] = patch.rays[n];
+            self.blockers.begin(k);
+            for _ in 0..patch.blk_len[n] {
+                self.blockers
+                    .push(k, patch.blk_light[b] as usize, patch.blk_dist[b]);
+                b += 1;
+            }
+        }
+    }
+}
+
+impl LatticePatch {
+    /// Records region pixel `i` of `work`, which is lattice pixel (x, y) of `lattice`.
+    pub fn record(&mut self, lattice: &Lattice, x: u32, y: u32, work: &TileWork, i: usize) {
+        let k = lattice
+            .index(x, y)
+            .expect("shared passes evaluate lattice pixels only");
+        let w = work.words;
+        self.index.push(k as u32);
+        self.surf.push(work.surf[i]);
+        self.bits.extend_from_slice(&work.above[i * w..(i + 1) * w]);
+        self.bits.extend_from_slice(&work.vis[i * w..(i + 1) * w]);
+        self.bits
+            .extend_from_slice(&work.traced[i * w..(i + 1) * w]);
+        self.rays.push(work.rays[i]);
+        let mut n = 0;
+        for (j, t) in work.blockers.of(i) {
+            self.blk_light.push(j as u16);
+            self.blk_dist.push(t);
+            n += 1;
+        }
+        self.blk_len.push(n);
+    }
+}
