@@ -270,9 +270,9 @@ impl Predictor for Grid {
             }
         }
         // Pixels of the last pass are never read: they keep no blockers.
-        for p in shared..passes {
+        for (p, bucket) in buckets.iter().enumerate().skip(shared) {
             let keep = warp && p + 1 < passes;
-            for &i in &buckets[p] {
+            for &i in bucket {
                 if !need[i as usize] {
                     continue;
                 }
