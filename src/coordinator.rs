@@ -1,9 +1,12 @@
 //! The coordinator: loads an animation's inputs once, renders its frames tile by tile over a
-//! worker pool, and streams finished frames over a bounded channel to one writer thread, so
-//! the next frame renders while the last one is written. Memory stays bounded: at most the
-//! frame being rendered plus the channel's two frames in flight.
+//! worker pool — two frames in flight, so the next frame's tiles start while the last tiles of
+//! the current one finish — and streams finished frames over a bounded channel to one writer
+//! thread that writes them while rendering goes on. Memory stays bounded by the frames in
+//! flight and the channel's capacity.
 
 use std::path::Path;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 
 use anyhow::Context;
@@ -70,6 +73,9 @@ impl Inputs {
         Ok(Inputs { scene, env, lights })
     }
 }
+
+/// Frames rendered at once (see `render_animation`).
+const FRAMES_IN_FLIGHT: usize = 2;
 
 /// Options of a run beyond the animation itself.
 #[derive(Clone, Debug, Default)]
@@ -250,34 +256,66 @@ pub fn render_animation(
     let stats_path = dir.join("stats.csv");
     let mut stats_file = StatsFile::open(&stats_path);
 
-    let (tx, rx) = bounded::<(Film, FrameStats)>(2);
+    // Two frames in flight share the pool: while the last tiles of one frame finish, idle
+    // workers take tiles of the next. Each driver thread hands its frame's tiles to the pool
+    // and sends the finished film to the writer; files are per frame, so the order they are
+    // written in does not matter, and memory stays bounded by the frames in flight plus the
+    // channel's capacity, however long the animation.
+    let next = AtomicUsize::new(0);
+    let failed = AtomicBool::new(false);
+    let first_error: Mutex<Option<anyhow::Error>> = Mutex::new(None);
+    let (tx, rx) = bounded::<(Film, FrameStats)>(FRAMES_IN_FLIGHT);
     let result: Result<()> = std::thread::scope(|s| {
-        let writer = s.spawn(|| -> Result<()> {
+        let writer = s.spawn(|| -> Result<RunSummary> {
+            let mut done = RunSummary::default();
             for (film, stats) in rx {
                 write_frame_files(dir, stats.frame, &film, anim.exposure)?;
                 stats_file.set(&stats);
                 stats_file.write(&stats_path)?;
+                done.counts += stats.counts;
+                done.rendered += 1;
             }
-            Ok(())
+            Ok(done)
         });
-        let rendering = (|| -> Result<()> {
-            for &f in &todo {
-                let (film, stats) =
-                    pool.install(|| render_frame(anim, &inputs, f, opts.region, progress))?;
-                progress.frame_done(&stats);
-                summary.counts += stats.counts;
-                summary.rendered += 1;
-                if tx.send((film, stats)).is_err() {
-                    break; // the writer failed; its error is reported below
+        for _ in 0..FRAMES_IN_FLIGHT.min(todo.len()) {
+            let tx = tx.clone();
+            let (next, failed, first_error, todo, pool, inputs) =
+                (&next, &failed, &first_error, &todo, &pool, &inputs);
+            s.spawn(move || {
+                loop {
+                    let k = next.fetch_add(1, Ordering::Relaxed);
+                    if k >= todo.len() || failed.load(Ordering::Relaxed) {
+                        break;
+                    }
+                    let rendered =
+                        pool.install(|| render_frame(anim, inputs, todo[k], opts.region, progress));
+                    match rendered {
+                        Ok((film, stats)) => {
+                            progress.frame_done(&stats);
+                            if tx.send((film, stats)).is_err() {
+                                break; // the writer failed; its error is reported below
+                            }
+                        }
+                        Err(e) => {
+                            failed.store(true, Ordering::Relaxed);
+                            first_error.lock().unwrap().get_or_insert(e);
+                            break;
+                        }
+                    }
                 }
-            }
-            Ok(())
-        })();
+            });
+        }
         drop(tx);
         let written = writer
             .join()
             .map_err(|_| anyhow::anyhow!("the writer thread panicked"))?;
-        rendering.and(written)
+        if let Some(e) = first_error.lock().unwrap().take() {
+            return Err(e);
+        }
+        let done = written?;
+        summary.counts = done.counts;
+        summary.rendered = done.rendered;
+        Ok(())
     });
     result?;
     summary.seconds = start.elapsed().as_secs_f64();
