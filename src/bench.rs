@@ -2,7 +2,7 @@
 //! thread count and method, measured side by side in one run (the machines are shared and
 //! noisy, so ratios are only meaningful within one run). Prints a markdown table.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::Args;
@@ -17,28 +17,58 @@ pub struct BenchArgs {
     /// `shapes`, `bunny` (anims/shapes-turntable.toml, anims/bunny-turntable.toml) or a spec file.
     #[arg(long, default_value = "bunny")]
     pub scene: String,
-    /// Light counts, comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "50,100,200,400")]
-    pub lights: Vec<usize>,
+    #[command(flatten)]
+    pub sweep: Sweep,
     /// Thread counts, comma-separated.
     #[arg(long, value_delimiter = ',', default_value = "1,2")]
     pub threads: Vec<usize>,
     /// Methods, comma-separated (`none` is the frame without shadows).
     #[arg(long, value_delimiter = ',', default_value = "none,brute")]
     pub methods: Vec<Method>,
-    #[arg(long, default_value_t = 640)]
-    pub width: u32,
-    #[arg(long, default_value_t = 480)]
-    pub height: u32,
-    /// Which frame of the animation.
-    #[arg(long, default_value_t = 0)]
-    pub frame: usize,
     /// Renders per configuration; the median time is reported.
     #[arg(long, default_value_t = 3)]
     pub repeat: usize,
     /// Tile size.
     #[arg(long, default_value_t = 64)]
     pub tile: u32,
+}
+
+/// The frames a measuring command renders: one frame of an animation at each light count.
+#[derive(Args, Debug, Clone)]
+pub struct Sweep {
+    /// Light counts, comma-separated.
+    #[arg(long, value_delimiter = ',', default_value = "50,100,200,400")]
+    pub lights: Vec<usize>,
+    /// Image width in pixels.
+    #[arg(long, default_value_t = 640)]
+    pub width: u32,
+    /// Image height in pixels.
+    #[arg(long, default_value_t = 480)]
+    pub height: u32,
+    /// Which frame of the animation.
+    #[arg(long, default_value_t = 0)]
+    pub frame: usize,
+}
+
+impl Sweep {
+    /// The animation `spec` at `lights` lights and the sweep's size, with its inputs loaded.
+    pub fn load(
+        &self,
+        spec: &Path,
+        lights: usize,
+        tile: Option<u32>,
+    ) -> Result<(Animation, Inputs)> {
+        let overrides = Overrides {
+            lights: Some(lights),
+            width: Some(self.width),
+            height: Some(self.height),
+            tile,
+            ..Default::default()
+        };
+        let anim = Animation::load(spec, &overrides)?;
+        let inputs = Inputs::load(&anim)?;
+        Ok((anim, inputs))
+    }
 }
 
 /// One measured configuration.
@@ -67,16 +97,8 @@ pub fn measure(args: &BenchArgs, mut log: impl FnMut(&BenchRow)) -> Result<Vec<B
     }
     let spec = spec_path(&args.scene);
     let mut rows = Vec::new();
-    for &n in &args.lights {
-        let overrides = Overrides {
-            lights: Some(n),
-            width: Some(args.width),
-            height: Some(args.height),
-            tile: Some(args.tile),
-            ..Default::default()
-        };
-        let mut anim = Animation::load(&spec, &overrides)?;
-        let inputs = Inputs::load(&anim)?;
+    for &n in &args.sweep.lights {
+        let (mut anim, inputs) = args.sweep.load(&spec, n, Some(args.tile))?;
         for &threads in &args.threads {
             let pool = thread_pool(threads)?;
             for &method in &args.methods {
@@ -85,8 +107,9 @@ pub fn measure(args: &BenchArgs, mut log: impl FnMut(&BenchRow)) -> Result<Vec<B
                 let mut counts = Default::default();
                 for _ in 0..args.repeat {
                     let t = Instant::now();
-                    let (film, _) =
-                        pool.install(|| render_frame(&anim, &inputs, args.frame, None, &Silent))?;
+                    let (film, _) = pool.install(|| {
+                        render_frame(&anim, &inputs, args.sweep.frame, None, &Silent)
+                    })?;
                     times.push(t.elapsed().as_secs_f64());
                     counts = film.counts;
                 }
@@ -150,7 +173,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     })?;
     println!(
         "{} {}x{}, frame {}, median of {}:\n",
-        args.scene, args.width, args.height, args.frame, args.repeat
+        args.scene, args.sweep.width, args.sweep.height, args.sweep.frame, args.repeat
     );
     print!("{}", markdown(&rows));
     Ok(())

@@ -6,8 +6,8 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use crate::anim::{Animation, Overrides};
-use crate::coordinator::{Inputs, Silent, render_frame, thread_pool};
+use crate::bench::Sweep;
+use crate::coordinator::{Silent, render_frame, thread_pool};
 use crate::error::Result;
 use crate::output::write_atomic;
 use crate::predict::Method;
@@ -17,19 +17,11 @@ pub struct TableArgs {
     /// `shapes` or `bunny` (anims/paper-shapes.toml, anims/paper-bunny.toml) or a spec file.
     #[arg(long, default_value = "shapes")]
     pub scene: String,
-    /// Light counts, comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "50,100,200,400")]
-    pub lights: Vec<usize>,
+    #[command(flatten)]
+    pub sweep: Sweep,
     /// Methods, comma-separated (default: the paper's rows).
     #[arg(long, value_delimiter = ',')]
     pub methods: Vec<Method>,
-    #[arg(long, default_value_t = 640)]
-    pub width: u32,
-    #[arg(long, default_value_t = 480)]
-    pub height: u32,
-    /// Which frame of the animation.
-    #[arg(long, default_value_t = 0)]
-    pub frame: usize,
     /// Worker threads (0: one per core).
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
@@ -82,21 +74,14 @@ pub fn measure(args: &TableArgs, mut log: impl FnMut(&TableRow)) -> Result<Vec<T
     };
     let pool = thread_pool(args.threads)?;
     let mut rows = Vec::new();
-    for &n in &args.lights {
-        let overrides = Overrides {
-            lights: Some(n),
-            width: Some(args.width),
-            height: Some(args.height),
-            ..Default::default()
-        };
-        let mut anim = Animation::load(&spec, &overrides)?;
-        let inputs = Inputs::load(&anim)?;
+    for &n in &args.sweep.lights {
+        let (mut anim, inputs) = args.sweep.load(&spec, n, None)?;
         for &method in &methods {
             anim.method = method;
             // Brute force is its own reference: nothing to validate.
             anim.validate = method != Method::Brute;
             let (_, stats) =
-                pool.install(|| render_frame(&anim, &inputs, args.frame, None, &Silent))?;
+                pool.install(|| render_frame(&anim, &inputs, args.sweep.frame, None, &Silent))?;
             let c = stats.counts;
             let row = TableRow {
                 method,
@@ -207,9 +192,9 @@ pub fn run(args: &TableArgs) -> Result<()> {
     })?;
     println!(
         "Table 1, {} at {}x{}, frame {}:\n",
-        args.scene, args.width, args.height, args.frame
+        args.scene, args.sweep.width, args.sweep.height, args.sweep.frame
     );
-    print!("{}", markdown(&rows, &args.lights));
+    print!("{}", markdown(&rows, &args.sweep.lights));
     if let Some(path) = &args.csv {
         write_atomic(path, csv(&rows, &args.scene).as_bytes())?;
         eprintln!("wrote {}", path.display());

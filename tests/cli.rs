@@ -297,3 +297,54 @@ fn write_float_exr(path: &Path, w: usize, h: usize, f: impl Fn(usize, usize) -> 
         .to_file(path)
         .unwrap();
 }
+
+#[test]
+fn table_and_bench_commands_measure_every_requested_configuration() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = shapes_spec(tmp.path(), "");
+    let csv = tmp.path().join("table.csv");
+    let o = common::bin()
+        .args(["table", "--scene"])
+        .arg(&spec)
+        .args([
+            "--lights", "20,40", "--width", "48", "--height", "32", "--csv",
+        ])
+        .arg(&csv)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let table = String::from_utf8_lossy(&o.stdout);
+    for m in envshadow::predict::Method::TABLE1 {
+        assert!(
+            table.contains(&format!("| {m} |")),
+            "{m} missing from\n{table}"
+        );
+    }
+    let rows = fs::read_to_string(&csv).unwrap();
+    assert_eq!(rows.lines().count(), 1 + 2 * 6, "{rows}");
+    let brute: Vec<&str> = rows.lines().nth(1).unwrap().split(',').collect();
+    assert_eq!((brute[1], brute[2], brute[5]), ("brute", "20", "100.0000"));
+
+    let o = common::bin()
+        .args(["bench", "--scene"])
+        .arg(&spec)
+        .args([
+            "--lights",
+            "16",
+            "--threads",
+            "1",
+            "--methods",
+            "none,brute,grid-nowarp-uncertainty",
+        ])
+        .args(["--width", "40", "--height", "30", "--repeat", "1"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = String::from_utf8_lossy(&o.stdout);
+    let lines: Vec<&str> = out.lines().filter(|l| l.starts_with("| 16 |")).collect();
+    assert_eq!(lines.len(), 3, "{out}");
+    assert!(
+        lines[0].contains("| none |") && lines[0].contains("| 1.00 |"),
+        "{out}"
+    );
+}
