@@ -95,6 +95,17 @@ pub struct RunSummary {
     pub seconds: f64,
 }
 
+thread_local! {
+    /// Each worker's tile buffers, kept across tiles and frames so they are allocated once.
+    static WORK: std::cell::RefCell<TileWork> = std::cell::RefCell::new(TileWork::default());
+}
+
+/// Runs `f` with this thread's tile buffers. Tile work never re-enters the pool, so the
+/// buffers are never borrowed twice.
+fn with_work<R>(f: impl FnOnce(&mut TileWork) -> R) -> R {
+    WORK.with_borrow_mut(f)
+}
+
 /// Renders one frame: poses the scene, builds its BVH, renders every tile on the current
 /// rayon pool and assembles the film. Tiles are added in tile order, so the film does not
 /// depend on which thread finished first.
@@ -152,9 +163,7 @@ pub fn render_frame(
         for phase in 0..phases {
             let patches: Vec<_> = shared_tiles
                 .par_iter()
-                .map_init(TileWork::default, |work, t| {
-                    render_shared(&ctx, t.rect, work, phase, &lattice)
-                })
+                .map(|t| with_work(|work| render_shared(&ctx, t.rect, work, phase, &lattice)))
                 .collect();
             for p in &patches {
                 lattice.insert(p);
@@ -163,8 +172,8 @@ pub fn render_frame(
     }
     let results: Vec<_> = list
         .par_iter()
-        .map_init(TileWork::default, |work, t| {
-            let r = render_tile(&ctx, t.rect, work, &lattice);
+        .map(|t| {
+            let r = with_work(|work| render_tile(&ctx, t.rect, work, &lattice));
             progress.tile_done(r.counts.rays);
             r
         })
