@@ -38,6 +38,10 @@ pub struct FrameContext<'a> {
     /// Light directions and energies as flat arrays for the per-pixel loops.
     pub light_dir: Vec<Vec3>,
     pub light_energy: Vec<Vec3>,
+    /// The directions' coordinates as separate arrays, for the vectorised horizon test.
+    pub light_x: Vec<f32>,
+    pub light_y: Vec<f32>,
+    pub light_z: Vec<f32>,
     /// Shadow-ray origin offset along the geometric normal (scene units).
     pub shadow_eps: f32,
     pub predictor: &'a dyn Predictor,
@@ -62,6 +66,9 @@ impl<'a> FrameContext<'a> {
             env,
             light_dir: lights.lights.iter().map(|l| l.dir).collect(),
             light_energy: lights.lights.iter().map(|l| l.energy).collect(),
+            light_x: lights.lights.iter().map(|l| l.dir.x).collect(),
+            light_y: lights.lights.iter().map(|l| l.dir.y).collect(),
+            light_z: lights.lights.iter().map(|l| l.dir.z).collect(),
             shadow_eps: shadow_epsilon(scene),
             predictor,
             validate: false,
@@ -122,12 +129,6 @@ impl<'a> FrameContext<'a> {
     pub fn trace_blocker(&self, s: &Surface, j: usize) -> Option<f32> {
         self.accel
             .blocker_distance(s.p + s.ng * self.shadow_eps, self.light_dir[j])
-    }
-
-    /// Is light `j` above the horizon of `s`? Only such pairs are shadow queries [paper].
-    #[inline]
-    pub fn above(&self, s: &Surface, j: usize) -> bool {
-        s.n.dot(self.light_dir[j]) > 0.0
     }
 }
 
@@ -254,12 +255,19 @@ impl TileWork {
         self.surf[i] = s;
         self.needed[i] = true;
         if s.hit {
+            // 64 lights at a time from flat coordinate arrays, so the loop vectorises; the
+            // products sum in glam's dot order, so the result equals `s.n.dot(ω) > 0`.
             let w = self.words;
-            let above = &mut self.above[i * w..(i + 1) * w];
-            for (j, d) in ctx.light_dir.iter().enumerate() {
-                if s.n.dot(*d) > 0.0 {
-                    bits::set(above, j);
+            let (lx, ly, lz) = (&ctx.light_x, &ctx.light_y, &ctx.light_z);
+            for (k, word) in self.above[i * w..(i + 1) * w].iter_mut().enumerate() {
+                let base = k * 64;
+                let end = (base + 64).min(lx.len());
+                let mut bits = 0u64;
+                for j in base..end {
+                    let d = s.n.x * lx[j] + s.n.y * ly[j] + s.n.z * lz[j];
+                    bits |= u64::from(d > 0.0) << (j - base);
                 }
+                *word = bits;
             }
         }
         i
