@@ -49,6 +49,15 @@ pub enum Command {
     Bench(bench::BenchArgs),
     /// Reproduce the paper's Table 1: % of shadow queries traced per method, validated.
     Table(crate::table::TableArgs),
+    /// Write DIR/report.html about a finished render: frames, savings plot, heat maps of the
+    /// rays traced (and, validated, of wrong predictions), the lights, settings and totals.
+    Report(ReportArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct ReportArgs {
+    /// A render's output folder (with stats.csv, the frames and lights.json).
+    pub dir: PathBuf,
 }
 
 /// Flags shared by every command that renders an animation: each overrides the spec.
@@ -138,6 +147,9 @@ pub struct RenderArgs {
     /// No progress output.
     #[arg(long, short)]
     pub quiet: bool,
+    /// Do not write report.html (and report/) into the output folder at the end.
+    #[arg(long)]
+    pub no_report: bool,
 }
 
 #[derive(Args, Debug)]
@@ -186,6 +198,16 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Lights(args) => lights(args),
         Command::Bench(args) => bench::run(&args),
         Command::Table(args) => crate::table::run(&args),
+        Command::Report(args) => {
+            let start = Instant::now();
+            let page = crate::report::write_report(&args.dir)?;
+            println!(
+                "wrote {} in {:.1} s",
+                page.display(),
+                start.elapsed().as_secs_f64()
+            );
+            Ok(())
+        }
     }
 }
 
@@ -224,6 +246,17 @@ fn render(args: RenderArgs) -> Result<()> {
             summary.counts.percent_traced(),
             anim.out_dir.display()
         );
+    }
+    if !args.no_report {
+        let start = Instant::now();
+        let page = crate::report::write_report(&anim.out_dir)?;
+        if !args.quiet {
+            eprintln!(
+                "report: {} ({:.1} s)",
+                page.display(),
+                start.elapsed().as_secs_f64()
+            );
+        }
     }
     Ok(())
 }
