@@ -313,6 +313,42 @@ fn draw_plot(path: &Path, s: &Series, frames: (f64, f64)) -> Result<(f64, f64)> 
     Ok((top, step))
 }
 
+/// The rays heat maps' colour scale ends at this percentile of the rays per pixel over all
+/// frames (brighter pixels clip), so a few pixels that traced every light do not leave the rest
+/// of the map black.
+const RAYS_SCALE_PERCENTILE: f64 = 99.5;
+
+/// The `p`-th percentile of a count channel (non-negative whole numbers, such as `rays`) over
+/// all frames, from a histogram of whole counts (no copy of the samples).
+fn channel_percentile(exrs: &[(usize, output::exr::ReadFrame)], name: &str, p: f64) -> f32 {
+    const MAX_BIN: usize = 1 << 20;
+    let mut hist = vec![0u64; 0];
+    let mut n = 0u64;
+    for v in exrs
+        .iter()
+        .filter_map(|(_, f)| f.channel(name))
+        .flat_map(|c| c.iter().copied())
+    {
+        if v.is_finite() && v >= 0.0 {
+            let b = (v.round() as usize).min(MAX_BIN);
+            if b >= hist.len() {
+                hist.resize(b + 1, 0);
+            }
+            hist[b] += 1;
+            n += 1;
+        }
+    }
+    let want = (n as f64 * p / 100.0).ceil() as u64;
+    let mut seen = 0;
+    for (b, c) in hist.iter().enumerate() {
+        seen += c;
+        if seen >= want {
+            return b as f32;
+        }
+    }
+    hist.len().saturating_sub(1) as f32
+}
+
 /// What the report found about one frame's files.
 struct FrameImages {
     frame: usize,
@@ -376,7 +412,7 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
             .filter(|v| v.is_finite())
             .fold(0.0f32, f32::max)
     };
-    let rays_max = channel_max("rays");
+    let rays_max = channel_percentile(&exrs, "rays", RAYS_SCALE_PERCENTILE);
     let wrong_max = channel_max("wrong");
     let any_wrong_channel = exrs.iter().any(|(_, f)| f.channel("wrong").is_some());
     for (i, f) in &exrs {
@@ -620,7 +656,7 @@ figure{margin:0}figcaption{font-size:.85em;color:#555}\
 .ylab{display:flex;flex-direction:column;justify-content:space-between;height:180px;padding:8px 0;box-sizing:border-box;font-size:.75em;text-align:right}\
 .ylab span{line-height:0}\
 .xlab{grid-column:2;display:flex;justify-content:space-between;padding:0 8px;font-size:.75em}\
-.frames td{vertical-align:top;text-align:center}.frames img{width:160px;display:block}\
+.frames td{vertical-align:top;text-align:center;white-space:nowrap}.frames td.l{white-space:normal}.frames img{width:160px;display:block}\
 .scale{display:flex;align-items:center;gap:.4em;font-size:.85em}\
 .note{color:#a33}";
 
@@ -801,7 +837,7 @@ fn page(
     h.push_str("<h2>Where the rays went</h2>\n");
     let _ = writeln!(
         h,
-        "<div class=\"scale\">shadow rays traced per pixel: 0 <img src=\"report/scale_rays.png\" alt=\"colour scale\" width=\"256\" height=\"14\"> {}</div>",
+        "<div class=\"scale\">shadow rays traced per pixel: 0 <img src=\"report/scale_rays.png\" alt=\"colour scale\" width=\"256\" height=\"14\"> {} or more ({RAYS_SCALE_PERCENTILE}th percentile over all frames; click a map for full size)</div>",
         tick(rays_max as f64)
     );
     if any_wrong {
@@ -836,7 +872,7 @@ fn page(
             Some(m) => {
                 let _ = write!(
                     h,
-                    "<td><img src=\"report/{m}\" alt=\"rays of frame {}\"></td>",
+                    "<td><a href=\"report/{m}\"><img src=\"report/{m}\" alt=\"rays of frame {}\"></a></td>",
                     r.frame
                 );
             }
@@ -847,7 +883,7 @@ fn page(
                 Some(m) => {
                     let _ = write!(
                         h,
-                        "<td><img src=\"report/{m}\" alt=\"wrong predictions of frame {}\"></td>",
+                        "<td><a href=\"report/{m}\"><img src=\"report/{m}\" alt=\"wrong predictions of frame {}\"></a></td>",
                         r.frame
                     );
                 }
