@@ -21,7 +21,7 @@ use crate::output::{self, frame_path};
 use crate::predict::Method;
 
 /// Widest thumbnail on the contact sheet, pixels.
-const THUMB_WIDTH: u32 = 160;
+const THUMB_WIDTH: u32 = 120;
 /// Widest frame of the animated preview, pixels.
 const GIF_WIDTH: u32 = 320;
 /// Frames on one row of the contact sheet.
@@ -784,7 +784,7 @@ fn page(
         let _ = write!(
             h,
             "<h2>Beside the paper</h2>\n<table>\n<tr><th class=\"l\">{} lights, {}</th><th>% of queries traced</th></tr>\n\
-             <tr><td class=\"l\">Ben-Artzi et al. 2004, Table 1 (their “{}” scene)</td><td>{p:.1}</td></tr>\n\
+             <tr><td class=\"l\">Ben-Artzi et al. 2004, Table 1 (their “{}” scene, their resolution)</td><td>{p:.1}</td></tr>\n\
              <tr><td class=\"l\">this render</td><td>{percent:.2}</td></tr>\n</table>\n",
             rows[0].lights,
             esc(&rows[0].method),
