@@ -7,6 +7,7 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
+use anyhow::Context;
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -249,7 +250,12 @@ fn render(args: RenderArgs) -> Result<()> {
     }
     if !args.no_report {
         let start = Instant::now();
-        let page = crate::report::write_report(&anim.out_dir)?;
+        let page = crate::report::write_report(&anim.out_dir).with_context(|| {
+            format!(
+                "the frames are written, but not the report (retry with envshadow report {})",
+                anim.out_dir.display()
+            )
+        })?;
         if !args.quiet {
             eprintln!(
                 "report: {} ({:.1} s)",

@@ -82,30 +82,29 @@ fn read_stats(path: &Path) -> Result<Vec<Row>> {
             .position(|h| *h == name)
             .ok_or_else(|| input_error(path, format!("no column {name:?} in the header")))
     };
-    let c = |n| col(n);
     let (frame, method, nlights, width, height) = (
-        c("frame")?,
-        c("method")?,
-        c("lights")?,
-        c("width")?,
-        c("height")?,
+        col("frame")?,
+        col("method")?,
+        col("lights")?,
+        col("width")?,
+        col("height")?,
     );
     let (queries, rays, percent, seconds) = (
-        c("queries")?,
-        c("rays_traced")?,
-        c("percent_traced")?,
-        c("seconds")?,
+        col("queries")?,
+        col("rays_traced")?,
+        col("percent_traced")?,
+        col("seconds")?,
     );
     let (wv, wb, err, wpix, psnr) = (
-        c("wrong_visible")?,
-        c("wrong_blocked")?,
-        c("error_percent")?,
-        c("wrong_pixels")?,
-        c("psnr_db")?,
+        col("wrong_visible")?,
+        col("wrong_blocked")?,
+        col("error_percent")?,
+        col("wrong_pixels")?,
+        col("psnr_db")?,
     );
-    let cam = [c("camera_x")?, c("camera_y")?, c("camera_z")?];
-    let tgt = [c("target_x")?, c("target_y")?, c("target_z")?];
-    let vfov = c("vfov_deg")?;
+    let cam = [col("camera_x")?, col("camera_y")?, col("camera_z")?];
+    let tgt = [col("target_x")?, col("target_y")?, col("target_z")?];
+    let vfov = col("vfov_deg")?;
     let mut rows = Vec::new();
     for (i, line) in lines.enumerate() {
         if line.trim().is_empty() {
