@@ -13,6 +13,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, anyhow};
 use image::{Rgb, RgbImage, RgbaImage};
+use rayon::prelude::*;
 
 use crate::envmap::EnvMap;
 use crate::error::{Result, input_error};
@@ -317,26 +318,26 @@ fn draw_plot(path: &Path, s: &Series, frames: (f64, f64)) -> Result<(f64, f64)> 
 /// of the map black.
 const RAYS_SCALE_PERCENTILE: f64 = 99.5;
 
-/// The `p`-th percentile of a count channel (non-negative whole numbers, such as `rays`) over
-/// all frames, from a histogram of whole counts (no copy of the samples).
-fn channel_percentile(exrs: &[(usize, output::exr::ReadFrame)], name: &str, p: f64) -> f32 {
+/// Histogram of a count channel (non-negative whole numbers, such as `rays`): bin k counts the
+/// samples that round to k.
+fn count_histogram(values: &[f32]) -> Vec<u64> {
     const MAX_BIN: usize = 1 << 20;
-    let mut hist = vec![0u64; 0];
-    let mut n = 0u64;
-    for v in exrs
-        .iter()
-        .filter_map(|(_, f)| f.channel(name))
-        .flat_map(|c| c.iter().copied())
-    {
+    let mut hist = Vec::new();
+    for &v in values {
         if v.is_finite() && v >= 0.0 {
             let b = (v.round() as usize).min(MAX_BIN);
             if b >= hist.len() {
                 hist.resize(b + 1, 0);
             }
             hist[b] += 1;
-            n += 1;
         }
     }
+    hist
+}
+
+/// The `p`-th percentile of the samples a histogram of counts describes.
+fn histogram_percentile(hist: &[u64], p: f64) -> f32 {
+    let n: u64 = hist.iter().sum();
     let want = (n as f64 * p / 100.0).ceil() as u64;
     let mut seen = 0;
     for (b, c) in hist.iter().enumerate() {
@@ -350,15 +351,114 @@ fn channel_percentile(exrs: &[(usize, output::exr::ReadFrame)], name: &str, p: f
 
 /// What the report found about one frame's files.
 struct FrameImages {
-    frame: usize,
     png: bool,
     rays_map: Option<String>,
     wrong_map: Option<String>,
     problem: Option<String>,
 }
 
+/// A first look at one frame: its preview at the sizes the report shows, and what its EXR
+/// holds for the colour scales (shared by all frames). Only small images are kept, so memory
+/// does not grow with the frames' resolution.
+struct Scan {
+    thumb: Option<RgbImage>,
+    gif: Option<RgbImage>,
+    exr_ok: bool,
+    rays_hist: Vec<u64>,
+    wrong_max: Option<f32>,
+    problem: Option<String>,
+}
+
+fn scan_frame(dir: &Path, frame: usize) -> Scan {
+    let mut scan = Scan {
+        thumb: None,
+        gif: None,
+        exr_ok: false,
+        rays_hist: Vec::new(),
+        wrong_max: None,
+        problem: None,
+    };
+    let mut problems = Vec::new();
+    let png = frame_path(dir, frame, "png");
+    match image::open(&png) {
+        Ok(img) => {
+            let img = img.to_rgb8();
+            scan.thumb = Some(scaled(&img, THUMB_WIDTH));
+            scan.gif = Some(scaled(&img, GIF_WIDTH));
+        }
+        Err(e) => problems.push(format!("{}: {e}", file_name(&png))),
+    }
+    let exr = frame_path(dir, frame, "exr");
+    match output::exr::read_frame(&exr) {
+        Ok(f) => {
+            scan.exr_ok = true;
+            if let Some(r) = f.channel("rays") {
+                scan.rays_hist = count_histogram(r);
+            }
+            scan.wrong_max = f.channel("wrong").map(|w| {
+                w.iter()
+                    .copied()
+                    .filter(|v| v.is_finite())
+                    .fold(0.0, f32::max)
+            });
+        }
+        Err(e) => problems.push(format!("{}: {e:#}", file_name(&exr))),
+    }
+    if !problems.is_empty() {
+        scan.problem = Some(problems.join("; "));
+    }
+    scan
+}
+
+/// Writes one frame's heat maps (`rays_NNNN.png`, and `wrong_NNNN.png` when the EXR has a
+/// `wrong` channel) into `out`; returns their file names.
+fn heat_maps(
+    dir: &Path,
+    out: &Path,
+    frame: usize,
+    rays_top: f32,
+    wrong_top: f32,
+) -> Result<(Option<String>, Option<String>)> {
+    let f = output::exr::read_frame(&frame_path(dir, frame, "exr"))?;
+    let (w, h) = (f.width as u32, f.height as u32);
+    let mut names = (None, None);
+    if let Some(rays) = f.channel("rays") {
+        let mut img = RgbImage::new(w, h);
+        for (p, v) in img.pixels_mut().zip(rays) {
+            *p = Rgb(ramp(if rays_top > 0.0 { v / rays_top } else { 0.0 }));
+        }
+        let name = format!("rays_{frame:04}.png");
+        save_png(&out.join(&name), &img)?;
+        names.0 = Some(name);
+    }
+    if let Some(wrong) = f.channel("wrong") {
+        let mut img = RgbImage::new(w, h);
+        let (rr, gg, bb) = (f.channel("R"), f.channel("G"), f.channel("B"));
+        for (k, (p, v)) in img.pixels_mut().zip(wrong).enumerate() {
+            *p = if *v > 0.0 {
+                let t = v / wrong_top.max(1.0);
+                Rgb(ramp(WRONG_RAMP_START + (1.0 - WRONG_RAMP_START) * t))
+            } else {
+                // The frame under it, dimmed and grey, so the mistakes can be placed.
+                let lum = match (rr, gg, bb) {
+                    (Some(r), Some(g), Some(b)) => 0.2126 * r[k] + 0.7152 * g[k] + 0.0722 * b[k],
+                    _ => 0.0,
+                };
+                let g = (output::png::srgb_encode(lum) * 90.0) as u8;
+                Rgb([g, g, g])
+            };
+        }
+        let name = format!("wrong_{frame:04}.png");
+        save_png(&out.join(&name), &img)?;
+        names.1 = Some(name);
+    }
+    Ok(names)
+}
+
 /// Writes `DIR/report.html` (and its pictures in `DIR/report/`) for the render in `dir`.
 /// Returns the page's path. A missing folder or `stats.csv` is an input error naming the path.
+/// Frames are read in parallel on the current rayon pool, twice (once for the colour scales,
+/// once for the heat maps), so memory stays bounded by the threads, not the frame count.
 pub fn write_report(dir: &Path) -> Result<PathBuf> {
     if !dir.exists() {
         return Err(input_error(dir, "no such folder"));
@@ -370,86 +470,50 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
     let out = dir.join("report");
     std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
 
-    // Frames: previews for the contact sheet and animation; EXR AOVs for the heat maps, on one
-    // colour scale per channel across all frames.
-    let mut previews: Vec<(usize, RgbImage)> = Vec::new();
-    let mut images: Vec<FrameImages> = Vec::new();
-    let mut exrs = Vec::new();
-    for r in &rows {
-        let mut fi = FrameImages {
-            frame: r.frame,
-            png: false,
-            rays_map: None,
-            wrong_map: None,
-            problem: None,
-        };
-        let png = frame_path(dir, r.frame, "png");
-        match image::open(&png) {
-            Ok(img) => {
-                previews.push((r.frame, img.to_rgb8()));
-                fi.png = true;
-            }
-            Err(e) => fi.problem = Some(format!("{}: {e}", file_name(&png))),
+    // Pass 1: previews at display size, and the colour scales' ranges over all frames.
+    let scans: Vec<Scan> = rows.par_iter().map(|r| scan_frame(dir, r.frame)).collect();
+    let mut rays_hist: Vec<u64> = Vec::new();
+    for s in &scans {
+        if s.rays_hist.len() > rays_hist.len() {
+            rays_hist.resize(s.rays_hist.len(), 0);
         }
-        let exr = frame_path(dir, r.frame, "exr");
-        match output::exr::read_frame(&exr) {
-            Ok(f) => exrs.push((images.len(), f)),
-            Err(e) => {
-                let msg = format!("{}: {e}", file_name(&exr));
-                fi.problem = Some(match fi.problem.take() {
-                    Some(p) => format!("{p}; {msg}"),
-                    None => msg,
-                })
-            }
-        }
-        images.push(fi);
-    }
-    let channel_max = |name: &str| {
-        exrs.iter()
-            .filter_map(|(_, f)| f.channel(name))
-            .flat_map(|c| c.iter().copied())
-            .filter(|v| v.is_finite())
-            .fold(0.0f32, f32::max)
-    };
-    let rays_max = channel_percentile(&exrs, "rays", RAYS_SCALE_PERCENTILE);
-    let wrong_max = channel_max("wrong");
-    let any_wrong_channel = exrs.iter().any(|(_, f)| f.channel("wrong").is_some());
-    for (i, f) in &exrs {
-        let (w, h) = (f.width as u32, f.height as u32);
-        let frame = images[*i].frame;
-        if let Some(rays) = f.channel("rays") {
-            let mut img = RgbImage::new(w, h);
-            for (p, v) in img.pixels_mut().zip(rays) {
-                *p = Rgb(ramp(if rays_max > 0.0 { v / rays_max } else { 0.0 }));
-            }
-            let name = format!("rays_{frame:04}.png");
-            save_png(&out.join(&name), &img)?;
-            images[*i].rays_map = Some(name);
-        }
-        if let Some(wrong) = f.channel("wrong") {
-            let mut img = RgbImage::new(w, h);
-            let (rr, gg, bb) = (f.channel("R"), f.channel("G"), f.channel("B"));
-            for (k, (p, v)) in img.pixels_mut().zip(wrong).enumerate() {
-                *p = if *v > 0.0 {
-                    let t = v / wrong_max.max(1.0);
-                    Rgb(ramp(WRONG_RAMP_START + (1.0 - WRONG_RAMP_START) * t))
-                } else {
-                    // The frame under it, dimmed and grey, so the mistakes can be placed.
-                    let lum = match (rr, gg, bb) {
-                        (Some(r), Some(g), Some(b)) => {
-                            0.2126 * r[k] + 0.7152 * g[k] + 0.0722 * b[k]
-                        }
-                        _ => 0.0,
-                    };
-                    let g = (output::png::srgb_encode(lum) * 90.0) as u8;
-                    Rgb([g, g, g])
-                };
-            }
-            let name = format!("wrong_{frame:04}.png");
-            save_png(&out.join(&name), &img)?;
-            images[*i].wrong_map = Some(name);
+        for (a, b) in rays_hist.iter_mut().zip(&s.rays_hist) {
+            *a += b;
         }
     }
+    let rays_max = histogram_percentile(&rays_hist, RAYS_SCALE_PERCENTILE);
+    let any_wrong_channel = scans.iter().any(|s| s.wrong_max.is_some());
+    let wrong_max = scans
+        .iter()
+        .filter_map(|s| s.wrong_max)
+        .fold(0.0f32, f32::max);
+
+    // Pass 2: the heat maps.
+    let maps: Vec<(Option<String>, Option<String>)> = rows
+        .par_iter()
+        .zip(&scans)
+        .map(|(r, s)| {
+            if s.exr_ok {
+                heat_maps(dir, &out, r.frame, rays_max, wrong_max)
+            } else {
+                Ok((None, None))
+            }
+        })
+        .collect::<Result<_>>()?;
+    let mut images = Vec::new();
+    let mut thumbs = Vec::new();
+    let mut previews = Vec::new();
+    for (s, (rays_map, wrong_map)) in scans.into_iter().zip(maps) {
+        images.push(FrameImages {
+            png: s.thumb.is_some(),
+            rays_map,
+            wrong_map,
+            problem: s.problem,
+        });
+        thumbs.extend(s.thumb);
+        previews.extend(s.gif);
+    }
+
     // Colour scales.
     let scale = |from: f32| {
         RgbImage::from_fn(256, 14, |x, _| {
@@ -464,10 +528,6 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
     // Contact sheet and animated preview.
     let has_previews = !previews.is_empty();
     if has_previews {
-        let thumbs: Vec<RgbImage> = previews
-            .iter()
-            .map(|(_, p)| scaled(p, THUMB_WIDTH))
-            .collect();
         let tw = thumbs.iter().map(|t| t.width()).max().unwrap_or(1);
         let th = thumbs.iter().map(|t| t.height()).max().unwrap_or(1);
         let cols = SHEET_COLUMNS.min(thumbs.len()) as u32;
@@ -560,16 +620,15 @@ fn file_name(p: &Path) -> String {
         .unwrap_or_else(|| p.display().to_string())
 }
 
-fn write_gif(path: &Path, previews: &[(usize, RgbImage)]) -> Result<()> {
+fn write_gif(path: &Path, frames: &[RgbImage]) -> Result<()> {
     use image::codecs::gif::{GifEncoder, Repeat};
     use image::{Delay, Frame};
     let mut bytes = Vec::new();
     {
         let mut enc = GifEncoder::new_with_speed(&mut bytes, 10);
         enc.set_repeat(Repeat::Infinite).context("encoding GIF")?;
-        for (_, p) in previews {
-            let small = scaled(p, GIF_WIDTH);
-            let rgba: RgbaImage = image::DynamicImage::ImageRgb8(small).to_rgba8();
+        for p in frames {
+            let rgba: RgbaImage = image::DynamicImage::ImageRgb8(p.clone()).to_rgba8();
             let frame = Frame::from_parts(rgba, 0, 0, Delay::from_numer_denom_ms(GIF_FRAME_MS, 1));
             enc.encode_frame(frame).context("encoding GIF")?;
         }
