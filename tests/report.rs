@@ -253,3 +253,33 @@ fn report_without_stats_exits_2_naming_the_path() {
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(err.contains("stats.csv"), "{err}");
 }
+
+#[test]
+fn report_sets_the_papers_figure_beside_ours_and_says_when_the_map_is_gone() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (spec, _) = tiny_spec(tmp.path(), false);
+    let out = tmp.path().join("shapes-tiny");
+    let out_arg = out.display().to_string();
+    render(
+        &spec,
+        &["--frames", "0", "--lights", "50", "--out", &out_arg],
+    );
+    let html = fs::read_to_string(out.join("report.html")).unwrap();
+    // Table 1, shapes scene, 50 lights, grid-nowarp-uncertainty: 9.4 %.
+    assert!(html.contains("Beside the paper"), "no paper figure");
+    assert!(html.contains("<td>9.4</td>"), "wrong paper figure");
+    assert!(html.contains("src=\"report/lights.png\""));
+
+    // The environment map named in lights.json cannot be found: the page says so.
+    let json = out.join("lights.json");
+    let text = fs::read_to_string(&json).unwrap();
+    assert!(text.contains("builtin:sky"));
+    fs::write(&json, text.replace("builtin:sky", "nowhere/missing.hdr")).unwrap();
+    fs::remove_dir_all(out.join("report")).unwrap();
+    let o = common::bin().arg("report").arg(&out).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let html = fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(html.contains("No picture of the lights"), "{html}");
+    assert!(html.contains("nowhere/missing.hdr"));
+    check_references(&out, &html);
+}
