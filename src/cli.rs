@@ -29,7 +29,8 @@ run again with --resume).
 Examples:
   envshadow render anims/shapes-turntable.toml
   envshadow render anims/bunny-turntable.toml --frames 0..8 --lights 400 --out out/bunny
-  envshadow lights assets/grace.hdr -n 200 --json lights.json --png cells.png";
+  envshadow lights assets/grace.hdr -n 200 --json lights.json --png cells.png
+  envshadow report out/shapes-turntable";
 
 /// Batch renderer for turntable animations of glTF scenes lit by HDR environment maps, with
 /// shadows from every light direction (Ben-Artzi, Ramamoorthi & Agrawala 2004).
