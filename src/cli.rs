@@ -7,6 +7,7 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
+use anyhow::Context;
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -28,7 +29,8 @@ run again with --resume).
 Examples:
   envshadow render anims/shapes-turntable.toml
   envshadow render anims/bunny-turntable.toml --frames 0..8 --lights 400 --out out/bunny
-  envshadow lights assets/grace.hdr -n 200 --json lights.json --png cells.png";
+  envshadow lights assets/grace.hdr -n 200 --json lights.json --png cells.png
+  envshadow report out/shapes-turntable";
 
 /// Batch renderer for turntable animations of glTF scenes lit by HDR environment maps, with
 /// shadows from every light direction (Ben-Artzi, Ramamoorthi & Agrawala 2004).
@@ -49,6 +51,15 @@ pub enum Command {
     Bench(bench::BenchArgs),
     /// Reproduce the paper's Table 1: % of shadow queries traced per method, validated.
     Table(crate::table::TableArgs),
+    /// Write DIR/report.html about a finished render: frames, savings plot, heat maps of the
+    /// rays traced (and, validated, of wrong predictions), the lights, settings and totals.
+    Report(ReportArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct ReportArgs {
+    /// A render's output folder (with stats.csv, the frames and lights.json).
+    pub dir: PathBuf,
 }
 
 /// Flags shared by every command that renders an animation: each overrides the spec.
@@ -138,6 +149,9 @@ pub struct RenderArgs {
     /// No progress output.
     #[arg(long, short)]
     pub quiet: bool,
+    /// Do not write report.html (and report/) into the output folder at the end.
+    #[arg(long)]
+    pub no_report: bool,
 }
 
 #[derive(Args, Debug)]
@@ -186,6 +200,16 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Lights(args) => lights(args),
         Command::Bench(args) => bench::run(&args),
         Command::Table(args) => crate::table::run(&args),
+        Command::Report(args) => {
+            let start = Instant::now();
+            let page = crate::report::write_report(&args.dir)?;
+            println!(
+                "wrote {} in {:.1} s",
+                page.display(),
+                start.elapsed().as_secs_f64()
+            );
+            Ok(())
+        }
     }
 }
 
@@ -224,6 +248,22 @@ fn render(args: RenderArgs) -> Result<()> {
             summary.counts.percent_traced(),
             anim.out_dir.display()
         );
+    }
+    if !args.no_report {
+        let start = Instant::now();
+        let page = crate::report::write_report(&anim.out_dir).with_context(|| {
+            format!(
+                "the frames are written, but not the report (retry with envshadow report {})",
+                anim.out_dir.display()
+            )
+        })?;
+        if !args.quiet {
+            eprintln!(
+                "report: {} ({:.1} s)",
+                page.display(),
+                start.elapsed().as_secs_f64()
+            );
+        }
     }
     Ok(())
 }

@@ -9,7 +9,8 @@
 //! - [`predict`] decides each (pixel, light) visibility: traced or predicted.
 //! - [`tile`] splits a frame; [`frame`] renders one tile; [`film`] assembles tiles;
 //!   [`coordinator`] schedules frames × tiles over threads and streams them to the writer.
-//! - [`output`] writes EXR/PNG/CSV/JSON atomically; [`anim`] parses animation specs.
+//! - [`output`] writes EXR/PNG/CSV/JSON atomically; [`anim`] parses animation specs;
+//!   [`report`] builds `report.html` from a finished render's folder.
 
 pub mod accel;
 pub mod anim;
@@ -24,6 +25,7 @@ pub mod frame;
 pub mod lights;
 pub mod output;
 pub mod predict;
+pub mod report;
 pub mod scene;
 pub mod table;
 pub mod tile;

@@ -1,0 +1,1033 @@
+//! The render report: `DIR/report.html`, one self-contained page about a finished render, built
+//! only from what the render left in its folder (`stats.csv`, `frame_NNNN.exr`/`.png`,
+//! `lights.json`). Generated pictures go to `DIR/report/`; the page references them and the
+//! frame PNGs by relative paths, uses no JavaScript and nothing from the network, so it works
+//! opened from disk.
+//!
+//! Plots are drawn without text (plotters' bitmap backend with no font feature) and labelled
+//! in HTML, so the report needs no system fonts.
+
+use std::collections::BTreeSet;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, anyhow};
+use image::{Rgb, RgbImage, RgbaImage};
+use rayon::prelude::*;
+
+use crate::envmap::EnvMap;
+use crate::error::{Result, input_error};
+use crate::lights::{self, LightSet};
+use crate::output::{self, frame_path};
+use crate::predict::Method;
+
+/// Widest thumbnail on the contact sheet, pixels.
+const THUMB_WIDTH: u32 = 120;
+/// Widest frame of the animated preview, pixels.
+const GIF_WIDTH: u32 = 320;
+/// Frames on one row of the contact sheet.
+const SHEET_COLUMNS: usize = 6;
+/// Animated preview: milliseconds per frame (12.5 frames per second).
+const GIF_FRAME_MS: u32 = 80;
+/// Plot size in pixels and its margin around the plotting area (the HTML labels rely on it).
+const PLOT_SIZE: (u32, u32) = (640, 180);
+const PLOT_MARGIN: u32 = 8;
+/// Wrong-prediction maps start the colour ramp here, so one wrong pair stands out from the
+/// dimmed frame under it.
+const WRONG_RAMP_START: f32 = 0.3;
+
+/// One row of `stats.csv`.
+#[derive(Clone, Debug)]
+struct Row {
+    frame: usize,
+    method: String,
+    lights: usize,
+    width: u32,
+    height: u32,
+    queries: u64,
+    rays: u64,
+    percent: f64,
+    seconds: f64,
+    /// With validation: wrong pairs, error percent, wrong pixels, PSNR (dB).
+    wrong: Option<u64>,
+    error_percent: Option<f64>,
+    wrong_pixels: Option<u64>,
+    psnr_db: Option<f64>,
+    camera: [f64; 3],
+    target: [f64; 3],
+    vfov_deg: f64,
+}
+
+impl Row {
+    fn rays_per_pixel(&self) -> f64 {
+        self.rays as f64 / (self.width as f64 * self.height as f64).max(1.0)
+    }
+}
+
+fn read_stats(path: &Path) -> Result<Vec<Row>> {
+    let text = match std::fs::read_to_string(path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return Err(input_error(
+                path,
+                "not found: not a render output folder (envshadow render writes stats.csv)",
+            ));
+        }
+        Err(e) => return Err(input_error(path, format!("cannot read: {e}"))),
+    };
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
+    let col = |name: &str| -> Result<usize> {
+        header
+            .iter()
+            .position(|h| *h == name)
+            .ok_or_else(|| input_error(path, format!("no column {name:?} in the header")))
+    };
+    let (frame, method, nlights, width, height) = (
+        col("frame")?,
+        col("method")?,
+        col("lights")?,
+        col("width")?,
+        col("height")?,
+    );
+    let (queries, rays, percent, seconds) = (
+        col("queries")?,
+        col("rays_traced")?,
+        col("percent_traced")?,
+        col("seconds")?,
+    );
+    let (wv, wb, err, wpix, psnr) = (
+        col("wrong_visible")?,
+        col("wrong_blocked")?,
+        col("error_percent")?,
+        col("wrong_pixels")?,
+        col("psnr_db")?,
+    );
+    let cam = [col("camera_x")?, col("camera_y")?, col("camera_z")?];
+    let tgt = [col("target_x")?, col("target_y")?, col("target_z")?];
+    let vfov = col("vfov_deg")?;
+    let mut rows = Vec::new();
+    for (i, line) in lines.enumerate() {
+        if line.trim().is_empty() {
+            continue;
+        }
+        let f: Vec<&str> = line.split(',').collect();
+        let line_no = i + 2;
+        let field = |k: usize| -> Result<&str> {
+            f.get(k).copied().ok_or_else(|| {
+                input_error(
+                    path,
+                    format!(
+                        "line {line_no}: {} fields, expected {}",
+                        f.len(),
+                        header.len()
+                    ),
+                )
+            })
+        };
+        fn num<T: std::str::FromStr>(path: &Path, line: usize, name: &str, s: &str) -> Result<T> {
+            s.trim().parse().map_err(|_| {
+                input_error(path, format!("line {line}: {name} {s:?} is not a number"))
+            })
+        }
+        let opt = |k: usize, name: &str| -> Result<Option<f64>> {
+            let s = field(k)?;
+            if s.trim().is_empty() {
+                Ok(None)
+            } else {
+                num(path, line_no, name, s).map(Some)
+            }
+        };
+        let get = |k: usize, name: &str| -> Result<f64> { num(path, line_no, name, field(k)?) };
+        let wrong = match (opt(wv, "wrong_visible")?, opt(wb, "wrong_blocked")?) {
+            (Some(a), Some(b)) => Some((a + b) as u64),
+            _ => None,
+        };
+        rows.push(Row {
+            frame: num(path, line_no, "frame", field(frame)?)?,
+            method: field(method)?.to_string(),
+            lights: num(path, line_no, "lights", field(nlights)?)?,
+            width: num(path, line_no, "width", field(width)?)?,
+            height: num(path, line_no, "height", field(height)?)?,
+            queries: num(path, line_no, "queries", field(queries)?)?,
+            rays: num(path, line_no, "rays_traced", field(rays)?)?,
+            percent: get(percent, "percent_traced")?,
+            seconds: get(seconds, "seconds")?,
+            wrong,
+            error_percent: opt(err, "error_percent")?,
+            wrong_pixels: opt(wpix, "wrong_pixels")?.map(|v| v as u64),
+            psnr_db: opt(psnr, "psnr_db")?,
+            camera: [
+                get(cam[0], "camera_x")?,
+                get(cam[1], "camera_y")?,
+                get(cam[2], "camera_z")?,
+            ],
+            target: [
+                get(tgt[0], "target_x")?,
+                get(tgt[1], "target_y")?,
+                get(tgt[2], "target_z")?,
+            ],
+            vfov_deg: get(vfov, "vfov_deg")?,
+        });
+    }
+    if rows.is_empty() {
+        return Err(input_error(path, "no frames in it: nothing to report"));
+    }
+    rows.sort_by_key(|r| r.frame);
+    Ok(rows)
+}
+
+/// Escapes text for HTML element content and quoted attribute values.
+fn esc(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for ch in s.chars() {
+        match ch {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&#39;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// A sequential colour ramp (close to matplotlib's "inferno"): dark for little, bright for much.
+fn ramp(t: f32) -> [u8; 3] {
+    const STOPS: [[f32; 3]; 5] = [
+        [0.0, 0.0, 4.0],
+        [87.0, 16.0, 110.0],
+        [188.0, 55.0, 84.0],
+        [249.0, 142.0, 9.0],
+        [252.0, 255.0, 164.0],
+    ];
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let x = t * (STOPS.len() - 1) as f32;
+    let i = (x.floor() as usize).min(STOPS.len() - 2);
+    let f = x - i as f32;
+    let (a, b) = (STOPS[i], STOPS[i + 1]);
+    [0, 1, 2].map(|c| (a[c] + (b[c] - a[c]) * f + 0.5) as u8)
+}
+
+fn png_bytes(img: &RgbImage) -> Result<Vec<u8>> {
+    let mut bytes = Vec::new();
+    img.write_to(
+        &mut std::io::Cursor::new(&mut bytes),
+        image::ImageFormat::Png,
+    )
+    .context("encoding PNG")?;
+    Ok(bytes)
+}
+
+fn save_png(path: &Path, img: &RgbImage) -> Result<()> {
+    output::write_atomic(path, &png_bytes(img)?)
+}
+
+fn scaled(img: &RgbImage, max_width: u32) -> RgbImage {
+    if img.width() <= max_width {
+        return img.clone();
+    }
+    let h = ((img.height() as u64 * max_width as u64) / img.width() as u64).max(1) as u32;
+    image::imageops::resize(img, max_width, h, image::imageops::FilterType::Triangle)
+}
+
+/// "Nice" axis top and step for values up to `max`: four or five steps of 1, 2, 2.5 or 5 × 10^k.
+fn nice_axis(max: f64) -> (f64, f64) {
+    if !(max.is_finite() && max > 0.0) {
+        return (1.0, 0.25);
+    }
+    let raw = max / 4.0;
+    let mag = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 2.5, 5.0, 10.0]
+        .into_iter()
+        .map(|m| m * mag)
+        .find(|s| *s >= raw)
+        .unwrap_or(10.0 * mag);
+    let top = (max / step).ceil().max(1.0) * step;
+    (top, step)
+}
+
+/// Formats an axis label without trailing noise.
+fn tick(v: f64) -> String {
+    let s = format!("{v:.4}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" { "0".into() } else { s.into() }
+}
+
+/// One per-frame series of the savings plot.
+struct Series {
+    file: &'static str,
+    title: &'static str,
+    unit: &'static str,
+    points: Vec<(f64, f64)>,
+    colour: [u8; 3],
+}
+
+/// Draws a text-free line plot of `s` (frames on x, from 0 on y) and returns its y axis.
+fn draw_plot(path: &Path, s: &Series, frames: (f64, f64)) -> Result<(f64, f64)> {
+    use plotters::prelude::*;
+    let max = s.points.iter().map(|p| p.1).fold(0.0, f64::max);
+    let (top, step) = nice_axis(max);
+    let (w, h) = PLOT_SIZE;
+    let (x0, x1) = if frames.1 > frames.0 {
+        frames
+    } else {
+        (frames.0 - 0.5, frames.0 + 0.5)
+    };
+    let mut buf = vec![0u8; (w * h * 3) as usize];
+    {
+        let err = |e: DrawingAreaErrorKind<_>| anyhow!("drawing {}: {e}", path.display());
+        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let mut chart = ChartBuilder::on(&root)
+            .margin(PLOT_MARGIN)
+            .build_cartesian_2d(x0..x1, 0.0..top)
+            .map_err(err)?;
+        let grid = RGBColor(220, 220, 220);
+        let steps = (top / step).round() as usize;
+        for k in 0..=steps {
+            let y = k as f64 * step;
+            chart
+                .draw_series(std::iter::once(PathElement::new(
+                    vec![(x0, y), (x1, y)],
+                    grid.stroke_width(1),
+                )))
+                .map_err(err)?;
+        }
+        let c = RGBColor(s.colour[0], s.colour[1], s.colour[2]);
+        chart
+            .draw_series(LineSeries::new(s.points.iter().copied(), c.stroke_width(2)))
+            .map_err(err)?;
+        chart
+            .draw_series(s.points.iter().map(|&p| Circle::new(p, 3, c.filled())))
+            .map_err(err)?;
+        root.present().map_err(err)?;
+    }
+    let img = RgbImage::from_raw(w, h, buf).context("plot buffer size")?;
+    save_png(path, &img)?;
+    Ok((top, step))
+}
+
+/// The rays heat maps' colour scale ends at this percentile of the rays per pixel over all
+/// frames (brighter pixels clip), so a few pixels that traced every light do not leave the rest
+/// of the map black.
+const RAYS_SCALE_PERCENTILE: f64 = 99.5;
+
+/// Histogram of a count channel (non-negative whole numbers, such as `rays`): bin k counts the
+/// samples that round to k.
+fn count_histogram(values: &[f32]) -> Vec<u64> {
+    const MAX_BIN: usize = 1 << 20;
+    let mut hist = Vec::new();
+    for &v in values {
+        if v.is_finite() && v >= 0.0 {
+            let b = (v.round() as usize).min(MAX_BIN);
+            if b >= hist.len() {
+                hist.resize(b + 1, 0);
+            }
+            hist[b] += 1;
+        }
+    }
+    hist
+}
+
+/// The `p`-th percentile of the samples a histogram of counts describes.
+fn histogram_percentile(hist: &[u64], p: f64) -> f32 {
+    let n: u64 = hist.iter().sum();
+    let want = (n as f64 * p / 100.0).ceil() as u64;
+    let mut seen = 0;
+    for (b, c) in hist.iter().enumerate() {
+        seen += c;
+        if seen >= want {
+            return b as f32;
+        }
+    }
+    hist.len().saturating_sub(1) as f32
+}
+
+/// What the report found about one frame's files.
+struct FrameImages {
+    png: bool,
+    rays_map: Option<String>,
+    wrong_map: Option<String>,
+    problem: Option<String>,
+}
+
+/// A first look at one frame: its preview at the sizes the report shows, and what its EXR
+/// holds for the colour scales (shared by all frames). Only small images are kept, so memory
+/// does not grow with the frames' resolution.
+struct Scan {
+    thumb: Option<RgbImage>,
+    gif: Option<RgbImage>,
+    exr_ok: bool,
+    rays_hist: Vec<u64>,
+    wrong_max: Option<f32>,
+    problem: Option<String>,
+}
+
+fn scan_frame(dir: &Path, frame: usize) -> Scan {
+    let mut scan = Scan {
+        thumb: None,
+        gif: None,
+        exr_ok: false,
+        rays_hist: Vec::new(),
+        wrong_max: None,
+        problem: None,
+    };
+    let mut problems = Vec::new();
+    let png = frame_path(dir, frame, "png");
+    match image::open(&png) {
+        Ok(img) => {
+            let img = img.to_rgb8();
+            scan.thumb = Some(scaled(&img, THUMB_WIDTH));
+            scan.gif = Some(scaled(&img, GIF_WIDTH));
+        }
+        Err(e) => problems.push(format!("{}: {e}", file_name(&png))),
+    }
+    let exr = frame_path(dir, frame, "exr");
+    match output::exr::read_frame(&exr) {
+        Ok(f) => {
+            scan.exr_ok = true;
+            if let Some(r) = f.channel("rays") {
+                scan.rays_hist = count_histogram(r);
+            }
+            scan.wrong_max = f.channel("wrong").map(|w| {
+                w.iter()
+                    .copied()
+                    .filter(|v| v.is_finite())
+                    .fold(0.0, f32::max)
+            });
+        }
+        Err(e) => problems.push(format!("{}: {e:#}", file_name(&exr))),
+    }
+    if !problems.is_empty() {
+        scan.problem = Some(problems.join("; "));
+    }
+    scan
+}
+
+/// Writes one frame's heat maps (`rays_NNNN.png`, and `wrong_NNNN.png` when the EXR has a
+/// `wrong` channel) into `out`; returns their file names.
+fn heat_maps(
+    dir: &Path,
+    out: &Path,
+    frame: usize,
+    rays_top: f32,
+    wrong_top: f32,
+) -> Result<(Option<String>, Option<String>)> {
+    let f = output::exr::read_frame(&frame_path(dir, frame, "exr"))?;
+    let (w, h) = (f.width as u32, f.height as u32);
+    let mut names = (None, None);
+    if let Some(rays) = f.channel("rays") {
+        let mut img = RgbImage::new(w, h);
+        for (p, v) in img.pixels_mut().zip(rays) {
+            *p = Rgb(ramp(if rays_top > 0.0 { v / rays_top } else { 0.0 }));
+        }
+        let name = format!("rays_{frame:04}.png");
+        save_png(&out.join(&name), &img)?;
+        names.0 = Some(name);
+    }
+    if let Some(wrong) = f.channel("wrong") {
+        let mut img = RgbImage::new(w, h);
+        let (rr, gg, bb) = (f.channel("R"), f.channel("G"), f.channel("B"));
+        for (k, (p, v)) in img.pixels_mut().zip(wrong).enumerate() {
+            *p = if *v > 0.0 {
+                let t = v / wrong_top.max(1.0);
+                Rgb(ramp(WRONG_RAMP_START + (1.0 - WRONG_RAMP_START) * t))
+            } else {
+                // The frame under it, dimmed and grey, so the mistakes can be placed.
+                let lum = match (rr, gg, bb) {
+                    (Some(r), Some(g), Some(b)) => 0.2126 * r[k] + 0.7152 * g[k] + 0.0722 * b[k],
+                    _ => 0.0,
+                };
+                let g = (output::png::srgb_encode(lum) * 90.0) as u8;
+                Rgb([g, g, g])
+            };
+        }
+        let name = format!("wrong_{frame:04}.png");
+        save_png(&out.join(&name), &img)?;
+        names.1 = Some(name);
+    }
+    Ok(names)
+}
+
+/// Writes `DIR/report.html` (and its pictures in `DIR/report/`) for the render in `dir`.
+/// Returns the page's path. A missing folder or `stats.csv` is an input error naming the path.
+/// Frames are read in parallel on the current rayon pool, twice (once for the colour scales,
+/// once for the heat maps), so memory stays bounded by the threads, not the frame count.
+pub fn write_report(dir: &Path) -> Result<PathBuf> {
+    if !dir.exists() {
+        return Err(input_error(dir, "no such folder"));
+    }
+    if !dir.is_dir() {
+        return Err(input_error(dir, "not a folder"));
+    }
+    let rows = read_stats(&dir.join("stats.csv"))?;
+    let out = dir.join("report");
+    std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
+
+    // Pass 1: previews at display size, and the colour scales' ranges over all frames.
+    let scans: Vec<Scan> = rows.par_iter().map(|r| scan_frame(dir, r.frame)).collect();
+    let mut rays_hist: Vec<u64> = Vec::new();
+    for s in &scans {
+        if s.rays_hist.len() > rays_hist.len() {
+            rays_hist.resize(s.rays_hist.len(), 0);
+        }
+        for (a, b) in rays_hist.iter_mut().zip(&s.rays_hist) {
+            *a += b;
+        }
+    }
+    let rays_max = histogram_percentile(&rays_hist, RAYS_SCALE_PERCENTILE);
+    let any_wrong_channel = scans.iter().any(|s| s.wrong_max.is_some());
+    let wrong_max = scans
+        .iter()
+        .filter_map(|s| s.wrong_max)
+        .fold(0.0f32, f32::max);
+
+    // Pass 2: the heat maps.
+    let maps: Vec<(Option<String>, Option<String>)> = rows
+        .par_iter()
+        .zip(&scans)
+        .map(|(r, s)| {
+            if s.exr_ok {
+                heat_maps(dir, &out, r.frame, rays_max, wrong_max)
+            } else {
+                Ok((None, None))
+            }
+        })
+        .collect::<Result<_>>()?;
+    let mut images = Vec::new();
+    let mut thumbs = Vec::new();
+    let mut previews = Vec::new();
+    for (s, (rays_map, wrong_map)) in scans.into_iter().zip(maps) {
+        images.push(FrameImages {
+            png: s.thumb.is_some(),
+            rays_map,
+            wrong_map,
+            problem: s.problem,
+        });
+        thumbs.extend(s.thumb);
+        previews.extend(s.gif);
+    }
+
+    // Colour scales.
+    let scale = |from: f32| {
+        RgbImage::from_fn(256, 14, |x, _| {
+            Rgb(ramp(from + (1.0 - from) * x as f32 / 255.0))
+        })
+    };
+    save_png(&out.join("scale_rays.png"), &scale(0.0))?;
+    if any_wrong_channel {
+        save_png(&out.join("scale_wrong.png"), &scale(WRONG_RAMP_START))?;
+    }
+
+    // Contact sheet and animated preview.
+    let has_previews = !previews.is_empty();
+    if has_previews {
+        let tw = thumbs.iter().map(|t| t.width()).max().unwrap_or(1);
+        let th = thumbs.iter().map(|t| t.height()).max().unwrap_or(1);
+        let cols = SHEET_COLUMNS.min(thumbs.len()) as u32;
+        let rows_n = thumbs.len().div_ceil(cols as usize) as u32;
+        let gap = 4;
+        let mut sheet = RgbImage::from_pixel(
+            cols * (tw + gap) + gap,
+            rows_n * (th + gap) + gap,
+            Rgb([32, 32, 32]),
+        );
+        for (k, t) in thumbs.iter().enumerate() {
+            let (cx, cy) = ((k as u32 % cols), (k as u32 / cols));
+            image::imageops::replace(
+                &mut sheet,
+                t,
+                (gap + cx * (tw + gap)) as i64,
+                (gap + cy * (th + gap)) as i64,
+            );
+        }
+        save_png(&out.join("contact_sheet.png"), &sheet)?;
+        write_gif(&out.join("turntable.gif"), &previews)?;
+    }
+
+    // Savings plot, one panel per quantity.
+    let fx = |f: fn(&Row) -> Option<f64>| -> Vec<(f64, f64)> {
+        rows.iter()
+            .filter_map(|r| f(r).map(|v| (r.frame as f64, v)))
+            .collect()
+    };
+    let mut series = vec![
+        Series {
+            file: "plot_percent.png",
+            title: "Shadow queries traced",
+            unit: "%",
+            points: fx(|r| Some(r.percent)),
+            colour: [31, 119, 180],
+        },
+        Series {
+            file: "plot_rays_per_pixel.png",
+            title: "Shadow rays traced per pixel",
+            unit: "rays",
+            points: fx(|r| Some(r.rays_per_pixel())),
+            colour: [44, 160, 44],
+        },
+        Series {
+            file: "plot_seconds.png",
+            title: "Seconds per frame",
+            unit: "s",
+            points: fx(|r| Some(r.seconds)),
+            colour: [255, 127, 14],
+        },
+    ];
+    let error_points = fx(|r| r.error_percent);
+    if !error_points.is_empty() {
+        series.push(Series {
+            file: "plot_error.png",
+            title: "Wrong predictions (validation)",
+            unit: "% of queries",
+            points: error_points,
+            colour: [214, 39, 40],
+        });
+    }
+    let frames = (rows[0].frame as f64, rows[rows.len() - 1].frame as f64);
+    let mut axes = Vec::new();
+    for s in &series {
+        axes.push(draw_plot(&out.join(s.file), s, frames)?);
+    }
+
+    // The lights over the environment map.
+    let lights_note = lights_picture(dir, &out.join("lights.png"));
+
+    let html = page(
+        dir,
+        &rows,
+        &images,
+        has_previews,
+        (rays_max, wrong_max, any_wrong_channel),
+        &series,
+        &axes,
+        &lights_note,
+    );
+    let path = dir.join("report.html");
+    output::write_atomic(&path, html.as_bytes())?;
+    Ok(path)
+}
+
+fn file_name(p: &Path) -> String {
+    p.file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| p.display().to_string())
+}
+
+fn write_gif(path: &Path, frames: &[RgbImage]) -> Result<()> {
+    use image::codecs::gif::{GifEncoder, Repeat};
+    use image::{Delay, Frame};
+    let mut bytes = Vec::new();
+    {
+        let mut enc = GifEncoder::new_with_speed(&mut bytes, 10);
+        enc.set_repeat(Repeat::Infinite).context("encoding GIF")?;
+        for p in frames {
+            let rgba: RgbaImage = image::DynamicImage::ImageRgb8(p.clone()).to_rgba8();
+            let frame = Frame::from_parts(rgba, 0, 0, Delay::from_numer_denom_ms(GIF_FRAME_MS, 1));
+            enc.encode_frame(frame).context("encoding GIF")?;
+        }
+    }
+    output::write_atomic(path, &bytes)
+}
+
+/// What became of the lights picture: `Ok(environment source)` when drawn, `Err(why not)`.
+type LightsNote = std::result::Result<String, String>;
+
+fn lights_picture(dir: &Path, png: &Path) -> LightsNote {
+    let json = dir.join("lights.json");
+    let set: LightSet = lights::read_json(&json).map_err(|e| format!("{e:#}"))?;
+    let Some(envs) = &set.environment else {
+        return Err("the lights were placed by hand (no environment map in lights.json)".into());
+    };
+    let env = if envs.source == "builtin:sky" {
+        EnvMap::builtin_sky()
+    } else {
+        let given = Path::new(&envs.source);
+        let candidates = [given.to_path_buf(), dir.join(given)];
+        let found = candidates.iter().find(|p| p.is_file()).ok_or_else(|| {
+            format!(
+                "the environment map {} named in lights.json is not found from here",
+                envs.source
+            )
+        })?;
+        EnvMap::load(found).map_err(|e| format!("{e:#}"))?
+    };
+    if (env.width, env.height) != (envs.width, envs.height) {
+        return Err(format!(
+            "{} is now {}×{}, the lights were sampled from a {}×{} map",
+            envs.source, env.width, env.height, envs.width, envs.height
+        ));
+    }
+    let env = env
+        .with_rotation(envs.rotation_deg)
+        .with_intensity(envs.intensity)
+        .map_err(|e| format!("{e:#}"))?;
+    lights::picture::cells_png(&env, &set, png).map_err(|e| format!("{e:#}"))?;
+    Ok(envs.source.clone())
+}
+
+/// The scene key of the paper's Table 1 ("shapes" or "bunny") when the output folder's name
+/// says which.
+fn scene_key(dir: &Path) -> Option<&'static str> {
+    let name = std::fs::canonicalize(dir)
+        .ok()
+        .and_then(|p| p.file_name().map(|n| n.to_string_lossy().to_lowercase()))
+        .or_else(|| dir.file_name().map(|n| n.to_string_lossy().to_lowercase()))?;
+    ["shapes", "bunny"].into_iter().find(|k| name.contains(k))
+}
+
+fn distinct<T: Ord + ToString>(v: impl Iterator<Item = T>) -> String {
+    v.collect::<BTreeSet<T>>()
+        .into_iter()
+        .map(|x| x.to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+fn with_commas(n: u64) -> String {
+    let s = n.to_string();
+    let mut out = String::new();
+    for (i, ch) in s.chars().enumerate() {
+        if i > 0 && (s.len() - i) % 3 == 0 {
+            out.push('\u{202f}');
+        }
+        out.push(ch);
+    }
+    out
+}
+
+const CSS: &str = "\
+body{font-family:system-ui,sans-serif;margin:1.5em auto;max-width:1150px;padding:0 1em;color:#222;background:#fafafa}\
+h1{font-size:1.5em}h2{font-size:1.2em;margin-top:1.6em;border-bottom:1px solid #ccc}\
+table{border-collapse:collapse;font-size:.9em}td,th{border:1px solid #ccc;padding:.2em .5em;text-align:right}\
+th{background:#eee}td.l,th.l{text-align:left}\
+.pics{display:flex;flex-wrap:wrap;gap:1em;align-items:flex-start}\
+figure{margin:0}figcaption{font-size:.85em;color:#555}\
+.plot{display:grid;grid-template-columns:3em 640px;width:max-content;column-gap:.4em;margin-bottom:1em}\
+.plot figcaption{grid-column:1/3;font-weight:bold;color:#222}\
+.ylab{display:flex;flex-direction:column;justify-content:space-between;height:180px;padding:8px 0;box-sizing:border-box;font-size:.75em;text-align:right}\
+.ylab span{line-height:0}\
+.xlab{grid-column:2;display:flex;justify-content:space-between;padding:0 8px;font-size:.75em}\
+.frames td{vertical-align:top;text-align:center;white-space:nowrap}.frames td.l{white-space:normal}.frames img{width:160px;display:block}\
+.scale{display:flex;align-items:center;gap:.4em;font-size:.85em}\
+.note{color:#a33}";
+
+#[allow(clippy::too_many_arguments)]
+fn page(
+    dir: &Path,
+    rows: &[Row],
+    images: &[FrameImages],
+    has_previews: bool,
+    (rays_max, wrong_max, any_wrong): (f32, f32, bool),
+    series: &[Series],
+    axes: &[(f64, f64)],
+    lights_note: &LightsNote,
+) -> String {
+    let name = std::fs::canonicalize(dir)
+        .ok()
+        .and_then(|p| p.file_name().map(|n| n.to_string_lossy().into_owned()))
+        .unwrap_or_else(|| dir.display().to_string());
+    let title = format!("envshadow report: {name}");
+    let mut h = String::new();
+    let _ = write!(
+        h,
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+         <title>{}</title>\n<style>{CSS}</style>\n</head>\n<body>\n<h1>{}</h1>\n",
+        esc(&title),
+        esc(&title)
+    );
+
+    // Settings and totals.
+    let queries: u64 = rows.iter().map(|r| r.queries).sum();
+    let rays: u64 = rows.iter().map(|r| r.rays).sum();
+    let seconds: f64 = rows.iter().map(|r| r.seconds).sum();
+    let percent = if queries == 0 {
+        100.0
+    } else {
+        100.0 * rays as f64 / queries as f64
+    };
+    let validated: Vec<&Row> = rows.iter().filter(|r| r.wrong.is_some()).collect();
+    let method = distinct(rows.iter().map(|r| r.method.clone()));
+    let nlights = distinct(rows.iter().map(|r| r.lights));
+    let res = distinct(rows.iter().map(|r| format!("{}×{}", r.width, r.height)));
+    let env_line = match lights::read_json(&dir.join("lights.json")) {
+        Ok(set) => match &set.environment {
+            Some(e) => format!(
+                "{} (rotation {}°, intensity {}), {} sampler",
+                e.source,
+                e.rotation_deg,
+                e.intensity,
+                set.sampler.map_or("given", |s| s.name())
+            ),
+            None => "lights placed by hand".into(),
+        },
+        Err(e) => format!("lights.json unreadable: {e:#}"),
+    };
+    h.push_str("<h2>Run</h2>\n<table>\n");
+    let mut kv = |k: &str, v: &str| {
+        let _ = writeln!(
+            h,
+            "<tr><th class=\"l\">{}</th><td class=\"l\">{}</td></tr>",
+            esc(k),
+            esc(v)
+        );
+    };
+    kv("folder", &dir.display().to_string());
+    kv(
+        "frames",
+        &format!(
+            "{} ({}–{})",
+            rows.len(),
+            rows[0].frame,
+            rows[rows.len() - 1].frame
+        ),
+    );
+    kv("shadow method", &method);
+    kv("lights", &nlights);
+    kv("environment", &env_line);
+    kv("resolution", &res);
+    kv(
+        "validated",
+        &if validated.is_empty() {
+            "no".to_string()
+        } else {
+            format!("{} of {} frames", validated.len(), rows.len())
+        },
+    );
+    kv("shadow queries", &with_commas(queries));
+    kv(
+        "shadow rays traced",
+        &format!("{} ({percent:.2} % of the queries)", with_commas(rays)),
+    );
+    kv(
+        "render time",
+        &format!(
+            "{seconds:.2} s (sum of the frames' seconds; two frames are rendered at once, so the run's wall time is shorter)"
+        ),
+    );
+    kv(
+        "shadow rays per second",
+        &format!("{:.2} M", rays as f64 / seconds.max(1e-9) / 1e6),
+    );
+    if !validated.is_empty() {
+        let vq: u64 = validated.iter().map(|r| r.queries).sum();
+        let vw: u64 = validated.iter().filter_map(|r| r.wrong).sum();
+        kv(
+            "wrong predictions",
+            &format!(
+                "{} pairs, {:.4} % of the validated frames' queries",
+                with_commas(vw),
+                100.0 * vw as f64 / (vq.max(1)) as f64
+            ),
+        );
+    }
+    h.push_str("</table>\n");
+
+    // The paper's Table 1 beside ours.
+    let one_method = rows.iter().all(|r| r.method == rows[0].method);
+    let one_count = rows.iter().all(|r| r.lights == rows[0].lights);
+    let paper = match (scene_key(dir), rows[0].method.parse::<Method>()) {
+        (Some(scene), Ok(m)) if one_method && one_count => {
+            m.paper_percent(scene, rows[0].lights).map(|p| (scene, p))
+        }
+        _ => None,
+    };
+    if let Some((scene, p)) = paper {
+        let _ = write!(
+            h,
+            "<h2>Beside the paper</h2>\n<table>\n<tr><th class=\"l\">{} lights, {}</th><th>% of queries traced</th></tr>\n\
+             <tr><td class=\"l\">Ben-Artzi et al. 2004, Table 1 (their “{}” scene, their resolution)</td><td>{p:.1}</td></tr>\n\
+             <tr><td class=\"l\">this render</td><td>{percent:.2}</td></tr>\n</table>\n",
+            rows[0].lights,
+            esc(&rows[0].method),
+            esc(scene)
+        );
+    }
+
+    // Frames.
+    h.push_str("<h2>Frames</h2>\n");
+    if has_previews {
+        h.push_str(
+            "<div class=\"pics\">\n<figure><img src=\"report/contact_sheet.png\" alt=\"contact sheet of the frames\">\
+             <figcaption>Contact sheet: every frame, left to right, top to bottom.</figcaption></figure>\n\
+             <figure><img src=\"report/turntable.gif\" alt=\"animated preview\">\
+             <figcaption>Animated preview (GIF, 12.5 frames per second).</figcaption></figure>\n</div>\n",
+        );
+    } else {
+        h.push_str(
+            "<p class=\"note\">No frame PNG could be read: no contact sheet or preview.</p>\n",
+        );
+    }
+
+    // Savings plot.
+    h.push_str("<h2>Savings per frame</h2>\n");
+    for (s, &(top, step)) in series.iter().zip(axes) {
+        let _ = write!(
+            h,
+            "<figure class=\"plot\"><figcaption>{} ({})</figcaption><div class=\"ylab\">",
+            esc(s.title),
+            esc(s.unit)
+        );
+        let steps = (top / step).round() as usize;
+        for k in (0..=steps).rev() {
+            let _ = write!(h, "<span>{}</span>", tick(k as f64 * step));
+        }
+        let _ = writeln!(
+            h,
+            "</div><img src=\"report/{}\" width=\"{}\" height=\"{}\" alt=\"{}\">\
+             <div class=\"xlab\"><span>frame {}</span><span>frame {}</span></div></figure>",
+            s.file,
+            PLOT_SIZE.0,
+            PLOT_SIZE.1,
+            esc(s.title),
+            rows[0].frame,
+            rows[rows.len() - 1].frame
+        );
+    }
+
+    // Heat maps.
+    h.push_str("<h2>Where the rays went</h2>\n");
+    let _ = writeln!(
+        h,
+        "<div class=\"scale\">shadow rays traced per pixel: 0 <img src=\"report/scale_rays.png\" alt=\"colour scale\" width=\"256\" height=\"14\"> {} or more ({RAYS_SCALE_PERCENTILE}th percentile over all frames; click a map for full size)</div>",
+        tick(rays_max as f64)
+    );
+    if any_wrong {
+        let _ = writeln!(
+            h,
+            "<div class=\"scale\">wrong pixel–light pairs (validation; grey: none): 1 <img src=\"report/scale_wrong.png\" alt=\"colour scale\" width=\"256\" height=\"14\"> {}</div>",
+            tick(wrong_max.max(1.0) as f64)
+        );
+    }
+    h.push_str("<table class=\"frames\">\n<tr><th>frame</th><th>image</th><th>rays per pixel</th>");
+    if any_wrong {
+        h.push_str("<th>wrong predictions</th>");
+    }
+    h.push_str("<th>traced</th><th>seconds</th>");
+    if any_wrong {
+        h.push_str("<th>error</th><th>wrong pixels</th><th>PSNR</th>");
+    }
+    h.push_str("<th class=\"l\">camera → target, vertical fov</th></tr>\n");
+    for (r, fi) in rows.iter().zip(images) {
+        let _ = write!(h, "<tr><td>{}</td>", r.frame);
+        let frame_png = format!("frame_{:04}.png", r.frame);
+        if fi.png {
+            let _ = write!(
+                h,
+                "<td><a href=\"{0}\"><img src=\"{0}\" alt=\"frame {1}\"></a></td>",
+                frame_png, r.frame
+            );
+        } else {
+            h.push_str("<td>—</td>");
+        }
+        match &fi.rays_map {
+            Some(m) => {
+                let _ = write!(
+                    h,
+                    "<td><a href=\"report/{m}\"><img src=\"report/{m}\" alt=\"rays of frame {}\"></a></td>",
+                    r.frame
+                );
+            }
+            None => h.push_str("<td>—</td>"),
+        }
+        if any_wrong {
+            match &fi.wrong_map {
+                Some(m) => {
+                    let _ = write!(
+                        h,
+                        "<td><a href=\"report/{m}\"><img src=\"report/{m}\" alt=\"wrong predictions of frame {}\"></a></td>",
+                        r.frame
+                    );
+                }
+                None => h.push_str("<td>—</td>"),
+            }
+        }
+        let _ = write!(h, "<td>{:.2} %</td><td>{:.3}</td>", r.percent, r.seconds);
+        if any_wrong {
+            let opt = |v: Option<String>| v.unwrap_or_else(|| "—".into());
+            let _ = write!(
+                h,
+                "<td>{}</td><td>{}</td><td>{}</td>",
+                opt(r.error_percent.map(|e| format!("{e:.4} %"))),
+                opt(r.wrong_pixels.map(|w| w.to_string())),
+                opt(r.psnr_db.map(|p| if p.is_finite() {
+                    format!("{p:.1} dB")
+                } else {
+                    "∞".into()
+                }))
+            );
+        }
+        let c = r.camera;
+        let t = r.target;
+        let _ = write!(
+            h,
+            "<td class=\"l\">({:.2}, {:.2}, {:.2}) → ({:.2}, {:.2}, {:.2}), {:.1}°",
+            c[0], c[1], c[2], t[0], t[1], t[2], r.vfov_deg
+        );
+        if let Some(p) = &fi.problem {
+            let _ = write!(h, "<br><span class=\"note\">{}</span>", esc(p));
+        }
+        h.push_str("</td></tr>\n");
+    }
+    h.push_str("</table>\n");
+
+    // Lights.
+    h.push_str("<h2>Lights over the environment map</h2>\n");
+    match lights_note {
+        Ok(source) => {
+            let _ = writeln!(
+                h,
+                "<figure><img src=\"report/lights.png\" alt=\"lights over the environment map\" style=\"max-width:100%\">\
+                 <figcaption>{} lights from {}: cell borders in magenta, each light a cross, yellow for the dimmest to red for the brightest.</figcaption></figure>",
+                esc(&nlights),
+                esc(source)
+            );
+        }
+        Err(why) => {
+            let _ = writeln!(
+                h,
+                "<p class=\"note\">No picture of the lights: {}</p>",
+                esc(why)
+            );
+        }
+    }
+    h.push_str("<p><small>Written by envshadow report from stats.csv, the frames and lights.json in this folder.</small></p>\n</body>\n</html>\n");
+    h
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nice_axes_cover_the_maximum() {
+        for max in [0.003, 0.7, 1.0, 6.3, 7.9, 12.0, 99.0, 1234.0] {
+            let (top, step) = nice_axis(max);
+            assert!(top >= max && top <= max * 2.6 + step, "{max}: {top} {step}");
+            let n = top / step;
+            assert!((n - n.round()).abs() < 1e-9 && (1.0..=5.0).contains(&n.round()));
+        }
+        assert_eq!(nice_axis(0.0), (1.0, 0.25));
+    }
+
+    #[test]
+    fn escapes_markup() {
+        assert_eq!(
+            esc("<a href=\"x\">&'"),
+            "&lt;a href=&quot;x&quot;&gt;&amp;&#39;"
+        );
+    }
+
+    #[test]
+    fn ramp_runs_dark_to_bright() {
+        assert_eq!(ramp(0.0), [0, 0, 4]);
+        assert_eq!(ramp(1.0), [252, 255, 164]);
+        assert_eq!(ramp(f32::NAN), ramp(0.0));
+    }
+}
