@@ -150,13 +150,7 @@ pub fn render_frame(
     );
     if phases > 0 {
         let reach = region.map(|r| {
-            let d = predictor.shared_reach();
-            let grown = Rect::new(
-                r.x0.saturating_sub(d),
-                r.y0.saturating_sub(d),
-                r.x1 + d,
-                r.y1 + d,
-            );
+            let grown = r.grow(predictor.shared_reach());
             tiles(anim.width, anim.height, anim.tile, Some(grown))
         });
         let shared_tiles = reach.as_ref().unwrap_or(&list);

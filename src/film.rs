@@ -57,11 +57,6 @@ impl Film {
         self.counts += tile.counts;
     }
 
-    /// The full frame's rectangle.
-    pub fn rect(&self) -> Rect {
-        Rect::frame(self.width, self.height)
-    }
-
     /// With validation: the beauty against the brute-force image over `region` (the rendered
     /// pixels); the relative RMSE is relative to the brute-force image's mean.
     pub fn image_error(&self, region: Rect, exposure: f32) -> Option<ImageError> {

@@ -188,11 +188,6 @@ impl Blockers {
         self.dist.push(dist);
         self.len[i] += 1;
     }
-
-    /// Bytes held (for the memory figures).
-    pub fn bytes(&self) -> usize {
-        self.start.capacity() * 8 + self.light.capacity() * 2 + self.dist.capacity() * 4
-    }
 }
 
 /// Per-tile working buffers, reused across tiles by one thread. Flat arrays and bitsets only:

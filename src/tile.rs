@@ -37,6 +37,15 @@ impl Rect {
     pub fn contains(&self, x: u32, y: u32) -> bool {
         x >= self.x0 && x < self.x1 && y >= self.y0 && y < self.y1
     }
+    /// This rectangle grown by `d` pixels on every side (not below 0; clip with `intersect`).
+    pub fn grow(&self, d: u32) -> Rect {
+        Rect::new(
+            self.x0.saturating_sub(d),
+            self.y0.saturating_sub(d),
+            self.x1 + d,
+            self.y1 + d,
+        )
+    }
     /// The overlap of two rectangles (empty if they do not meet).
     pub fn intersect(&self, other: &Rect) -> Rect {
         let x0 = self.x0.max(other.x0);

@@ -6,11 +6,13 @@
 //! pass B predicts the edge midpoints from their four axis neighbours at distance s. A pass
 //! reads only earlier passes, so the pixels of a pass are independent of each other.
 //!
-//! Tiles [ours]: within a level a pixel reads at most s away along an axis, and a pass-B pixel
-//! reads pass-A centres that read s further: 2s = h per level, so dependencies reach at most
-//! h0 + h0/2 + … + 2 = 2(h0 − 1) pixels away, and a tile's region is the tile grown by that. Inside it, only the pixels the tile
-//! transitively depends on are evaluated — marked walking the passes backwards — so a tile
-//! produces exactly the whole-frame render's pixels and counts, with a small halo.
+//! Tiles [ours]: the coarse grid and the h0 level are evaluated once per frame into a
+//! [`Lattice`] shared by all tiles (phase by phase, each pixel by the tile containing it). Then
+//! each tile evaluates the finer passes. Within a level a pixel reads at most s away along an
+//! axis, and a pass-B pixel reads pass-A centres that read s further: 2s per level, so the
+//! final phase reaches h0/2 + … + 2 = h0 − 2 pixels beyond the tile. Inside that region only
+//! the pixels the tile transitively depends on are evaluated — marked walking the passes
+//! backwards — so a tile produces exactly the whole-frame render's pixels and counts.
 
 use super::correct::{Flood, Rule, Vote, solve_pixel};
 use super::{Lattice, LatticePatch, Params, Predictor};
@@ -189,13 +191,7 @@ impl Predictor for Grid {
             self.final_reach()
         };
         let frame = Rect::frame(ctx.camera.width, ctx.camera.height);
-        Rect::new(
-            tile.x0.saturating_sub(reach),
-            tile.y0.saturating_sub(reach),
-            tile.x1 + reach,
-            tile.y1 + reach,
-        )
-        .intersect(&frame)
+        tile.grow(reach).intersect(&frame)
     }
 
     fn solve(

@@ -69,12 +69,6 @@ impl Lattice {
         (c < self.cols && r < self.rows).then_some((r * self.cols + c) as usize)
     }
 
-    /// Has pixel (x, y) been evaluated?
-    #[inline]
-    pub fn has(&self, x: u32, y: u32) -> bool {
-        self.index(x, y).is_some_and(|k| self.have[k])
-    }
-
     /// Copies evaluated pixel (x, y) into region pixel `i` of `work`.
     pub fn copy_into(&self, x: u32, y: u32, work: &mut TileWork, i: usize) -> bool {
         let Some(k) = self.index(x, y).filter(|&k| self.have[k]) else {
