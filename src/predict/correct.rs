@@ -93,6 +93,9 @@ pub struct Rule {
     pub vote: Vote,
     pub flood: Flood,
     pub min_voters: u32,
+    /// Which blockers a pixel keeps for later warping: only its traced hits ([paper] §3), or
+    /// also, for lights predicted blocked, the warped blocker that voted for them ([ours]).
+    pub keep_predicted: bool,
 }
 
 /// Predicts and corrects region pixel `i` (already begun) from the region pixels `voters`
@@ -280,8 +283,8 @@ pub fn solve_pixel(
     }
     rays[i] = n;
 
-    // 4. Blockers of this pixel: traced hits, and for predicted-blocked lights the warped
-    //    blocker that voted for them.
+    // 4. Blockers of this pixel: traced hits, and (rule.keep_predicted) for predicted-blocked
+    //    lights the warped blocker that voted for them.
     if keep_blockers {
         blockers.begin(i);
         for m in 0..w {
@@ -291,7 +294,7 @@ pub fn solve_pixel(
                 blocked &= blocked - 1;
                 if bits::get(tr, j) {
                     blockers.push(i, j, sc.hit_dist[j]);
-                } else if sc.best_dot[j] > f32::NEG_INFINITY {
+                } else if rule.keep_predicted && sc.best_dot[j] > f32::NEG_INFINITY {
                     blockers.push(i, j, sc.best_dist[j]);
                 }
             }

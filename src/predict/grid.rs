@@ -40,6 +40,9 @@ impl Grid {
                 vote,
                 flood,
                 min_voters,
+                // [ours]: a grid voter is s pixels away and every light it predicted
+                // blocked should still vote (docs/methods.md).
+                keep_predicted: true,
             },
             h0: params.h0,
         }

@@ -1,5 +1,5 @@
 //! Scanline order (ALGORITHM.md §5) [paper]: pixels in row-major order, each predicted from
-//! its left, upper-left and upper neighbours' warped blockers; any vote → blocked; boundary
+//! its left, upper-left and upper neighbours' warped blockers (traced hits only); any vote → blocked; boundary
 //! flooding; a pixel with no voters is traced in full.
 //!
 //! Tiles [ours]: in the paper the scan runs over the whole frame, so a pixel depends on every
@@ -54,6 +54,10 @@ impl Predictor for Scanline {
             vote: Vote::Warp,
             flood: Flood::Boundary,
             min_voters: 1,
+            // [paper] §3: only traced hits are blockers. Keeping predicted ones too lets a
+            // misprediction travel along the row: fewer rays, up to 3× the wrong pairs at
+            // 400 lights (docs/methods.md).
+            keep_predicted: false,
         };
         let mut voters = [0usize; 3];
         for y in region.y0..region.y1 {
