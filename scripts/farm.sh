@@ -105,7 +105,7 @@ for f in "${flags[@]}"; do qflags+=" $(q "$f")"; done
 par=(parallel --sshloginfile "$hosts" --ssh "$ssh_full")
 if [ $shared = 1 ]; then
     rbin=${remote_bin:-$bin}
-    job_cmd="cd $(q "$PWD") && $(q "$rbin") render $(q "$spec_abs") --job {1} --of $jobs ${by:+--by $by} --out $(q "$out") --resume --quiet$qflags"
+    job_cmd="cd $(q "$PWD") && $(q "$rbin") render $(q "$spec_abs") --job {1} --of $jobs ${by:+--by $by} --out $(q "$out") --resume$qflags"
     check_cmd="$(q "$rbin") version --build"
 else
     # Ship the spec and its inputs with their layout below their common folder, so the
@@ -128,7 +128,7 @@ else
         rbin=./envshadow-farm.bin
     fi
     par+=(--workdir ".envshadow-farm/$run_id")
-    job_cmd="$rbin render $(q "$spec_rel") --job {1} --of $jobs ${by:+--by $by} --out . --resume --quiet$qflags && tar cf jobs/{4}.tar -C jobs {4} && rm -rf jobs/{4}"
+    job_cmd="$rbin render $(q "$spec_rel") --job {1} --of $jobs ${by:+--by $by} --out . --resume$qflags && tar cf jobs/{4}.tar -C jobs {4} && rm -rf jobs/{4}"
     check_cmd="$rbin version --build"
 fi
 

@@ -341,7 +341,9 @@ pub fn render_animation(
                         break;
                     }
                     let rendered = pool.install(|| match &opts.job {
-                        Some(job) => render_frame_tiles(anim, inputs, todo[k], job.tiles(), progress),
+                        Some(job) => {
+                            render_frame_tiles(anim, inputs, todo[k], job.tiles(), progress)
+                        }
                         None => render_frame(anim, inputs, todo[k], opts.region, progress),
                     });
                     match rendered {

@@ -9,9 +9,7 @@ use std::path::Path;
 use glam::Vec3;
 
 use crate::error::{Result, input_error};
-use crate::farm::job::{
-    Manifest, Settings, TileFrame, bounding, read_manifest, tiles_path,
-};
+use crate::farm::job::{Manifest, Settings, TileFrame, bounding, read_manifest, tiles_path};
 use crate::farm::plan::{Job, PlanRequest, plan};
 use crate::farm::{PlanFile, identity};
 use crate::film::Film;
@@ -19,6 +17,9 @@ use crate::output::exr::read_frame;
 use crate::output::stats::{Counts, FrameStats, StatsFile};
 use crate::output::write_atomic;
 use crate::tile::Tile;
+
+/// How `read_piece` says a frame's files are absent (not corrupt).
+const NOT_RENDERED: &str = "not rendered: no ";
 
 /// What `assemble` did.
 #[derive(Debug, Default)]
@@ -238,7 +239,10 @@ pub fn assemble(dir: &Path) -> Result<Assembled> {
         let mut counts = Counts::default();
         let mut seconds = 0.0;
         let mut meta: Option<TileFrame> = None;
-        for s in sources.iter().filter(|s| s.manifest.job.frames.contains(&f)) {
+        for s in sources
+            .iter()
+            .filter(|s| s.manifest.job.frames.contains(&f))
+        {
             if s.tiles.iter().any(|t| covered[t.index]) {
                 continue; // another job already gave these tiles
             }
@@ -309,6 +313,7 @@ pub fn assemble(dir: &Path) -> Result<Assembled> {
             let corrupt: Vec<String> = owed_frames
                 .iter()
                 .filter_map(|f| file_problem.get(&(folder.clone(), *f)).cloned())
+                .filter(|p| !p.starts_with(NOT_RENDERED))
                 .collect();
             if corrupt.is_empty() {
                 format!(
@@ -351,10 +356,10 @@ fn read_piece(
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default()
     };
-    let text = std::fs::read_to_string(&json)
-        .map_err(|_| format!("frame {f} not rendered ({} missing)", name(&json)))?;
-    let tf: TileFrame = serde_json::from_str(&text)
-        .map_err(|e| format!("{}: unreadable: {e}", name(&json)))?;
+    let text =
+        std::fs::read_to_string(&json).map_err(|_| format!("{NOT_RENDERED}{}", name(&json)))?;
+    let tf: TileFrame =
+        serde_json::from_str(&text).map_err(|e| format!("{}: unreadable: {e}", name(&json)))?;
     if tf.frame != f {
         return Err(format!("{}: says frame {}", name(&json), tf.frame));
     }

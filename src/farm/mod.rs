@@ -91,7 +91,11 @@ pub fn write_plan(anim: &Animation, spec: &Path, jobs: usize, by: Option<By>) ->
 #[derive(Clone, Debug)]
 pub enum JobSelection {
     /// Job K of the plan for N jobs.
-    Planned { index: usize, of: usize, by: Option<By> },
+    Planned {
+        index: usize,
+        of: usize,
+        by: Option<By>,
+    },
     /// Explicit tiles through the animation's (selected) frames.
     Tiles(TileSet),
 }

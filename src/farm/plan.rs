@@ -199,7 +199,10 @@ pub fn plan(req: &PlanRequest) -> Result<Vec<Job>> {
         return Err(input_error("--jobs", "zero jobs: ask for at least 1"));
     }
     if req.frames.is_empty() || req.tiles == 0 {
-        return Err(input_error("--frames", "nothing to render: no frames or no tiles"));
+        return Err(input_error(
+            "--frames",
+            "nothing to render: no frames or no tiles",
+        ));
     }
     let align = req.alignment.max(1);
     if align > 1 && req.by != By::Frames {
@@ -265,7 +268,13 @@ pub fn job_lines(jobs: &[Job]) -> String {
 mod tests {
     use super::*;
 
-    fn req(frames: Range<usize>, tiles: usize, alignment: usize, jobs: usize, by: By) -> PlanRequest {
+    fn req(
+        frames: Range<usize>,
+        tiles: usize,
+        alignment: usize,
+        jobs: usize,
+        by: By,
+    ) -> PlanRequest {
         PlanRequest {
             frames,
             tiles,
@@ -322,7 +331,10 @@ mod tests {
         assert_eq!(p[0].frames.start, 3);
         for by in [By::Tiles, By::Both] {
             let e = plan(&req(0..8, 12, 4, 3, by)).unwrap_err().to_string();
-            assert!(e.contains("whole frames") && e.contains("--by frames"), "{e}");
+            assert!(
+                e.contains("whole frames") && e.contains("--by frames"),
+                "{e}"
+            );
         }
         assert_eq!(default_by(4), By::Frames);
         assert_eq!(default_by(1), By::Tiles);
