@@ -196,7 +196,7 @@ array_cmd=() assemble_cmd=()
 if [ ${#todo[@]} -gt 0 ]; then
     array=$(ranges "${todo[@]}")
     [ -z "$max_running" ] || array+=%$max_running
-    array_cmd=(sbatch "${common[@]}" --job-name="$name" --array="$array" --requeue
+    array_cmd=(sbatch "${common[@]}" --job-name="$name" --array="$array" --requeue --open-mode=append
         --output="$out_abs/logs/render-%A_%a.log")
     [ -z "$cpus" ] || array_cmd+=(--cpus-per-task="$cpus")
     array_cmd+=("$render_script")
@@ -291,7 +291,11 @@ while :; do
                 if (s != "COMPLETED") { printf "%s%s (%s)", sep, t, s; sep = ", " } }')
             [ -z "$failed" ] || say "render tasks that did not succeed: $failed; logs $out_abs/logs/render-${array_id}_TASK.log"
         fi
-        say "assembly job $assemble_id ended $state${reason:+ ($reason)}; see $out_abs/logs/assemble-$assemble_id.log; run the same command again to render what is missing"
+        if [ "$reason" = DependencyNeverSatisfied ]; then
+            say "assembly job $assemble_id was not run: render tasks failed; run the same command again to render what is missing"
+        else
+            say "assembly job $assemble_id ended $state${reason:+ ($reason)}; see $out_abs/logs/assemble-$assemble_id.log; run the same command again to render what is missing"
+        fi
         exit 1
         ;;
     esac

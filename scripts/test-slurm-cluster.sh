@@ -25,7 +25,7 @@
 # they wrote; slurmstepd (one per running job step) outlives a stopped slurmd and ignores
 # SIGTERM, so every process that still carries this cluster's SLURM_CONF in its environment is
 # then killed by PID as well. Exit: 0 done, 1 a daemon did not start (its log is printed),
-# 2 bad usage or Slurm not installed.
+# 2 bad usage or Slurm not installed; `down` exits 1 if a process of the cluster survived.
 set -euo pipefail
 
 die() { echo "test-slurm-cluster.sh: $*" >&2; exit 2; }
@@ -250,12 +250,15 @@ down() {
         for pid in $left; do wait_gone "$pid" 30 || true; done
     done
     left=$(cluster_pids "$conf" | tr '\n' ' ')
-    [ -z "${left// /}" ] || log "warning: processes of the cluster still alive: $left"
+    local rc=0
+    [ -z "${left// /}" ] || { log "processes of the cluster still alive: $left"; rc=1; }
 
     # munged last: the daemons above needed it to the end.
     if pid=$(live_pid "$dir/run/munged.pid" munged); then stop_pid "$pid" munged; fi
+    if pid=$(live_pid "$dir/run/munged.pid" munged); then log "munged (PID $pid) is still running"; rc=1; fi
     rm -f "$dir/munge/munge.socket" "$dir/munge/munge.socket.lock"
-    log "cluster in $dir stopped"
+    [ $rc != 0 ] || log "cluster in $dir stopped"
+    return $rc
 }
 
 # --- kill-node ----------------------------------------------------------------------------

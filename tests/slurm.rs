@@ -1,0 +1,421 @@
+//! Slurm job arrays (issue 9): scripts/slurm.sh submits a plan as one job array plus a
+//! dependent assembly, here on a private three-node cluster that scripts/test-slurm-cluster.sh
+//! brings up in a temporary folder (own munge key and socket, one slurm.conf through
+//! SLURM_CONF, nothing under /etc) and stops by PID, slurmstepd included, even when a check
+//! fails. Skipped with a printed reason where Slurm is not installed; under CI it must run
+//! (.ci/run installs slurm-wlm and munge).
+
+mod common;
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const SLURMCTLD: &str = "/usr/sbin/slurmctld";
+/// Small and quick: 96×72 in tiles of 32 is 3×3 tiles, 20 lights, the 6 frames the issue asks.
+const FLAGS: [&str; 10] = [
+    "--frames", "0..6", "--width", "96", "--height", "72", "--lights", "20", "--tile", "32",
+];
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn spec() -> PathBuf {
+    root().join("anims/shapes-turntable.toml")
+}
+
+/// Whether to run: Slurm present, or fail on CI where .ci/run installs it.
+fn have_slurm() -> bool {
+    if Path::new(SLURMCTLD).exists() {
+        return true;
+    }
+    assert!(
+        std::env::var("CI").as_deref() != Ok("true"),
+        "{SLURMCTLD} is missing on CI: .ci/run installs it (apt-get install slurm-wlm munge)"
+    );
+    eprintln!(
+        "SKIPPED the Slurm test: {SLURMCTLD} not found (apt-get install slurm-wlm munge to run it)"
+    );
+    false
+}
+
+fn text(o: &Output) -> String {
+    format!(
+        "exit {:?}\nstdout:\n{}\nstderr:\n{}",
+        o.status.code(),
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+/// A running test cluster; stopped (by PID, every daemon and leftover job step) when dropped,
+/// so a failing check does not leave daemons behind.
+struct Cluster {
+    dir: PathBuf,
+    up: bool,
+}
+
+impl Cluster {
+    fn start(dir: PathBuf) -> Cluster {
+        let o = Command::new("bash")
+            .arg(root().join("scripts/test-slurm-cluster.sh"))
+            .arg("up")
+            .arg(&dir)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "cluster did not come up: {}", text(&o));
+        Cluster { dir, up: true }
+    }
+
+    fn conf(&self) -> PathBuf {
+        self.dir.join("slurm.conf")
+    }
+
+    /// scripts/slurm.sh with this cluster and the test binary; returns its output.
+    fn slurm_sh(&self, out: &Path, args: &[&str]) -> Output {
+        Command::new("bash")
+            .arg(root().join("scripts/slurm.sh"))
+            .arg(spec())
+            .arg("--out")
+            .arg(out)
+            .args(args)
+            .arg("--")
+            .args(FLAGS)
+            .env("SLURM_CONF", self.conf())
+            .env("ENVSHADOW", env!("CARGO_BIN_EXE_envshadow"))
+            .output()
+            .unwrap()
+    }
+
+    /// Stops the cluster; checks that nothing of it survived.
+    fn stop(mut self) {
+        let o = self.down();
+        assert!(
+            o.status.success(),
+            "cluster did not stop cleanly: {}",
+            text(&o)
+        );
+    }
+
+    fn down(&mut self) -> Output {
+        self.up = false;
+        Command::new("bash")
+            .arg(root().join("scripts/test-slurm-cluster.sh"))
+            .arg("down")
+            .arg(&self.dir)
+            .output()
+            .unwrap()
+    }
+}
+
+impl Drop for Cluster {
+    fn drop(&mut self) {
+        if self.up {
+            let o = self.down();
+            eprintln!("{}", String::from_utf8_lossy(&o.stderr));
+        }
+    }
+}
+
+/// The one-process render the farm output must equal.
+fn reference(dir: &Path) -> PathBuf {
+    let out = dir.join("reference");
+    let o = common::bin()
+        .arg("render")
+        .arg(spec())
+        .arg("--out")
+        .arg(&out)
+        .args(["-q", "--no-report"])
+        .args(FLAGS)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    out
+}
+
+/// stats.csv without its timing column, which differs between any two runs.
+fn stats_without_seconds(path: &Path) -> String {
+    let s = fs::read_to_string(path).unwrap();
+    let mut lines = s.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = header.iter().position(|&h| h == "seconds").unwrap();
+    let mut rows = vec![header.join(",")];
+    for l in lines {
+        let mut f: Vec<&str> = l.split(',').collect();
+        f[col] = "";
+        rows.push(f.join(","));
+    }
+    rows.join("\n")
+}
+
+/// Every frame file and lights.json byte for byte, and stats.csv but for the seconds.
+fn assert_same_frames(reference: &Path, out: &Path) {
+    let mut n = 0;
+    for e in fs::read_dir(reference).unwrap() {
+        let name = e.unwrap().file_name().into_string().unwrap();
+        if name.starts_with("frame_") || name == "lights.json" {
+            let a = fs::read(reference.join(&name)).unwrap();
+            let b = fs::read(out.join(&name))
+                .unwrap_or_else(|e| panic!("{}: {e}", out.join(&name).display()));
+            assert!(a == b, "{name} differs from the one-process render");
+            n += 1;
+        }
+    }
+    assert_eq!(n, 6 * 2 + 1, "6 EXR and 6 PNG frames and lights.json");
+    assert_eq!(
+        stats_without_seconds(&reference.join("stats.csv")),
+        stats_without_seconds(&out.join("stats.csv"))
+    );
+}
+
+/// The array ids slurm.sh submitted, in order, from DIR/logs/submissions.log.
+fn submitted_arrays(out: &Path) -> Vec<String> {
+    let log = fs::read_to_string(out.join("logs/submissions.log")).unwrap();
+    log.split_whitespace()
+        .filter_map(|w| w.strip_prefix("--array="))
+        .map(|a| a.replace('\\', "")) // the log quotes for the shell: 1\,3
+        .collect()
+}
+
+/// The render task logs of one array: (task, text).
+fn task_logs(out: &Path) -> Vec<(String, String)> {
+    let mut v: Vec<(String, String)> = fs::read_dir(out.join("logs"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            p.file_name()
+                .unwrap()
+                .to_string_lossy()
+                .starts_with("render-")
+        })
+        .map(|p| {
+            let name = p.file_stem().unwrap().to_string_lossy().to_string();
+            (name, fs::read_to_string(&p).unwrap())
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+fn job_folders(out: &Path) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = fs::read_dir(out.join("jobs"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.is_dir())
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn slurm_array_matches_one_process_render_and_a_resubmission_renders_only_missing_jobs() {
+    if !have_slurm() {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let cluster = Cluster::start(tmp.path().join("cluster"));
+    let reference = reference(tmp.path());
+    let out = tmp.path().join("farm");
+
+    // 9 tiles in 5 jobs (uneven tile strips), 2 threads per task: the 3 nodes of 2 CPUs
+    // take them all at once.
+    let o = cluster.slurm_sh(&out, &["--jobs", "5", "--cpus-per-task", "2", "--wait"]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert_same_frames(&reference, &out);
+    assert_eq!(submitted_arrays(&out), ["0-4"]);
+    let logs = task_logs(&out);
+    assert_eq!(logs.len(), 5, "one log per task: {logs:?}");
+    for (name, log) in &logs {
+        assert!(log.contains(", 2 threads,"), "{name}: {log}");
+        assert!(
+            log.contains("6 frames rendered, 0 skipped"),
+            "{name}: {log}"
+        );
+    }
+    let nodes: std::collections::BTreeSet<&str> = logs
+        .iter()
+        .filter_map(|(_, l)| l.split(" node ").nth(1)?.split(',').next())
+        .collect();
+    assert!(nodes.len() > 1, "tasks ran on one node only: {nodes:?}");
+
+    // Lose job 1's folder and frame 4 of job 3, and the assembled frames: a re-submission
+    // sends only jobs 1 and 3, job 3 renders only frame 4, and the frames come back the same.
+    let folders = job_folders(&out);
+    assert_eq!(folders.len(), 5);
+    fs::remove_dir_all(&folders[1]).unwrap();
+    fs::remove_file(folders[3].join("tiles_0004.json")).unwrap();
+    fs::remove_file(folders[3].join("tiles_0004.exr")).unwrap();
+    for f in 0..6 {
+        fs::remove_file(out.join(format!("frame_{f:04}.exr"))).unwrap();
+    }
+    let o = cluster.slurm_sh(&out, &["--jobs", "5", "--cpus-per-task", "2", "--wait"]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert_eq!(submitted_arrays(&out), ["0-4", "1,3"]);
+    let second: Vec<(String, String)> = task_logs(&out)
+        .into_iter()
+        .filter(|(n, _)| !logs.iter().any(|(m, _)| m == n))
+        .collect();
+    assert_eq!(second.len(), 2, "{second:?}");
+    assert!(
+        second[0].1.contains("6 frames rendered, 0 skipped"),
+        "{second:?}"
+    );
+    assert!(
+        second[1].1.contains("1 frames rendered, 5 skipped"),
+        "{second:?}"
+    );
+    assert_same_frames(&reference, &out);
+
+    // Everything rendered: a third submission only assembles.
+    let o = cluster.slurm_sh(&out, &["--jobs", "5", "--wait"]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("all 5 jobs are already rendered"),
+        "{}",
+        text(&o)
+    );
+    assert_eq!(submitted_arrays(&out).len(), 2);
+    assert_same_frames(&reference, &out);
+    cluster.stop();
+}
+
+/// A wrapper around the test binary, for the nodes to run instead of it.
+fn wrapper(dir: &Path, name: &str, body: &str) -> PathBuf {
+    let p = dir.join(name);
+    fs::write(
+        &p,
+        format!(
+            "#!/bin/sh\n{body}\nexec {} \"$@\"\n",
+            env!("CARGO_BIN_EXE_envshadow")
+        ),
+    )
+    .unwrap();
+    Command::new("chmod").arg("755").arg(&p).status().unwrap();
+    p
+}
+
+#[test]
+fn failed_tasks_are_requeued_and_a_node_with_another_build_is_refused() {
+    if !have_slurm() {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let cluster = Cluster::start(tmp.path().join("cluster"));
+    let reference = reference(tmp.path());
+
+    // Every render fails on its first attempt (exit 1, as a full disk or a lost mount would):
+    // the tasks requeue themselves and the second attempts finish the render.
+    let flaky = wrapper(
+        tmp.path(),
+        "flaky.sh",
+        "if [ \"$1\" = render ] && [ \"${SLURM_RESTART_COUNT:-0}\" = 0 ]; then echo 'flaky: simulated failure' >&2; exit 1; fi",
+    );
+    let out = tmp.path().join("flaky");
+    let o = cluster.slurm_sh(
+        &out,
+        &[
+            "--jobs",
+            "3",
+            "--envshadow",
+            flaky.to_str().unwrap(),
+            "--wait",
+        ],
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    assert_same_frames(&reference, &out);
+    for (name, log) in task_logs(&out) {
+        assert!(log.contains("flaky: simulated failure"), "{name}: {log}");
+        assert!(log.contains("attempt 2,"), "{name}: {log}");
+    }
+
+    // A node whose envshadow has another build is refused by every task (bad input, no
+    // retry), the assembly never runs, and --wait says which tasks failed.
+    let other = wrapper(
+        tmp.path(),
+        "other-build.sh",
+        "if [ \"$1\" = version ]; then echo 'envshadow 0.1.0 build 0000000000000000'; exit 0; fi",
+    );
+    let out = tmp.path().join("other-build");
+    let o = cluster.slurm_sh(
+        &out,
+        &[
+            "--jobs",
+            "2",
+            "--envshadow",
+            other.to_str().unwrap(),
+            "--wait",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("render tasks that did not succeed: "), "{err}");
+    assert!(err.contains("was not run"), "{err}");
+    for (name, log) in task_logs(&out) {
+        assert!(
+            log.contains("refused: this node runs 'envshadow 0.1.0 build 0000000000000000'"),
+            "{name}: {log}"
+        );
+        assert!(!log.contains("attempt 2"), "{name}: {log}");
+    }
+    assert!(!out.join("frame_0000.exr").exists());
+    cluster.stop();
+}
+
+#[test]
+fn without_sbatch_slurm_sh_says_so_and_a_dry_run_prints_the_array() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("out");
+    // No Slurm client on PATH (an empty folder): one clear line, exit 2.
+    let o = Command::new("/bin/bash")
+        .arg(root().join("scripts/slurm.sh"))
+        .arg(spec())
+        .arg("--out")
+        .arg(&out)
+        .env("PATH", tmp.path())
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2), "{}", text(&o));
+    assert!(
+        String::from_utf8_lossy(&o.stderr)
+            .contains("sbatch not found: run this on a Slurm submit host"),
+        "{}",
+        text(&o)
+    );
+
+    // A dry run needs no Slurm, prints both sbatch commands and writes nothing into DIR.
+    let o = Command::new("bash")
+        .arg(root().join("scripts/slurm.sh"))
+        .arg(spec())
+        .args(["--out"])
+        .arg(&out)
+        .args(["--jobs", "4", "--partition", "gpu", "--time", "1:00:00"])
+        .args(["--cpus-per-task", "8", "--dry-run", "--"])
+        .args(FLAGS)
+        .env("ENVSHADOW", env!("CARGO_BIN_EXE_envshadow"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    let s = String::from_utf8_lossy(&o.stdout);
+    let array = s
+        .lines()
+        .find(|l| l.starts_with("sbatch") && l.contains("--array="))
+        .unwrap_or_else(|| panic!("{s}"));
+    for want in [
+        "--array=0-3 ",
+        "--requeue",
+        "--partition=gpu",
+        "--time=1:00:00",
+        "--cpus-per-task=8",
+    ] {
+        assert!(array.contains(want), "{want} missing: {array}");
+    }
+    assert!(s.contains("--job \"$task\" --of 4"), "{s}");
+    assert!(s.contains("--resume --threads \"$threads\""), "{s}");
+    assert!(
+        s.lines()
+            .any(|l| l.starts_with("sbatch") && l.contains("--dependency=afterok:")),
+        "{s}"
+    );
+    assert!(!out.exists(), "a dry run wrote {}", out.display());
+}
