@@ -363,6 +363,82 @@ fn failed_tasks_are_requeued_and_a_node_with_another_build_is_refused() {
 }
 
 #[test]
+fn a_task_whose_node_crashes_is_requeued_elsewhere() {
+    if !have_slurm() {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let cluster = Cluster::start(tmp.path().join("cluster"));
+    let reference = reference(tmp.path());
+
+    // Task 1's first attempt says where it runs and then hangs, so the test can crash that
+    // node (its slurmd and every job process on it) while the task is surely running there.
+    let marker = tmp.path().join("task1-node");
+    let hang = wrapper(
+        tmp.path(),
+        "hang.sh",
+        &format!(
+            "if [ \"$1\" = render ] && [ \"$SLURM_ARRAY_TASK_ID\" = 1 ] && [ \"${{SLURM_RESTART_COUNT:-0}}\" = 0 ]; then\n\
+             echo \"$SLURMD_NODENAME\" > {m}.tmp && mv {m}.tmp {m}; sleep 600; fi",
+            m = marker.display()
+        ),
+    );
+    let out = tmp.path().join("crash");
+    let run = Command::new("bash")
+        .arg(root().join("scripts/slurm.sh"))
+        .arg(spec())
+        .arg("--out")
+        .arg(&out)
+        .args([
+            "--jobs",
+            "3",
+            "--cpus-per-task",
+            "2",
+            "--wait",
+            "--envshadow",
+        ])
+        .arg(&hang)
+        .arg("--")
+        .args(FLAGS)
+        .env("SLURM_CONF", cluster.conf())
+        .env("ENVSHADOW", env!("CARGO_BIN_EXE_envshadow"))
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut waited = 0;
+    while !marker.exists() {
+        assert!(waited < 600, "task 1 never started");
+        std::thread::sleep(std::time::Duration::from_millis(100));
+        waited += 1;
+    }
+    let node = fs::read_to_string(&marker).unwrap().trim().to_string();
+    let o = Command::new("bash")
+        .arg(root().join("scripts/test-slurm-cluster.sh"))
+        .arg("kill-node")
+        .arg(&cluster.dir)
+        .arg(&node)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    let o = run.wait_with_output().unwrap();
+    assert!(o.status.success(), "{}", text(&o));
+    assert_same_frames(&reference, &out);
+    let logs = task_logs(&out);
+    let task1 = &logs.iter().find(|(n, _)| n.ends_with("_1")).unwrap().1;
+    assert!(
+        task1.contains(&format!("node {node}, attempt 1,")),
+        "{task1}"
+    );
+    assert!(task1.contains("attempt 2,"), "{task1}");
+    assert!(
+        !task1.contains(&format!("node {node}, attempt 2,")),
+        "{task1}"
+    );
+    cluster.stop();
+}
+
+#[test]
 fn without_sbatch_slurm_sh_says_so_and_a_dry_run_prints_the_array() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("out");
