@@ -438,11 +438,20 @@ fn farm_over_ssh_renders_the_same_frames_survives_a_crash_and_resumes() {
     // succeeded, and none of them on the crashed host after it fell.
     let attempts = joblog(&out);
     let after: Vec<_> = attempts.iter().filter(|a| a.4 > crashed_at).collect();
-    assert!(!after.is_empty(), "the crash came after the last job: {attempts:?}");
+    assert!(
+        !after.is_empty(),
+        "the crash came after the last job: {attempts:?}"
+    );
     assert!(after.iter().all(|a| a.1 != "fh3"), "{attempts:?}");
-    assert!(attempts.iter().all(|a| a.2 == 0 && a.3 == 0), "{attempts:?}");
+    assert!(
+        attempts.iter().all(|a| a.2 == 0 && a.3 == 0),
+        "{attempts:?}"
+    );
     let seqs: BTreeSet<usize> = attempts.iter().map(|a| a.0).collect();
-    let total = fs::read_to_string(out.join("jobs.txt")).unwrap().lines().count();
+    let total = fs::read_to_string(out.join("jobs.txt"))
+        .unwrap()
+        .lines()
+        .count();
     assert_eq!(seqs.len(), total);
     drop(hosts);
 }

@@ -171,16 +171,17 @@ pub fn render_job(
         plan: plan_ref,
         job: job.clone(),
     };
-    if resume && let Ok(old) = job::read_manifest(&dir) {
-        if old.settings.fingerprint != settings.fingerprint || old.build != manifest.build {
-            return Err(input_error(
-                &dir,
-                format!(
-                    "cannot resume: rendered with other settings or another build (fingerprint {} build {}, now {} build {}); remove the folder or run without --resume",
-                    old.settings.fingerprint, old.build, settings.fingerprint, manifest.build
-                ),
-            ));
-        }
+    if resume
+        && let Ok(old) = job::read_manifest(&dir)
+        && (old.settings.fingerprint != settings.fingerprint || old.build != manifest.build)
+    {
+        return Err(input_error(
+            &dir,
+            format!(
+                "cannot resume: rendered with other settings or another build (fingerprint {} build {}, now {} build {}); remove the folder or run without --resume",
+                old.settings.fingerprint, old.build, settings.fingerprint, manifest.build
+            ),
+        ));
     }
     // render_animation loads the inputs before it creates the folder, so a bad input
     // leaves no job folder; the writer publishes job.json first thing after that.
