@@ -257,13 +257,21 @@ say "logs: $out_abs/logs/ (render-${array_id:-ID}_TASK.log, assemble-$assemble_i
 # --wait: follow the assembly job until it ends. (sbatch --wait polls ever more slowly, up
 # to half a minute between looks.)
 field() { sed -n "s/.* $1=\([^ ]*\).*/\1/p"; }
-last=""
+last="" misses=0
 while :; do
-    info=$(scontrol -o show job "$assemble_id" 2>/dev/null) || info=""
-    if [ -z "$info" ]; then
-        say "job $assemble_id is no longer known to Slurm; see $out_abs/logs/assemble-$assemble_id.log"
-        exit 1
+    if ! info=$(scontrol -o show job "$assemble_id" 2>&1); then
+        if grep -q 'Invalid job id' <<<"$info"; then
+            say "job $assemble_id is no longer known to Slurm; see $out_abs/logs/assemble-$assemble_id.log"
+            exit 1
+        fi
+        # slurmctld busy or restarting: look again for a few minutes before giving up.
+        misses=$((misses + 1))
+        [ $misses -lt 60 ] || { say "scontrol keeps failing: $info"; exit 1; }
+        [ $misses != 1 ] || say "scontrol failed ($info); trying again"
+        sleep 5
+        continue
     fi
+    misses=0
     state=$(field JobState <<<"$info")
     reason=$(field Reason <<<"$info")
     if [ -n "${array_id:-}" ]; then

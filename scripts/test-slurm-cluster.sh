@@ -129,7 +129,8 @@ up() {
     [ -n "$base" ] || { log "no four free ports found"; exit 1; }
 
     local host conf=$dir/slurm.conf
-    host=$(hostname -s)
+    host=$(uname -n)
+    host=${host%%.*}
     : >"$dir/plugstack.conf"
     {
         echo "# Private test cluster made by scripts/test-slurm-cluster.sh; every path is in $dir."
