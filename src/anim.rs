@@ -671,6 +671,12 @@ impl Animation {
         Ok(())
     }
 
+    /// Frames per temporal group; frame-range jobs start on multiples of it; >1 means jobs
+    /// must be whole frames (a frame then needs its whole previous frame, not just its tiles).
+    pub fn frame_alignment(&self) -> usize {
+        1
+    }
+
     /// The scene's world transform at `frame` (spin only), about the vertical axis through the
     /// pivot (default: the camera target).
     pub fn scene_transform(&self, frame: usize, target: Vec3) -> Option<Mat4> {

@@ -54,6 +54,50 @@ pub enum Command {
     /// Write DIR/report.html about a finished render: frames, savings plot, heat maps of the
     /// rays traced (and, validated, of wrong predictions), the lights, settings and totals.
     Report(ReportArgs),
+    /// Split a render into N jobs for several machines: writes OUT/plan.json, OUT/jobs.txt
+    /// (one job per line: index, frames, tiles, folder; tab-separated for GNU parallel) and
+    /// OUT/inputs.txt, and prints the job lines. See docs/farm.md.
+    Plan(PlanArgs),
+    /// Stitch the jobs under DIR/jobs/ into DIR's frames, stats.csv and lights.json, exactly
+    /// as a one-process render writes them; names every missing or corrupt job (exit 2).
+    Assemble(AssembleArgs),
+    /// Print the version; with --build also the build identity (a hash of this executable),
+    /// which every farm host must share.
+    Version(VersionArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct PlanArgs {
+    /// The animation spec.
+    pub spec: PathBuf,
+    #[command(flatten)]
+    pub flags: AnimFlags,
+    /// Number of jobs (the plan has fewer when the work does not split that far).
+    #[arg(long, value_name = "N")]
+    pub jobs: usize,
+    /// How to split: tiles (tile strips through the frame range; the default), frames
+    /// (frame ranges; the default when frames depend on whole previous frames) or both.
+    #[arg(long, value_enum)]
+    pub by: Option<crate::farm::plan::By>,
+    /// Do not print the job lines.
+    #[arg(long, short)]
+    pub quiet: bool,
+}
+
+#[derive(Args, Debug)]
+pub struct AssembleArgs {
+    /// The farm's output folder (with plan.json and jobs/).
+    pub dir: PathBuf,
+    /// Do not write report.html (and report/).
+    #[arg(long)]
+    pub no_report: bool,
+}
+
+#[derive(Args, Debug)]
+pub struct VersionArgs {
+    /// Also print the build identity: `envshadow 0.1.0 build 0123456789abcdef`.
+    #[arg(long)]
+    pub build: bool,
 }
 
 #[derive(Args, Debug)]
@@ -152,6 +196,20 @@ pub struct RenderArgs {
     /// Do not write report.html (and report/) into the output folder at the end.
     #[arg(long)]
     pub no_report: bool,
+    /// Farm job: render job K of the plan for --of N jobs (see `envshadow plan`) into
+    /// OUT/jobs/<folder>/ as tile images and per-frame statistics.
+    #[arg(long, value_name = "K", requires = "of", conflicts_with_all = ["tiles", "region"])]
+    pub job: Option<usize>,
+    /// The plan's job count for --job.
+    #[arg(long, value_name = "N", requires = "job")]
+    pub of: Option<usize>,
+    /// The plan's split for --job (as given to `envshadow plan`).
+    #[arg(long, value_enum, requires = "job")]
+    pub by: Option<crate::farm::plan::By>,
+    /// Farm job: render these tiles (e.g. 0-4,9; frame-anchored tile numbers) of the --frames
+    /// into OUT/jobs/<folder>/, as `--job` does.
+    #[arg(long, value_name = "LIST", conflicts_with = "region")]
+    pub tiles: Option<crate::farm::plan::TileSet>,
 }
 
 #[derive(Args, Debug)]
@@ -200,6 +258,20 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Lights(args) => lights(args),
         Command::Bench(args) => bench::run(&args),
         Command::Table(args) => crate::table::run(&args),
+        Command::Plan(args) => plan(args),
+        Command::Assemble(args) => assemble(args),
+        Command::Version(args) => {
+            if args.build {
+                println!(
+                    "envshadow {} build {}",
+                    env!("CARGO_PKG_VERSION"),
+                    crate::farm::identity::build_id()?
+                );
+            } else {
+                println!("envshadow {}", env!("CARGO_PKG_VERSION"));
+            }
+            Ok(())
+        }
         Command::Report(args) => {
             let start = Instant::now();
             let page = crate::report::write_report(&args.dir)?;
@@ -213,8 +285,84 @@ pub fn run(cli: Cli) -> Result<()> {
     }
 }
 
+fn plan(args: PlanArgs) -> Result<()> {
+    let anim = Animation::load(&args.spec, &args.flags.overrides())?;
+    let jobs = crate::farm::write_plan(&anim, &args.spec, args.jobs, args.by)?;
+    if !args.quiet {
+        print!("{}", crate::farm::plan::job_lines(&jobs));
+    }
+    eprintln!(
+        "{}: {} jobs for frames {}..{} ({} asked); plan in {}",
+        anim.name,
+        jobs.len(),
+        anim.frames.start,
+        anim.frames.end,
+        args.jobs,
+        anim.out_dir.join("plan.json").display()
+    );
+    Ok(())
+}
+
+fn assemble(args: AssembleArgs) -> Result<()> {
+    let start = Instant::now();
+    let done = crate::farm::assemble::assemble(&args.dir)?;
+    for p in &done.problems {
+        eprintln!("{p}");
+    }
+    eprintln!(
+        "{}: {} of {} frames assembled from {} jobs in {:.1} s",
+        args.dir.display(),
+        done.written,
+        done.frames,
+        done.jobs,
+        start.elapsed().as_secs_f64()
+    );
+    if !done.problems.is_empty() {
+        return Err(input_error(
+            &args.dir,
+            format!(
+                "{} job(s) missing, incomplete or corrupt (listed above); render them again (e.g. rerun scripts/farm.sh, or envshadow render --job K --of N --resume) and assemble again",
+                done.problems.len()
+            ),
+        ));
+    }
+    if !args.no_report && done.written > 0 {
+        crate::report::write_report(&args.dir)?;
+    }
+    Ok(())
+}
+
 fn render(args: RenderArgs) -> Result<()> {
     let anim = Animation::load(&args.spec, &args.flags.overrides())?;
+    let selection = match (args.job, args.of, &args.tiles) {
+        (Some(index), Some(of), _) => Some(crate::farm::JobSelection::Planned {
+            index,
+            of,
+            by: args.by,
+        }),
+        (_, _, Some(t)) => Some(crate::farm::JobSelection::Tiles(t.clone())),
+        _ => None,
+    };
+    if let Some(sel) = selection {
+        let progress: Box<dyn Progress> = if args.quiet {
+            Box::new(coordinator::Silent)
+        } else {
+            Box::new(Reporter::new(std::io::stderr().is_terminal()))
+        };
+        let (job, dir, summary) =
+            crate::farm::render_job(&anim, &sel, args.resume, progress.as_ref())?;
+        if !args.quiet {
+            eprintln!(
+                "{}: {} frames rendered, {} skipped in {:.1} s; output in {}",
+                job.describe(),
+                summary.rendered,
+                summary.skipped,
+                summary.seconds,
+                dir.display()
+            );
+        }
+        return Ok(());
+    }
     if let Some(r) = args.region
         && (r.x1 > anim.width || r.y1 > anim.height)
     {
@@ -229,6 +377,7 @@ fn render(args: RenderArgs) -> Result<()> {
     let opts = RunOptions {
         resume: args.resume,
         region: args.region,
+        job: None,
     };
     let progress: Box<dyn Progress> = if args.quiet {
         Box::new(coordinator::Silent)

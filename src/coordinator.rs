@@ -24,7 +24,7 @@ use crate::output::stats::{Counts, FrameStats, StatsFile};
 use crate::output::{self, frame_path};
 use crate::predict::Lattice;
 use crate::scene::Scene;
-use crate::tile::{Rect, tiles};
+use crate::tile::{Rect, Tile, tiles};
 
 /// Progress reports from the library; the CLI decides how to show them (a bar or log lines).
 pub trait Progress: Sync {
@@ -84,6 +84,9 @@ pub struct RunOptions {
     pub resume: bool,
     /// Render only this pixel rectangle (the rest of the frame stays black).
     pub region: Option<Rect>,
+    /// A farm job: render only the job's tiles and publish them as its tile images and
+    /// per-frame statistics (`crate::farm::job`) instead of frames and `stats.csv`.
+    pub job: Option<crate::farm::job::JobWriter>,
 }
 
 /// What a run did.
@@ -116,6 +119,40 @@ pub fn render_frame(
     region: Option<Rect>,
     progress: &dyn Progress,
 ) -> Result<(Film, FrameStats)> {
+    let list = tiles(anim.width, anim.height, anim.tile, region);
+    render_tile_list(anim, inputs, frame, list, region, progress)
+}
+
+/// Renders the tiles of a frame whose indices are in `indices` (sorted; the frame-anchored
+/// grid), as a region render of their bounding rectangle would: the shared phases run as far
+/// as that rectangle's halos reach, so each tile gets the bits of a whole-frame render.
+pub fn render_frame_tiles(
+    anim: &Animation,
+    inputs: &Inputs,
+    frame: usize,
+    indices: &[usize],
+    progress: &dyn Progress,
+) -> Result<(Film, FrameStats)> {
+    let all = tiles(anim.width, anim.height, anim.tile, None);
+    let whole = indices.len() == all.len();
+    let list: Vec<Tile> = all
+        .into_iter()
+        .filter(|t| indices.binary_search(&t.index).is_ok())
+        .collect();
+    let bbox = (!whole).then(|| crate::farm::job::bounding(&list));
+    render_tile_list(anim, inputs, frame, list, bbox, progress)
+}
+
+/// Renders `list` (tiles of one frame); `region` (if any) bounds them and decides how far the
+/// shared phases run and over which pixels validation compares images.
+fn render_tile_list(
+    anim: &Animation,
+    inputs: &Inputs,
+    frame: usize,
+    list: Vec<Tile>,
+    region: Option<Rect>,
+    progress: &dyn Progress,
+) -> Result<(Film, FrameStats)> {
     let start = Instant::now();
     let camera0 = anim.camera(&inputs.scene, 0)?;
     let posed;
@@ -138,7 +175,6 @@ pub fn render_frame(
         predictor.as_ref(),
     );
     ctx.validate = anim.validate;
-    let list = tiles(anim.width, anim.height, anim.tile, region);
     // Shared phases (the grid's coarse levels) run over every tile the rendered tiles' halos
     // reach, so a region render reads exactly what the whole frame would have computed.
     let phases = predictor.shared_phases();
@@ -234,6 +270,9 @@ pub fn render_animation(
     let inputs = Inputs::load(anim)?;
     std::fs::create_dir_all(dir)
         .with_context(|| format!("creating output folder {}", dir.display()))?;
+    if let Some(job) = &opts.job {
+        job.begin()?;
+    }
     inputs.lights.write_json(&dir.join("lights.json"))?;
 
     let todo: Vec<usize> = anim
@@ -241,8 +280,12 @@ pub fn render_animation(
         .clone()
         .filter(|&f| {
             let done = opts.resume
-                && frame_path(dir, f, "exr").exists()
-                && frame_path(dir, f, "png").exists();
+                && match &opts.job {
+                    Some(job) => job.frame_done(f),
+                    None => {
+                        frame_path(dir, f, "exr").exists() && frame_path(dir, f, "png").exists()
+                    }
+                };
             if done {
                 progress.frame_skipped(f);
             }
@@ -253,7 +296,10 @@ pub fn render_animation(
         skipped: anim.frames.len() - todo.len(),
         ..Default::default()
     };
-    let tiles_per_frame = tiles(anim.width, anim.height, anim.tile, opts.region).len();
+    let tiles_per_frame = match &opts.job {
+        Some(job) => job.tiles().len(),
+        None => tiles(anim.width, anim.height, anim.tile, opts.region).len(),
+    };
     progress.begin(todo.len(), tiles_per_frame);
     let pool = thread_pool(anim.threads)?;
     let stats_path = dir.join("stats.csv");
@@ -272,9 +318,13 @@ pub fn render_animation(
         let writer = s.spawn(|| -> Result<RunSummary> {
             let mut done = RunSummary::default();
             for (film, stats) in rx {
-                write_frame_files(dir, stats.frame, &film, anim.exposure)?;
-                stats_file.set(&stats);
-                stats_file.write(&stats_path)?;
+                if let Some(job) = &opts.job {
+                    job.write_frame(&film, &stats)?;
+                } else {
+                    write_frame_files(dir, stats.frame, &film, anim.exposure)?;
+                    stats_file.set(&stats);
+                    stats_file.write(&stats_path)?;
+                }
                 done.counts += stats.counts;
                 done.rendered += 1;
             }
@@ -290,8 +340,12 @@ pub fn render_animation(
                     if k >= todo.len() || failed.load(Ordering::Relaxed) {
                         break;
                     }
-                    let rendered =
-                        pool.install(|| render_frame(anim, inputs, todo[k], opts.region, progress));
+                    let rendered = pool.install(|| match &opts.job {
+                        Some(job) => {
+                            render_frame_tiles(anim, inputs, todo[k], job.tiles(), progress)
+                        }
+                        None => render_frame(anim, inputs, todo[k], opts.region, progress),
+                    });
                     match rendered {
                         Ok((film, stats)) => {
                             progress.frame_done(&stats);

@@ -11,6 +11,7 @@
 //!   [`coordinator`] schedules frames × tiles over threads and streams them to the writer.
 //! - [`output`] writes EXR/PNG/CSV/JSON atomically; [`anim`] parses animation specs;
 //!   [`report`] builds `report.html` from a finished render's folder.
+//! - [`farm`] splits a run into jobs for many machines and assembles their outputs.
 
 pub mod accel;
 pub mod anim;
@@ -20,6 +21,7 @@ pub mod cli;
 pub mod coordinator;
 pub mod envmap;
 pub mod error;
+pub mod farm;
 pub mod film;
 pub mod frame;
 pub mod lights;

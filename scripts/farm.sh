@@ -1,0 +1,227 @@
+#!/usr/bin/env bash
+# Render an animation on several machines over ssh with GNU parallel, then assemble it.
+#
+#   scripts/farm.sh ANIM.toml --hosts FILE --out DIR [--shared-fs | --no-shared-fs]
+#                   [--jobs N] [--by tiles|frames|both] [--envshadow CMD] [--ssh CMD]
+#                   [--timeout SECONDS] [--retries N] [-- RENDER FLAGS...]
+#
+# FILE is a GNU parallel sshloginfile: one host per line as `SLOTS/HOST` (e.g. `2/render1`),
+# `#` comments allowed; put ssh options in ~/.ssh/config or --ssh "ssh -F CONFIG", not in FILE.
+# RENDER FLAGS (after --) go to `envshadow plan` and to every job: --frames, --width, --lights,
+# --threads (slots x threads should not exceed a host's cores), ... but not --out.
+#
+# --shared-fs (default): DIR, the spec and its inputs are at the same paths on every host,
+#   which run CMD (default: this machine's envshadow binary, by absolute path).
+# --no-shared-fs: the binary (unless --envshadow is given), the spec and its input files are
+#   shipped to each host (--basefile) into ~/.envshadow-farm/RUN, each job's folder comes back
+#   as a tar file (--return) and is removed there (--cleanup).
+#
+# Before any job starts every host must report the same `envshadow version --build` as this
+# machine (another build can give other bits); a host that differs is named and the run is
+# refused. Jobs are retried on other hosts (--retries, default hosts + 2) and killed after
+# --timeout seconds (default 3600); ssh keepalives notice dead hosts. Run the same command
+# again to continue after a failure or an interruption (SIGHUP lets running jobs finish):
+# GNU parallel's --resume-failed runs only the jobs that did not succeed, and each job skips
+# frames it already published (--resume). Logs: DIR/logs/ (joblog, one log per host).
+# Exit: 0 all frames assembled; 1 jobs failed or assembly incomplete; 2 bad usage or a host
+# refused; 129 interrupted.
+set -euo pipefail
+
+die() { echo "farm.sh: $*" >&2; exit 2; }
+usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//' >&2; exit 2; }
+
+spec="" hosts="" out="" shared=1 jobs="" by="" remote_bin="" ssh_cmd="ssh" timeout=3600 retries=""
+flags=()
+while [ $# -gt 0 ]; do
+    case $1 in
+    --hosts) hosts=${2:?--hosts FILE}; shift 2 ;;
+    --out) out=${2:?--out DIR}; shift 2 ;;
+    --shared-fs) shared=1; shift ;;
+    --no-shared-fs) shared=0; shift ;;
+    --jobs) jobs=${2:?--jobs N}; shift 2 ;;
+    --by) by=${2:?--by tiles|frames|both}; shift 2 ;;
+    --envshadow) remote_bin=${2:?--envshadow CMD}; shift 2 ;;
+    --ssh) ssh_cmd=${2:?--ssh CMD}; shift 2 ;;
+    --timeout) timeout=${2:?--timeout SECONDS}; shift 2 ;;
+    --retries) retries=${2:?--retries N}; shift 2 ;;
+    -h | --help) usage ;;
+    --) shift; flags=("$@"); break ;;
+    -*) die "unknown option $1 (see --help)" ;;
+    *) [ -z "$spec" ] || die "two specs: $spec and $1"; spec=$1; shift ;;
+    esac
+done
+[ -n "$spec" ] && [ -n "$hosts" ] && [ -n "$out" ] || usage
+[ -f "$spec" ] || die "$spec: no such animation spec"
+[ -f "$hosts" ] || die "$hosts: no such host file"
+for f in "${flags[@]}"; do
+    case $f in --out | --out=*) die "give the output folder with farm.sh --out, not as a render flag" ;; esac
+done
+for tool in parallel ssh; do
+    command -v "$tool" >/dev/null || die "$tool is not installed (Debian: apt-get install parallel openssh-client rsync)"
+done
+[ $shared = 1 ] || command -v rsync >/dev/null || die "rsync is not installed (needed by --no-shared-fs)"
+
+# This machine's envshadow: $ENVSHADOW, else the release build beside this script, else PATH.
+here=$(cd "$(dirname "$0")/.." && pwd)
+bin=${ENVSHADOW:-}
+[ -n "$bin" ] || { [ -x "$here/target/release/envshadow" ] && bin="$here/target/release/envshadow"; } || true
+[ -n "$bin" ] || bin=$(command -v envshadow || true)
+[ -n "$bin" ] || die "no envshadow binary: build it (cargo build --release) or set ENVSHADOW"
+bin=$(cd "$(dirname "$bin")" && pwd)/$(basename "$bin")
+
+# Hosts: the last word of each line, without its slots.
+mapfile -t host_names < <(sed 's/#.*//' "$hosts" | awk 'NF { h = $NF; sub(/^[0-9]+\//, "", h); print h }')
+[ ${#host_names[@]} -gt 0 ] || die "$hosts: no hosts"
+slots=$(sed 's/#.*//' "$hosts" | awk 'NF { s = 1; if (match($NF, /^[0-9]+\//)) s = substr($NF, 1, RLENGTH - 1); t += s } END { print t + 0 }')
+[ -n "$jobs" ] || jobs=$((slots * 2))
+[ -n "$retries" ] || retries=$((${#host_names[@]} + 2))
+
+mkdir -p "$out/logs/hosts"
+out=$(cd "$out" && pwd)
+logs=$out/logs
+spec_abs=$(cd "$(dirname "$spec")" && pwd)/$(basename "$spec")
+
+# ssh: batch mode, keepalives (a dead or hung host is noticed in ~15 s) and one shared
+# connection per host (cuts per-job ssh overhead several-fold).
+ctl=$(mktemp -d "${TMPDIR:-/tmp}/esfarm.XXXXXX")
+ssh_full="$ssh_cmd -o BatchMode=yes -o ConnectTimeout=10 -o ServerAliveInterval=5 -o ServerAliveCountMax=3 -o ControlMaster=auto -o ControlPath=$ctl/%C -o ControlPersist=30"
+cleanup() {
+    for h in "${host_names[@]}"; do $ssh_full -O exit "$h" >/dev/null 2>&1 || true; done
+    rm -rf "$ctl"
+}
+trap cleanup EXIT
+
+by_flag=()
+[ -z "$by" ] || by_flag=(--by "$by")
+"$bin" plan "$spec" --out "$out" --jobs "$jobs" "${by_flag[@]}" --quiet "${flags[@]}" 2>>"$logs/farm.log" ||
+    die "envshadow plan failed: $(tail -n 1 "$logs/farm.log")"
+njobs=$(wc -l <"$out/jobs.txt")
+local_build=$("$bin" version --build)
+run_id=$(printf '%s' "$local_build $out" | sha256sum | cut -c1-12)
+q() { printf '%q' "$1"; }
+qflags=""
+for f in "${flags[@]}"; do qflags+=" $(q "$f")"; done
+
+par=(parallel --sshloginfile "$hosts" --ssh "$ssh_full")
+if [ $shared = 1 ]; then
+    rbin=${remote_bin:-$bin}
+    job_cmd="cd $(q "$PWD") && $(q "$rbin") render $(q "$spec_abs") --job {1} --of $jobs ${by:+--by $by} --out $(q "$out") --resume$qflags"
+    check_cmd="$(q "$rbin") version --build"
+else
+    # Ship the spec and its inputs with their layout below their common folder, so the
+    # spec's relative paths still hold; absolute paths become relative (never --cleanup an
+    # original on a host that happens to share the filesystem).
+    mapfile -t inputs <"$out/inputs.txt"
+    root=$(dirname "${inputs[0]}")
+    for f in "${inputs[@]}"; do
+        while [ "${f#"$root"/}" = "$f" ]; do root=$(dirname "$root"); done
+    done
+    [ "$root" != / ] || root=""
+    for f in "${inputs[@]}"; do par+=(--basefile "$root/./${f#"$root"/}"); done
+    spec_rel=${inputs[0]#"$root"/}
+    if [ -n "$remote_bin" ]; then
+        rbin=$remote_bin
+    else
+        stage=$(mktemp -d "$out/.stage.XXXXXX")
+        cp "$bin" "$stage/envshadow-farm.bin"
+        par+=(--basefile "$stage/./envshadow-farm.bin")
+        rbin=./envshadow-farm.bin
+    fi
+    par+=(--workdir ".envshadow-farm/$run_id")
+    job_cmd="$rbin render $(q "$spec_rel") --job {1} --of $jobs ${by:+--by $by} --out . --resume$qflags && tar cf jobs/{4}.tar -C jobs {4} && rm -rf jobs/{4}"
+    check_cmd="$rbin version --build"
+fi
+
+# The build check, before any job: every host runs the check command (shipping the binary
+# first without a shared filesystem) and must print this machine's build.
+echo "farm.sh: checking that ${#host_names[@]} hosts run $local_build"
+bad=0
+if [ $shared = 1 ]; then
+    for h in "${host_names[@]}"; do
+        if ! got=$($ssh_full "$h" "$check_cmd" 2>&1); then
+            echo "farm.sh: host $h: cannot run envshadow: $(echo "$got" | tail -n 1)" >&2
+            bad=1
+        elif [ "$got" != "$local_build" ]; then
+            echo "farm.sh: host $h runs $got, this machine $local_build: refused (another build can give other bits)" >&2
+            bad=1
+        fi
+    done
+else
+    check_out=$("${par[@]}" --nonall 'printf "%s\t%s\n" "$PARALLEL_SSHHOST" "$('"$check_cmd"' 2>&1 | tail -n 1)"' 2>&1) || true
+    for h in "${host_names[@]}"; do
+        got=$(printf '%s\n' "$check_out" | awk -F'\t' -v h="$h" '$1 == h { print $2 }' | head -n 1)
+        if [ "$got" != "$local_build" ]; then
+            echo "farm.sh: host $h runs ${got:-nothing we could read}, this machine $local_build: refused (another build can give other bits)" >&2
+            bad=1
+        fi
+    done
+fi
+[ $bad = 0 ] || die "refusing to start: every host must run the same envshadow build"
+
+# A re-run of the same plan resumes from the job log; another plan starts a new log.
+joblog=$logs/joblog
+plan_id=$( (cat "$out/jobs.txt"; echo "$job_cmd") | sha256sum | cut -c1-16)
+resume=()
+if [ -f "$joblog" ] && [ "$(cat "$joblog.plan" 2>/dev/null)" = "$plan_id" ]; then
+    resume=(--resume-failed)
+    echo "farm.sh: resuming: jobs that succeeded in $joblog are not run again"
+elif [ -f "$joblog" ]; then
+    mv "$joblog" "$joblog.$(date +%Y%m%d-%H%M%S)"
+fi
+echo "$plan_id" >"$joblog.plan"
+[ $shared = 1 ] || par+=(--return "$out/./jobs/{4}.tar" --cleanup)
+
+# Each job's output comes back tagged with its host (PARALLEL_SSHHOST, set by parallel on the
+# host) and is split into one log per host; anything untagged (parallel's and ssh's own
+# messages) goes to farm.log and the terminal.
+job_wrapped="o=\$( ($job_cmd) 2>&1); s=\$?; [ -z \"\$o\" ] || printf '%s\n' \"\$o\" | sed \"s|^|\$PARALLEL_SSHHOST	|\"; exit \$s"
+echo "farm.sh: $njobs jobs on ${#host_names[@]} hosts ($slots slots); per-host logs in $logs/hosts/, job log $logs/joblog"
+"${par[@]}" "${resume[@]}" --joblog "$joblog" --retries "$retries" --timeout "$timeout" \
+    --colsep '\t' -a "$out/jobs.txt" "$job_wrapped" \
+    > >(awk -F'\t' -v dir="$logs/hosts" -v farm="$logs/farm.log" -v hosts="${host_names[*]}" '
+        BEGIN { n = split(hosts, h, " "); for (i = 1; i <= n; i++) known[h[i]] = 1 }
+        ($1 in known) { f = dir "/" $1 ".log"; sub(/^[^\t]*\t/, ""); print >> f; fflush(f); next }
+        { print >> farm; fflush(farm); print > "/dev/stderr" }') 2>&1 &
+ppid=$!
+interrupted=0
+trap 'interrupted=1; kill -HUP $ppid 2>/dev/null || true' HUP
+trap 'interrupted=1; kill -TERM $ppid 2>/dev/null || true' INT TERM
+set +e
+while :; do
+    wait $ppid
+    rc=$?
+    kill -0 $ppid 2>/dev/null || break
+done
+set -e
+trap - HUP INT TERM
+
+# Without a shared filesystem, unpack the returned job folders (into a temporary folder
+# first, so a half-unpacked folder is never taken for a job).
+if [ $shared = 0 ]; then
+    for t in "$out"/jobs/*.tar; do
+        [ -e "$t" ] || continue
+        name=$(basename "$t" .tar)
+        tmp="$out/jobs/.unpack.$name"
+        rm -rf "$tmp" && mkdir -p "$tmp"
+        if tar xf "$t" -C "$tmp" && [ -d "$tmp/$name" ]; then
+            rm -rf "$out/jobs/$name" && mv "$tmp/$name" "$out/jobs/$name"
+            rm -f "$t"
+        else
+            echo "farm.sh: could not unpack $t" >&2
+        fi
+        rm -rf "$tmp"
+    done
+    [ -z "${stage:-}" ] || rm -rf "$stage"
+fi
+
+if [ $interrupted = 1 ]; then
+    echo "farm.sh: interrupted; jobs that finished are kept: run the same command again to render the rest" >&2
+    exit 129
+fi
+[ "$rc" = 0 ] || echo "farm.sh: $rc jobs failed after $retries attempts; see $logs/joblog and $logs/hosts/" >&2
+set +e
+"$bin" assemble "$out" 2>&1 | tee -a "$logs/farm.log"
+arc=${PIPESTATUS[0]}
+set -e
+echo "farm.sh: per-host logs in $logs/hosts/ (one file per host), job log $logs/joblog"
+[ "$rc" = 0 ] && [ "$arc" = 0 ] || exit 1

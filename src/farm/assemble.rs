@@ -1,0 +1,417 @@
+//! `envshadow assemble DIR`: stitches the jobs' tile images into the frames a one-process
+//! render writes (the same bytes: the film is rebuilt from the very floats and written by the
+//! same code), merges their statistics into `stats.csv`, and names every job that is missing,
+//! incomplete, corrupt or from other settings or another build.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::Path;
+
+use glam::Vec3;
+
+use crate::error::{Result, input_error};
+use crate::farm::job::{Manifest, Settings, TileFrame, bounding, read_manifest, tiles_path};
+use crate::farm::plan::{Job, PlanRequest, plan};
+use crate::farm::{PlanFile, identity};
+use crate::film::Film;
+use crate::output::exr::read_frame;
+use crate::output::stats::{Counts, FrameStats, StatsFile};
+use crate::output::write_atomic;
+use crate::tile::Tile;
+
+/// How `read_piece` says a frame's files are absent (not corrupt).
+const NOT_RENDERED: &str = "not rendered: no ";
+
+/// What `assemble` did.
+#[derive(Debug, Default)]
+pub struct Assembled {
+    /// Frames written, and frames the plan has.
+    pub written: usize,
+    pub frames: usize,
+    pub jobs: usize,
+    /// One line per job (or job folder) that is missing, incomplete, corrupt or foreign.
+    pub problems: Vec<String>,
+}
+
+/// A valid job folder.
+struct Source {
+    folder: String,
+    manifest: Manifest,
+    tiles: Vec<Tile>,
+}
+
+/// Frames as ranges: `2-5, 9`.
+fn frame_list(frames: &BTreeSet<usize>) -> String {
+    let v: Vec<usize> = frames.iter().copied().collect();
+    crate::farm::plan::TileSet::from_indices(v)
+        .to_string()
+        .replace(',', ", ")
+}
+
+/// Assembles `dir` (see the module doc). Frames whose every tile is present are written even
+/// when others are not; the problems are returned for the caller to print.
+pub fn assemble(dir: &Path) -> Result<Assembled> {
+    if !dir.is_dir() {
+        return Err(input_error(dir, "no such folder"));
+    }
+    let jobs_dir = dir.join("jobs");
+    let mut folders: Vec<String> = match std::fs::read_dir(&jobs_dir) {
+        Ok(rd) => rd
+            .filter_map(|e| e.ok())
+            .filter(|e| e.path().is_dir())
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .collect(),
+        Err(_) => Vec::new(),
+    };
+    folders.sort();
+    let manifests: Vec<(String, Result<Manifest>)> = folders
+        .iter()
+        .map(|f| (f.clone(), read_manifest(&jobs_dir.join(f))))
+        .collect();
+
+    let plan_path = dir.join("plan.json");
+    let plan_file: Option<PlanFile> = if plan_path.exists() {
+        let text = std::fs::read_to_string(&plan_path)
+            .map_err(|e| input_error(&plan_path, format!("cannot read: {e}")))?;
+        Some(
+            serde_json::from_str(&text)
+                .map_err(|e| input_error(&plan_path, format!("not a plan: {e}")))?,
+        )
+    } else {
+        None
+    };
+    // The settings every job must share, the build they should come from, and the jobs
+    // expected: the plan's, else the plan a job says it belongs to, else the explicit jobs.
+    let first_ok = manifests.iter().find_map(|(_, m)| m.as_ref().ok());
+    let (settings, build, expected): (Settings, Option<String>, Vec<Job>) = match &plan_file {
+        Some(p) => (p.settings.clone(), Some(p.build.clone()), p.jobs.clone()),
+        None => {
+            let Some(first) = first_ok else {
+                return Err(input_error(
+                    dir,
+                    "no plan.json and no readable job folders under jobs/: nothing to assemble",
+                ));
+            };
+            let planned = manifests
+                .iter()
+                .find_map(|(_, m)| m.as_ref().ok().filter(|m| m.plan.is_some()));
+            match planned {
+                Some(m) => {
+                    let p = m.plan.expect("filtered on a plan");
+                    let s = m.settings.clone();
+                    let jobs = plan(&PlanRequest {
+                        frames: s.frames.clone(),
+                        tiles: s.tiles,
+                        alignment: s.alignment,
+                        jobs: p.jobs,
+                        by: p.by,
+                    })?;
+                    (s, None, jobs)
+                }
+                None => {
+                    let mut jobs: Vec<Job> = manifests
+                        .iter()
+                        .filter_map(|(_, m)| m.as_ref().ok().map(|m| m.job.clone()))
+                        .collect();
+                    jobs.dedup();
+                    (first.settings.clone(), None, jobs)
+                }
+            }
+        }
+    };
+    let same_settings = |s: &Settings| {
+        s.fingerprint == settings.fingerprint
+            && s.width == settings.width
+            && s.height == settings.height
+            && s.tile == settings.tile
+            && s.tiles == settings.tiles
+    };
+    // Builds: the plan's, else the most common among the jobs.
+    let build = build.or_else(|| {
+        let mut n: BTreeMap<&str, usize> = BTreeMap::new();
+        for (_, m) in &manifests {
+            if let Ok(m) = m {
+                *n.entry(m.build.as_str()).or_default() += 1;
+            }
+        }
+        n.into_iter()
+            .max_by_key(|(_, c)| *c)
+            .map(|(b, _)| b.to_string())
+    });
+
+    let grid = settings.grid();
+    // Problems with a folder as a whole (by folder name), and per (folder, frame).
+    let mut folder_problem: BTreeMap<String, String> = BTreeMap::new();
+    let mut sources: Vec<Source> = Vec::new();
+    for (folder, m) in manifests {
+        match m {
+            Err(e) => {
+                folder_problem.insert(folder, format!("{e:#}"));
+            }
+            Ok(m) if !same_settings(&m.settings) => {
+                folder_problem.insert(
+                    folder,
+                    format!(
+                        "rendered on {} with other settings (fingerprint {}, {}x{} tile {}; expected {}, {}x{} tile {})",
+                        m.host,
+                        m.settings.fingerprint,
+                        m.settings.width,
+                        m.settings.height,
+                        m.settings.tile,
+                        settings.fingerprint,
+                        settings.width,
+                        settings.height,
+                        settings.tile
+                    ),
+                );
+            }
+            Ok(m) if build.as_ref().is_some_and(|b| *b != m.build) => {
+                folder_problem.insert(
+                    folder,
+                    format!(
+                        "rendered on {} by build {}, expected build {} (another build can give other bits)",
+                        m.host,
+                        m.build,
+                        build.as_deref().unwrap_or_default()
+                    ),
+                );
+            }
+            Ok(m) if m.job.folder() != folder => {
+                folder_problem.insert(
+                    folder,
+                    format!("job.json describes {}, not this folder", m.job.folder()),
+                );
+            }
+            Ok(m) if m.job.tiles.max().is_some_and(|t| t >= grid.len()) => {
+                folder_problem.insert(
+                    folder,
+                    format!("tiles {} outside the {}-tile grid", m.job.tiles, grid.len()),
+                );
+            }
+            Ok(m) => {
+                let tiles = grid
+                    .iter()
+                    .filter(|t| m.job.tiles.contains(t.index))
+                    .copied()
+                    .collect();
+                sources.push(Source {
+                    folder,
+                    manifest: m,
+                    tiles,
+                });
+            }
+        }
+    }
+
+    // lights.json: the same in every job (same inputs, same build), copied once.
+    let mut lights: Option<Vec<u8>> = None;
+    for s in &sources {
+        if let Ok(bytes) = std::fs::read(jobs_dir.join(&s.folder).join("lights.json")) {
+            match &lights {
+                None => lights = Some(bytes),
+                Some(l) if *l != bytes => {
+                    folder_problem
+                        .entry(s.folder.clone())
+                        .or_insert_with(|| "lights.json differs from the other jobs'".into());
+                }
+                Some(_) => {}
+            }
+        }
+    }
+    sources.retain(|s| !folder_problem.contains_key(&s.folder));
+
+    let frames: BTreeSet<usize> = expected.iter().flat_map(|j| j.frames.clone()).collect();
+    let mut result = Assembled {
+        frames: frames.len(),
+        jobs: expected.len(),
+        ..Default::default()
+    };
+    let stats_path = dir.join("stats.csv");
+    let mut stats_file = StatsFile::open(&stats_path);
+    let mut file_problem: BTreeMap<(String, usize), String> = BTreeMap::new();
+    // Expected job → frames it still owes.
+    let mut owed: BTreeMap<usize, BTreeSet<usize>> = BTreeMap::new();
+    if let Some(l) = &lights {
+        write_atomic(&dir.join("lights.json"), l)?;
+    }
+    for &f in &frames {
+        let mut film = Film::new(settings.width, settings.height, settings.validate);
+        let mut covered = vec![false; grid.len()];
+        let mut counts = Counts::default();
+        let mut seconds = 0.0;
+        let mut meta: Option<TileFrame> = None;
+        for s in sources
+            .iter()
+            .filter(|s| s.manifest.job.frames.contains(&f))
+        {
+            if s.tiles.iter().any(|t| covered[t.index]) {
+                continue; // another job already gave these tiles
+            }
+            match read_piece(&jobs_dir.join(&s.folder), f, s, &settings, &mut film) {
+                Ok(tf) => {
+                    for t in &s.tiles {
+                        covered[t.index] = true;
+                    }
+                    counts += tf.counts();
+                    seconds += tf.seconds;
+                    meta.get_or_insert(tf);
+                }
+                Err(e) => {
+                    file_problem.insert((s.folder.clone(), f), e);
+                }
+            }
+        }
+        if covered.iter().all(|&c| c)
+            && let Some(tf) = meta
+        {
+            film.counts = counts;
+            crate::coordinator::write_frame_files(dir, f, &film, settings.exposure)?;
+            let full = crate::tile::Rect::frame(settings.width, settings.height);
+            let v = |a: [f32; 3]| Vec3::from_array(a);
+            stats_file.set(&FrameStats {
+                frame: f,
+                method: tf.method.clone(),
+                lights: tf.lights,
+                width: settings.width,
+                height: settings.height,
+                counts,
+                image_error: film.image_error(full, settings.exposure),
+                seconds,
+                camera_position: v(tf.camera_position),
+                camera_target: v(tf.camera_target),
+                camera_up: v(tf.camera_up),
+                vfov_deg: tf.vfov_deg,
+            });
+            result.written += 1;
+        } else {
+            for (k, j) in expected.iter().enumerate() {
+                if j.frames.contains(&f) && j.tiles.indices().iter().any(|&t| !covered[t]) {
+                    owed.entry(k).or_default().insert(f);
+                }
+            }
+        }
+    }
+    if result.written > 0 {
+        stats_file.write(&stats_path)?;
+    }
+
+    // One line per job that left frames unwritten, saying why.
+    let host_of = |folder: &str| {
+        read_manifest(&jobs_dir.join(folder))
+            .ok()
+            .map(|m| format!(", rendered on {}", m.host))
+            .unwrap_or_default()
+    };
+    for (k, owed_frames) in &owed {
+        let j = &expected[*k];
+        let folder = j.folder();
+        let what = j.describe();
+        let line = if !jobs_dir.join(&folder).is_dir() {
+            format!("missing {what}: no folder jobs/{folder}")
+        } else if let Some(p) = folder_problem.get(&folder) {
+            format!("bad {what} in jobs/{folder}: {p}")
+        } else {
+            let corrupt: Vec<String> = owed_frames
+                .iter()
+                .filter_map(|f| file_problem.get(&(folder.clone(), *f)).cloned())
+                .filter(|p| !p.starts_with(NOT_RENDERED))
+                .collect();
+            if corrupt.is_empty() {
+                format!(
+                    "incomplete {what} in jobs/{folder}{}: frames {} not rendered",
+                    host_of(&folder),
+                    frame_list(owed_frames)
+                )
+            } else {
+                format!(
+                    "corrupt {what} in jobs/{folder}{}: {}",
+                    host_of(&folder),
+                    corrupt.join("; ")
+                )
+            }
+        };
+        result.problems.push(line);
+    }
+    // Folders outside the plan that are broken (they did not cost a frame, but say so).
+    for (folder, p) in &folder_problem {
+        if !expected.iter().any(|j| j.folder() == *folder) {
+            result.problems.push(format!("jobs/{folder}: {p}"));
+        }
+    }
+    Ok(result)
+}
+
+/// Reads one job's frame `f` into `film`: checks the statistics, the EXR's size and SHA-256,
+/// then copies the job's tiles. Errors are one-line descriptions naming the file.
+fn read_piece(
+    dir: &Path,
+    f: usize,
+    s: &Source,
+    settings: &Settings,
+    film: &mut Film,
+) -> std::result::Result<TileFrame, String> {
+    let json = tiles_path(dir, f, "json");
+    let exr = tiles_path(dir, f, "exr");
+    let name = |p: &Path| {
+        p.file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    };
+    let text =
+        std::fs::read_to_string(&json).map_err(|_| format!("{NOT_RENDERED}{}", name(&json)))?;
+    let tf: TileFrame =
+        serde_json::from_str(&text).map_err(|e| format!("{}: unreadable: {e}", name(&json)))?;
+    if tf.frame != f {
+        return Err(format!("{}: says frame {}", name(&json), tf.frame));
+    }
+    let bytes = std::fs::read(&exr).map_err(|e| format!("{}: {e}", name(&exr)))?;
+    if bytes.len() as u64 != tf.exr_bytes || identity::sha256(&bytes) != tf.exr_sha256 {
+        return Err(format!(
+            "{}: checksum mismatch ({} bytes, expected {})",
+            name(&exr),
+            bytes.len(),
+            tf.exr_bytes
+        ));
+    }
+    let img = read_frame(&exr).map_err(|e| format!("{}: {e:#}", name(&exr)))?;
+    let bbox = bounding(&s.tiles);
+    if img.width != bbox.width() as usize || img.height != bbox.height() as usize {
+        return Err(format!(
+            "{}: {}x{} pixels, expected {}x{}",
+            name(&exr),
+            img.width,
+            img.height,
+            bbox.width(),
+            bbox.height()
+        ));
+    }
+    let ch = |c: &str| {
+        img.channel(c)
+            .ok_or_else(|| format!("{}: no channel {c}", name(&exr)))
+    };
+    let (r, g, b, rays, vis) = (ch("R")?, ch("G")?, ch("B")?, ch("rays")?, ch("visible")?);
+    let validated = if settings.validate {
+        Some((ch("wrong")?, ch("ref.R")?, ch("ref.G")?, ch("ref.B")?))
+    } else {
+        None
+    };
+    let fw = film.width as usize;
+    let bw = bbox.width() as usize;
+    for t in &s.tiles {
+        for y in t.rect.y0..t.rect.y1 {
+            for x in t.rect.x0..t.rect.x1 {
+                let d = y as usize * fw + x as usize;
+                let i = (y - bbox.y0) as usize * bw + (x - bbox.x0) as usize;
+                film.beauty[d] = [r[i], g[i], b[i]];
+                film.rays[d] = rays[i];
+                film.visible[d] = vis[i];
+                if let (Some((w, rr, rg, rb)), Some(fwrong), Some(fref)) =
+                    (validated, film.wrong.as_mut(), film.reference.as_mut())
+                {
+                    fwrong[d] = w[i];
+                    fref[d] = [rr[i], rg[i], rb[i]];
+                }
+            }
+        }
+    }
+    Ok(tf)
+}

@@ -1,0 +1,90 @@
+//! Build identity and settings fingerprints: what must agree between farm hosts and jobs for
+//! their pixels to be the same bits.
+
+use std::io::Read;
+use std::path::Path;
+
+use anyhow::Context;
+use sha2::{Digest, Sha256};
+
+use crate::anim::{Animation, EnvSource, SceneSource};
+use crate::error::Result;
+
+/// SHA-256 of a file, lowercase hex.
+pub fn file_sha256(path: &Path) -> Result<String> {
+    let mut f = std::fs::File::open(path).with_context(|| format!("opening {}", path.display()))?;
+    let mut h = Sha256::new();
+    let mut buf = vec![0u8; 1 << 16];
+    loop {
+        let n = f
+            .read(&mut buf)
+            .with_context(|| format!("reading {}", path.display()))?;
+        if n == 0 {
+            break;
+        }
+        h.update(&buf[..n]);
+    }
+    Ok(format!("{:x}", h.finalize()))
+}
+
+/// SHA-256 of bytes, lowercase hex.
+pub fn sha256(bytes: &[u8]) -> String {
+    format!("{:x}", Sha256::digest(bytes))
+}
+
+/// This executable's build identity: the first 16 hex digits of its SHA-256. Two hosts with the
+/// same identity run the same machine code (a rebuild with other flags, e.g.
+/// `target-cpu=native`, can change a ray's hit and so a pixel).
+pub fn build_id() -> Result<String> {
+    let exe = std::env::current_exe().context("finding this executable")?;
+    let mut id = file_sha256(&exe)?;
+    id.truncate(16);
+    Ok(id)
+}
+
+/// The name of the machine this runs on, for job manifests: `$ENVSHADOW_HOST`, else the
+/// sshlogin GNU parallel sent the job to (`$PARALLEL_SSHHOST`), else the kernel's host name.
+pub fn host_name() -> String {
+    for var in ["ENVSHADOW_HOST", "PARALLEL_SSHHOST"] {
+        if let Ok(v) = std::env::var(var)
+            && !v.trim().is_empty()
+        {
+            return v.trim().to_string();
+        }
+    }
+    std::fs::read_to_string("/proc/sys/kernel/hostname")
+        .map(|s| s.trim().to_string())
+        .unwrap_or_else(|_| "unknown".into())
+}
+
+/// A fingerprint of everything that decides a frame's pixels: the resolved animation with the
+/// run-only fields (frames, threads, output folder, where the spec lies) blanked and input
+/// files named by their content's hash, so hosts that hold the inputs at other paths agree.
+pub fn settings_fingerprint(anim: &Animation) -> Result<String> {
+    let mut a = anim.clone();
+    a.spec_path = Default::default();
+    a.frames = 0..0;
+    a.threads = 0;
+    a.out_dir = Default::default();
+    if let SceneSource::File(p) = &a.scene {
+        a.scene = SceneSource::File(format!("sha256:{}", file_sha256(p)?).into());
+    }
+    if let EnvSource::File(p) = &a.env {
+        a.env = EnvSource::File(format!("sha256:{}", file_sha256(p)?).into());
+    }
+    let mut id = sha256(format!("{a:?}").as_bytes());
+    id.truncate(16);
+    Ok(id)
+}
+
+/// The input files an animation reads (scene and map), besides the spec itself.
+pub fn input_files(anim: &Animation) -> Vec<std::path::PathBuf> {
+    let mut v = Vec::new();
+    if let SceneSource::File(p) = &anim.scene {
+        v.push(p.clone());
+    }
+    if let EnvSource::File(p) = &anim.env {
+        v.push(p.clone());
+    }
+    v
+}

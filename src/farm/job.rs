@@ -1,0 +1,306 @@
+//! One farm job's folder, `OUT/jobs/<folder>/`:
+//!
+//! | file | content |
+//! |---|---|
+//! | `job.json` | the manifest: format, build identity, host, settings fingerprint, frame and tile grid, the plan it belongs to, the job's frames and tiles |
+//! | `lights.json` | the lights, as a one-process render writes them |
+//! | `tiles_0003.exr` | frame 3's pixels of the job's tiles, over the tiles' bounding rectangle (float channels `R G B rays visible`, with validation also `wrong ref.R ref.G ref.B`) |
+//! | `tiles_0003.json` | frame 3's statistics for those tiles (counts, seconds, camera) and the EXR's size and SHA-256; written after the EXR, so it marks the frame done |
+//!
+//! Every file is published atomically (`crate::output`), so a crashed or duplicated attempt
+//! leaves either nothing or a complete, identical file.
+
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use anyhow::Context;
+use exr::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::anim::Animation;
+use crate::error::{Result, input_error};
+use crate::farm::identity;
+use crate::farm::plan::{By, Job};
+use crate::film::Film;
+use crate::output::stats::{Counts, FrameStats};
+use crate::output::write_atomic;
+use crate::tile::{Rect, Tile, tiles};
+
+/// The manifest's `format`; assemble refuses others.
+pub const FORMAT: &str = "envshadow-job 1";
+
+/// What every job of one run shares: the pixels' settings and the tile grid.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Settings {
+    /// `identity::settings_fingerprint` of the animation.
+    pub fingerprint: String,
+    pub width: u32,
+    pub height: u32,
+    /// Tile size (0: the whole frame is one tile) and tiles per frame.
+    pub tile: u32,
+    pub tiles: usize,
+    pub exposure: f32,
+    pub validate: bool,
+    /// The run's frames (for an explicit job: its own).
+    pub frames: Range<usize>,
+    pub alignment: usize,
+}
+
+impl Settings {
+    pub fn of(anim: &Animation) -> Result<Settings> {
+        Ok(Settings {
+            fingerprint: identity::settings_fingerprint(anim)?,
+            width: anim.width,
+            height: anim.height,
+            tile: anim.tile,
+            tiles: tiles(anim.width, anim.height, anim.tile, None).len(),
+            exposure: anim.exposure,
+            validate: anim.validate,
+            frames: anim.frames.clone(),
+            alignment: anim.frame_alignment(),
+        })
+    }
+
+    /// The frame's tiles (frame-anchored grid).
+    pub fn grid(&self) -> Vec<Tile> {
+        tiles(self.width, self.height, self.tile, None)
+    }
+}
+
+/// Which plan a job belongs to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct PlanRef {
+    pub jobs: usize,
+    pub by: By,
+}
+
+/// `job.json`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Manifest {
+    pub format: String,
+    /// `envshadow version --build` of the executable that rendered it.
+    pub build: String,
+    pub host: String,
+    pub settings: Settings,
+    pub plan: Option<PlanRef>,
+    pub job: Job,
+}
+
+/// `tiles_NNNN.json`: one frame of one job.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TileFrame {
+    pub frame: usize,
+    pub exr_bytes: u64,
+    pub exr_sha256: String,
+    pub method: String,
+    pub lights: usize,
+    pub queries: u64,
+    pub rays: u64,
+    pub halo_pixels: u64,
+    pub halo_rays: u64,
+    pub wrong_visible: u64,
+    pub wrong_blocked: u64,
+    pub wrong_pixels: u64,
+    pub wrong_traced: u64,
+    pub seconds: f64,
+    pub camera_position: [f32; 3],
+    pub camera_target: [f32; 3],
+    pub camera_up: [f32; 3],
+    pub vfov_deg: f32,
+}
+
+impl TileFrame {
+    pub fn counts(&self) -> Counts {
+        Counts {
+            queries: self.queries,
+            rays: self.rays,
+            halo_pixels: self.halo_pixels,
+            halo_rays: self.halo_rays,
+            wrong_visible: self.wrong_visible,
+            wrong_blocked: self.wrong_blocked,
+            wrong_pixels: self.wrong_pixels,
+            wrong_traced: self.wrong_traced,
+        }
+    }
+}
+
+/// `DIR/tiles_0003.exr` / `.json`.
+pub fn tiles_path(dir: &Path, frame: usize, ext: &str) -> PathBuf {
+    dir.join(format!("tiles_{frame:04}.{ext}"))
+}
+
+/// The bounding rectangle of some tiles.
+pub fn bounding(tiles: &[Tile]) -> Rect {
+    let mut r = tiles.first().map(|t| t.rect).unwrap_or_default();
+    for t in tiles {
+        r = Rect::new(
+            r.x0.min(t.rect.x0),
+            r.y0.min(t.rect.y0),
+            r.x1.max(t.rect.x1),
+            r.y1.max(t.rect.y1),
+        );
+    }
+    r
+}
+
+/// Channel names of a job's tile image, in the order they are stored (EXR sorts them).
+pub fn channel_names(validate: bool) -> Vec<&'static str> {
+    let mut v = vec!["R", "G", "B", "rays", "visible"];
+    if validate {
+        v.extend(["wrong", "ref.R", "ref.G", "ref.B"]);
+    }
+    v
+}
+
+/// Writes one job's frames into its folder; the coordinator calls it in place of writing
+/// whole frames.
+#[derive(Clone, Debug)]
+pub struct JobWriter {
+    pub dir: PathBuf,
+    tiles: Vec<usize>,
+    bbox: Rect,
+    manifest: Manifest,
+}
+
+impl JobWriter {
+    /// A writer for `job` of an animation with tile grid `grid`, into `dir`.
+    pub fn new(dir: PathBuf, job: &Job, grid: &[Tile], manifest: Manifest) -> JobWriter {
+        let mine: Vec<Tile> = grid
+            .iter()
+            .filter(|t| job.tiles.contains(t.index))
+            .copied()
+            .collect();
+        JobWriter {
+            dir,
+            tiles: job.tiles.indices().to_vec(),
+            bbox: bounding(&mine),
+            manifest,
+        }
+    }
+
+    /// Publishes `job.json`; called once the folder exists, before any frame.
+    pub fn begin(&self) -> Result<()> {
+        write_manifest(&self.dir, &self.manifest)
+    }
+
+    /// The tiles this job renders.
+    pub fn tiles(&self) -> &[usize] {
+        &self.tiles
+    }
+
+    /// The frame's files exist and agree on the EXR's size (`--resume`).
+    pub fn frame_done(&self, frame: usize) -> bool {
+        let Ok(text) = std::fs::read_to_string(tiles_path(&self.dir, frame, "json")) else {
+            return false;
+        };
+        let Ok(tf) = serde_json::from_str::<TileFrame>(&text) else {
+            return false;
+        };
+        tf.frame == frame
+            && std::fs::metadata(tiles_path(&self.dir, frame, "exr"))
+                .is_ok_and(|m| m.len() == tf.exr_bytes)
+    }
+
+    /// Publishes one rendered frame: the tile image, then its statistics.
+    pub fn write_frame(&self, film: &Film, stats: &FrameStats) -> Result<()> {
+        let exr_path = tiles_path(&self.dir, stats.frame, "exr");
+        write_tile_image(&exr_path, film, self.bbox)?;
+        let bytes =
+            std::fs::read(&exr_path).with_context(|| format!("reading {}", exr_path.display()))?;
+        let c = stats.counts;
+        let tf = TileFrame {
+            frame: stats.frame,
+            exr_bytes: bytes.len() as u64,
+            exr_sha256: identity::sha256(&bytes),
+            method: stats.method.clone(),
+            lights: stats.lights,
+            queries: c.queries,
+            rays: c.rays,
+            halo_pixels: c.halo_pixels,
+            halo_rays: c.halo_rays,
+            wrong_visible: c.wrong_visible,
+            wrong_blocked: c.wrong_blocked,
+            wrong_pixels: c.wrong_pixels,
+            wrong_traced: c.wrong_traced,
+            seconds: stats.seconds,
+            camera_position: stats.camera_position.to_array(),
+            camera_target: stats.camera_target.to_array(),
+            camera_up: stats.camera_up.to_array(),
+            vfov_deg: stats.vfov_deg,
+        };
+        let json = serde_json::to_string_pretty(&tf).context("encoding tile statistics")?;
+        write_atomic(&tiles_path(&self.dir, stats.frame, "json"), json.as_bytes())
+    }
+}
+
+/// Writes `film`'s pixels inside `bbox` as float channels (`channel_names`), ZIP compressed,
+/// one thread: lossless, so assembling gives back the very floats the renderer made.
+fn write_tile_image(path: &Path, film: &Film, bbox: Rect) -> Result<()> {
+    let (w, h) = (bbox.width() as usize, bbox.height() as usize);
+    let fw = film.width as usize;
+    let pick = |f: &dyn Fn(usize) -> f32| -> Vec<f32> {
+        let mut v = Vec::with_capacity(w * h);
+        for y in bbox.y0..bbox.y1 {
+            for x in bbox.x0..bbox.x1 {
+                v.push(f(y as usize * fw + x as usize));
+            }
+        }
+        v
+    };
+    let mut channels: Vec<AnyChannel<FlatSamples>> = Vec::new();
+    let mut add = |name: &str, v: Vec<f32>| {
+        channels.push(AnyChannel::new(name, FlatSamples::F32(v)));
+    };
+    for (c, name) in ["R", "G", "B"].iter().enumerate() {
+        add(name, pick(&|i| film.beauty[i][c]));
+    }
+    add("rays", pick(&|i| film.rays[i]));
+    add("visible", pick(&|i| film.visible[i]));
+    if let (Some(wrong), Some(reference)) = (&film.wrong, &film.reference) {
+        add("wrong", pick(&|i| wrong[i]));
+        for (c, name) in ["ref.R", "ref.G", "ref.B"].iter().enumerate() {
+            add(name, pick(&|i| reference[i][c]));
+        }
+    }
+    let encoding = Encoding {
+        compression: Compression::ZIP16,
+        blocks: Blocks::ScanLines,
+        line_order: LineOrder::Increasing,
+    };
+    let layer = Layer::new(
+        (w, h),
+        LayerAttributes::default(),
+        encoding,
+        AnyChannels::sort(SmallVec::from_vec(channels)),
+    );
+    let image = Image::from_layer(layer);
+    crate::output::write_atomic_with(path, |tmp| {
+        image
+            .write()
+            .non_parallel()
+            .to_file(tmp)
+            .with_context(|| format!("encoding EXR {}", tmp.display()))
+    })
+}
+
+/// Reads `job.json` from a job folder.
+pub fn read_manifest(dir: &Path) -> Result<Manifest> {
+    let path = dir.join("job.json");
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| input_error(&path, format!("cannot read the job manifest: {e}")))?;
+    let m: Manifest = serde_json::from_str(&text)
+        .map_err(|e| input_error(&path, format!("not a job manifest: {e}")))?;
+    if m.format != FORMAT {
+        return Err(input_error(
+            &path,
+            format!("format {:?}, expected {FORMAT:?}", m.format),
+        ));
+    }
+    Ok(m)
+}
+
+/// Writes `job.json` (atomically).
+pub fn write_manifest(dir: &Path, m: &Manifest) -> Result<()> {
+    let json = serde_json::to_string_pretty(m).context("encoding the job manifest")?;
+    write_atomic(&dir.join("job.json"), json.as_bytes())
+}

@@ -1,0 +1,471 @@
+//! Rendering on several machines: plan / job / assemble, and scripts/farm.sh over three sshd
+//! "hosts" on loopback (127.0.0.2–4; tests/farm-hosts.sh starts and stops them by PID).
+//! Every farm render must equal a one-process render byte for byte.
+
+use std::collections::BTreeSet;
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+const BIN: &str = env!("CARGO_BIN_EXE_envshadow");
+const ROOT: &str = env!("CARGO_MANIFEST_DIR");
+const SPEC: &str = "anims/shapes-turntable.toml";
+/// 8 frames of the shapes turntable, small enough to keep the farm test to seconds.
+const FLAGS: &[&str] = &[
+    "--frames",
+    "0..8",
+    "--width",
+    "160",
+    "--height",
+    "120",
+    "--lights",
+    "50",
+    "--tile",
+    "32",
+    "--threads",
+    "1",
+];
+
+fn envshadow(args: &[&str]) -> Output {
+    Command::new(BIN)
+        .args(args)
+        .current_dir(ROOT)
+        .output()
+        .expect("running envshadow")
+}
+
+fn ok(o: &Output) -> String {
+    assert!(
+        o.status.success(),
+        "exit {:?}\nstdout: {}\nstderr: {}",
+        o.status.code(),
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A one-process render of the test frames into `dir`.
+fn reference(dir: &Path) {
+    let mut args = vec![
+        "render",
+        SPEC,
+        "--out",
+        dir.to_str().unwrap(),
+        "--no-report",
+        "-q",
+    ];
+    args.extend_from_slice(FLAGS);
+    ok(&envshadow(&args));
+}
+
+/// Every frame file of `reference` exists in `dir` with the same bytes.
+fn assert_same_frames(reference: &Path, dir: &Path) {
+    let mut n = 0;
+    for f in 0..8 {
+        for ext in ["exr", "png"] {
+            let name = format!("frame_{f:04}.{ext}");
+            let a = fs::read(reference.join(&name)).unwrap();
+            let b = fs::read(dir.join(&name))
+                .unwrap_or_else(|e| panic!("{}: {e}", dir.join(&name).display()));
+            assert!(a == b, "{name} differs from the one-process render");
+            n += 1;
+        }
+    }
+    assert_eq!(n, 16);
+    assert_eq!(
+        fs::read(reference.join("lights.json")).unwrap(),
+        fs::read(dir.join("lights.json")).unwrap()
+    );
+}
+
+/// stats.csv without the seconds column (wall-clock time differs between runs).
+fn stats_without_seconds(dir: &Path) -> Vec<String> {
+    fs::read_to_string(dir.join("stats.csv"))
+        .unwrap()
+        .lines()
+        .map(|l| {
+            let mut c: Vec<&str> = l.split(',').collect();
+            c.remove(10);
+            c.join(",")
+        })
+        .collect()
+}
+
+#[test]
+fn jobs_assemble_into_the_one_process_render_and_name_what_is_missing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (refdir, out) = (tmp.path().join("ref"), tmp.path().join("farm"));
+    reference(&refdir);
+    let o = out.to_str().unwrap();
+    let mut plan = vec!["plan", SPEC, "--out", o, "--jobs", "4", "--by", "both"];
+    plan.extend_from_slice(FLAGS);
+    let planned = envshadow(&plan);
+    ok(&planned);
+    let lines = String::from_utf8_lossy(&planned.stdout).into_owned();
+    assert_eq!(lines, fs::read_to_string(out.join("jobs.txt")).unwrap());
+    assert_eq!(lines.lines().count(), 4);
+    for k in 0..4 {
+        let ks = k.to_string();
+        let mut job = vec![
+            "render", SPEC, "--out", o, "--job", &ks, "--of", "4", "--by", "both", "-q",
+        ];
+        job.extend_from_slice(FLAGS);
+        ok(&envshadow(&job));
+    }
+    ok(&envshadow(&["assemble", o, "--no-report"]));
+    assert_same_frames(&refdir, &out);
+    assert_eq!(stats_without_seconds(&refdir), stats_without_seconds(&out));
+
+    // An explicit --frames/--tiles job lands in the folder of the planned job it equals.
+    let first = lines.lines().next().unwrap();
+    let cols: Vec<&str> = first.split('\t').collect();
+    let folder = out.join("jobs").join(cols[3]);
+    let before = fs::read(folder.join("tiles_0001.exr")).unwrap();
+    fs::remove_file(folder.join("tiles_0001.exr")).unwrap();
+    let mut explicit = vec![
+        "render", SPEC, "--out", o, "--tiles", cols[2], "--resume", "-q",
+    ];
+    explicit.extend_from_slice(FLAGS);
+    let frames_at = explicit.iter().position(|a| *a == "--frames").unwrap();
+    explicit[frames_at + 1] = cols[1];
+    let o2 = envshadow(&explicit);
+    ok(&o2);
+    assert_eq!(fs::read(folder.join("tiles_0001.exr")).unwrap(), before);
+
+    // Break three jobs three ways: assemble names each, exits 2, and writes the rest.
+    let folders: Vec<String> = lines
+        .lines()
+        .map(|l| l.split('\t').nth(3).unwrap().to_string())
+        .collect();
+    fs::remove_dir_all(out.join("jobs").join(&folders[1])).unwrap();
+    let broken = out.join("jobs").join(&folders[2]).join("tiles_0004.exr");
+    let mut exr = fs::read(&broken).unwrap();
+    let mid = exr.len() / 2;
+    exr[mid] ^= 0xff;
+    fs::write(&broken, exr).unwrap();
+    fs::remove_file(out.join("jobs").join(&folders[3]).join("tiles_0005.json")).unwrap();
+    for f in 0..8 {
+        let _ = fs::remove_file(out.join(format!("frame_{f:04}.exr")));
+    }
+    let bad = envshadow(&["assemble", o, "--no-report"]);
+    assert_eq!(bad.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(
+        err.contains("missing job 1 ") && err.contains(&folders[1]),
+        "{err}"
+    );
+    assert!(
+        err.contains("corrupt job 2 ") && err.contains("checksum"),
+        "{err}"
+    );
+    assert!(
+        err.contains("incomplete job 3 ") && err.contains("frames 5 not"),
+        "{err}"
+    );
+    assert!(!err.contains("job 0 "), "{err}");
+    // Job 1 owns frames 0..4 of the `both` split (2 frame ranges × 2 strips): those frames
+    // cannot be assembled; frames 6 and 7 owe nothing to the broken jobs.
+    assert!(!out.join("frame_0000.exr").exists());
+    assert!(out.join("frame_0007.exr").exists());
+}
+
+#[test]
+fn plan_refuses_tiles_of_frames_and_bad_jobs() {
+    let tmp = tempfile::tempdir().unwrap();
+    let o = tmp.path().join("x");
+    let o = o.to_str().unwrap();
+    let mut a = vec!["render", SPEC, "--out", o, "--job", "9", "--of", "4"];
+    a.extend_from_slice(FLAGS);
+    let r = envshadow(&a);
+    assert_eq!(r.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(err.contains("job 9 does not exist"), "{err}");
+    let mut a = vec!["render", SPEC, "--out", o, "--tiles", "0-99"];
+    a.extend_from_slice(FLAGS);
+    let r = envshadow(&a);
+    assert_eq!(r.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&r.stderr).contains("tile 99 does not exist"));
+    let r = envshadow(&["plan", SPEC, "--out", o, "--jobs", "0"]);
+    assert_eq!(r.status.code(), Some(2));
+    let r = envshadow(&["assemble", tmp.path().to_str().unwrap()]);
+    assert_eq!(r.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&r.stderr).contains("nothing to assemble"));
+    let v = envshadow(&["version", "--build"]);
+    let line = String::from_utf8_lossy(&v.stdout).trim().to_string();
+    assert!(
+        line.starts_with("envshadow ") && line.contains(" build "),
+        "{line}"
+    );
+}
+
+// ---- the ssh farm ----
+
+/// Three pretend hosts; stopped (by PID) when dropped, even when the test fails.
+struct Hosts {
+    dir: PathBuf,
+}
+
+impl Hosts {
+    fn start(dir: &Path) -> Hosts {
+        let o = Command::new("bash")
+            .arg(Path::new(ROOT).join("tests/farm-hosts.sh"))
+            .args(["start", dir.to_str().unwrap(), "3"])
+            .output()
+            .unwrap();
+        let hosts = Hosts {
+            dir: dir.to_path_buf(),
+        };
+        ok(&o);
+        hosts
+    }
+    fn crash(&self, k: usize) {
+        ok(&Command::new("bash")
+            .arg(Path::new(ROOT).join("tests/farm-hosts.sh"))
+            .args(["crash", self.dir.to_str().unwrap(), &k.to_string()])
+            .output()
+            .unwrap());
+    }
+}
+
+impl Drop for Hosts {
+    fn drop(&mut self) {
+        let _ = Command::new("bash")
+            .arg(Path::new(ROOT).join("tests/farm-hosts.sh"))
+            .args(["stop", self.dir.to_str().unwrap()])
+            .status();
+    }
+}
+
+/// Why the farm test cannot run here, if it cannot.
+fn missing_tools() -> Option<String> {
+    let have = |c: &str| {
+        Command::new("sh")
+            .args(["-c", &format!("command -v {c}")])
+            .stdout(Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success())
+    };
+    let missing: Vec<&str> = ["parallel", "ssh", "ssh-keygen", "rsync", "pgrep"]
+        .into_iter()
+        .filter(|c| !have(c))
+        .chain((!Path::new("/usr/sbin/sshd").exists()).then_some("/usr/sbin/sshd"))
+        .collect();
+    (!missing.is_empty()).then(|| missing.join(", "))
+}
+
+/// `scripts/farm.sh SPEC --hosts … --out OUT EXTRA -- FLAGS`, not waited for.
+fn farm(hosts: &Hosts, out: &Path, extra: &[&str]) -> Child {
+    let mut c = Command::new("bash");
+    c.arg(Path::new(ROOT).join("scripts/farm.sh"))
+        .arg(SPEC)
+        .args(["--hosts", hosts.dir.join("hosts").to_str().unwrap()])
+        .args(["--out", out.to_str().unwrap()])
+        .args([
+            "--ssh",
+            &format!("ssh -F {}", hosts.dir.join("ssh_config").display()),
+        ])
+        .args(["--timeout", "120"])
+        .args(extra)
+        .arg("--")
+        .args(FLAGS)
+        .current_dir(ROOT)
+        .env("ENVSHADOW", BIN)
+        .env("PARALLEL_HOME", hosts.dir.join("parallel-home"))
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    c.spawn().expect("starting scripts/farm.sh")
+}
+
+/// The job log's attempts: (seq, host, exit value, signal, start time in Unix seconds).
+fn joblog(out: &Path) -> Vec<(usize, String, i32, i32, f64)> {
+    let Ok(text) = fs::read_to_string(out.join("logs/joblog")) else {
+        return Vec::new();
+    };
+    text.lines()
+        .skip(1)
+        .filter_map(|l| {
+            let c: Vec<&str> = l.split('\t').collect();
+            Some((
+                c.first()?.trim().parse().ok()?,
+                c.get(1)?.trim().to_string(),
+                c.get(6)?.trim().parse().ok()?,
+                c.get(7)?.trim().parse().ok()?,
+                c.get(2)?.trim().parse().ok()?,
+            ))
+        })
+        .collect()
+}
+
+/// Waits until the job log shows `n` finished attempts (or panics after a minute).
+fn wait_for_attempts(out: &Path, n: usize) {
+    let start = Instant::now();
+    while joblog(out).len() < n {
+        assert!(start.elapsed() < Duration::from_secs(60), "no job finished");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+fn finish(child: Child) -> (Option<i32>, String) {
+    let o = child.wait_with_output().unwrap();
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
+    (o.status.code(), text)
+}
+
+#[test]
+fn farm_over_ssh_renders_the_same_frames_survives_a_crash_and_resumes() {
+    if let Some(missing) = missing_tools() {
+        assert!(
+            std::env::var("CI").as_deref() != Ok("true"),
+            "CI must run the farm test, but {missing} is not installed (.ci/run installs openssh-server parallel rsync)"
+        );
+        eprintln!(
+            "skipping the ssh farm test: {missing} not installed (apt-get install openssh-server parallel rsync)"
+        );
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let refdir = tmp.path().join("ref");
+    reference(&refdir);
+    let hdir = tmp.path().join("hosts");
+    fs::create_dir_all(&hdir).unwrap();
+    let hosts = Hosts::start(&hdir);
+
+    // Shared filesystem: every host runs this very binary by path.
+    let out = tmp.path().join("shared");
+    let (code, log) = finish(farm(&hosts, &out, &["--shared-fs", "--jobs", "6"]));
+    assert_eq!(code, Some(0), "{log}");
+    assert_same_frames(&refdir, &out);
+    assert_eq!(stats_without_seconds(&refdir), stats_without_seconds(&out));
+    assert!(log.contains("per-host logs in"), "{log}");
+    let hosts_used: BTreeSet<String> = joblog(&out).into_iter().map(|a| a.1).collect();
+    assert!(hosts_used.len() >= 2, "jobs ran on {hosts_used:?}");
+
+    // No shared filesystem: binary and spec shipped, job folders returned, hosts cleaned.
+    let out = tmp.path().join("unshared");
+    let (code, log) = finish(farm(&hosts, &out, &["--no-shared-fs", "--jobs", "6"]));
+    assert_eq!(code, Some(0), "{log}");
+    assert_same_frames(&refdir, &out);
+    for k in 1..=3 {
+        let work = hdir.join(format!("h{k}/home/.envshadow-farm"));
+        let left: Vec<_> = walk(&work);
+        assert!(left.is_empty(), "left on host {k}: {left:?}");
+    }
+
+    // A host with another build is refused, by name, before any job starts.
+    for k in 1..=3 {
+        let b = hdir.join(format!("h{k}/bin/envshadow"));
+        if k == 3 {
+            let mut bytes = fs::read(BIN).unwrap();
+            bytes.push(0); // a different executable that still runs
+            fs::write(&b, bytes).unwrap();
+            use std::os::unix::fs::PermissionsExt;
+            fs::set_permissions(&b, fs::Permissions::from_mode(0o755)).unwrap();
+        } else {
+            std::os::unix::fs::symlink(BIN, &b).unwrap();
+        }
+    }
+    let out = tmp.path().join("refused");
+    let (code, log) = finish(farm(
+        &hosts,
+        &out,
+        &["--envshadow", "envshadow", "--jobs", "6"],
+    ));
+    assert_eq!(code, Some(2), "{log}");
+    assert!(
+        log.contains("host fh3 runs envshadow") && log.contains("refus"),
+        "{log}"
+    );
+    assert!(
+        !log.contains("host fh1 runs") && !log.contains("host fh2 runs"),
+        "{log}"
+    );
+    assert!(!out.join("logs/joblog").exists() && !out.join("jobs").exists());
+
+    // SIGHUP: running jobs finish, no new ones start; the same command again runs exactly
+    // the jobs that did not run.
+    let out = tmp.path().join("hup");
+    let child = farm(&hosts, &out, &["--jobs", "16", "--by", "both"]);
+    wait_for_attempts(&out, 1);
+    let _ = Command::new("kill")
+        .args(["-HUP", &child.id().to_string()])
+        .status();
+    let (code, log) = finish(child);
+    assert_eq!(code, Some(129), "{log}");
+    let first = joblog(&out);
+    let done: BTreeSet<usize> = first.iter().filter(|a| a.2 == 0).map(|a| a.0).collect();
+    let total = fs::read_to_string(out.join("jobs.txt"))
+        .unwrap()
+        .lines()
+        .count();
+    assert!(
+        !done.is_empty() && done.len() < total,
+        "{done:?} of {total}"
+    );
+    let (code, log) = finish(farm(&hosts, &out, &["--jobs", "16", "--by", "both"]));
+    assert_eq!(code, Some(0), "{log}");
+    assert!(log.contains("resuming"), "{log}");
+    let second = &joblog(&out)[first.len()..];
+    let rerun: Vec<usize> = second.iter().map(|a| a.0).collect();
+    let rerun_set: BTreeSet<usize> = rerun.iter().copied().collect();
+    assert_eq!(rerun.len(), rerun_set.len(), "a job ran twice: {rerun:?}");
+    let missing: BTreeSet<usize> = (1..=total).filter(|s| !done.contains(s)).collect();
+    assert_eq!(
+        rerun_set, missing,
+        "the re-run must run exactly the missing jobs"
+    );
+    assert_same_frames(&refdir, &out);
+
+    // A host crashes mid-run (its sshd and every process under it): the jobs are retried on
+    // the others and the frames are still the same.
+    let out = tmp.path().join("crash");
+    let child = farm(&hosts, &out, &["--jobs", "16", "--by", "both"]);
+    wait_for_attempts(&out, 1);
+    let crashed_at = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .unwrap()
+        .as_secs_f64();
+    hosts.crash(3);
+    let (code, log) = finish(child);
+    assert_eq!(code, Some(0), "{log}");
+    assert_same_frames(&refdir, &out);
+    // The job log keeps each job's last attempt: the run went on after the crash, every job
+    // succeeded, and none of them on the crashed host after it fell.
+    let attempts = joblog(&out);
+    let after: Vec<_> = attempts.iter().filter(|a| a.4 > crashed_at).collect();
+    assert!(
+        !after.is_empty(),
+        "the crash came after the last job: {attempts:?}"
+    );
+    assert!(after.iter().all(|a| a.1 != "fh3"), "{attempts:?}");
+    assert!(
+        attempts.iter().all(|a| a.2 == 0 && a.3 == 0),
+        "{attempts:?}"
+    );
+    let seqs: BTreeSet<usize> = attempts.iter().map(|a| a.0).collect();
+    let total = fs::read_to_string(out.join("jobs.txt"))
+        .unwrap()
+        .lines()
+        .count();
+    assert_eq!(seqs.len(), total);
+    drop(hosts);
+}
+
+fn walk(dir: &Path) -> Vec<PathBuf> {
+    let mut v = Vec::new();
+    if let Ok(rd) = fs::read_dir(dir) {
+        for e in rd.flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                v.extend(walk(&p));
+            }
+            v.push(p);
+        }
+    }
+    v
+}
