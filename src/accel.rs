@@ -5,6 +5,8 @@
 //! ([`Accel::blocker`], for the warping predictors). obvhs's own naming is hidden here
 //! (its `ray_traverse_miss` returns true when nothing is hit).
 
+use std::cell::RefCell;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use glam::{Vec3, Vec3A};
@@ -97,9 +99,23 @@ impl Accel {
         })
     }
 
+    /// The triangles in the hierarchy's order (for ray dumps that other tracers replay).
+    pub fn triangles(&self) -> impl Iterator<Item = [Vec3; 3]> + '_ {
+        self.tris
+            .iter()
+            .map(|t| [t.v0.into(), t.v1.into(), t.v2.into()])
+    }
+
     /// True when anything lies along `origin + t·dir` for t in (0, ∞): the shadow-ray test.
     #[inline]
     pub fn occluded(&self, origin: Vec3, dir: Vec3) -> bool {
+        record(origin, dir);
+        self.occluded_unrecorded(origin, dir)
+    }
+
+    /// [`occluded`](Self::occluded) without the recording hook: what a replay measures.
+    #[inline]
+    pub fn occluded_unrecorded(&self, origin: Vec3, dir: Vec3) -> bool {
         if self.tris.is_empty() {
             return false;
         }
@@ -113,6 +129,7 @@ impl Accel {
     /// (the first hit the traversal finds, not necessarily the nearest): the blocker point
     /// `origin + t·dir` is what the warping predictors re-aim.
     pub fn blocker_distance(&self, origin: Vec3, dir: Vec3) -> Option<f32> {
+        record(origin, dir);
         if self.tris.is_empty() {
             return None;
         }
@@ -132,6 +149,39 @@ impl Accel {
     pub fn blocker(&self, origin: Vec3, dir: Vec3) -> Option<Vec3> {
         self.blocker_distance(origin, dir).map(|t| origin + dir * t)
     }
+}
+
+/// One shadow ray as traced: origin and unit direction, t in (0, ∞).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadowRay {
+    pub origin: Vec3,
+    pub dir: Vec3,
+}
+
+/// Whether shadow queries are being recorded (`envshadow bench --split`/`--dump-rays`). Off in
+/// renders: the hook costs one relaxed load and a predictable branch per ray.
+static RECORDING: AtomicBool = AtomicBool::new(false);
+
+thread_local! {
+    /// The shadow rays this thread traced while recording, in order.
+    static RECORDED: RefCell<Vec<ShadowRay>> = const { RefCell::new(Vec::new()) };
+}
+
+#[inline(always)]
+fn record(origin: Vec3, dir: Vec3) {
+    if RECORDING.load(Ordering::Relaxed) {
+        RECORDED.with_borrow_mut(|v| v.push(ShadowRay { origin, dir }));
+    }
+}
+
+/// Starts or stops recording every shadow query (occlusion and blocker) on every thread.
+pub fn set_recording(on: bool) {
+    RECORDING.store(on, Ordering::SeqCst);
+}
+
+/// Takes the shadow rays the calling thread recorded.
+pub fn take_recorded() -> Vec<ShadowRay> {
+    RECORDED.with_borrow_mut(std::mem::take)
 }
 
 /// Barycentrics with obvhs's (Möller–Trumbore) edge convention, unnormalised like its
@@ -201,5 +251,27 @@ mod tests {
         let empty = Accel::build(&[], &[]);
         assert!(!empty.occluded(Vec3::ZERO, up));
         assert!(empty.intersect(Vec3::ZERO, up).is_none());
+    }
+}
+
+impl Accel {
+    /// TEMP experiment: nodes and triangles visited.
+    pub fn stats(&self, origin: Vec3, dir: Vec3) -> (u32, u32, bool) {
+        let ray = Ray::new(origin.into(), dir.into(), 0.0, f32::INFINITY);
+        let mut state = self.bvh.new_traversal(ray.direction);
+        let mut node;
+        let (mut nn, mut nt, mut hit) = (0u32, 0u32, false);
+        use glam::UVec2;
+        'outer: {
+            obvhs::traverse!(self.bvh, node, state, { nn += 1; node.intersect_ray(&ray, state.oct_inv4) }, {
+                nt += 1;
+                let t = self.tris[state.primitive_id as usize].intersect(&ray);
+                if t < ray.tmax {
+                    hit = true;
+                    break 'outer;
+                }
+            });
+        }
+        (nn, nt, hit)
     }
 }

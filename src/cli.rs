@@ -54,6 +54,9 @@ pub enum Command {
     /// Write DIR/report.html about a finished render: frames, savings plot, heat maps of the
     /// rays traced (and, validated, of wrong predictions), the lights, settings and totals.
     Report(ReportArgs),
+    /// Write one frame's triangles, normals, albedos, lights, camera rays and shadow offset for
+    /// another renderer (scripts/compare-mitsuba.sh).
+    Export(crate::export::ExportArgs),
 }
 
 #[derive(Args, Debug)]
@@ -200,6 +203,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Lights(args) => lights(args),
         Command::Bench(args) => bench::run(&args),
         Command::Table(args) => crate::table::run(&args),
+        Command::Export(args) => crate::export::run(&args),
         Command::Report(args) => {
             let start = Instant::now();
             let page = crate::report::write_report(&args.dir)?;

@@ -135,7 +135,7 @@ impl<'a> FrameContext<'a> {
 /// The shadow-ray offset: large enough to leave the surface's own triangle at the scene's
 /// float precision, small against any feature. Relative to the scene's size so the same
 /// rule serves a 15 cm bunny and a 10 m shapes scene.
-fn shadow_epsilon(scene: &Scene) -> f32 {
+pub fn shadow_epsilon(scene: &Scene) -> f32 {
     if scene.positions.is_empty() {
         return 1e-4;
     }
