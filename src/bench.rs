@@ -349,23 +349,6 @@ fn run_replay(path: &Path, args: &BenchArgs) -> Result<()> {
         REPLAY_CHUNK,
         args.repeat
     );
-    if std::env::var("ES_STATS").is_ok() {
-        let (mut n, mut t, mut h, mut nh, mut th) = (0u64, 0u64, 0u64, 0u64, 0u64);
-        for r in &dump.rays {
-            let (a, b, c) = accel.stats(r.origin, r.dir);
-            n += a as u64;
-            t += b as u64;
-            if c {
-                h += 1;
-                nh += a as u64;
-                th += b as u64;
-            }
-        }
-        let m = dump.rays.len() as f64;
-        eprintln!("nodes/ray {:.1} tris/ray {:.1} hit {:.3}; hit rays: nodes {:.1} tris {:.1}; miss rays nodes {:.1} tris {:.1}",
-            n as f64 / m, t as f64 / m, h as f64 / m, nh as f64 / h as f64, th as f64 / h as f64,
-            (n - nh) as f64 / (m - h as f64), (t - th) as f64 / (m - h as f64));
-    }
     println!("| tracer | threads | s | M rays/s | occluded |\n|---|---:|---:|---:|---:|");
     for &threads in &args.threads {
         let pool = thread_pool(threads)?;
