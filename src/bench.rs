@@ -1,16 +1,25 @@
 //! `envshadow bench`: seconds per frame and shadow rays per second, for each light count,
 //! thread count and method, measured side by side in one run (the machines are shared and
 //! noisy, so ratios are only meaningful within one run). Prints a markdown table.
+//!
+//! The split of a frame's time: the BVH build is timed on its own; the shadow rays are the
+//! method's own rays, recorded during an extra (untimed) render and traced again alone, in the
+//! same order and in the same chunks over the same thread count; the frame without shadows
+//! (`none`) is primary rays and shading; what a method costs beyond `none` and its rays is its
+//! prediction overhead (voting, flooding, halo pixels, bitset work).
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::Args;
+use rayon::prelude::*;
 
+use crate::accel::{self, Accel, ShadowRay};
 use crate::anim::{Animation, Overrides};
 use crate::coordinator::{Inputs, Silent, render_frame, thread_pool};
 use crate::error::{Result, input_error};
 use crate::predict::Method;
+use crate::raydump;
 
 #[derive(Args, Debug, Clone)]
 pub struct BenchArgs {
@@ -31,6 +40,18 @@ pub struct BenchArgs {
     /// Tile size.
     #[arg(long, default_value_t = 64)]
     pub tile: u32,
+    /// Skip the split of frame time (BVH build, shadow rays, prediction overhead), which costs
+    /// one extra render and a replay of the rays per configuration.
+    #[arg(long)]
+    pub no_split: bool,
+    /// Also write each method's shadow rays and the frame's triangles to
+    /// DIR/rays-LIGHTS-METHOD.bin (see src/raydump.rs), for benches/embree.
+    #[arg(long, value_name = "DIR")]
+    pub dump_rays: Option<PathBuf>,
+    /// Instead of rendering: trace the rays of a dump (from --dump-rays) against its
+    /// triangles at each --threads count and print rays/s (the same work as benches/embree).
+    #[arg(long, value_name = "FILE")]
+    pub replay: Option<PathBuf>,
 }
 
 /// The frames a measuring command renders: one frame of an animation at each light count.
@@ -80,6 +101,64 @@ pub struct BenchRow {
     pub seconds: f64,
     pub queries: u64,
     pub rays: u64,
+    /// The split (absent with `--no-split`).
+    pub split: Option<Split>,
+}
+
+/// Where a frame's time went, in seconds (medians).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Split {
+    /// Building the BVH of the frame's geometry.
+    pub build: f64,
+    /// Tracing the method's shadow rays alone.
+    pub shadow: f64,
+    /// Rays traced alone (the tile's and its halo's: more than `BenchRow::rays`).
+    pub replayed: u64,
+    /// Occluded rays among them (a check against other tracers on the same rays).
+    pub blocked: u64,
+}
+
+/// Rays per work item when a recorded ray list is traced again over a pool: small enough to
+/// balance two threads, large enough that scheduling is noise. benches/embree uses the same.
+pub const REPLAY_CHUNK: usize = 4096;
+
+/// Traces `rays` on the current pool in chunks of [`REPLAY_CHUNK`]; returns the occluded count.
+pub fn replay(accel: &Accel, rays: &[ShadowRay]) -> u64 {
+    rays.par_chunks(REPLAY_CHUNK)
+        .map(|c| {
+            c.iter()
+                .filter(|r| accel.occluded_unrecorded(r.origin, r.dir))
+                .count() as u64
+        })
+        .sum()
+}
+
+/// The frame's BVH, built as `render_frame` builds it.
+fn frame_accel(anim: &Animation, inputs: &Inputs, frame: usize) -> Result<Accel> {
+    let camera0 = anim.camera(&inputs.scene, 0)?;
+    Ok(match anim.scene_transform(frame, camera0.target) {
+        Some(m) => {
+            let posed = inputs.scene.transformed(m);
+            Accel::build(&posed.positions, &posed.triangles)
+        }
+        None => Accel::build(&inputs.scene.positions, &inputs.scene.triangles),
+    })
+}
+
+/// The shadow rays of one render of the frame, in the order a single thread traces them.
+fn record_rays(anim: &Animation, inputs: &Inputs, frame: usize) -> Result<Vec<ShadowRay>> {
+    let pool = thread_pool(1)?;
+    accel::set_recording(true);
+    let result = pool.install(|| render_frame(anim, inputs, frame, None, &Silent));
+    accel::set_recording(false);
+    let rays = pool.install(accel::take_recorded);
+    result?;
+    Ok(rays)
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
 }
 
 fn spec_path(scene: &str) -> PathBuf {
@@ -96,9 +175,30 @@ pub fn measure(args: &BenchArgs, mut log: impl FnMut(&BenchRow)) -> Result<Vec<B
         return Err(input_error("--repeat", "must be at least 1"));
     }
     let spec = spec_path(&args.scene);
+    let frame = args.sweep.frame;
+    let split = !args.no_split || args.dump_rays.is_some();
     let mut rows = Vec::new();
     for &n in &args.sweep.lights {
         let (mut anim, inputs) = args.sweep.load(&spec, n, Some(args.tile))?;
+        let accel = if split {
+            Some(frame_accel(&anim, &inputs, frame)?)
+        } else {
+            None
+        };
+        // Each method's rays, recorded once per light count (they do not depend on threads).
+        let mut recorded: Vec<(Method, Vec<ShadowRay>)> = Vec::new();
+        if let Some(accel) = &accel {
+            for &method in &args.methods {
+                anim.method = method;
+                let rays = record_rays(&anim, &inputs, frame)?;
+                if let (Some(dir), false) = (&args.dump_rays, rays.is_empty()) {
+                    let path = dir.join(format!("rays-{}-{}.bin", inputs.lights.len(), method));
+                    raydump::write(&path, accel, &rays)?;
+                    eprintln!("wrote {} ({} rays)", path.display(), rays.len());
+                }
+                recorded.push((method, rays));
+            }
+        }
         for &threads in &args.threads {
             let pool = thread_pool(threads)?;
             for &method in &args.methods {
@@ -107,20 +207,42 @@ pub fn measure(args: &BenchArgs, mut log: impl FnMut(&BenchRow)) -> Result<Vec<B
                 let mut counts = Default::default();
                 for _ in 0..args.repeat {
                     let t = Instant::now();
-                    let (film, _) = pool.install(|| {
-                        render_frame(&anim, &inputs, args.sweep.frame, None, &Silent)
-                    })?;
+                    let (film, _) =
+                        pool.install(|| render_frame(&anim, &inputs, frame, None, &Silent))?;
                     times.push(t.elapsed().as_secs_f64());
                     counts = film.counts;
                 }
-                times.sort_by(f64::total_cmp);
+                let split = match &accel {
+                    Some(accel) => {
+                        let rays = &recorded.iter().find(|(m, _)| *m == method).unwrap().1;
+                        let mut build = Vec::new();
+                        let mut shadow = Vec::new();
+                        let mut blocked = 0;
+                        for _ in 0..args.repeat {
+                            let t = Instant::now();
+                            pool.install(|| frame_accel(&anim, &inputs, frame))?;
+                            build.push(t.elapsed().as_secs_f64());
+                            let t = Instant::now();
+                            blocked = pool.install(|| replay(accel, rays));
+                            shadow.push(t.elapsed().as_secs_f64());
+                        }
+                        Some(Split {
+                            build: median(build),
+                            shadow: median(shadow),
+                            replayed: rays.len() as u64,
+                            blocked,
+                        })
+                    }
+                    None => None,
+                };
                 let row = BenchRow {
                     lights: inputs.lights.len(),
                     threads: pool.current_num_threads(),
                     method,
-                    seconds: times[times.len() / 2],
+                    seconds: median(times),
                     queries: counts.queries,
                     rays: counts.rays,
+                    split,
                 };
                 log(&row);
                 rows.push(row);
@@ -133,13 +255,25 @@ pub fn measure(args: &BenchArgs, mut log: impl FnMut(&BenchRow)) -> Result<Vec<B
 /// The rows as a markdown table; `× none` is the time relative to the same frame without
 /// shadows at the same light and thread count.
 pub fn markdown(rows: &[BenchRow]) -> String {
+    let with_split = rows.iter().any(|r| r.split.is_some());
     let mut s = String::from(
-        "| lights | threads | method | s/frame | × none | queries | rays traced | % traced | M rays/s |\n|---:|---:|---|---:|---:|---:|---:|---:|---:|\n",
+        "| lights | threads | method | s/frame | × none | queries | rays traced | % traced | M rays/s |",
     );
+    if with_split {
+        s.push_str(
+            " build s | primary+shading s | shadow rays s | prediction s | M rays/s traced alone |",
+        );
+    }
+    s.push_str("\n|---:|---:|---|---:|---:|---:|---:|---:|---:|");
+    if with_split {
+        s.push_str("---:|---:|---:|---:|---:|");
+    }
+    s.push('\n');
     for r in rows {
-        let none = rows
+        let none_row = rows
             .iter()
-            .find(|o| o.lights == r.lights && o.threads == r.threads && o.method == Method::None)
+            .find(|o| o.lights == r.lights && o.threads == r.threads && o.method == Method::None);
+        let none = none_row
             .map(|o| format!("{:.2}", r.seconds / o.seconds))
             .unwrap_or_else(|| "–".into());
         let pct = if r.queries > 0 {
@@ -159,12 +293,92 @@ pub fn markdown(rows: &[BenchRow]) -> String {
             pct,
             r.rays as f64 / r.seconds / 1e6
         ));
+        if with_split {
+            s.pop();
+            s.push_str(&split_cells(r, none_row));
+            s.push('\n');
+        }
     }
     s
 }
 
+/// The split columns of row `r`: primary rays and shading are the frame without shadows less
+/// its build; prediction is what remains of the frame beyond `none` and the shadow rays.
+fn split_cells(r: &BenchRow, none: Option<&BenchRow>) -> String {
+    let Some(sp) = r.split else {
+        return " – | – | – | – | – |".into();
+    };
+    let primary = none.map(|o| o.seconds - sp.build);
+    let prediction = none.map(|o| r.seconds - o.seconds - sp.shadow);
+    let f = |v: Option<f64>| v.map(|v| format!("{v:.3}")).unwrap_or_else(|| "–".into());
+    let rate = if sp.shadow > 0.0 && sp.replayed > 0 {
+        format!("{:.2}", sp.replayed as f64 / sp.shadow / 1e6)
+    } else {
+        "–".into()
+    };
+    format!(
+        " {:.3} | {} | {:.3} | {} | {} |",
+        sp.build,
+        f(primary),
+        sp.shadow,
+        if r.method == Method::None {
+            "–".into()
+        } else {
+            f(prediction)
+        },
+        rate
+    )
+}
+
+/// `envshadow bench --replay FILE`: our occlusion queries on a dump's rays, per thread count.
+fn run_replay(path: &Path, args: &BenchArgs) -> Result<()> {
+    let dump = raydump::read(path)?;
+    let positions: Vec<_> = dump.triangles.iter().flatten().copied().collect();
+    let triangles: Vec<[u32; 3]> = (0..dump.triangles.len() as u32)
+        .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
+        .collect();
+    let t = Instant::now();
+    let accel = Accel::build(&positions, &triangles);
+    let build = t.elapsed().as_secs_f64();
+    println!(
+        "{}: {} triangles (BVH built in {:.3} s), {} rays, chunks of {}, median of {}\n",
+        path.display(),
+        dump.triangles.len(),
+        build,
+        dump.rays.len(),
+        REPLAY_CHUNK,
+        args.repeat
+    );
+    println!("| tracer | threads | s | M rays/s | occluded |\n|---|---:|---:|---:|---:|");
+    for &threads in &args.threads {
+        let pool = thread_pool(threads)?;
+        let mut times = Vec::new();
+        let mut blocked = 0;
+        for _ in 0..args.repeat {
+            let t = Instant::now();
+            blocked = pool.install(|| replay(&accel, &dump.rays));
+            times.push(t.elapsed().as_secs_f64());
+        }
+        let s = median(times);
+        println!(
+            "| envshadow (obvhs) | {} | {:.3} | {:.2} | {} |",
+            pool.current_num_threads(),
+            s,
+            dump.rays.len() as f64 / s / 1e6,
+            blocked
+        );
+    }
+    Ok(())
+}
+
 /// `envshadow bench`.
 pub fn run(args: &BenchArgs) -> Result<()> {
+    if args.repeat == 0 {
+        return Err(input_error("--repeat", "must be at least 1"));
+    }
+    if let Some(path) = &args.replay {
+        return run_replay(path, args);
+    }
     let rows = measure(args, |r| {
         eprintln!(
             "{} lights, {} threads, {}: {:.3} s/frame",

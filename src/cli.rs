@@ -64,6 +64,9 @@ pub enum Command {
     /// Print the version; with --build also the build identity (a hash of this executable),
     /// which every farm host must share.
     Version(VersionArgs),
+    /// Write one frame's triangles, normals, albedos, lights, camera rays and shadow offset for
+    /// another renderer (scripts/compare-mitsuba.sh).
+    Export(crate::export::ExportArgs),
 }
 
 #[derive(Args, Debug)]
@@ -272,6 +275,7 @@ pub fn run(cli: Cli) -> Result<()> {
             }
             Ok(())
         }
+        Command::Export(args) => crate::export::run(&args),
         Command::Report(args) => {
             let start = Instant::now();
             let page = crate::report::write_report(&args.dir)?;

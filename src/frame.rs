@@ -42,6 +42,8 @@ pub struct FrameContext<'a> {
     pub light_x: Vec<f32>,
     pub light_y: Vec<f32>,
     pub light_z: Vec<f32>,
+    /// The lights for shading, padded with zero lights to whole words (see [`radiance`]).
+    pub shade_lights: ShadeLights,
     /// Shadow-ray origin offset along the geometric normal (scene units).
     pub shadow_eps: f32,
     pub predictor: &'a dyn Predictor,
@@ -69,6 +71,7 @@ impl<'a> FrameContext<'a> {
             light_x: lights.lights.iter().map(|l| l.dir.x).collect(),
             light_y: lights.lights.iter().map(|l| l.dir.y).collect(),
             light_z: lights.lights.iter().map(|l| l.dir.z).collect(),
+            shade_lights: ShadeLights::new(lights),
             shadow_eps: shadow_epsilon(scene),
             predictor,
             validate: false,
@@ -135,7 +138,7 @@ impl<'a> FrameContext<'a> {
 /// The shadow-ray offset: large enough to leave the surface's own triangle at the scene's
 /// float precision, small against any feature. Relative to the scene's size so the same
 /// rule serves a 15 cm bunny and a 10 m shapes scene.
-fn shadow_epsilon(scene: &Scene) -> f32 {
+pub fn shadow_epsilon(scene: &Scene) -> f32 {
     if scene.positions.is_empty() {
         return 1e-4;
     }
@@ -383,14 +386,87 @@ fn count_work(work: &mut TileWork) {
     work.counts = c;
 }
 
-/// Lambertian shading of `bits`: `B = Σ_j V_j · ρ/π · E_j · max(0, N·ω_j)`, summed in light
-/// order (deterministic).
+/// Light directions and energies as padded flat arrays (length a multiple of 64, zero lights at
+/// the end), so shading runs over 8 lights at a time without bounds checks.
+#[derive(Clone, Debug, Default)]
+pub struct ShadeLights {
+    x: Vec<f32>,
+    y: Vec<f32>,
+    z: Vec<f32>,
+    r: Vec<f32>,
+    g: Vec<f32>,
+    b: Vec<f32>,
+}
+
+impl ShadeLights {
+    fn new(lights: &LightSet) -> ShadeLights {
+        let n = lights.lights.len().div_ceil(64) * 64;
+        let pad = |f: &dyn Fn(&crate::lights::Light) -> f32| {
+            let mut v: Vec<f32> = lights.lights.iter().map(f).collect();
+            v.resize(n, 0.0);
+            v
+        };
+        ShadeLights {
+            x: pad(&|l| l.dir.x),
+            y: pad(&|l| l.dir.y),
+            z: pad(&|l| l.dir.z),
+            r: pad(&|l| l.energy.x),
+            g: pad(&|l| l.energy.y),
+            b: pad(&|l| l.energy.z),
+        }
+    }
+}
+
+/// For each byte value, its eight bits as 0.0 / 1.0 multipliers, lowest bit first.
+const BYTE_MASK: [[f32; 8]; 256] = {
+    let mut t = [[0.0f32; 8]; 256];
+    let mut v = 0;
+    while v < 256 {
+        let mut l = 0;
+        while l < 8 {
+            t[v][l] = ((v >> l) & 1) as f32;
+            l += 1;
+        }
+        v += 1;
+    }
+    t
+};
+
+/// Lambertian shading of `bits`: `B = Σ_j V_j · ρ/π · E_j · (N·ω_j)` over the visible lights
+/// (all above the horizon). Eight lights at a time, branch-free within a byte of the bitset
+/// (a visibility bit becomes a 0/1 multiplier), into eight partial sums — lane l sums the
+/// lights j ≡ l (mod 8) in increasing order — added in a fixed order at the end: the same bits
+/// whatever the thread or tile, and several times faster than one light at a time.
 #[inline]
 fn radiance(ctx: &FrameContext, s: &Surface, bits: &[u64]) -> Vec3 {
-    let mut e = Vec3::ZERO;
-    bits::for_each(bits, |j| {
-        e += ctx.light_energy[j] * s.n.dot(ctx.light_dir[j]);
-    });
+    let sl = &ctx.shade_lights;
+    let (nx, ny, nz) = (s.n.x, s.n.y, s.n.z);
+    let mut ar = [0.0f32; 8];
+    let mut ag = [0.0f32; 8];
+    let mut ab = [0.0f32; 8];
+    for (k, &word) in bits.iter().enumerate() {
+        let mut w = word;
+        let mut base = k * 64;
+        while w != 0 {
+            let byte = (w & 0xff) as usize;
+            if byte != 0 {
+                let m = &BYTE_MASK[byte];
+                let r = base..base + 8;
+                let (x, y, z) = (&sl.x[r.clone()], &sl.y[r.clone()], &sl.z[r.clone()]);
+                let (er, eg, eb) = (&sl.r[r.clone()], &sl.g[r.clone()], &sl.b[r]);
+                for l in 0..8 {
+                    let c = (nx * x[l] + ny * y[l] + nz * z[l]) * m[l];
+                    ar[l] += er[l] * c;
+                    ag[l] += eg[l] * c;
+                    ab[l] += eb[l] * c;
+                }
+            }
+            w >>= 8;
+            base += 8;
+        }
+    }
+    let sum = |a: [f32; 8]| ((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]));
+    let e = Vec3::new(sum(ar), sum(ag), sum(ab));
     s.albedo * std::f32::consts::FRAC_1_PI * e
 }
 

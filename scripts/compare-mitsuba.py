@@ -1,0 +1,196 @@
+"""Renders an `envshadow export` frame with Mitsuba 3 (LLVM variant) exactly as envshadow's
+`brute` method does, times it against envshadow on the same frame in the same run, and
+compares the images. Run through scripts/compare-mitsuba.sh, which makes the venv and export.
+
+The integrator: one primary ray per pixel centre (the exported directions), Lambertian
+B = albedo/pi * sum_j V_j E_j max(0, N.w_j) over every light, shading normal = normalised
+interpolated vertex normal (the facet normal where it points away from the facet's visible
+side), both normals turned towards the camera, shadow rays from the hit point moved
+`shadow_eps` along the geometric normal, t in (0, inf). Background pixels are left out of the
+comparison (envshadow shows the environment there; this integrator does not look it up).
+"""
+
+import argparse
+import csv
+import json
+import os
+import subprocess
+import sys
+import time
+
+import numpy as np
+import mitsuba as mi
+import drjit as dr
+
+mi.set_variant("llvm_ad_rgb")
+
+
+def read_ply(path):
+    with open(path, "rb") as f:
+        header = []
+        while True:
+            line = f.readline().decode("ascii").strip()
+            header.append(line)
+            if line == "end_header":
+                break
+        nv = int(next(l for l in header if l.startswith("element vertex")).split()[2])
+        nf = int(next(l for l in header if l.startswith("element face")).split()[2])
+        verts = np.frombuffer(f.read(nv * 24), dtype="<f4").reshape(nv, 6)
+        face_t = np.dtype([("n", "u1"), ("i", "<i4", 3), ("rgb", "<f4", 3)])
+        faces = np.frombuffer(f.read(nf * face_t.itemsize), dtype=face_t)
+    if not np.all(faces["n"] == 3):
+        sys.exit(f"{path}: only triangles are expected")
+    return verts[:, :3], verts[:, 3:], faces["i"].astype(np.uint32), faces["rgb"]
+
+
+def build_scene(export):
+    p, n, f, rgb = read_ply(os.path.join(export, "scene.ply"))
+    mesh = mi.Mesh("scene", len(p), len(f), has_vertex_normals=True)
+    mesh.add_attribute("face_albedo", 3, mi.Float(rgb.ravel()))
+    params = mi.traverse(mesh)
+    params["vertex_positions"] = mi.Float(p.ravel())
+    params["vertex_normals"] = mi.Float(n.ravel())
+    params["faces"] = mi.UInt(f.ravel())
+    params.update()
+    scene = mi.load_dict({"type": "scene", "mesh": mesh})
+    dr.sync_thread()
+    return scene, mesh
+
+
+@dr.syntax
+def shade(scene, origin, n, albedo, ldir, lenergy, count):
+    """Sum over every light of E_j max(0, N.w_j) V_j, in light order."""
+    e = mi.Color3f(0.0)
+    j = mi.UInt32(0)
+    while j < count:
+        d = dr.gather(mi.Vector3f, ldir, j)
+        c = dr.dot(n, d)
+        if c > 0.0:
+            blocked = scene.ray_test(mi.Ray3f(origin, d))
+            if ~blocked:
+                e += dr.gather(mi.Color3f, lenergy, j) * c
+        j += 1
+    return albedo * dr.inv_pi * e
+
+
+def render(scene, mesh, meta, dirs, ldir, lenergy, count):
+    cam = mi.Point3f(*meta["camera_position"])
+    d = mi.Vector3f(dirs[:, 0], dirs[:, 1], dirs[:, 2])
+    si = scene.ray_intersect(mi.Ray3f(cam, d))
+    hit = si.is_valid()
+    ng = si.n
+    ns = si.sh_frame.n
+    flip = dr.dot(ng, d) > 0.0
+    ng = dr.select(flip, -ng, ng)
+    ns = dr.select(flip, -ns, ns)
+    ns = dr.select((dr.dot(ns, ng) <= 0.0) | ~dr.all(dr.isfinite(ns)), ng, ns)
+    albedo = mesh.eval_attribute_3("face_albedo", si, hit)
+    origin = si.p + ng * meta["shadow_eps"]
+    b = shade(scene, origin, ns, albedo, ldir, lenergy, count)
+    b = dr.select(hit, b, 0.0)
+    dr.eval(b, hit)
+    # The LLVM backend runs kernels asynchronously: wait for this one before the clock stops.
+    dr.sync_thread()
+    return b, hit
+
+
+def envshadow_frame(binary, spec, frame, lights, method, threads, out):
+    """Renders one frame with envshadow; returns (seconds from stats.csv, RGB array)."""
+    subprocess.run(
+        [binary, "render", spec, "--frames", str(frame), "--lights", str(lights),
+         "--method", method, "--threads", str(threads), "--out", out, "-q", "--no-report"],
+        check=True)
+    with open(os.path.join(out, "stats.csv")) as f:
+        row = list(csv.DictReader(f))[-1]
+    bmp = mi.Bitmap(os.path.join(out, f"frame_{frame:04d}.exr"))
+    names = [field.name for field in bmp.struct_()]
+    data = np.array(bmp)
+    rgb = np.stack([data[..., names.index(c)] for c in ("R", "G", "B")], axis=-1)
+    return float(row["seconds"]), rgb.astype(np.float64)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("export")
+    ap.add_argument("--binary", default="target/release/envshadow")
+    ap.add_argument("--spec", required=True)
+    ap.add_argument("--frame", type=int, default=0)
+    ap.add_argument("--threads", default="1,2")
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--methods", default="brute,grid-nowarp-uncertainty")
+    ap.add_argument("--work", required=True)
+    args = ap.parse_args()
+
+    meta = json.load(open(os.path.join(args.export, "frame.json")))
+    lights = json.load(open(os.path.join(args.export, "lights.json")))["lights"]
+    w, h = meta["width"], meta["height"]
+    dirs = np.fromfile(os.path.join(args.export, "primary.f32"), dtype="<f4").reshape(-1, 3)
+    ldir_np = np.array([l["direction"] for l in lights], dtype=np.float32)
+    le_np = np.array([l["energy"] for l in lights], dtype=np.float32)
+    count = len(lights)
+    print(f"mitsuba {mi.__version__} ({mi.variant()}), drjit {dr.__version__}; "
+          f"{meta['triangles']} triangles, {count} lights, {w}x{h}, frame {meta['frame']}")
+
+    rows = []
+    images = {}
+    for threads in [int(t) for t in args.threads.split(",")]:
+        dr.set_thread_count(threads)
+        for rep in range(args.repeat):
+            t0 = time.perf_counter()
+            scene, mesh = build_scene(args.export)
+            t1 = time.perf_counter()
+            ldir = mi.Vector3f(ldir_np[:, 0], ldir_np[:, 1], ldir_np[:, 2])
+            lenergy = mi.Color3f(le_np[:, 0], le_np[:, 1], le_np[:, 2])
+            b, hit = render(scene, mesh, meta, dirs, ldir, lenergy, mi.UInt32(count))
+            t2 = time.perf_counter()
+            # The first render of a run includes compiling the kernel; later ones reuse it.
+            rows.append(("mitsuba", threads, rep, t1 - t0, t2 - t1))
+            images["mitsuba"] = (np.array(b, copy=False).T.reshape(h, w, 3).astype(np.float64),
+                                 np.array(hit, copy=False).reshape(h, w))
+            for method in args.methods.split(","):
+                out = os.path.join(args.work, f"{method}-t{threads}")
+                secs, img = envshadow_frame(args.binary, args.spec, meta["frame"], count,
+                                            method, threads, out)
+                rows.append((method, threads, rep, None, secs))
+                images[method] = img
+
+    print("\n| renderer | threads | s/frame (median) | build s | first render s | × envshadow default |")
+    print("|---|---:|---:|---:|---:|---:|")
+    default = "grid-nowarp-uncertainty"
+    for threads in sorted({r[1] for r in rows}):
+        def med(name):
+            v = sorted(r[4] + (r[3] or 0.0) for r in rows if r[0] == name and r[1] == threads)
+            return v[len(v) // 2] if v else None
+        ours = med(default)
+        for name in ["mitsuba"] + args.methods.split(","):
+            m = med(name)
+            if m is None:
+                continue
+            build = [r[3] for r in rows if r[0] == name and r[1] == threads and r[3] is not None]
+            first = [r[4] for r in rows if r[0] == name and r[1] == threads and r[2] == 0]
+            label = "Mitsuba 3 (exact, every light)" if name == "mitsuba" else f"envshadow {name}"
+            ratio = f"{m / ours:.2f}" if ours else "–"
+            bs = f"{sorted(build)[len(build) // 2]:.3f}" if build else "–"
+            fs = f"{first[0]:.3f}" if name == "mitsuba" and first else "–"
+            print(f"| {label} | {threads} | {m:.3f} | {bs} | {fs} | {ratio} |")
+
+    ref, hit = images["mitsuba"]
+    print(f"\nImage difference over the {int(hit.sum())} pixels that hit the scene "
+          "(relative = divided by Mitsuba's mean pixel value there):")
+    print("\n| image | RMSE | relative RMSE | max abs diff | relative max | pixels differing > 1 % |")
+    print("|---|---:|---:|---:|---:|---:|")
+    mean = ref[hit].mean()
+    for name in args.methods.split(","):
+        img = images[name]
+        d = (img - ref)[hit]
+        rmse = float(np.sqrt(np.mean(d ** 2)))
+        mx = float(np.abs(d).max())
+        lum = np.maximum(ref[hit].mean(axis=1), 1e-6)
+        big = int(np.sum(np.abs(d).mean(axis=1) / lum > 0.01))
+        print(f"| envshadow {name} vs Mitsuba | {rmse:.5f} | {100 * rmse / mean:.3f} % | "
+              f"{mx:.4f} | {100 * mx / mean:.1f} % | {big} |")
+    np.save(os.path.join(args.work, "mitsuba.npy"), ref.astype(np.float32))
+
+
+if __name__ == "__main__":
+    main()

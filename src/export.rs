@@ -1,0 +1,160 @@
+//! `envshadow export`: one frame's exact inputs for another renderer (scripts/compare-mitsuba.sh):
+//! the posed triangles, vertex normals and per-face albedo as a binary PLY, the lights as
+//! `lights.json`, the primary-ray directions of every pixel centre, and a `frame.json` with the
+//! camera and the shadow-ray offset. With these, an independent renderer can evaluate exactly
+//! what envshadow's `brute` method does: Lambertian shading of every light at every pixel
+//! centre, shadow rays from the hit point moved `shadow_eps` along the geometric normal.
+
+use std::fs;
+use std::io::{BufWriter, Write};
+use std::path::PathBuf;
+
+use anyhow::Context;
+use clap::Args;
+use serde_json::json;
+
+use crate::anim::{Animation, Overrides};
+use crate::coordinator::Inputs;
+use crate::error::{Result, input_error};
+use crate::frame::shadow_epsilon;
+use crate::output::write_atomic_with;
+
+#[derive(Args, Debug)]
+pub struct ExportArgs {
+    /// The animation spec, e.g. anims/bunny-turntable.toml.
+    pub spec: PathBuf,
+    /// Which frame.
+    #[arg(long, default_value_t = 0)]
+    pub frame: usize,
+    /// Number of directional lights.
+    #[arg(long, value_name = "N")]
+    pub lights: Option<usize>,
+    /// Image width in pixels.
+    #[arg(long, value_name = "W")]
+    pub width: Option<u32>,
+    /// Image height in pixels.
+    #[arg(long, value_name = "H")]
+    pub height: Option<u32>,
+    /// Output folder (created): scene.ply, lights.json, primary.f32, frame.json.
+    #[arg(long, value_name = "DIR")]
+    pub out: PathBuf,
+}
+
+/// `envshadow export`.
+pub fn run(args: &ExportArgs) -> Result<()> {
+    let overrides = Overrides {
+        lights: args.lights,
+        width: args.width,
+        height: args.height,
+        ..Default::default()
+    };
+    let anim = Animation::load(&args.spec, &overrides)?;
+    if !anim.frames.contains(&args.frame) {
+        return Err(input_error(
+            &args.spec,
+            format!(
+                "frame {} is outside the animation's frames {:?}",
+                args.frame, anim.frames
+            ),
+        ));
+    }
+    let inputs = Inputs::load(&anim)?;
+    if let Some(m) = inputs.scene.materials.iter().find(|m| m.texture.is_some()) {
+        return Err(input_error(
+            &args.spec,
+            format!(
+                "material {:?} is textured; export writes per-face base colours only",
+                m.name
+            ),
+        ));
+    }
+    let camera0 = anim.camera(&inputs.scene, 0)?;
+    let posed;
+    let scene = match anim.scene_transform(args.frame, camera0.target) {
+        Some(m) => {
+            posed = inputs.scene.transformed(m);
+            &posed
+        }
+        None => &inputs.scene,
+    };
+    let camera = anim.camera(&inputs.scene, args.frame)?;
+    let dir = &args.out;
+    fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+
+    // scene.ply: float vertices and normals; faces with their material's linear albedo.
+    write_atomic_with(&dir.join("scene.ply"), |tmp| {
+        let mut f = BufWriter::new(fs::File::create(tmp)?);
+        write!(
+            f,
+            "ply\nformat binary_little_endian 1.0\ncomment envshadow export of {} frame {}\n\
+             element vertex {}\nproperty float x\nproperty float y\nproperty float z\n\
+             property float nx\nproperty float ny\nproperty float nz\n\
+             element face {}\nproperty list uchar int vertex_indices\n\
+             property float r\nproperty float g\nproperty float b\nend_header\n",
+            anim.spec_path.display(),
+            args.frame,
+            scene.positions.len(),
+            scene.triangles.len()
+        )?;
+        for (p, n) in scene.positions.iter().zip(&scene.normals) {
+            for c in p.to_array().into_iter().chain(n.to_array()) {
+                f.write_all(&c.to_le_bytes())?;
+            }
+        }
+        for (t, &m) in scene.triangles.iter().zip(&scene.tri_material) {
+            f.write_all(&[3u8])?;
+            for &i in t {
+                f.write_all(&(i as i32).to_le_bytes())?;
+            }
+            let albedo = scene.materials[m as usize].base_color;
+            for c in albedo.to_array() {
+                f.write_all(&c.to_le_bytes())?;
+            }
+        }
+        f.into_inner().map_err(|e| e.into_error())?.sync_all()?;
+        Ok(())
+    })?;
+
+    // primary.f32: the unit direction of every pixel centre's ray, row by row from the top.
+    write_atomic_with(&dir.join("primary.f32"), |tmp| {
+        let mut f = BufWriter::new(fs::File::create(tmp)?);
+        for y in 0..camera.height {
+            for x in 0..camera.width {
+                for c in camera.ray_dir(x, y).to_array() {
+                    f.write_all(&c.to_le_bytes())?;
+                }
+            }
+        }
+        f.into_inner().map_err(|e| e.into_error())?.sync_all()?;
+        Ok(())
+    })?;
+
+    inputs.lights.write_json(&dir.join("lights.json"))?;
+    let meta = json!({
+        "spec": anim.spec_path.display().to_string(),
+        "frame": args.frame,
+        "width": camera.width,
+        "height": camera.height,
+        "camera_position": camera.position.to_array(),
+        "camera_target": camera.target.to_array(),
+        "camera_up": camera.up.to_array(),
+        "vfov_deg": camera.vfov_deg,
+        "shadow_eps": shadow_epsilon(scene),
+        "triangles": scene.triangles.len(),
+        "lights": inputs.lights.len(),
+    });
+    crate::output::write_atomic(
+        &dir.join("frame.json"),
+        serde_json::to_string_pretty(&meta)?.as_bytes(),
+    )?;
+    println!(
+        "exported frame {} ({} triangles, {} lights, {}x{}) to {}",
+        args.frame,
+        scene.triangles.len(),
+        inputs.lights.len(),
+        camera.width,
+        camera.height,
+        dir.display()
+    );
+    Ok(())
+}
