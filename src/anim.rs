@@ -31,6 +31,8 @@
 //! h0 = 16                       # coarse grid spacing (power of two)
 //! min_voters = 3                # fewer voters with the light above their horizon → trace it
 //! scan_block = 64               # scanline order restarts every scan_block pixels
+//! temporal = false              # the previous frame votes too (grid uncertainty methods)
+//! keyframe = 16                 # with temporal: frames 0, 16, 32, … restart the chain
 //! exposure = 1.0                # PNG preview exposure
 //! tile = 64
 //! threads = 0                   # 0: all cores
@@ -212,6 +214,10 @@ struct RenderSpec {
     min_voters: u32,
     #[serde(default = "default_scan_block")]
     scan_block: u32,
+    #[serde(default)]
+    temporal: bool,
+    #[serde(default = "default_keyframe")]
+    keyframe: u32,
 }
 
 impl Default for RenderSpec {
@@ -227,6 +233,8 @@ impl Default for RenderSpec {
             h0: default_h0(),
             min_voters: default_min_voters(),
             scan_block: default_scan_block(),
+            temporal: false,
+            keyframe: default_keyframe(),
         }
     }
 }
@@ -292,6 +300,9 @@ fn default_min_voters() -> u32 {
 fn default_scan_block() -> u32 {
     Params::default().scan_block
 }
+fn default_keyframe() -> u32 {
+    crate::temporal::DEFAULT_KEYFRAME
+}
 fn default_out() -> PathBuf {
     PathBuf::from("out")
 }
@@ -351,6 +362,8 @@ pub struct Overrides {
     pub h0: Option<u32>,
     pub min_voters: Option<u32>,
     pub scan_block: Option<u32>,
+    pub temporal: bool,
+    pub keyframe: Option<u32>,
 }
 
 /// A frame selection from `--frames`: `A..B` (B excluded), `A..=B`, or `A`.
@@ -414,6 +427,11 @@ pub struct Animation {
     pub tile: u32,
     pub threads: usize,
     pub out_dir: PathBuf,
+    /// Use the previous frame as voters (`--temporal`, [render] temporal).
+    pub temporal: bool,
+    /// With `temporal`: every `keyframe`-th frame (counted from frame 0) is predicted from
+    /// its own pixels only, and starts a new chain (`--keyframe`, [render] keyframe).
+    pub keyframe: u32,
 }
 
 impl Animation {
@@ -527,6 +545,8 @@ impl Animation {
             tile: spec.render.tile,
             threads: spec.render.threads,
             out_dir: spec.output.dir.clone(),
+            temporal: spec.render.temporal,
+            keyframe: spec.render.keyframe,
         };
         anim.apply(overrides, path)?;
         Ok(anim)
@@ -584,6 +604,10 @@ impl Animation {
         if let Some(v) = o.scan_block {
             self.params.scan_block = v;
         }
+        self.temporal |= o.temporal;
+        if let Some(v) = o.keyframe {
+            self.keyframe = v;
+        }
         self.validate(path)
     }
 
@@ -628,6 +652,9 @@ impl Animation {
             );
         }
         if let Err(m) = self.params.check() {
+            bail_input!(path, "{m}");
+        }
+        if let Err(m) = crate::temporal::check(self) {
             bail_input!(path, "{m}");
         }
         if self.tile != 0 && self.tile < 8 {
@@ -684,6 +711,17 @@ impl Animation {
                 * Mat4::from_rotation_y(angle)
                 * Mat4::from_translation(-pivot),
         )
+    }
+
+    /// Frames a job's range should start on so that every frame it writes is rendered as the
+    /// whole animation would render it: with `temporal`, the key-frame interval (a job
+    /// starting elsewhere first renders, without writing, the frames back to its key frame).
+    pub fn frame_alignment(&self) -> usize {
+        if self.temporal {
+            self.keyframe as usize
+        } else {
+            1
+        }
     }
 
     /// The camera at `frame`. `scene` is the unposed scene (bounds and file camera).

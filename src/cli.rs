@@ -99,6 +99,16 @@ pub struct AnimFlags {
     /// Block size at which the scanline order restarts (default 64).
     #[arg(long, value_name = "N")]
     pub scan_block: Option<u32>,
+    /// Let every pixel whose surface point the previous frame saw use the previous frame's
+    /// pixels there as voters (camera orbit: reprojection; object spin: votes pulled through
+    /// the turn). Grid uncertainty methods only. See docs/temporal.md.
+    #[arg(long)]
+    pub temporal: bool,
+    /// With --temporal: frames 0, N, 2N, … are predicted from their own pixels and restart the
+    /// chain (default 16). A run starting between key frames first renders, without writing,
+    /// the frames back to the key frame before it.
+    #[arg(long, value_name = "N")]
+    pub keyframe: Option<u32>,
     /// Worker threads (0: one per core).
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
@@ -130,6 +140,8 @@ impl AnimFlags {
             h0: self.h0,
             min_voters: self.min_voters,
             scan_block: self.scan_block,
+            temporal: self.temporal,
+            keyframe: self.keyframe,
         }
     }
 }

@@ -10,7 +10,8 @@
 //! - [`tile`] splits a frame; [`frame`] renders one tile; [`film`] assembles tiles;
 //!   [`coordinator`] schedules frames × tiles over threads and streams them to the writer.
 //! - [`output`] writes EXR/PNG/CSV/JSON atomically; [`anim`] parses animation specs;
-//!   [`report`] builds `report.html` from a finished render's folder.
+//!   [`report`] builds `report.html` from a finished render's folder; [`temporal`] carries a
+//!   frame's visibility to the next (`--temporal`).
 
 pub mod accel;
 pub mod anim;
@@ -28,4 +29,5 @@ pub mod predict;
 pub mod report;
 pub mod scene;
 pub mod table;
+pub mod temporal;
 pub mod tile;
