@@ -54,6 +54,21 @@ pub enum Command {
     /// Write DIR/report.html about a finished render: frames, savings plot, heat maps of the
     /// rays traced (and, validated, of wrong predictions), the lights, settings and totals.
     Report(ReportArgs),
+    /// Plot percent traced per frame with and without --temporal (DIR/savings.png) from two
+    /// renders of the same frames (scripts/temporal-savings.sh makes both).
+    Savings(SavingsArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct SavingsArgs {
+    /// The output folder of the render with --temporal.
+    pub dir: PathBuf,
+    /// The output folder of the same frames rendered without --temporal.
+    #[arg(long, value_name = "DIR")]
+    pub without: PathBuf,
+    /// Where to write the plot (default: DIR/savings.png).
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
 }
 
 #[derive(Args, Debug)]
@@ -212,6 +227,24 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Lights(args) => lights(args),
         Command::Bench(args) => bench::run(&args),
         Command::Table(args) => crate::table::run(&args),
+        Command::Savings(args) => {
+            let s = crate::savings::write_savings(&args.dir, &args.without, args.out.as_deref())?;
+            let n = s.frames.len() as f64;
+            let (with, without) = s
+                .frames
+                .iter()
+                .fold((0.0, 0.0), |acc, r| (acc.0 + r.1 / n, acc.1 + r.2 / n));
+            println!(
+                "wrote {}: {} frames, mean {with:.2} % traced with --temporal, {without:.2} % \
+                 without ({:.0} %); blue = with, grey = without, y grid every {} % up to {} %",
+                s.png.display(),
+                s.frames.len(),
+                100.0 * with / without.max(1e-12),
+                s.axis.1,
+                s.axis.0
+            );
+            Ok(())
+        }
         Command::Report(args) => {
             let start = Instant::now();
             let page = crate::report::write_report(&args.dir)?;

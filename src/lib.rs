@@ -27,6 +27,7 @@ pub mod lights;
 pub mod output;
 pub mod predict;
 pub mod report;
+pub mod savings;
 pub mod scene;
 pub mod table;
 pub mod temporal;

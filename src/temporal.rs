@@ -166,6 +166,11 @@ impl Carried {
         (self.bits[base + m], self.bits[base + self.words + m], edge)
     }
 
+    /// Whether the light-space shadow edges are kept (a spinning object).
+    pub fn has_edges(&self) -> bool {
+        self.rows > 2
+    }
+
     /// Bytes held.
     pub fn bytes(&self) -> usize {
         self.hit.len() * (1 + 24) + self.bits.len() * 8

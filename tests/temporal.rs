@@ -202,3 +202,27 @@ fn temporal_flags_are_checked() {
         assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
     }
 }
+
+#[test]
+fn savings_plot_compares_two_renders() {
+    let root = tempfile::tempdir().unwrap();
+    let (with, without) = (root.path().join("t"), root.path().join("s"));
+    let mut anim = bunny("orbit", 64, 48, 32, &with);
+    anim.validate = false;
+    anim.frames = 0..3;
+    render_animation(&anim, &RunOptions::default(), &Silent).unwrap();
+    anim.temporal = false;
+    anim.out_dir = without.clone();
+    render_animation(&anim, &RunOptions::default(), &Silent).unwrap();
+    let s = envshadow::savings::write_savings(&with, &without, None).unwrap();
+    assert_eq!(s.png, with.join("savings.png"));
+    assert_eq!(s.frames.len(), 3);
+    // The key frame is the same spatial frame in both; later frames trace fewer rays.
+    assert_eq!(s.frames[0].1, s.frames[0].2);
+    assert!(s.frames[1..].iter().all(|r| r.1 < r.2), "{:?}", s.frames);
+    let img = image::open(&s.png).unwrap();
+    assert_eq!((img.width(), img.height()), (800, 360));
+    // A folder without stats.csv is bad input naming the file.
+    let e = envshadow::savings::write_savings(&with, root.path(), None).unwrap_err();
+    assert!(format!("{e:#}").contains("stats.csv"), "{e:#}");
+}

@@ -75,6 +75,7 @@ pub fn solve_temporal(
         ext[2 * w + m] = edge;
     }
     let remap = prev.remap();
+    let spin = carried.has_edges();
     let (blocked, sure, edge) = if remap.is_empty() {
         (0, w, 2 * w)
     } else {
@@ -112,10 +113,24 @@ pub fn solve_temporal(
         let s_blocked = s_enough & s_all & s_any;
         let s_sure = s_blocked | (s_enough & !s_any);
         let e = my & ext[edge + m];
-        let t_blocked = ext[blocked + m] & !e;
-        sc.pred_vis[m] = my & !(t_blocked | (e & s_blocked));
-        sc.uncertain[m] = my & !ext[sure + m];
-        sc.queued[m] = sc.uncertain[m] | (e & !s_sure);
+        if !spin {
+            sc.pred_vis[m] = my & !ext[blocked + m];
+            sc.uncertain[m] = my & !ext[sure + m];
+            sc.queued[m] = sc.uncertain[m];
+            continue;
+        }
+        // Spin: the temporal voters settle what the spatial ones leave uncertain, and the
+        // reverse; where both are sure they must agree.
+        let t_sure = ext[sure + m] & !e;
+        let t_blocked = ext[blocked + m] & t_sure;
+        let conflict = t_sure & s_sure & (t_blocked ^ s_blocked);
+        let settled = (t_sure | s_sure) & !conflict;
+        let blocked_now = (t_blocked & t_sure) | (s_blocked & s_sure);
+        sc.pred_vis[m] = my & !(blocked_now & settled);
+        // An edge light neither settles is traced, flooding only on a surprise; lights the
+        // voters disagree on are uncertain and flood.
+        sc.uncertain[m] = my & !settled & !(e & ext[sure + m]);
+        sc.queued[m] = my & !settled;
     }
     correct(ctx, work, i, Flood::Uncertainty, keep_blockers);
     work.temporal[i] = true;
