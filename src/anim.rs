@@ -33,6 +33,7 @@
 //! scan_block = 64               # scanline order restarts every scan_block pixels
 //! temporal = false              # the previous frame votes too (grid uncertainty methods)
 //! keyframe = 16                 # with temporal: frames 0, 16, 32, … restart the chain
+//!                               # (default 16 for orbit, 4 for spin: docs/temporal.md)
 //! exposure = 1.0                # PNG preview exposure
 //! tile = 64
 //! threads = 0                   # 0: all cores
@@ -216,8 +217,7 @@ struct RenderSpec {
     scan_block: u32,
     #[serde(default)]
     temporal: bool,
-    #[serde(default = "default_keyframe")]
-    keyframe: u32,
+    keyframe: Option<u32>,
 }
 
 impl Default for RenderSpec {
@@ -234,7 +234,7 @@ impl Default for RenderSpec {
             min_voters: default_min_voters(),
             scan_block: default_scan_block(),
             temporal: false,
-            keyframe: default_keyframe(),
+            keyframe: None,
         }
     }
 }
@@ -299,9 +299,6 @@ fn default_min_voters() -> u32 {
 }
 fn default_scan_block() -> u32 {
     Params::default().scan_block
-}
-fn default_keyframe() -> u32 {
-    crate::temporal::DEFAULT_KEYFRAME
 }
 fn default_out() -> PathBuf {
     PathBuf::from("out")
@@ -546,7 +543,10 @@ impl Animation {
             threads: spec.render.threads,
             out_dir: spec.output.dir.clone(),
             temporal: spec.render.temporal,
-            keyframe: spec.render.keyframe,
+            keyframe: spec
+                .render
+                .keyframe
+                .unwrap_or_else(|| crate::temporal::default_keyframe(motion)),
         };
         anim.apply(overrides, path)?;
         Ok(anim)

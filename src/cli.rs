@@ -120,7 +120,7 @@ pub struct AnimFlags {
     #[arg(long)]
     pub temporal: bool,
     /// With --temporal: frames 0, N, 2N, … are predicted from their own pixels and restart the
-    /// chain (default 16). A run starting between key frames first renders, without writing,
+    /// chain (default 16 for a camera orbit, 4 for a spinning object). A run starting between key frames first renders, without writing,
     /// the frames back to the key frame before it.
     #[arg(long, value_name = "N")]
     pub keyframe: Option<u32>,

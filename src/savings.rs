@@ -48,6 +48,7 @@ pub fn percent_per_frame(dir: &Path) -> Result<BTreeMap<usize, f64>> {
 }
 
 /// What [`write_savings`] drew.
+#[derive(Debug)]
 pub struct Savings {
     pub png: PathBuf,
     /// Frames in both renders: (frame, with, without).
