@@ -31,6 +31,9 @@
 //! h0 = 16                       # coarse grid spacing (power of two)
 //! min_voters = 3                # fewer voters with the light above their horizon → trace it
 //! scan_block = 64               # scanline order restarts every scan_block pixels
+//! temporal = false              # the previous frame votes too (grid uncertainty methods)
+//! keyframe = 16                 # with temporal: frames 0, 16, 32, … restart the chain
+//!                               # (default 16 for orbit, 4 for spin: docs/temporal.md)
 //! exposure = 1.0                # PNG preview exposure
 //! tile = 64
 //! threads = 0                   # 0: all cores
@@ -212,6 +215,9 @@ struct RenderSpec {
     min_voters: u32,
     #[serde(default = "default_scan_block")]
     scan_block: u32,
+    #[serde(default)]
+    temporal: bool,
+    keyframe: Option<u32>,
 }
 
 impl Default for RenderSpec {
@@ -227,6 +233,8 @@ impl Default for RenderSpec {
             h0: default_h0(),
             min_voters: default_min_voters(),
             scan_block: default_scan_block(),
+            temporal: false,
+            keyframe: None,
         }
     }
 }
@@ -351,6 +359,8 @@ pub struct Overrides {
     pub h0: Option<u32>,
     pub min_voters: Option<u32>,
     pub scan_block: Option<u32>,
+    pub temporal: bool,
+    pub keyframe: Option<u32>,
 }
 
 /// A frame selection from `--frames`: `A..B` (B excluded), `A..=B`, or `A`.
@@ -414,6 +424,11 @@ pub struct Animation {
     pub tile: u32,
     pub threads: usize,
     pub out_dir: PathBuf,
+    /// Use the previous frame as voters (`--temporal`, [render] temporal).
+    pub temporal: bool,
+    /// With `temporal`: every `keyframe`-th frame (counted from frame 0) is predicted from
+    /// its own pixels only, and starts a new chain (`--keyframe`, [render] keyframe).
+    pub keyframe: u32,
 }
 
 impl Animation {
@@ -527,6 +542,11 @@ impl Animation {
             tile: spec.render.tile,
             threads: spec.render.threads,
             out_dir: spec.output.dir.clone(),
+            temporal: spec.render.temporal,
+            keyframe: spec
+                .render
+                .keyframe
+                .unwrap_or_else(|| crate::temporal::default_keyframe(motion)),
         };
         anim.apply(overrides, path)?;
         Ok(anim)
@@ -584,6 +604,10 @@ impl Animation {
         if let Some(v) = o.scan_block {
             self.params.scan_block = v;
         }
+        self.temporal |= o.temporal;
+        if let Some(v) = o.keyframe {
+            self.keyframe = v;
+        }
         self.validate(path)
     }
 
@@ -630,6 +654,9 @@ impl Animation {
         if let Err(m) = self.params.check() {
             bail_input!(path, "{m}");
         }
+        if let Err(m) = crate::temporal::check(self) {
+            bail_input!(path, "{m}");
+        }
         if self.tile != 0 && self.tile < 8 {
             bail_input!(
                 path,
@@ -671,12 +698,6 @@ impl Animation {
         Ok(())
     }
 
-    /// Frames per temporal group; frame-range jobs start on multiples of it; >1 means jobs
-    /// must be whole frames (a frame then needs its whole previous frame, not just its tiles).
-    pub fn frame_alignment(&self) -> usize {
-        1
-    }
-
     /// The scene's world transform at `frame` (spin only), about the vertical axis through the
     /// pivot (default: the camera target).
     pub fn scene_transform(&self, frame: usize, target: Vec3) -> Option<Mat4> {
@@ -690,6 +711,17 @@ impl Animation {
                 * Mat4::from_rotation_y(angle)
                 * Mat4::from_translation(-pivot),
         )
+    }
+
+    /// Frames a job's range should start on so that every frame it writes is rendered as the
+    /// whole animation would render it: with `temporal`, the key-frame interval (a job
+    /// starting elsewhere first renders, without writing, the frames back to its key frame).
+    pub fn frame_alignment(&self) -> usize {
+        if self.temporal {
+            self.keyframe as usize
+        } else {
+            1
+        }
     }
 
     /// The camera at `frame`. `scene` is the unposed scene (bounds and file camera).

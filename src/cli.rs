@@ -67,6 +67,9 @@ pub enum Command {
     /// Write one frame's triangles, normals, albedos, lights, camera rays and shadow offset for
     /// another renderer (scripts/compare-mitsuba.sh).
     Export(crate::export::ExportArgs),
+    /// Plot percent traced per frame with and without --temporal (DIR/savings.png) from two
+    /// renders of the same frames (scripts/temporal-savings.sh makes both).
+    Savings(SavingsArgs),
 }
 
 #[derive(Args, Debug)]
@@ -101,6 +104,18 @@ pub struct VersionArgs {
     /// Also print the build identity: `envshadow 0.1.0 build 0123456789abcdef`.
     #[arg(long)]
     pub build: bool,
+}
+
+#[derive(Args, Debug)]
+pub struct SavingsArgs {
+    /// The output folder of the render with --temporal.
+    pub dir: PathBuf,
+    /// The output folder of the same frames rendered without --temporal.
+    #[arg(long, value_name = "DIR")]
+    pub without: PathBuf,
+    /// Where to write the plot (default: DIR/savings.png).
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
 }
 
 #[derive(Args, Debug)]
@@ -146,6 +161,16 @@ pub struct AnimFlags {
     /// Block size at which the scanline order restarts (default 64).
     #[arg(long, value_name = "N")]
     pub scan_block: Option<u32>,
+    /// Let every pixel whose surface point the previous frame saw use the previous frame's
+    /// pixels there as voters (camera orbit: reprojection; object spin: votes pulled through
+    /// the turn). Grid uncertainty methods only. See docs/temporal.md.
+    #[arg(long)]
+    pub temporal: bool,
+    /// With --temporal: frames 0, N, 2N, … are predicted from their own pixels and restart the
+    /// chain (default 16 for a camera orbit, 4 for a spinning object). A run starting between key frames first renders, without writing,
+    /// the frames back to the key frame before it.
+    #[arg(long, value_name = "N")]
+    pub keyframe: Option<u32>,
     /// Worker threads (0: one per core).
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
@@ -177,6 +202,8 @@ impl AnimFlags {
             h0: self.h0,
             min_voters: self.min_voters,
             scan_block: self.scan_block,
+            temporal: self.temporal,
+            keyframe: self.keyframe,
         }
     }
 }
@@ -276,6 +303,24 @@ pub fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
         Command::Export(args) => crate::export::run(&args),
+        Command::Savings(args) => {
+            let s = crate::savings::write_savings(&args.dir, &args.without, args.out.as_deref())?;
+            let n = s.frames.len() as f64;
+            let (with, without) = s
+                .frames
+                .iter()
+                .fold((0.0, 0.0), |acc, r| (acc.0 + r.1 / n, acc.1 + r.2 / n));
+            println!(
+                "wrote {}: {} frames, mean {with:.2} % traced with --temporal, {without:.2} % \
+                 without ({:.0} %); blue = with, grey = without, y grid every {} % up to {} %",
+                s.png.display(),
+                s.frames.len(),
+                100.0 * with / without.max(1e-12),
+                s.axis.1,
+                s.axis.0
+            );
+            Ok(())
+        }
         Command::Report(args) => {
             let start = Instant::now();
             let page = crate::report::write_report(&args.dir)?;

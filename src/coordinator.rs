@@ -14,7 +14,7 @@ use crossbeam_channel::bounded;
 use rayon::prelude::*;
 
 use crate::accel::Accel;
-use crate::anim::{Animation, EnvSource, SceneSource};
+use crate::anim::{Animation, EnvSource, MotionKind, SceneSource};
 use crate::envmap::EnvMap;
 use crate::error::Result;
 use crate::film::Film;
@@ -24,6 +24,7 @@ use crate::output::stats::{Counts, FrameStats, StatsFile};
 use crate::output::{self, frame_path};
 use crate::predict::Lattice;
 use crate::scene::Scene;
+use crate::temporal::{Carried, CarryPatch, Prev, chains};
 use crate::tile::{Rect, Tile, tiles};
 
 /// Progress reports from the library; the CLI decides how to show them (a bar or log lines).
@@ -119,8 +120,34 @@ pub fn render_frame(
     region: Option<Rect>,
     progress: &dyn Progress,
 ) -> Result<(Film, FrameStats)> {
+    let (film, stats, _) =
+        render_frame_with(anim, inputs, frame, region, progress, &Temporal::default())?;
+    Ok((film, stats))
+}
+
+/// How a frame is linked to its neighbours in time (`--temporal`).
+#[derive(Default)]
+pub struct Temporal<'a> {
+    /// The previous frame's carried data: this frame is predicted from it where it can be.
+    pub prev: Option<&'a Carried>,
+    /// Keep this frame's carried data for the next frame.
+    pub carry: bool,
+    /// Skip validation even if the animation asks for it (warm-up frames are not written).
+    pub no_validate: bool,
+}
+
+/// [`render_frame`] with temporal prediction: reads `temporal.prev` and, with
+/// `temporal.carry`, returns this frame's carried data for the next frame.
+pub fn render_frame_with(
+    anim: &Animation,
+    inputs: &Inputs,
+    frame: usize,
+    region: Option<Rect>,
+    progress: &dyn Progress,
+    temporal: &Temporal,
+) -> Result<(Film, FrameStats, Option<Carried>)> {
     let list = tiles(anim.width, anim.height, anim.tile, region);
-    render_tile_list(anim, inputs, frame, list, region, progress)
+    render_tile_list(anim, inputs, frame, list, region, progress, temporal)
 }
 
 /// Renders the tiles of a frame whose indices are in `indices` (sorted; the frame-anchored
@@ -132,7 +159,8 @@ pub fn render_frame_tiles(
     frame: usize,
     indices: &[usize],
     progress: &dyn Progress,
-) -> Result<(Film, FrameStats)> {
+    temporal: &Temporal,
+) -> Result<(Film, FrameStats, Option<Carried>)> {
     let all = tiles(anim.width, anim.height, anim.tile, None);
     let whole = indices.len() == all.len();
     let list: Vec<Tile> = all
@@ -140,7 +168,7 @@ pub fn render_frame_tiles(
         .filter(|t| indices.binary_search(&t.index).is_ok())
         .collect();
     let bbox = (!whole).then(|| crate::farm::job::bounding(&list));
-    render_tile_list(anim, inputs, frame, list, bbox, progress)
+    render_tile_list(anim, inputs, frame, list, bbox, progress, temporal)
 }
 
 /// Renders `list` (tiles of one frame); `region` (if any) bounds them and decides how far the
@@ -152,7 +180,8 @@ fn render_tile_list(
     list: Vec<Tile>,
     region: Option<Rect>,
     progress: &dyn Progress,
-) -> Result<(Film, FrameStats)> {
+    temporal: &Temporal,
+) -> Result<(Film, FrameStats, Option<Carried>)> {
     let start = Instant::now();
     let camera0 = anim.camera(&inputs.scene, 0)?;
     let posed;
@@ -174,7 +203,27 @@ fn render_tile_list(
         &inputs.env,
         predictor.as_ref(),
     );
-    ctx.validate = anim.validate;
+    ctx.validate = anim.validate && !temporal.no_validate;
+    let prev;
+    if let Some(carried) = temporal.prev {
+        let prev_camera = anim.camera(&inputs.scene, carried.frame)?;
+        prev = Prev::new(
+            anim,
+            carried,
+            frame,
+            prev_camera,
+            &camera,
+            camera0.target,
+            &inputs.lights,
+        );
+        ctx.temporal = Some(&prev);
+    }
+    // A spinning object turns the lights relative to itself: keep the edges of each pixel's
+    // shadow in light space, which the turn may carry across a light.
+    let edges = anim.motion == MotionKind::Spin;
+    let mut carried = temporal
+        .carry
+        .then(|| Carried::new(frame, anim.width, anim.height, ctx.words(), edges));
     // Shared phases (the grid's coarse levels) run over every tile the rendered tiles' halos
     // reach, so a region render reads exactly what the whole frame would have computed.
     let phases = predictor.shared_phases();
@@ -200,18 +249,27 @@ fn render_tile_list(
             }
         }
     }
+    let carry = carried.is_some();
     let results: Vec<_> = list
         .par_iter()
         .map(|t| {
-            let r = with_work(|work| render_tile(&ctx, t.rect, work, &lattice));
-            progress.tile_done(r.counts.rays);
+            let r = with_work(|work| {
+                let r = render_tile(&ctx, t.rect, work, &lattice);
+                let patch = carry.then(|| CarryPatch::record(work, &inputs.lights, edges));
+                (r, patch)
+            });
+            progress.tile_done(r.0.counts.rays);
             r
         })
         .collect();
-    let mut film = Film::new(anim.width, anim.height, anim.validate);
-    for r in &results {
+    let mut film = Film::new(anim.width, anim.height, ctx.validate);
+    for (r, patch) in &results {
         film.add(r);
+        if let (Some(c), Some(p)) = (&mut carried, patch) {
+            c.insert(p);
+        }
     }
+    drop(results);
     let rendered = region.unwrap_or(Rect::frame(anim.width, anim.height));
     let stats = FrameStats {
         frame,
@@ -227,7 +285,7 @@ fn render_tile_list(
         camera_up: camera.up,
         vfov_deg: camera.vfov_deg,
     };
-    Ok((film, stats))
+    Ok((film, stats, carried))
 }
 
 /// Writes one frame's files: `frame_NNNN.exr` (beauty + AOVs) and `frame_NNNN.png`.
@@ -266,6 +324,13 @@ pub fn render_animation(
 ) -> Result<RunSummary> {
     let start = Instant::now();
     let dir = &anim.out_dir;
+    if anim.temporal && opts.region.is_some() {
+        crate::bail_input!(
+            "--region",
+            "cannot be combined with temporal prediction: a frame's pixels depend on the \
+             whole previous frame"
+        );
+    }
     // Inputs first: a bad input leaves nothing behind, not even an empty folder.
     let inputs = Inputs::load(anim)?;
     std::fs::create_dir_all(dir)
@@ -296,6 +361,19 @@ pub fn render_animation(
         skipped: anim.frames.len() - todo.len(),
         ..Default::default()
     };
+    // With temporal prediction, frames come in chains from a key frame, each frame reading
+    // its predecessor; a chain's frames outside this run are rendered, not written.
+    let work = chains(&todo, anim.temporal, anim.keyframe);
+    let warmup: usize = work
+        .iter()
+        .map(|c| c.frames.iter().filter(|f| !f.1).count())
+        .sum();
+    if warmup > 0 {
+        progress.note(&format!(
+            "temporal: {warmup} frame(s) before the first frame of a chain are rendered \
+             (not written) to warm it up from its key frame"
+        ));
+    }
     let tiles_per_frame = match &opts.job {
         Some(job) => job.tiles().len(),
         None => tiles(anim.width, anim.height, anim.tile, opts.region).len(),
@@ -305,11 +383,13 @@ pub fn render_animation(
     let stats_path = dir.join("stats.csv");
     let mut stats_file = StatsFile::open(&stats_path);
 
-    // Two frames in flight share the pool: while the last tiles of one frame finish, idle
-    // workers take tiles of the next. Each driver thread hands its frame's tiles to the pool
-    // and sends the finished film to the writer; files are per frame, so the order they are
-    // written in does not matter, and memory stays bounded by the frames in flight plus the
-    // channel's capacity, however long the animation.
+    // Two chains in flight share the pool: while the last tiles of one frame finish, idle
+    // workers take tiles of the other chain's frame. Each driver thread renders its chain's
+    // frames in order (a frame starts once its predecessor is complete, so its tiles read the
+    // whole previous frame), hands each frame's tiles to the pool and sends the finished film
+    // to the writer; files are per frame, so the order they are written in does not matter.
+    // Memory stays bounded by the chains in flight (each holds at most the previous frame's
+    // carried data and the one being built) plus the channel's capacity.
     let next = AtomicUsize::new(0);
     let failed = AtomicBool::new(false);
     let first_error: Mutex<Option<anyhow::Error>> = Mutex::new(None);
@@ -330,33 +410,53 @@ pub fn render_animation(
             }
             Ok(done)
         });
-        for _ in 0..FRAMES_IN_FLIGHT.min(todo.len()) {
+        for _ in 0..FRAMES_IN_FLIGHT.min(work.len()) {
             let tx = tx.clone();
-            let (next, failed, first_error, todo, pool, inputs) =
-                (&next, &failed, &first_error, &todo, &pool, &inputs);
+            let (next, failed, first_error, work, pool, inputs) =
+                (&next, &failed, &first_error, &work, &pool, &inputs);
             s.spawn(move || {
-                loop {
+                'chains: loop {
                     let k = next.fetch_add(1, Ordering::Relaxed);
-                    if k >= todo.len() || failed.load(Ordering::Relaxed) {
+                    if k >= work.len() || failed.load(Ordering::Relaxed) {
                         break;
                     }
-                    let rendered = pool.install(|| match &opts.job {
-                        Some(job) => {
-                            render_frame_tiles(anim, inputs, todo[k], job.tiles(), progress)
+                    let frames = &work[k].frames;
+                    let mut prev: Option<Carried> = None;
+                    for (n, &(frame, write)) in frames.iter().enumerate() {
+                        if failed.load(Ordering::Relaxed) {
+                            break 'chains;
                         }
-                        None => render_frame(anim, inputs, todo[k], opts.region, progress),
-                    });
-                    match rendered {
-                        Ok((film, stats)) => {
-                            progress.frame_done(&stats);
-                            if tx.send((film, stats)).is_err() {
-                                break; // the writer failed; its error is reported below
+                        let link = Temporal {
+                            prev: prev.as_ref(),
+                            carry: n + 1 < frames.len(),
+                            no_validate: !write,
+                        };
+                        let shown: &dyn Progress = if write { progress } else { &Silent };
+                        let rendered = pool.install(|| match &opts.job {
+                            Some(job) => {
+                                render_frame_tiles(anim, inputs, frame, job.tiles(), shown, &link)
                             }
-                        }
-                        Err(e) => {
-                            failed.store(true, Ordering::Relaxed);
-                            first_error.lock().unwrap().get_or_insert(e);
-                            break;
+                            None => {
+                                render_frame_with(anim, inputs, frame, opts.region, shown, &link)
+                            }
+                        });
+                        match rendered {
+                            Ok((film, stats, carried)) => {
+                                // The previous frame's data has been used: free it now.
+                                prev = carried;
+                                if !write {
+                                    continue;
+                                }
+                                progress.frame_done(&stats);
+                                if tx.send((film, stats)).is_err() {
+                                    break 'chains; // the writer failed; reported below
+                                }
+                            }
+                            Err(e) => {
+                                failed.store(true, Ordering::Relaxed);
+                                first_error.lock().unwrap().get_or_insert(e);
+                                break 'chains;
+                            }
                         }
                     }
                 }

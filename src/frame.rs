@@ -49,6 +49,8 @@ pub struct FrameContext<'a> {
     pub predictor: &'a dyn Predictor,
     /// Also trace every query and count the predictor's mistakes (`--validate`).
     pub validate: bool,
+    /// The previous frame, when this one is predicted temporally (`--temporal`).
+    pub temporal: Option<&'a crate::temporal::Prev<'a>>,
 }
 
 impl<'a> FrameContext<'a> {
@@ -75,6 +77,7 @@ impl<'a> FrameContext<'a> {
             shadow_eps: shadow_epsilon(scene),
             predictor,
             validate: false,
+            temporal: None,
         }
     }
 
@@ -214,6 +217,8 @@ pub struct TileWork {
     pub traced: Vec<u64>,
     /// Shadow rays traced per pixel.
     pub rays: Vec<u32>,
+    /// Pixels predicted from the previous frame (`--temporal`).
+    pub temporal: Vec<bool>,
     /// Blockers, for the warping methods.
     pub blockers: Blockers,
     /// Counts for the tile (filled after the method ran).
@@ -240,6 +245,8 @@ impl TileWork {
         }
         self.rays.clear();
         self.rays.resize(n, 0);
+        self.temporal.clear();
+        self.temporal.resize(n, false);
         self.blockers.reset(n);
         self.counts = Counts::default();
         self.scratch.prepare(ctx.light_count());
@@ -377,6 +384,10 @@ fn count_work(work: &mut TileWork) {
                 debug_assert!(work.needed[i], "method left pixel ({x}, {y}) unevaluated");
                 c.queries += bits::count(TileWork::row(&work.above, i, w)) as u64;
                 c.rays += work.rays[i] as u64;
+                if work.temporal[i] {
+                    c.temporal_pixels += 1;
+                    c.temporal_rays += work.rays[i] as u64;
+                }
             } else if work.needed[i] {
                 c.halo_pixels += 1;
                 c.halo_rays += work.rays[i] as u64;

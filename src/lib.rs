@@ -12,6 +12,8 @@
 //! - [`output`] writes EXR/PNG/CSV/JSON atomically; [`anim`] parses animation specs;
 //!   [`report`] builds `report.html` from a finished render's folder.
 //! - [`farm`] splits a run into jobs for many machines and assembles their outputs.
+//!   [`report`] builds `report.html` from a finished render's folder; [`temporal`] carries a
+//!   frame's visibility to the next (`--temporal`).
 
 pub mod accel;
 pub mod anim;
@@ -30,6 +32,8 @@ pub mod output;
 pub mod predict;
 pub mod raydump;
 pub mod report;
+pub mod savings;
 pub mod scene;
 pub mod table;
+pub mod temporal;
 pub mod tile;

@@ -94,14 +94,9 @@ pub struct TileFrame {
     pub exr_sha256: String,
     pub method: String,
     pub lights: usize,
-    pub queries: u64,
-    pub rays: u64,
-    pub halo_pixels: u64,
-    pub halo_rays: u64,
-    pub wrong_visible: u64,
-    pub wrong_blocked: u64,
-    pub wrong_pixels: u64,
-    pub wrong_traced: u64,
+    /// Every counter of the frame's tiles (flattened, so the JSON keeps one key per counter).
+    #[serde(flatten)]
+    pub counts: Counts,
     pub seconds: f64,
     pub camera_position: [f32; 3],
     pub camera_target: [f32; 3],
@@ -111,16 +106,7 @@ pub struct TileFrame {
 
 impl TileFrame {
     pub fn counts(&self) -> Counts {
-        Counts {
-            queries: self.queries,
-            rays: self.rays,
-            halo_pixels: self.halo_pixels,
-            halo_rays: self.halo_rays,
-            wrong_visible: self.wrong_visible,
-            wrong_blocked: self.wrong_blocked,
-            wrong_pixels: self.wrong_pixels,
-            wrong_traced: self.wrong_traced,
-        }
+        self.counts
     }
 }
 
@@ -214,14 +200,7 @@ impl JobWriter {
             exr_sha256: identity::sha256(&bytes),
             method: stats.method.clone(),
             lights: stats.lights,
-            queries: c.queries,
-            rays: c.rays,
-            halo_pixels: c.halo_pixels,
-            halo_rays: c.halo_rays,
-            wrong_visible: c.wrong_visible,
-            wrong_blocked: c.wrong_blocked,
-            wrong_pixels: c.wrong_pixels,
-            wrong_traced: c.wrong_traced,
+            counts: c,
             seconds: stats.seconds,
             camera_position: stats.camera_position.to_array(),
             camera_target: stats.camera_target.to_array(),

@@ -10,7 +10,7 @@ use glam::Vec3;
 use crate::error::Result;
 
 /// Work counted while deciding visibility.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Counts {
     /// Shadow queries: (pixel, light) pairs with N·ω > 0 [paper].
     pub queries: u64,
@@ -27,6 +27,10 @@ pub struct Counts {
     /// With validation: wrong pairs among those the method traced (always 0 unless a method
     /// mis-records its own traces; checked by the tests).
     pub wrong_traced: u64,
+    /// Pixels predicted from the previous frame (`--temporal`) and the rays they traced; the
+    /// other pixels' rays are the spatially predicted ones.
+    pub temporal_pixels: u64,
+    pub temporal_rays: u64,
 }
 
 impl AddAssign for Counts {
@@ -39,6 +43,8 @@ impl AddAssign for Counts {
         self.wrong_blocked += o.wrong_blocked;
         self.wrong_pixels += o.wrong_pixels;
         self.wrong_traced += o.wrong_traced;
+        self.temporal_pixels += o.temporal_pixels;
+        self.temporal_rays += o.temporal_rays;
     }
 }
 
@@ -96,7 +102,8 @@ pub struct FrameStats {
 /// The header of `stats.csv`.
 pub const HEADER: &str = "frame,method,lights,width,height,queries,rays_traced,percent_traced,\
 halo_pixels,halo_rays,seconds,wrong_visible,wrong_blocked,error_percent,wrong_pixels,rmse,rel_rmse,\
-psnr_db,camera_x,camera_y,camera_z,target_x,target_y,target_z,up_x,up_y,up_z,vfov_deg";
+psnr_db,camera_x,camera_y,camera_z,target_x,target_y,target_z,up_x,up_y,up_z,vfov_deg,\
+temporal_pixels,temporal_rays,spatial_rays";
 
 impl FrameStats {
     /// The CSV row (no newline), columns as in [`HEADER`]. Validation columns are empty for
@@ -138,8 +145,20 @@ impl FrameStats {
         }
         let _ = write!(
             s,
-            "{},{},{},{},{},{},{},{},{},{}",
-            p.x, p.y, p.z, t.x, t.y, t.z, u.x, u.y, u.z, self.vfov_deg
+            "{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            p.x,
+            p.y,
+            p.z,
+            t.x,
+            t.y,
+            t.z,
+            u.x,
+            u.y,
+            u.z,
+            self.vfov_deg,
+            c.temporal_pixels,
+            c.temporal_rays,
+            c.rays - c.temporal_rays
         );
         s
     }

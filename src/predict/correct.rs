@@ -46,9 +46,9 @@ pub struct Scratch {
     /// Up to four voters' vote bitsets, then their above-horizon bitsets.
     voted: Vec<u64>,
     voter_above: Vec<u64>,
-    pred_vis: Vec<u64>,
-    uncertain: Vec<u64>,
-    queued: Vec<u64>,
+    pub(super) pred_vis: Vec<u64>,
+    pub(super) uncertain: Vec<u64>,
+    pub(super) queued: Vec<u64>,
     queue: Vec<u32>,
     /// Warped blockers per cell, and the cells that got any (set bits: some vote; every
     /// above-horizon voter's worth of votes).
@@ -61,7 +61,13 @@ pub struct Scratch {
     touched: Vec<u32>,
     /// Distance to the traced blocker per light (valid where traced and blocked).
     hit_dist: Vec<f32>,
+    /// Bitset rows for the temporal predictor ([`EXT_ROWS`] × words).
+    pub(super) ext: Vec<u64>,
 }
+
+/// Rows of `Scratch::ext`: the temporal prediction (blocked, sure), before and after pulling
+/// it through a spinning object's turn.
+pub(super) const EXT_ROWS: usize = 6;
 
 impl Scratch {
     /// Sizes the scratch for `lights` lights.
@@ -72,6 +78,7 @@ impl Scratch {
         }
         self.words = w;
         self.voted = vec![0; 4 * w];
+        self.ext = vec![0; EXT_ROWS * w];
         self.voter_above = vec![0; 4 * w];
         self.pred_vis = vec![0; w];
         self.uncertain = vec![0; w];
@@ -125,8 +132,6 @@ pub fn solve_pixel(
     let TileWork {
         above,
         vis,
-        traced,
-        rays,
         blockers,
         surf,
         scratch: sc,
@@ -236,6 +241,34 @@ pub fn solve_pixel(
         }
     }
 
+    correct(ctx, work, i, rule.flood, rule.keep_predicted, keep_blockers);
+}
+
+/// Steps 3 and 4 of [`solve_pixel`], shared with the temporal predictor: traces the queued
+/// lights of region pixel `i` starting from the prediction in the scratch (`pred_vis`,
+/// `uncertain`, `queued`), flooding where a trace was uncertain or disagreed, then records the
+/// pixel's blockers when `keep_blockers`.
+#[allow(clippy::needless_range_loop)]
+pub(super) fn correct(
+    ctx: &FrameContext,
+    work: &mut TileWork,
+    i: usize,
+    flood_rule: Flood,
+    keep_predicted: bool,
+    keep_blockers: bool,
+) {
+    let s = work.surf[i];
+    let w = work.words;
+    let TileWork {
+        above,
+        vis,
+        traced,
+        rays,
+        blockers,
+        scratch: sc,
+        ..
+    } = work;
+    let mine = &above[i * w..(i + 1) * w];
     // 3. Correction: trace the queue, flooding where a trace was uncertain or disagreed.
     sc.queue.clear();
     bits::for_each(&sc.queued, |j| sc.queue.push(j as u32));
@@ -267,7 +300,7 @@ pub fn solve_pixel(
         } else {
             bits::clear(out, j);
         }
-        let flood = match rule.flood {
+        let flood = match flood_rule {
             Flood::Uncertainty => bits::get(&sc.uncertain, j) || visible != predicted,
             Flood::Boundary => visible != predicted,
         };
@@ -294,7 +327,7 @@ pub fn solve_pixel(
                 blocked &= blocked - 1;
                 if bits::get(tr, j) {
                     blockers.push(i, j, sc.hit_dist[j]);
-                } else if rule.keep_predicted && sc.best_dot[j] > f32::NEG_INFINITY {
+                } else if keep_predicted && sc.best_dot[j] > f32::NEG_INFINITY {
                     blockers.push(i, j, sc.best_dist[j]);
                 }
             }

@@ -15,6 +15,7 @@
 //! backwards — so a tile produces exactly the whole-frame render's pixels and counts.
 
 use super::correct::{Flood, Rule, Vote, solve_pixel};
+use super::temporal::solve_temporal;
 use super::{Lattice, LatticePatch, Params, Predictor};
 use crate::frame::{FrameContext, TileWork};
 use crate::tile::Rect;
@@ -224,10 +225,16 @@ impl Predictor for Grid {
                         continue;
                     }
                     let i = work.begin_pixel(ctx, x, y);
-                    if phase == 0 {
+                    let nv = if phase == 0 {
+                        0
+                    } else {
+                        self.voters(work, frame, x, y, phase, &mut voters)
+                    };
+                    if solve_temporal(ctx, work, i, &voters[..nv], self.rule.min_voters, warp) {
+                        // predicted from the previous frame
+                    } else if phase == 0 {
                         work.trace_all(ctx, i, warp);
                     } else {
-                        let nv = self.voters(work, frame, x, y, phase, &mut voters);
                         solve_pixel(ctx, work, i, &voters[..nv], self.rule, warp);
                     }
                     patch.record(lattice, x, y, work, i);
@@ -278,6 +285,9 @@ impl Predictor for Grid {
                 let (x, y) = coords(i);
                 let i = work.begin_pixel(ctx, x, y);
                 let nv = self.voters(work, frame, x, y, p, &mut voters);
+                if solve_temporal(ctx, work, i, &voters[..nv], self.rule.min_voters, keep) {
+                    continue;
+                }
                 solve_pixel(ctx, work, i, &voters[..nv], self.rule, keep);
             }
         }

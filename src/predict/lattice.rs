@@ -20,6 +20,8 @@ pub struct Lattice {
     /// above, vis and traced bitsets, `3 · words` per pixel.
     bits: Vec<u64>,
     rays: Vec<u32>,
+    /// Predicted from the previous frame (`--temporal`).
+    temporal: Vec<bool>,
     blockers: Blockers,
 }
 
@@ -30,6 +32,7 @@ pub struct LatticePatch {
     surf: Vec<Surface>,
     bits: Vec<u64>,
     rays: Vec<u32>,
+    temporal: Vec<bool>,
     blk_len: Vec<u32>,
     blk_light: Vec<u16>,
     blk_dist: Vec<f32>,
@@ -55,6 +58,7 @@ impl Lattice {
             surf: vec![Surface::default(); n],
             bits: vec![0; n * 3 * words],
             rays: vec![0; n],
+            temporal: vec![false; n],
             blockers,
         }
     }
@@ -81,6 +85,7 @@ impl Lattice {
         work.vis[i * w..(i + 1) * w].copy_from_slice(&src[w..2 * w]);
         work.traced[i * w..(i + 1) * w].copy_from_slice(&src[2 * w..]);
         work.rays[i] = self.rays[k];
+        work.temporal[i] = self.temporal[k];
         work.blockers.begin(i);
         for (j, t) in self.blockers.of(k) {
             work.blockers.push(i, j, t);
@@ -99,6 +104,7 @@ impl Lattice {
             self.bits[k * 3 * w..(k + 1) * 3 * w]
                 .copy_from_slice(&patch.bits[n * 3 * w..(n + 1) * 3 * w]);
             self.rays[k] = patch.rays[n];
+            self.temporal[k] = patch.temporal[n];
             self.blockers.begin(k);
             for _ in 0..patch.blk_len[n] {
                 self.blockers
@@ -123,6 +129,7 @@ impl LatticePatch {
         self.bits
             .extend_from_slice(&work.traced[i * w..(i + 1) * w]);
         self.rays.push(work.rays[i]);
+        self.temporal.push(work.temporal[i]);
         let mut n = 0;
         for (j, t) in work.blockers.of(i) {
             self.blk_light.push(j as u16);

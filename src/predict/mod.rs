@@ -16,6 +16,7 @@ mod grid;
 pub mod lattice;
 mod none;
 mod scanline;
+pub mod temporal;
 
 use std::fmt;
 use std::str::FromStr;

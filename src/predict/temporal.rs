@@ -1,0 +1,140 @@
+//! Predicting a pixel from the previous frame (ALGORITHM.md §8 [ours]; the frame-level side —
+//! carried data, reprojection, key frames — is in [`crate::temporal`]).
+//!
+//! The current pixel's surface point is carried back into the previous frame (reprojected for a
+//! moving camera; through the object's motion for a spinning object) and the up to four
+//! previous pixels around it whose surface points lie on the same surface vote, exactly like
+//! spatial voters: a light is predicted blocked when at least `min_voters` of them have it
+//! above their horizon and all of those found it blocked, visible when none did, and traced
+//! otherwise; the traces flood as in [`super::correct`] (uncertainty flooding).
+//!
+//! For a spinning object the lights turn relative to the object, so the votes are pulled
+//! through the turn: light j reads the previous frame's light whose cell contains j's
+//! direction as the object saw it then. A light at the edge of a voter's shadow in light space
+//! (an adjacent light differs) is uncertain, since the turn may have carried the edge across it.
+//! With fewer than `min_voters` valid previous pixels (the first frame of a chain, disoccluded
+//! or newly visible surfaces) the caller falls back to the spatial method.
+
+use super::bits;
+use super::correct::{Flood, correct};
+use crate::frame::{FrameContext, TileWork};
+
+/// Predicts and corrects region pixel `i` (already begun) from the previous frame. Returns
+/// false, touching nothing, when there is no previous frame or too few of its pixels saw the
+/// same surface point: the caller then predicts the pixel spatially.
+// Word loops index several parallel bitsets at once; iterator chains would hide that.
+#[allow(clippy::needless_range_loop)]
+pub fn solve_temporal(
+    ctx: &FrameContext,
+    work: &mut TileWork,
+    i: usize,
+    spatial: &[usize],
+    min_voters: u32,
+    keep_blockers: bool,
+) -> bool {
+    let Some(prev) = ctx.temporal else {
+        return false;
+    };
+    let s = work.surf[i];
+    if !s.hit {
+        return false;
+    }
+    let mut q = [0usize; 4];
+    let nv = prev.voters(&s, &mut q);
+    if nv < min_voters as usize {
+        return false;
+    }
+    let w = work.words;
+    let carried = prev.carried();
+    let TileWork {
+        above,
+        vis,
+        scratch: sc,
+        ..
+    } = work;
+    // Rows of the scratch: 0 = predicted blocked, 1 = sure (the voters agree), 2 = at an edge
+    // that the turn may have carried across, indexed by the previous frame's lights; 3–5 the
+    // same pulled to the current lights.
+    let ext = &mut sc.ext;
+    for m in 0..w {
+        let mut above_words = [0u64; 4];
+        let (mut all, mut any, mut edge) = (!0u64, 0u64, 0u64);
+        for k in 0..nv {
+            let (a, v, e) = carried.word(q[k], m);
+            above_words[k] = a;
+            let blocked = a & !v;
+            all &= !a | blocked;
+            any |= blocked;
+            edge |= e;
+        }
+        let enough = bits::at_least(&above_words[..nv], min_voters);
+        let blocked = enough & all & any;
+        let visible = enough & !any;
+        ext[m] = blocked;
+        ext[w + m] = blocked | visible;
+        ext[2 * w + m] = edge;
+    }
+    let remap = prev.remap();
+    let spin = carried.has_edges();
+    let (blocked, sure, edge) = if remap.is_empty() {
+        (0, w, 2 * w)
+    } else {
+        ext.copy_within(0..3 * w, 3 * w);
+        for &(j, from) in remap {
+            let (j, from) = (j as usize, from as usize);
+            for row in 0..3 {
+                let v = bits::get(&ext[row * w..(row + 1) * w], from);
+                let dst = &mut ext[(3 + row) * w..(4 + row) * w];
+                if v {
+                    bits::set(dst, j);
+                } else {
+                    bits::clear(dst, j);
+                }
+            }
+        }
+        (3 * w, 4 * w, 5 * w)
+    };
+    let mine = &above[i * w..(i + 1) * w];
+    for m in 0..w {
+        let my = mine[m];
+        // Edge lights take the spatial voters' word where those agree (they surround the
+        // pixel, so they bracket an edge the turn moved); otherwise they are traced, and
+        // unlike uncertain lights flood only when the trace disagrees: the turn moves an edge
+        // by a fraction of a cell, so a trace that confirms the prediction confirms its side.
+        let (mut s_all, mut s_any, mut s_above) = (!0u64, 0u64, [0u64; 4]);
+        for (k, &q) in spatial.iter().enumerate() {
+            let a = above[q * w + m];
+            let b = a & !vis[q * w + m];
+            s_above[k] = a;
+            s_all &= !a | b;
+            s_any |= b;
+        }
+        let s_enough = bits::at_least(&s_above[..spatial.len()], min_voters);
+        let s_blocked = s_enough & s_all & s_any;
+        let s_sure = s_blocked | (s_enough & !s_any);
+        let e = my & ext[edge + m];
+        if !spin {
+            sc.pred_vis[m] = my & !ext[blocked + m];
+            sc.uncertain[m] = my & !ext[sure + m];
+            sc.queued[m] = sc.uncertain[m];
+            continue;
+        }
+        // Spin: the temporal voters settle what the spatial ones leave uncertain, and the
+        // reverse; where both are sure they must agree.
+        let t_sure = ext[sure + m] & !e;
+        let t_blocked = ext[blocked + m] & t_sure;
+        let conflict = t_sure & s_sure & (t_blocked ^ s_blocked);
+        let settled = (t_sure | s_sure) & !conflict;
+        let blocked_now = (t_blocked & t_sure) | (s_blocked & s_sure);
+        sc.pred_vis[m] = my & !(blocked_now & settled);
+        // An edge light neither settles is traced, flooding only on a surprise; lights the
+        // voters disagree on are uncertain and flood.
+        sc.uncertain[m] = my & !settled & !(e & ext[sure + m]);
+        sc.queued[m] = my & !settled;
+    }
+    // Temporal prediction runs only under the grid's uncertainty methods, which keep
+    // predicted blockers ([ours], docs/methods.md).
+    correct(ctx, work, i, Flood::Uncertainty, true, keep_blockers);
+    work.temporal[i] = true;
+    true
+}

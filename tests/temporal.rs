@@ -1,0 +1,228 @@
+//! Temporal prediction (`--temporal`, issue 10): against brute force, independent of tiles,
+//! threads and how the animation is split into jobs, and falling back to the spatial method
+//! where there is no previous frame.
+
+mod common;
+
+use std::path::Path;
+
+use envshadow::anim::{Animation, Overrides};
+use envshadow::coordinator::{
+    Inputs, RunOptions, Silent, Temporal, render_animation, render_frame_with, thread_pool,
+};
+use envshadow::film::Film;
+use envshadow::output::stats::Counts;
+use envshadow::temporal::Carried;
+
+/// A small bunny animation: `kind` = orbit or spin, 3° per frame, validated, temporal.
+fn bunny(kind: &str, width: u32, height: u32, lights: usize, out: &Path) -> Animation {
+    let text = format!(
+        "[scene]\nfile = \"{}\"\n[environment]\nfile = \"{}\"\n[lights]\ncount = {lights}\n\
+         [camera]\ntarget = [0.0, 0.075, 0.0]\ndistance = 0.45\nelevation = 25.0\n\
+         [motion]\nkind = \"{kind}\"\nframes = 12\ndegrees_per_frame = 3.0\n\
+         [render]\nwidth = {width}\nheight = {height}\nvalidate = true\ntemporal = true\n\
+         keyframe = 4\n[output]\ndir = \"{}\"\n",
+        common::asset("bunny_on_plane.glb").display(),
+        common::asset("studio_small_03_1k.hdr").display(),
+        out.display()
+    );
+    Animation::parse(&text, Path::new("bunny.toml"), &Overrides::default()).unwrap()
+}
+
+/// Renders frames `0..n` as one chain (frame 0 spatial, each later frame reading the one
+/// before) with `tile` and `threads`; returns each frame's film and counts.
+fn chain(
+    anim: &Animation,
+    inputs: &Inputs,
+    n: usize,
+    tile: u32,
+    threads: usize,
+) -> Vec<(Film, Counts)> {
+    let mut a = anim.clone();
+    a.tile = tile;
+    let pool = thread_pool(threads).unwrap();
+    let mut prev: Option<Carried> = None;
+    let mut out = Vec::new();
+    for f in 0..n {
+        let link = Temporal {
+            prev: prev.as_ref(),
+            carry: true,
+            no_validate: false,
+        };
+        let (film, stats, carried) = pool
+            .install(|| render_frame_with(&a, inputs, f, None, &Silent, &link))
+            .unwrap();
+        prev = carried;
+        out.push((film, stats.counts));
+    }
+    out
+}
+
+/// Stated bound on wrong (pixel, light) pairs with temporal prediction at 160×120, in % of
+/// queries: as for the spatial method at this size (tests/predict.rs), with room for the
+/// errors a chain carries forward.
+const ERROR_BOUND: f64 = 0.25;
+
+#[test]
+fn temporal_prediction_agrees_with_brute_force_within_its_stated_error() {
+    let dir = tempfile::tempdir().unwrap();
+    for kind in ["orbit", "spin"] {
+        let anim = bunny(kind, 160, 120, 100, dir.path());
+        let inputs = Inputs::load(&anim).unwrap();
+        let frames = chain(&anim, &inputs, 4, 32, 0);
+        for (f, (film, c)) in frames.iter().enumerate() {
+            let tag = format!("{kind} frame {f}");
+            // Where it traced, it agrees with brute force exactly.
+            assert_eq!(c.wrong_traced, 0, "{tag}");
+            let err = c.error_percent();
+            assert!(err <= ERROR_BOUND, "{tag}: {err:.4} % wrong pairs");
+            if f == 0 {
+                assert_eq!(c.temporal_pixels, 0, "{tag}: the first frame is spatial");
+            } else {
+                // Almost every surface pixel was seen in the previous frame.
+                let hit = film.visible.iter().filter(|&&v| v > 0.0).count() as u64;
+                assert!(
+                    c.temporal_pixels * 10 >= hit * 8,
+                    "{tag}: only {} of ~{hit} pixels predicted temporally",
+                    c.temporal_pixels
+                );
+                assert!(c.temporal_rays <= c.rays);
+            }
+            // Pixels without a wrong pair equal the brute-force image exactly.
+            let wrong = film.wrong.as_ref().unwrap();
+            let reference = film.reference.as_ref().unwrap();
+            for (i, w) in wrong.iter().enumerate() {
+                if *w == 0.0 {
+                    assert_eq!(film.beauty[i], reference[i], "{tag} pixel {i}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn temporal_chains_are_identical_whatever_the_tiles_and_threads() {
+    let dir = tempfile::tempdir().unwrap();
+    for kind in ["orbit", "spin"] {
+        let anim = bunny(kind, 96, 72, 48, dir.path());
+        let inputs = Inputs::load(&anim).unwrap();
+        let reference = chain(&anim, &inputs, 3, 0, 1);
+        for (tile, threads) in [(8, 2), (16, 1), (64, 2)] {
+            let got = chain(&anim, &inputs, 3, tile, threads);
+            for (f, ((film, c), (rf, rc))) in got.iter().zip(&reference).enumerate() {
+                let tag = format!("{kind} frame {f} tile {tile} threads {threads}");
+                assert!(film.beauty == rf.beauty, "{tag}: beauty differs");
+                assert!(film.rays == rf.rays, "{tag}: rays differ");
+                assert!(film.wrong == rf.wrong, "{tag}: wrong pairs differ");
+                let strip = |c: Counts| Counts {
+                    halo_pixels: 0,
+                    halo_rays: 0,
+                    ..c
+                };
+                assert_eq!(strip(*c), strip(*rc), "{tag}: counts differ");
+            }
+        }
+    }
+}
+
+#[test]
+fn without_a_previous_frame_the_spatial_method_decides() {
+    let dir = tempfile::tempdir().unwrap();
+    let anim = bunny("orbit", 96, 72, 48, dir.path());
+    let inputs = Inputs::load(&anim).unwrap();
+    let mut spatial = anim.clone();
+    spatial.temporal = false;
+    // Frame 2 with no previous frame given (a chain's first frame) is the spatial frame.
+    let none = Temporal::default();
+    let (t, ts, _) = render_frame_with(&anim, &inputs, 2, None, &Silent, &none).unwrap();
+    let (s, ss, _) = render_frame_with(&spatial, &inputs, 2, None, &Silent, &none).unwrap();
+    assert!(t.beauty == s.beauty && t.rays == s.rays);
+    assert_eq!(ts.counts, ss.counts);
+    assert_eq!(ts.counts.temporal_pixels, 0);
+}
+
+fn files(dir: &Path, frames: std::ops::Range<usize>) -> Vec<Vec<u8>> {
+    frames
+        .flat_map(|f| {
+            ["exr", "png"]
+                .map(|ext| std::fs::read(dir.join(format!("frame_{f:04}.{ext}"))).unwrap())
+        })
+        .collect()
+}
+
+#[test]
+fn one_job_and_split_jobs_write_identical_frames() {
+    let root = tempfile::tempdir().unwrap();
+    let (one, split) = (root.path().join("one"), root.path().join("split"));
+    let mut anim = bunny("spin", 64, 48, 32, &one);
+    anim.validate = false;
+    anim.frames = 0..7;
+    render_animation(&anim, &RunOptions::default(), &Silent).unwrap();
+    // Two jobs split in the middle of a chain (key frames 0 and 4): the second warms up from
+    // frame 0 without writing frames 0 and 1.
+    anim.out_dir = split.clone();
+    for range in [0..2, 2..7] {
+        anim.frames = range;
+        render_animation(&anim, &RunOptions::default(), &Silent).unwrap();
+    }
+    assert!(files(&one, 0..7) == files(&split, 0..7));
+    assert_eq!(anim.frame_alignment(), 4);
+    // The warm-up frames were not written by the second job: stats rows come from both.
+    let stats = std::fs::read_to_string(split.join("stats.csv")).unwrap();
+    assert_eq!(stats.lines().count(), 1 + 7);
+}
+
+#[test]
+fn temporal_flags_are_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    let spec = dir.path().join("t.toml");
+    std::fs::write(
+        &spec,
+        "[scene]\nbuiltin = \"shapes\"\n[render]\nwidth = 32\nheight = 24\n",
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    for (args, needle) in [
+        (vec!["--temporal", "--method", "brute"], "grid uncertainty"),
+        (vec!["--temporal", "--keyframe", "0"], "keyframe"),
+        (vec!["--temporal", "--region", "0,0,8,8"], "--region"),
+    ] {
+        let o = common::bin()
+            .arg("render")
+            .arg(&spec)
+            .args(&args)
+            .arg("--out")
+            .arg(&out)
+            .arg("-q")
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains(needle), "{args:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn savings_plot_compares_two_renders() {
+    let root = tempfile::tempdir().unwrap();
+    let (with, without) = (root.path().join("t"), root.path().join("s"));
+    let mut anim = bunny("orbit", 64, 48, 32, &with);
+    anim.validate = false;
+    anim.frames = 0..3;
+    render_animation(&anim, &RunOptions::default(), &Silent).unwrap();
+    anim.temporal = false;
+    anim.out_dir = without.clone();
+    render_animation(&anim, &RunOptions::default(), &Silent).unwrap();
+    let s = envshadow::savings::write_savings(&with, &without, None).unwrap();
+    assert_eq!(s.png, with.join("savings.png"));
+    assert_eq!(s.frames.len(), 3);
+    // The key frame is the same spatial frame in both; later frames trace fewer rays.
+    assert_eq!(s.frames[0].1, s.frames[0].2);
+    assert!(s.frames[1..].iter().all(|r| r.1 < r.2), "{:?}", s.frames);
+    let img = image::open(&s.png).unwrap();
+    assert_eq!((img.width(), img.height()), (800, 360));
+    // A folder without stats.csv is bad input naming the file.
+    let e = envshadow::savings::write_savings(&with, root.path(), None).unwrap_err();
+    assert!(format!("{e:#}").contains("stats.csv"), "{e:#}");
+}
