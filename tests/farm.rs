@@ -469,3 +469,51 @@ fn walk(dir: &Path) -> Vec<PathBuf> {
     }
     v
 }
+
+/// With `--temporal`, a frame reads its whole previous frame: plan splits by frames on key
+/// frames, refuses tile strips, and the assembled frames equal a one-process temporal render.
+#[test]
+fn temporal_jobs_split_on_key_frames_and_assemble_identically() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (refdir, out) = (tmp.path().join("ref"), tmp.path().join("farm"));
+    let mut flags: Vec<&str> = FLAGS.to_vec();
+    flags.extend_from_slice(&["--temporal", "--keyframe", "4"]);
+    let mut args = vec![
+        "render",
+        SPEC,
+        "--out",
+        refdir.to_str().unwrap(),
+        "--no-report",
+        "-q",
+    ];
+    args.extend_from_slice(&flags);
+    ok(&envshadow(&args));
+
+    let o = out.to_str().unwrap();
+    let mut tiles = vec!["plan", SPEC, "--out", o, "--jobs", "3", "--by", "tiles"];
+    tiles.extend_from_slice(&flags);
+    let refused = envshadow(&tiles);
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(!out.join("jobs.txt").exists());
+
+    let mut plan = vec!["plan", SPEC, "--out", o, "--jobs", "3"];
+    plan.extend_from_slice(&flags);
+    let planned = envshadow(&plan);
+    ok(&planned);
+    let lines = String::from_utf8_lossy(&planned.stdout).into_owned();
+    // 8 frames in groups of 4: two jobs, each starting on a key frame, with every tile.
+    let frames: Vec<&str> = lines
+        .lines()
+        .map(|l| l.split('\t').nth(1).unwrap())
+        .collect();
+    assert_eq!(frames, ["0..4", "4..8"], "{lines}");
+    for k in 0..2 {
+        let ks = k.to_string();
+        let mut job = vec!["render", SPEC, "--out", o, "--job", &ks, "--of", "3", "-q"];
+        job.extend_from_slice(&flags);
+        ok(&envshadow(&job));
+    }
+    ok(&envshadow(&["assemble", o, "--no-report"]));
+    assert_same_frames(&refdir, &out);
+    assert_eq!(stats_without_seconds(&refdir), stats_without_seconds(&out));
+}
