@@ -229,6 +229,7 @@ fn render(args: RenderArgs) -> Result<()> {
     let opts = RunOptions {
         resume: args.resume,
         region: args.region,
+        cancel: crate::cancel::Cancel::on_signals()?,
     };
     let progress: Box<dyn Progress> = if args.quiet {
         Box::new(coordinator::Silent)

@@ -15,8 +15,9 @@ use rayon::prelude::*;
 
 use crate::accel::Accel;
 use crate::anim::{Animation, EnvSource, SceneSource};
+use crate::cancel::Cancel;
 use crate::envmap::EnvMap;
-use crate::error::Result;
+use crate::error::{Interrupted, Result};
 use crate::film::Film;
 use crate::frame::{FrameContext, TileWork, render_shared, render_tile};
 use crate::lights::LightSet;
@@ -84,6 +85,8 @@ pub struct RunOptions {
     pub resume: bool,
     /// Render only this pixel rectangle (the rest of the frame stays black).
     pub region: Option<Rect>,
+    /// Stops the run between tiles: complete frames are written, frames in flight dropped.
+    pub cancel: Cancel,
 }
 
 /// What a run did.
@@ -115,6 +118,19 @@ pub fn render_frame(
     frame: usize,
     region: Option<Rect>,
     progress: &dyn Progress,
+) -> Result<(Film, FrameStats)> {
+    render_frame_until(anim, inputs, frame, region, progress, &Cancel::default())
+}
+
+/// [`render_frame`], abandoned with [`Interrupted`] once `cancel` is set: tiles not yet started
+/// are skipped and the frame is dropped.
+pub fn render_frame_until(
+    anim: &Animation,
+    inputs: &Inputs,
+    frame: usize,
+    region: Option<Rect>,
+    progress: &dyn Progress,
+    cancel: &Cancel,
 ) -> Result<(Film, FrameStats)> {
     let start = Instant::now();
     let camera0 = anim.camera(&inputs.scene, 0)?;
@@ -155,6 +171,7 @@ pub fn render_frame(
         });
         let shared_tiles = reach.as_ref().unwrap_or(&list);
         for phase in 0..phases {
+            cancel.check()?;
             let patches: Vec<_> = shared_tiles
                 .par_iter()
                 .map(|t| with_work(|work| render_shared(&ctx, t.rect, work, phase, &lattice)))
@@ -164,14 +181,20 @@ pub fn render_frame(
             }
         }
     }
-    let results: Vec<_> = list
+    let results: Option<Vec<_>> = list
         .par_iter()
         .map(|t| {
+            if cancel.is_cancelled() {
+                return None;
+            }
             let r = with_work(|work| render_tile(&ctx, t.rect, work, &lattice));
             progress.tile_done(r.counts.rays);
-            r
+            Some(r)
         })
         .collect();
+    let Some(results) = results else {
+        return Err(Interrupted.into());
+    };
     let mut film = Film::new(anim.width, anim.height, anim.validate);
     for r in &results {
         film.add(r);
@@ -232,6 +255,7 @@ pub fn render_animation(
     let dir = &anim.out_dir;
     // Inputs first: a bad input leaves nothing behind, not even an empty folder.
     let inputs = Inputs::load(anim)?;
+    opts.cancel.check()?;
     std::fs::create_dir_all(dir)
         .with_context(|| format!("creating output folder {}", dir.display()))?;
     inputs.lights.write_json(&dir.join("lights.json"))?;
@@ -287,11 +311,22 @@ pub fn render_animation(
             s.spawn(move || {
                 loop {
                     let k = next.fetch_add(1, Ordering::Relaxed);
-                    if k >= todo.len() || failed.load(Ordering::Relaxed) {
+                    if k >= todo.len()
+                        || failed.load(Ordering::Relaxed)
+                        || opts.cancel.is_cancelled()
+                    {
                         break;
                     }
-                    let rendered =
-                        pool.install(|| render_frame(anim, inputs, todo[k], opts.region, progress));
+                    let rendered = pool.install(|| {
+                        render_frame_until(
+                            anim,
+                            inputs,
+                            todo[k],
+                            opts.region,
+                            progress,
+                            &opts.cancel,
+                        )
+                    });
                     match rendered {
                         Ok((film, stats)) => {
                             progress.frame_done(&stats);
@@ -320,8 +355,10 @@ pub fn render_animation(
         summary.rendered = done.rendered;
         Ok(())
     });
-    result?;
-    summary.seconds = start.elapsed().as_secs_f64();
     progress.finish();
+    result?;
+    // Frames finished before the stop are written; the rest waits for `--resume`.
+    opts.cancel.check()?;
+    summary.seconds = start.elapsed().as_secs_f64();
     Ok(summary)
 }
