@@ -410,6 +410,7 @@ pub struct Animation {
 impl Animation {
     /// Reads and resolves a spec file, then applies `overrides`.
     pub fn load(path: &Path, overrides: &Overrides) -> Result<Animation> {
+        limits::check_file_size(path, "animation spec")?;
         let text = std::fs::read_to_string(path)
             .map_err(|e| input_error(path, format!("cannot read animation spec: {e}")))?;
         Animation::parse(&text, path, overrides)

@@ -23,8 +23,12 @@ use crate::tile::Rect;
 
 const AFTER_HELP: &str = "\
 Exit codes: 0 success; 1 internal failure (a bug, or the disk); 2 bad input (a file, a flag or
-an animation spec is wrong; the message names it); 130 interrupted (complete frames are kept;
-run again with --resume).
+an animation spec is wrong, or the request is over a limit; the one-line message names the file
+and where in it); 130 interrupted by Ctrl-C, SIGTERM or SIGHUP (frames in flight are dropped,
+complete frames are kept; run again with --resume; a second signal stops at once).
+
+Limits, checked before work starts: width and height up to 16384, 64 Mpixels, 4096 lights,
+10^6 frames, 2 GB per input file, 2^26 triangles, and 16 GB of expected memory.
 
 Examples:
   envshadow render anims/shapes-turntable.toml

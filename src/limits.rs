@@ -18,16 +18,16 @@ pub const MAX_PIXELS: u64 = 64 << 20;
 pub const MAX_LIGHTS: usize = 4096;
 /// Most frames in one animation.
 pub const MAX_FRAMES: usize = 1_000_000;
-/// Largest input file (scene, buffer, image, map, spec, lights JSON): 2 GiB.
-pub const MAX_FILE_BYTES: u64 = 2 << 30;
+/// Largest input file (scene, buffer, image, map, spec, lights JSON): 2 GB.
+pub const MAX_FILE_BYTES: u64 = 2_000_000_000;
 /// Most triangles in a scene (the BVH and per-triangle data take ~100 bytes each).
 pub const MAX_TRIANGLES: usize = 1 << 26;
 /// Most vertices in a scene.
 pub const MAX_VERTICES: usize = 1 << 27;
 /// Largest texture, in texels (12 bytes each once decoded).
 pub const MAX_TEXTURE_TEXELS: u64 = 1 << 26;
-/// The memory a render may be expected to need: 16 GiB.
-pub const MAX_MEMORY_BYTES: u64 = 16 << 30;
+/// The memory a render may be expected to need: 16 GB.
+pub const MAX_MEMORY_BYTES: u64 = 16_000_000_000;
 
 /// Refuses a file larger than [`MAX_FILE_BYTES`] before it is read. A missing file passes: the
 /// reader that follows reports it in its own words.

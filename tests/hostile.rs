@@ -369,7 +369,8 @@ fn every_kind_of_broken_input_is_refused_with_one_located_line() {
         "texture.gltf",
         &edited_gltf(
             |d| {
-                d["materials"] = json!([{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]);
+                d["materials"] =
+                    json!([{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]);
                 d["textures"] = json!([{"source": 0}]);
                 d["images"] = json!([{"uri": "data:image/png;base64,iVBORw0KGgoAAAA="}]);
                 d["meshes"][0]["primitives"][0]["material"] = json!(0);
@@ -396,7 +397,12 @@ fn every_kind_of_broken_input_is_refused_with_one_located_line() {
     write_exr(&c.dir.join("neg.exr"), 8, 4, |x, y| {
         if (x, y) == (2, 3) { -2.0 } else { 1.0 }
     });
-    c.map("negative texel", "neg.exr", None, &["texel (2, 3)", "negative"]);
+    c.map(
+        "negative texel",
+        "neg.exr",
+        None,
+        &["texel (2, 3)", "negative"],
+    );
     c.map(
         "HDR with a bad header",
         "header.hdr",
@@ -426,14 +432,20 @@ fn every_kind_of_broken_input_is_refused_with_one_located_line() {
     );
 
     // Animation specs and flags.
-    let p = c.spec("type.toml", "[scene]\nbuiltin = \"shapes\"\n[render]\nwidth = \"wide\"");
+    let p = c.spec(
+        "type.toml",
+        "[scene]\nbuiltin = \"shapes\"\n[render]\nwidth = \"wide\"",
+    );
     c.render(
         "TOML wrong type",
         &p,
         &[],
         &["type.toml", "line 6", "width = \"wide\"", "invalid type"],
     );
-    let p = c.spec("key.toml", "[scene]\nbuiltin = \"shapes\"\n[camera]\nfov = 30.0");
+    let p = c.spec(
+        "key.toml",
+        "[scene]\nbuiltin = \"shapes\"\n[camera]\nfov = 30.0",
+    );
     c.render(
         "TOML unknown key",
         &p,

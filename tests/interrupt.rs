@@ -134,7 +134,11 @@ fn interrupt(spec: &Path, out: &Path, signal: &str) {
     for f in 0..FRAMES {
         let exr = out.join(format!("frame_{f:04}.exr"));
         let png = out.join(format!("frame_{f:04}.png"));
-        assert_eq!(exr.exists(), png.exists(), "frame {f} half written: {files:?}");
+        assert_eq!(
+            exr.exists(),
+            png.exists(),
+            "frame {f} half written: {files:?}"
+        );
         if exr.exists() {
             envshadow::output::exr::read_frame(&exr).unwrap();
             image::open(&png).unwrap();
@@ -162,16 +166,19 @@ fn interrupted_renders_keep_complete_frames_and_resume_to_identical_files() {
     let o = render(&spec, &parts, true).output().unwrap();
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{err}");
-    assert!(err.contains("already rendered, skipped (--resume)"), "{err}");
+    assert!(
+        err.contains("already rendered, skipped (--resume)"),
+        "{err}"
+    );
 
     let (a, b) = (contents(&whole), contents(&parts));
-    assert_eq!(
-        a.keys().collect::<Vec<_>>(),
-        b.keys().collect::<Vec<_>>()
-    );
+    assert_eq!(a.keys().collect::<Vec<_>>(), b.keys().collect::<Vec<_>>());
     assert_eq!(a.len(), 2 * FRAMES + 1, "{:?}", a.keys());
     for (name, bytes) in &a {
-        assert!(bytes == &b[name], "{name} differs after interrupt and resume");
+        assert!(
+            bytes == &b[name],
+            "{name} differs after interrupt and resume"
+        );
     }
     assert_eq!(stats_without_time(&whole), stats_without_time(&parts));
 }

@@ -73,7 +73,10 @@ pub(super) fn load_bytes(bytes: &[u8], path: &Path) -> Result<Scene> {
         let skipped: Vec<String> = scene
             .warnings
             .iter()
-            .map(|w| w.trim_start_matches(&format!("{}: ", path.display())).to_string())
+            .map(|w| {
+                w.trim_start_matches(&format!("{}: ", path.display()))
+                    .to_string()
+            })
             .collect();
         if skipped.is_empty() {
             bail_input!(path, "no triangles in the default scene");
