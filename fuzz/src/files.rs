@@ -27,6 +27,7 @@ pub fn texture_png() -> Vec<u8> {
     let img = image::RgbImage::from_raw(2, 2, vec![255, 0, 0, 0, 255, 0, 0, 0, 255, 128, 128, 128])
         .expect("2x2x3 bytes");
     let mut out = std::io::Cursor::new(Vec::new());
-    img.write_to(&mut out, image::ImageFormat::Png).expect("PNG encodes");
+    img.write_to(&mut out, image::ImageFormat::Png)
+        .expect("PNG encodes");
     out.into_inner()
 }

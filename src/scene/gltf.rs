@@ -37,6 +37,14 @@ pub(super) fn load_bytes(bytes: &[u8], path: &Path) -> Result<Scene> {
     // The gltf crate reports a short GLB as "could not completely read the object"; say more.
     if let (Some(b"glTF"), Some(declared)) = (bytes.get(..4), bytes.get(8..12)) {
         let declared = u32::from_le_bytes([declared[0], declared[1], declared[2], declared[3]]);
+        // The gltf crate subtracts the 12-byte header from the declared length unchecked
+        // (found by fuzzing: tests/data/fuzz/gltf/glb-length-below-header).
+        if declared < 12 {
+            bail_input!(
+                path,
+                "broken GLB header: declared length {declared} is less than the 12-byte header"
+            );
+        }
         if declared as usize > bytes.len() {
             bail_input!(
                 path,
