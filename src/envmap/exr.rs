@@ -6,7 +6,7 @@ use glam::Vec3;
 use std::io::Cursor;
 use std::path::Path;
 
-use super::check_size;
+use super::{check_plausible, check_size};
 use crate::bail_input;
 use crate::error::Result;
 
@@ -20,6 +20,7 @@ pub(super) fn decode(bytes: &[u8], path: &Path) -> Result<(usize, usize, Vec<Vec
     };
     for header in &meta.headers {
         check_size(path, header.layer_size.0, header.layer_size.1)?;
+        check_plausible(path, header.layer_size.0, header.layer_size.1, bytes.len())?;
     }
     let image = ::exr::prelude::read()
         .no_deep_data()

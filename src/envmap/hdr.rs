@@ -5,7 +5,7 @@ use image::ImageDecoder;
 use std::io::Cursor;
 use std::path::Path;
 
-use super::check_size;
+use super::{check_plausible, check_size};
 use crate::bail_input;
 use crate::error::Result;
 
@@ -19,6 +19,7 @@ pub(super) fn decode(bytes: &[u8], path: &Path) -> Result<(usize, usize, Vec<Vec
     // The header's size is checked before the decoder allocates the pixels.
     let (w, h) = decoder.dimensions();
     check_size(path, w as usize, h as usize)?;
+    check_plausible(path, w as usize, h as usize, bytes.len())?;
     let image = match image::DynamicImage::from_decoder(decoder) {
         Ok(i) => i.into_rgb32f(),
         Err(e) => bail_input!(path, "cannot decode Radiance HDR pixels: {e}"),

@@ -313,6 +313,26 @@ fn check_readable(path: &Path) -> Result<()> {
     }
 }
 
+/// The most decoded bytes one byte of a map file is taken to hold: above deflate's ~1032:1
+/// and what RLE, PIZ or B44 reach on a constant image.
+const MAX_EXPANSION: usize = 4096;
+
+/// A header may declare a size its file cannot hold: a few hundred bytes claiming 2^28 texels
+/// would make us allocate gigabytes before the decoder finds the data missing (found by fuzzing:
+/// tests/data/fuzz/envmap_exr/). Refused unless the file could hold that many texels at
+/// `MAX_EXPANSION`:1 (at least half-float RGB, 6 bytes a texel); small maps always pass.
+fn check_plausible(path: &Path, width: usize, height: usize, file_bytes: usize) -> Result<()> {
+    let decoded = width.saturating_mul(height).saturating_mul(6);
+    let room = file_bytes.saturating_mul(MAX_EXPANSION).max(16 << 20);
+    if decoded > room {
+        bail_input!(
+            path,
+            "the header declares {width}×{height} texels, more than a {file_bytes}-byte file can hold (truncated or broken header)"
+        );
+    }
+    Ok(())
+}
+
 /// Zero and absurd sizes are refused before anything is allocated.
 fn check_size(source: impl AsRef<Path>, width: usize, height: usize) -> Result<()> {
     if width == 0 || height == 0 {
