@@ -17,7 +17,11 @@ fn folder() -> &'static PathBuf {
     DIR.get_or_init(|| {
         let dir = std::env::temp_dir().join(format!("envshadow-fuzz-gltf-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        std::fs::write(dir.join("buffer.bin"), envshadow_fuzz_files::triangle_buffer()).unwrap();
+        std::fs::write(
+            dir.join("buffer.bin"),
+            envshadow_fuzz_files::triangle_buffer(),
+        )
+        .unwrap();
         std::fs::write(dir.join("texture.png"), envshadow_fuzz_files::texture_png()).unwrap();
         dir
     })
@@ -37,7 +41,14 @@ fuzz_target!(|data: &[u8]| {
     let accel = Accel::build(&scene.positions, &scene.triangles);
     let (lo, hi) = scene.bounds();
     let centre = (lo + hi) * 0.5;
-    for d in [Vec3::X, Vec3::Y, Vec3::Z, Vec3::NEG_X, Vec3::NEG_Y, Vec3::NEG_Z] {
+    for d in [
+        Vec3::X,
+        Vec3::Y,
+        Vec3::Z,
+        Vec3::NEG_X,
+        Vec3::NEG_Y,
+        Vec3::NEG_Z,
+    ] {
         let origin = centre + d * ((hi - lo).length() + 1.0);
         let _ = accel.intersect(origin, -d);
         let _ = accel.occluded(origin, -d);

@@ -101,7 +101,13 @@ fn gltf_seeds(dir: &Path, assets: &Path) {
     write(
         dir,
         "embedded.gltf",
-        gltf_json(Some(&data_uri), &format!(r#"{{"uri": "{png_uri}"}}"#), "", 4).as_bytes(),
+        gltf_json(
+            Some(&data_uri),
+            &format!(r#"{{"uri": "{png_uri}"}}"#),
+            "",
+            4,
+        )
+        .as_bytes(),
     );
     write(
         dir,
@@ -126,7 +132,10 @@ fn gltf_seeds(dir: &Path, assets: &Path) {
         ),
         4,
     )
-    .replace(r#""byteLength": 68}"#, &format!(r#""byteLength": {}}}"#, bin.len()));
+    .replace(
+        r#""byteLength": 68}"#,
+        &format!(r#""byteLength": {}}}"#, bin.len()),
+    );
     write(dir, "triangle.glb", &glb(&json, &bin));
     if let Ok(b) = std::fs::read(assets.join("bunny_res4.glb")) {
         write(dir, "bunny_res4.glb", &b);
@@ -206,7 +215,11 @@ fn lights_seeds(dir: &Path) {
     let tmp = std::env::temp_dir().join(format!("envshadow-seeds-{}", std::process::id()));
     std::fs::create_dir_all(&tmp).unwrap();
     let mut sets = Vec::new();
-    for (n, sampler) in [(1, Sampler::Sis), (6, Sampler::Sis), (12, Sampler::MedianCut)] {
+    for (n, sampler) in [
+        (1, Sampler::Sis),
+        (6, Sampler::Sis),
+        (12, Sampler::MedianCut),
+    ] {
         sets.push((
             format!("{}_{n}.json", envshadow::anim::sampler_name(sampler)),
             LightSet::build(&sky, n, sampler).unwrap(),
