@@ -68,15 +68,15 @@ fn anim_spec_inputs() {
         let Ok(text) = std::str::from_utf8(&bytes) else {
             continue;
         };
-        let r = Animation::parse(text, Path::new("fuzz/spec.toml"), &Overrides::default())
-            .and_then(|anim| {
+        let r = Animation::parse(text, Path::new("fuzz/spec.toml"), &Overrides::default()).map(
+            |anim| {
                 for frame in [0, anim.frame_count / 2, anim.frame_count - 1] {
                     if let Ok(camera) = anim.camera(&scene, frame) {
                         let _ = anim.scene_transform(frame, camera.target);
                     }
                 }
-                Ok(())
-            });
+            },
+        );
         check_error(r, "fuzz/spec.toml", &input);
     }
 }
