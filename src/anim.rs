@@ -56,17 +56,8 @@ use crate::lights::Sampler;
 use crate::predict::{Method, Params};
 use crate::scene::Scene;
 
-/// Limits checked before any work starts.
-pub mod limits {
-    /// Largest width or height.
-    pub const MAX_DIM: u32 = 16384;
-    /// Largest frame, in pixels.
-    pub const MAX_PIXELS: u64 = 64 << 20;
-    /// Most lights (visibility bitsets and per-pixel work grow with it).
-    pub const MAX_LIGHTS: usize = 4096;
-    /// Most frames in one animation.
-    pub const MAX_FRAMES: usize = 1_000_000;
-}
+/// Limits checked before any work starts (see [`crate::limits`]).
+pub use crate::limits;
 
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -434,6 +425,7 @@ pub struct Animation {
 impl Animation {
     /// Reads and resolves a spec file, then applies `overrides`.
     pub fn load(path: &Path, overrides: &Overrides) -> Result<Animation> {
+        limits::check_file_size(path, "animation spec")?;
         let text = std::fs::read_to_string(path)
             .map_err(|e| input_error(path, format!("cannot read animation spec: {e}")))?;
         Animation::parse(&text, path, overrides)
@@ -613,10 +605,19 @@ impl Animation {
 
     fn validate(&self, path: &Path) -> Result<()> {
         use limits::*;
+        let request = Request {
+            width: self.width,
+            height: self.height,
+            lights: self.lights,
+            tile: self.tile,
+            threads: self.threads,
+            validate: self.validate,
+        };
+        let need = human_bytes_u128(estimate_bytes(&request));
         if self.width == 0 || self.height == 0 || self.width > MAX_DIM || self.height > MAX_DIM {
             bail_input!(
                 path,
-                "resolution {}x{} is out of range: each side must be 1..={MAX_DIM}",
+                "resolution {}x{} is out of range: each side must be 1..={MAX_DIM} (it would need about {need} of memory)",
                 self.width,
                 self.height
             );
@@ -625,10 +626,9 @@ impl Animation {
         if px > MAX_PIXELS {
             bail_input!(
                 path,
-                "resolution {}x{} is {px} pixels; at most {MAX_PIXELS} (about {} MB of film) are allowed",
+                "resolution {}x{} is {px} pixels; at most {MAX_PIXELS} are allowed (it would need about {need} of memory)",
                 self.width,
-                self.height,
-                px * 20 / 1_000_000
+                self.height
             );
         }
         if self.lights == 0 {
@@ -640,10 +640,11 @@ impl Animation {
         if self.lights > MAX_LIGHTS {
             bail_input!(
                 path,
-                "{} lights requested; at most {MAX_LIGHTS} are allowed (each pixel keeps a bit per light and traces up to one ray per light)",
+                "{} lights requested; at most {MAX_LIGHTS} are allowed (each pixel keeps a bit per light and traces up to one ray per light; it would need about {need} of memory)",
                 self.lights
             );
         }
+        check_memory(path, &request)?;
         if self.frame_count == 0 || self.frame_count > MAX_FRAMES {
             bail_input!(
                 path,

@@ -23,8 +23,12 @@ use crate::tile::Rect;
 
 const AFTER_HELP: &str = "\
 Exit codes: 0 success; 1 internal failure (a bug, or the disk); 2 bad input (a file, a flag or
-an animation spec is wrong; the message names it); 130 interrupted (complete frames are kept;
-run again with --resume).
+an animation spec is wrong, or the request is over a limit; the one-line message names the file
+and where in it); 130 interrupted by Ctrl-C, SIGTERM or SIGHUP (frames in flight are dropped,
+complete frames are kept; run again with --resume; a second signal stops at once).
+
+Limits, checked before work starts: width and height up to 16384, 64 Mpixels, 4096 lights,
+10^6 frames, 2 GB per input file, 2^26 triangles, and 16 GB of expected memory.
 
 Examples:
   envshadow render anims/shapes-turntable.toml
@@ -398,8 +402,13 @@ fn render(args: RenderArgs) -> Result<()> {
         } else {
             Box::new(Reporter::new(std::io::stderr().is_terminal()))
         };
-        let (job, dir, summary) =
-            crate::farm::render_job(&anim, &sel, args.resume, progress.as_ref())?;
+        let (job, dir, summary) = crate::farm::render_job(
+            &anim,
+            &sel,
+            args.resume,
+            crate::cancel::Cancel::on_signals()?,
+            progress.as_ref(),
+        )?;
         if !args.quiet {
             eprintln!(
                 "{}: {} frames rendered, {} skipped in {:.1} s; output in {}",
@@ -427,6 +436,7 @@ fn render(args: RenderArgs) -> Result<()> {
         resume: args.resume,
         region: args.region,
         job: None,
+        cancel: crate::cancel::Cancel::on_signals()?,
     };
     let progress: Box<dyn Progress> = if args.quiet {
         Box::new(coordinator::Silent)

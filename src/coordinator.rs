@@ -15,8 +15,9 @@ use rayon::prelude::*;
 
 use crate::accel::Accel;
 use crate::anim::{Animation, EnvSource, MotionKind, SceneSource};
+use crate::cancel::Cancel;
 use crate::envmap::EnvMap;
-use crate::error::Result;
+use crate::error::{Interrupted, Result};
 use crate::film::Film;
 use crate::frame::{FrameContext, TileWork, render_shared, render_tile};
 use crate::lights::LightSet;
@@ -88,6 +89,8 @@ pub struct RunOptions {
     /// A farm job: render only the job's tiles and publish them as its tile images and
     /// per-frame statistics (`crate::farm::job`) instead of frames and `stats.csv`.
     pub job: Option<crate::farm::job::JobWriter>,
+    /// Stops the run between tiles: complete frames are written, frames in flight dropped.
+    pub cancel: Cancel,
 }
 
 /// What a run did.
@@ -147,7 +150,10 @@ pub fn render_frame_with(
     temporal: &Temporal,
 ) -> Result<(Film, FrameStats, Option<Carried>)> {
     let list = tiles(anim.width, anim.height, anim.tile, region);
-    render_tile_list(anim, inputs, frame, list, region, progress, temporal)
+    let never = Cancel::default();
+    render_tile_list(
+        anim, inputs, frame, list, region, progress, temporal, &never,
+    )
 }
 
 /// Renders the tiles of a frame whose indices are in `indices` (sorted; the frame-anchored
@@ -160,6 +166,7 @@ pub fn render_frame_tiles(
     indices: &[usize],
     progress: &dyn Progress,
     temporal: &Temporal,
+    cancel: &Cancel,
 ) -> Result<(Film, FrameStats, Option<Carried>)> {
     let all = tiles(anim.width, anim.height, anim.tile, None);
     let whole = indices.len() == all.len();
@@ -168,11 +175,15 @@ pub fn render_frame_tiles(
         .filter(|t| indices.binary_search(&t.index).is_ok())
         .collect();
     let bbox = (!whole).then(|| crate::farm::job::bounding(&list));
-    render_tile_list(anim, inputs, frame, list, bbox, progress, temporal)
+    render_tile_list(anim, inputs, frame, list, bbox, progress, temporal, cancel)
 }
 
 /// Renders `list` (tiles of one frame); `region` (if any) bounds them and decides how far the
-/// shared phases run and over which pixels validation compares images.
+/// shared phases run and over which pixels validation compares images. Once `cancel` is set,
+/// tiles not yet started are skipped and the frame ends with [`Interrupted`].
+// The frame, its tiles, the temporal link and the stop flag: a struct for them would only be
+// unpacked again here.
+#[allow(clippy::too_many_arguments)]
 fn render_tile_list(
     anim: &Animation,
     inputs: &Inputs,
@@ -181,6 +192,7 @@ fn render_tile_list(
     region: Option<Rect>,
     progress: &dyn Progress,
     temporal: &Temporal,
+    cancel: &Cancel,
 ) -> Result<(Film, FrameStats, Option<Carried>)> {
     let start = Instant::now();
     let camera0 = anim.camera(&inputs.scene, 0)?;
@@ -240,6 +252,7 @@ fn render_tile_list(
         });
         let shared_tiles = reach.as_ref().unwrap_or(&list);
         for phase in 0..phases {
+            cancel.check()?;
             let patches: Vec<_> = shared_tiles
                 .par_iter()
                 .map(|t| with_work(|work| render_shared(&ctx, t.rect, work, phase, &lattice)))
@@ -250,18 +263,24 @@ fn render_tile_list(
         }
     }
     let carry = carried.is_some();
-    let results: Vec<_> = list
+    let results: Option<Vec<_>> = list
         .par_iter()
         .map(|t| {
+            if cancel.is_cancelled() {
+                return None;
+            }
             let r = with_work(|work| {
                 let r = render_tile(&ctx, t.rect, work, &lattice);
                 let patch = carry.then(|| CarryPatch::record(work, &inputs.lights, edges));
                 (r, patch)
             });
             progress.tile_done(r.0.counts.rays);
-            r
+            Some(r)
         })
         .collect();
+    let Some(results) = results else {
+        return Err(Interrupted.into());
+    };
     let mut film = Film::new(anim.width, anim.height, ctx.validate);
     for (r, patch) in &results {
         film.add(r);
@@ -333,6 +352,7 @@ pub fn render_animation(
     }
     // Inputs first: a bad input leaves nothing behind, not even an empty folder.
     let inputs = Inputs::load(anim)?;
+    opts.cancel.check()?;
     std::fs::create_dir_all(dir)
         .with_context(|| format!("creating output folder {}", dir.display()))?;
     if let Some(job) = &opts.job {
@@ -417,13 +437,16 @@ pub fn render_animation(
             s.spawn(move || {
                 'chains: loop {
                     let k = next.fetch_add(1, Ordering::Relaxed);
-                    if k >= work.len() || failed.load(Ordering::Relaxed) {
+                    if k >= work.len()
+                        || failed.load(Ordering::Relaxed)
+                        || opts.cancel.is_cancelled()
+                    {
                         break;
                     }
                     let frames = &work[k].frames;
                     let mut prev: Option<Carried> = None;
                     for (n, &(frame, write)) in frames.iter().enumerate() {
-                        if failed.load(Ordering::Relaxed) {
+                        if failed.load(Ordering::Relaxed) || opts.cancel.is_cancelled() {
                             break 'chains;
                         }
                         let link = Temporal {
@@ -433,12 +456,25 @@ pub fn render_animation(
                         };
                         let shown: &dyn Progress = if write { progress } else { &Silent };
                         let rendered = pool.install(|| match &opts.job {
-                            Some(job) => {
-                                render_frame_tiles(anim, inputs, frame, job.tiles(), shown, &link)
-                            }
-                            None => {
-                                render_frame_with(anim, inputs, frame, opts.region, shown, &link)
-                            }
+                            Some(job) => render_frame_tiles(
+                                anim,
+                                inputs,
+                                frame,
+                                job.tiles(),
+                                shown,
+                                &link,
+                                &opts.cancel,
+                            ),
+                            None => render_tile_list(
+                                anim,
+                                inputs,
+                                frame,
+                                tiles(anim.width, anim.height, anim.tile, opts.region),
+                                opts.region,
+                                shown,
+                                &link,
+                                &opts.cancel,
+                            ),
                         });
                         match rendered {
                             Ok((film, stats, carried)) => {
@@ -474,8 +510,10 @@ pub fn render_animation(
         summary.rendered = done.rendered;
         Ok(())
     });
-    result?;
-    summary.seconds = start.elapsed().as_secs_f64();
     progress.finish();
+    result?;
+    // Frames finished before the stop are written; the rest waits for `--resume`.
+    opts.cancel.check()?;
+    summary.seconds = start.elapsed().as_secs_f64();
     Ok(summary)
 }

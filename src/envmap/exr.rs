@@ -1,30 +1,43 @@
 //! OpenEXR lat-long maps through the `exr` crate: the first layer with R, G, B (A optional),
 //! half or float, scanline or tiled; of a mip-mapped file only the full-resolution level 0.
 
+use ::exr::prelude::{ReadChannels, ReadLayers};
 use glam::Vec3;
+use std::io::Cursor;
 use std::path::Path;
 
-use super::check_size;
+use super::{check_plausible, check_size};
 use crate::bail_input;
 use crate::error::Result;
 
-/// Reads `path` as (width, height, texels). Validation of the values is the caller's.
-pub(super) fn read(path: &Path) -> Result<(usize, usize, Vec<Vec3>)> {
+/// Decodes `bytes` (named `path` in errors) as (width, height, texels). Validation of the
+/// values is the caller's.
+pub(super) fn decode(bytes: &[u8], path: &Path) -> Result<(usize, usize, Vec<Vec3>)> {
     // Headers first, so an absurd declared size is refused before pixels are allocated.
-    let meta = match ::exr::meta::MetaData::read_from_file(path, false) {
+    let meta = match ::exr::meta::MetaData::read_from_buffered(Cursor::new(bytes), false) {
         Ok(m) => m,
         Err(e) => bail_input!(path, "not a readable OpenEXR file: {e}"),
     };
     for header in &meta.headers {
         check_size(path, header.layer_size.0, header.layer_size.1)?;
+        check_plausible(path, header.layer_size.0, header.layer_size.1, bytes.len())?;
     }
-    let image = ::exr::prelude::read_first_rgba_layer_from_file(
-        path,
-        |size, _channels| (size.0, vec![Vec3::ZERO; size.0 * size.1]),
-        |(w, texels): &mut (usize, Vec<Vec3>), pos, (r, g, b, _a): (f32, f32, f32, f32)| {
-            texels[pos.1 * *w + pos.0] = Vec3::new(r, g, b);
-        },
-    );
+    let image = ::exr::prelude::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .rgba_channels(
+            |size: ::exr::math::Vec2<usize>, _channels: &::exr::prelude::RgbaChannels| {
+                (size.0, vec![Vec3::ZERO; size.0 * size.1])
+            },
+            |(w, texels): &mut (usize, Vec<Vec3>),
+             pos: ::exr::math::Vec2<usize>,
+             (r, g, b, _a): (f32, f32, f32, f32)| {
+                texels[pos.1 * *w + pos.0] = Vec3::new(r, g, b);
+            },
+        )
+        .first_valid_layer()
+        .all_attributes()
+        .from_buffered(Cursor::new(bytes));
     let image = match image {
         Ok(i) => i,
         Err(e) => bail_input!(path, "cannot decode OpenEXR RGB layer: {e}"),

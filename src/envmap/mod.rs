@@ -83,27 +83,21 @@ impl EnvMap {
     /// Loads `.exr` (full-resolution level of tiled/mip-mapped files too) or `.hdr`.
     /// NaN, Inf or negative texels are an `InputError` naming the file and the texel.
     pub fn load(path: &Path) -> Result<EnvMap> {
-        let ext = path
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(|e| e.to_ascii_lowercase());
-        let (width, height, texels) = match ext.as_deref() {
-            Some("exr") => {
-                check_readable(path)?;
-                exr::read(path)?
-            }
-            Some("hdr") => {
-                check_readable(path)?;
-                hdr::read(path)?
-            }
-            Some(other) => bail_input!(
-                path,
-                "unsupported environment map format '.{other}' (expected .exr or .hdr)"
-            ),
-            None => bail_input!(
-                path,
-                "environment map has no file extension (expected .exr or .hdr)"
-            ),
+        format_of(path)?;
+        check_readable(path)?;
+        crate::limits::check_file_size(path, "environment map")?;
+        let bytes = match std::fs::read(path) {
+            Ok(b) => b,
+            Err(e) => bail_input!(path, "cannot read environment map: {e}"),
+        };
+        EnvMap::decode(&bytes, path)
+    }
+
+    /// Decodes a map file's bytes; `path` names it in errors and its extension gives the format.
+    pub fn decode(bytes: &[u8], path: &Path) -> Result<EnvMap> {
+        let (width, height, texels) = match format_of(path)? {
+            Format::Exr => exr::decode(bytes, path)?,
+            Format::Hdr => hdr::decode(bytes, path)?,
         };
         EnvMap::from_texels(width, height, texels, &path.display().to_string())
     }
@@ -283,6 +277,31 @@ impl EnvMap {
 }
 
 /// Missing files and folders get a plain message instead of a decoder's.
+enum Format {
+    Exr,
+    Hdr,
+}
+
+/// The map's format, from its file extension.
+fn format_of(path: &Path) -> Result<Format> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase());
+    match ext.as_deref() {
+        Some("exr") => Ok(Format::Exr),
+        Some("hdr") => Ok(Format::Hdr),
+        Some(other) => bail_input!(
+            path,
+            "unsupported environment map format '.{other}' (expected .exr or .hdr)"
+        ),
+        None => bail_input!(
+            path,
+            "environment map has no file extension (expected .exr or .hdr)"
+        ),
+    }
+}
+
 fn check_readable(path: &Path) -> Result<()> {
     match std::fs::metadata(path) {
         Ok(m) if m.is_file() => Ok(()),
@@ -292,6 +311,26 @@ fn check_readable(path: &Path) -> Result<()> {
         }
         Err(e) => bail_input!(path, "cannot read environment map: {e}"),
     }
+}
+
+/// The most decoded bytes one byte of a map file is taken to hold: above deflate's ~1032:1
+/// and what RLE, PIZ or B44 reach on a constant image.
+const MAX_EXPANSION: usize = 4096;
+
+/// A header may declare a size its file cannot hold: a few hundred bytes claiming 2^28 texels
+/// would make us allocate gigabytes before the decoder finds the data missing (found by fuzzing:
+/// tests/data/fuzz/envmap_exr/). Refused unless the file could hold that many texels at
+/// `MAX_EXPANSION`:1 (at least half-float RGB, 6 bytes a texel); small maps always pass.
+fn check_plausible(path: &Path, width: usize, height: usize, file_bytes: usize) -> Result<()> {
+    let decoded = width.saturating_mul(height).saturating_mul(6);
+    let room = file_bytes.saturating_mul(MAX_EXPANSION).max(16 << 20);
+    if decoded > room {
+        bail_input!(
+            path,
+            "the header declares {width}×{height} texels, more than a {file_bytes}-byte file can hold (truncated or broken header)"
+        );
+    }
+    Ok(())
 }
 
 /// Zero and absurd sizes are refused before anything is allocated.

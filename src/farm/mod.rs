@@ -106,6 +106,7 @@ pub fn render_job(
     anim: &Animation,
     sel: &JobSelection,
     resume: bool,
+    cancel: crate::cancel::Cancel,
     progress: &dyn Progress,
 ) -> Result<(Job, PathBuf, RunSummary)> {
     let grid = crate::tile::tiles(anim.width, anim.height, anim.tile, None);
@@ -192,6 +193,7 @@ pub fn render_job(
         resume,
         region: None,
         job: Some(JobWriter::new(dir.clone(), &job, &grid, manifest)),
+        cancel,
     };
     let summary = coordinator::render_animation(&job_anim, &opts, progress)?;
     Ok((job, dir, summary))

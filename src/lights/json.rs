@@ -94,14 +94,20 @@ fn finite_number(path: &Path, v: Option<&Value>, what: &str) -> Result<f64> {
 /// Reads a lights JSON written by [`LightSet::write_json`] and rebuilds the lookup and adjacency.
 /// Energies and solid angles are taken from the file.
 pub fn read_json(path: &Path) -> Result<LightSet> {
-    let text = match std::fs::read_to_string(path) {
+    crate::limits::check_file_size(path, "lights file")?;
+    let text = match std::fs::read(path) {
         Ok(t) => t,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
             bail_input!(path, "lights file not found")
         }
         Err(e) => bail_input!(path, "cannot read lights file: {e}"),
     };
-    let root: Value = match serde_json::from_str(&text) {
+    parse_json(&text, path)
+}
+
+/// Parses lights JSON from memory; `path` names it in errors.
+pub fn parse_json(text: &[u8], path: &Path) -> Result<LightSet> {
+    let root: Value = match serde_json::from_slice(text) {
         Ok(v) => v,
         Err(e) => bail_input!(path, "not valid JSON: {e}"),
     };
@@ -149,6 +155,14 @@ pub fn read_json(path: &Path) -> Result<LightSet> {
     };
     if count == 0 {
         bail_input!(path, "count must be at least 1");
+    }
+    // Checked before the list is read: the lookup and adjacency grow with the light count.
+    if count > crate::limits::MAX_LIGHTS {
+        bail_input!(
+            path,
+            "count is {count}; at most {} lights are allowed",
+            crate::limits::MAX_LIGHTS
+        );
     }
     if count != items.len() {
         bail_input!(

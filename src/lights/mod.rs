@@ -21,7 +21,7 @@ use crate::envmap::EnvMap;
 use crate::error::Result;
 use lookup::CellTable;
 
-pub use json::read_json;
+pub use json::{parse_json, read_json};
 
 /// One directional light: the spherical Voronoi cell of `dir` with the map's radiance integrated over it.
 #[derive(Clone, Copy, Debug, PartialEq)]

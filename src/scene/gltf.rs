@@ -19,15 +19,32 @@ use crate::bail_input;
 use crate::error::{Result, input_error};
 
 /// An accessor without a buffer view is all zeros; more elements than this is surely a broken
-/// file, and refusing it avoids allocating whatever the count says.
-const MAX_ZERO_ELEMENTS: usize = 1 << 26;
+/// file, and refusing it avoids allocating whatever the count says from a few bytes of JSON.
+const MAX_ZERO_ELEMENTS: usize = 1 << 24;
+/// Most values (elements × components) read from one accessor: a triangle list at the scene's
+/// triangle limit. Values are held as f64 while read, so this bounds that buffer to 1.6 GB.
+const MAX_ACCESSOR_VALUES: usize = 3 * crate::limits::MAX_TRIANGLES;
 
 /// Loads a glTF file into a world-space [`Scene`].
 pub(super) fn load(path: &Path) -> Result<Scene> {
+    crate::limits::check_file_size(path, "scene file")?;
     let bytes = std::fs::read(path).map_err(|e| input_error(path, format!("cannot read: {e}")))?;
+    load_bytes(&bytes, path)
+}
+
+/// Loads a glTF file's bytes; `path` names it in errors and anchors relative URIs.
+pub(super) fn load_bytes(bytes: &[u8], path: &Path) -> Result<Scene> {
     // The gltf crate reports a short GLB as "could not completely read the object"; say more.
     if let (Some(b"glTF"), Some(declared)) = (bytes.get(..4), bytes.get(8..12)) {
         let declared = u32::from_le_bytes([declared[0], declared[1], declared[2], declared[3]]);
+        // The gltf crate subtracts the 12-byte header from the declared length unchecked
+        // (found by fuzzing: tests/data/fuzz/gltf/glb-length-below-header).
+        if declared < 12 {
+            bail_input!(
+                path,
+                "broken GLB header: declared length {declared} is less than the 12-byte header"
+            );
+        }
         if declared as usize > bytes.len() {
             bail_input!(
                 path,
@@ -36,9 +53,8 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
             );
         }
     }
-    let ::gltf::Gltf { document, blob } = ::gltf::Gltf::from_slice_without_validation(&bytes)
+    let ::gltf::Gltf { document, blob } = ::gltf::Gltf::from_slice_without_validation(bytes)
         .map_err(|e| input_error(path, format!("not a valid glTF/GLB file: {e}")))?;
-    drop(bytes);
     let root = document.into_json();
     check_position_references(path, &root)?;
     let document = Document::from_json(root)
@@ -61,7 +77,27 @@ pub(super) fn load(path: &Path) -> Result<Scene> {
     loader.walk()?;
     let scene = loader.scene;
     if scene.triangles.is_empty() {
-        bail_input!(path, "no triangles in the default scene");
+        // One line: what was skipped explains why nothing is left.
+        let skipped: Vec<String> = scene
+            .warnings
+            .iter()
+            .map(|w| {
+                w.trim_start_matches(&format!("{}: ", path.display()))
+                    .to_string()
+            })
+            .collect();
+        if skipped.is_empty() {
+            bail_input!(path, "no triangles in the default scene");
+        }
+        bail_input!(
+            path,
+            "no triangles in the default scene ({})",
+            skipped.join("; ")
+        );
+    }
+    // Printed once the file is known to load, so a refused file gives one line, not several.
+    for w in &scene.warnings {
+        eprintln!("warning: {w}");
     }
     Ok(scene)
 }
@@ -140,6 +176,16 @@ fn read_uri(base: &Path, uri: &str) -> std::result::Result<Vec<u8>, String> {
     } else {
         base.join(percent_decode(uri))
     };
+    if let Ok(m) = std::fs::metadata(&relative)
+        && m.len() > crate::limits::MAX_FILE_BYTES
+    {
+        return Err(format!(
+            "external file '{}' is {} bytes; at most {} are read",
+            relative.display(),
+            m.len(),
+            crate::limits::MAX_FILE_BYTES
+        ));
+    }
     std::fs::read(&relative)
         .map_err(|e| format!("cannot read external file '{}': {e}", relative.display()))
 }
@@ -210,7 +256,6 @@ struct Loader<'a> {
 impl Loader<'_> {
     fn warn(&mut self, message: String) {
         let message = format!("{}: {message}", self.path.display());
-        eprintln!("warning: {message}");
         self.scene.warnings.push(message);
     }
 
@@ -426,11 +471,18 @@ impl Loader<'_> {
             }
         }
         // Zero-area triangles have no normal and cannot be hit; drop them.
+        let before = tris.len();
         tris.retain(|t| {
             let [a, b, c] = t.map(|i| world_pos[i as usize]);
             let n = (b - a).cross(c - a);
             n != Vec3::ZERO && n.is_finite()
         });
+        if tris.len() < before {
+            self.warn(format!(
+                "{at}: {} zero-area triangles skipped",
+                before - tris.len()
+            ));
+        }
         let smooth = smooth_normals(&world_pos, &tris);
         let nm = normal_matrix(world);
         let world_nrm: Vec<Vec3> = match &normals {
@@ -451,8 +503,21 @@ impl Loader<'_> {
         };
 
         let vertex_base = self.scene.positions.len();
-        if vertex_base + count > u32::MAX as usize {
-            bail_input!(self.path, "{at}: the scene has more than 2^32 vertices");
+        if vertex_base + count > crate::limits::MAX_VERTICES {
+            bail_input!(
+                self.path,
+                "{at}: the scene would have {} vertices; at most {} are allowed",
+                vertex_base + count,
+                crate::limits::MAX_VERTICES
+            );
+        }
+        if self.scene.triangles.len() + tris.len() > crate::limits::MAX_TRIANGLES {
+            bail_input!(
+                self.path,
+                "{at}: the scene would have {} triangles; at most {} are allowed",
+                self.scene.triangles.len() + tris.len(),
+                crate::limits::MAX_TRIANGLES
+            );
         }
         let vertex_base = vertex_base as u32;
         self.scene.positions.extend(world_pos);
@@ -614,6 +679,11 @@ impl Loader<'_> {
         let ty = acc.data_type();
         let normalized = acc.normalized();
         let err = |msg: String| input_error(self.path, format!("{at}: accessor {a}: {msg}"));
+        if count.saturating_mul(dims) > MAX_ACCESSOR_VALUES {
+            return Err(err(format!(
+                "count {count} of {dims} components is more than the {MAX_ACCESSOR_VALUES} values allowed"
+            )));
+        }
 
         let mut values = match acc.view() {
             Some(view) => {

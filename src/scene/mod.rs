@@ -106,6 +106,12 @@ impl Scene {
         gltf::load(path)
     }
 
+    /// Loads a glTF or GLB file's bytes, as [`Scene::load`] does the file: `path` names it in
+    /// errors, and external buffers and images are read relative to its folder.
+    pub fn load_bytes(bytes: &[u8], path: &Path) -> Result<Scene> {
+        gltf::load_bytes(bytes, path)
+    }
+
     /// The built-in `shapes` scene: sphere, box, cylinder, cone, torus and a thin upright slab
     /// on a ground plane, made in code (no files), the same bits on every call.
     ///

@@ -43,8 +43,27 @@ impl Texture {
 
     /// Decodes an encoded image (PNG or JPEG) to a linear texture, treating it as sRGB and
     /// ignoring alpha. 16-bit images are decoded from their full precision.
+    /// Images over [`crate::limits::MAX_TEXTURE_TEXELS`] or 16384 on a side are refused before
+    /// their pixels are allocated.
     pub fn decode(bytes: &[u8]) -> Result<Texture, image::ImageError> {
-        let img = image::load_from_memory(bytes)?;
+        let mut reader =
+            image::ImageReader::new(std::io::Cursor::new(bytes)).with_guessed_format()?;
+        let mut limits = image::Limits::default();
+        limits.max_image_width = Some(crate::limits::MAX_DIM);
+        limits.max_image_height = Some(crate::limits::MAX_DIM);
+        // The decoder's own buffer: at most 8 bytes (RGBA16) per allowed texel.
+        limits.max_alloc = Some(crate::limits::MAX_TEXTURE_TEXELS * 8);
+        reader.limits(limits.clone());
+        let (w, h) = reader.into_dimensions()?;
+        if u64::from(w) * u64::from(h) > crate::limits::MAX_TEXTURE_TEXELS {
+            return Err(image::ImageError::Limits(
+                image::error::LimitError::from_kind(image::error::LimitErrorKind::DimensionError),
+            ));
+        }
+        let mut reader =
+            image::ImageReader::new(std::io::Cursor::new(bytes)).with_guessed_format()?;
+        reader.limits(limits);
+        let img = reader.decode()?;
         let rgb = img.to_rgb32f();
         let (w, h) = (rgb.width() as usize, rgb.height() as usize);
         let texels = rgb

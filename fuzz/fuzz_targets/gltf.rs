@@ -1,0 +1,56 @@
+//! glTF / GLB loading from bytes, with a folder holding the external buffers and images a
+//! fuzzed file may refer to; a scene that loads is also put in a BVH and traced.
+#![no_main]
+
+use std::path::PathBuf;
+use std::sync::OnceLock;
+
+use envshadow::accel::Accel;
+use envshadow::scene::Scene;
+use glam::Vec3;
+use libfuzzer_sys::fuzz_target;
+
+/// A folder with `buffer.bin` (a small triangle's positions and indices) and `texture.png`,
+/// the names the seed files use.
+fn folder() -> &'static PathBuf {
+    static DIR: OnceLock<PathBuf> = OnceLock::new();
+    DIR.get_or_init(|| {
+        let dir = std::env::temp_dir().join(format!("envshadow-fuzz-gltf-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(
+            dir.join("buffer.bin"),
+            envshadow_fuzz_files::triangle_buffer(),
+        )
+        .unwrap();
+        std::fs::write(dir.join("texture.png"), envshadow_fuzz_files::texture_png()).unwrap();
+        dir
+    })
+}
+
+#[path = "../src/files.rs"]
+mod envshadow_fuzz_files;
+
+fuzz_target!(|data: &[u8]| {
+    let path = folder().join("fuzz.gltf");
+    let Ok(scene) = Scene::load_bytes(data, &path) else {
+        return;
+    };
+    if scene.triangles.len() > 100_000 {
+        return;
+    }
+    let accel = Accel::build(&scene.positions, &scene.triangles);
+    let (lo, hi) = scene.bounds();
+    let centre = (lo + hi) * 0.5;
+    for d in [
+        Vec3::X,
+        Vec3::Y,
+        Vec3::Z,
+        Vec3::NEG_X,
+        Vec3::NEG_Y,
+        Vec3::NEG_Z,
+    ] {
+        let origin = centre + d * ((hi - lo).length() + 1.0);
+        let _ = accel.intersect(origin, -d);
+        let _ = accel.occluded(origin, -d);
+    }
+});

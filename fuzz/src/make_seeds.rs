@@ -1,0 +1,283 @@
+//! Writes the seed corpora: `cargo run --release --bin make_seeds -- fuzz/seeds` (from the
+//! repository root; it also reads `anims/` and, if present, the shared assets).
+
+use std::io::Cursor;
+use std::path::{Path, PathBuf};
+
+use envshadow::envmap::EnvMap;
+use envshadow::lights::{Light, LightSet, Sampler};
+use glam::Vec3;
+
+mod files;
+
+fn write(dir: &Path, name: &str, bytes: &[u8]) {
+    std::fs::create_dir_all(dir).unwrap();
+    std::fs::write(dir.join(name), bytes).unwrap();
+}
+
+fn base64(bytes: &[u8]) -> String {
+    const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut s = String::new();
+    for c in bytes.chunks(3) {
+        let n = (u32::from(c[0]) << 16)
+            | (u32::from(*c.get(1).unwrap_or(&0)) << 8)
+            | u32::from(*c.get(2).unwrap_or(&0));
+        for k in 0..4 {
+            if k <= c.len() {
+                s.push(A[(n >> (18 - 6 * k) & 63) as usize] as char);
+            } else {
+                s.push('=');
+            }
+        }
+    }
+    s
+}
+
+/// The JSON of a one-triangle glTF whose buffer is `uri` (None: the GLB chunk) and whose
+/// texture is `image` (a JSON object: a uri or a bufferView).
+fn gltf_json(uri: Option<&str>, image: &str, extra_views: &str, mode: u32) -> String {
+    let buffer = match uri {
+        Some(u) => format!(r#"{{"byteLength": 68, "uri": "{u}"}}"#),
+        None => r#"{"byteLength": 68}"#.to_string(),
+    };
+    format!(
+        r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0]}}],
+ "nodes": [{{"children": [1], "rotation": [0, 0.7071068, 0, 0.7071068]}},
+           {{"mesh": 0, "translation": [0, 1, 0], "scale": [2, 2, 2]}},
+           {{"camera": 0, "translation": [0, 0, 5]}}],
+ "cameras": [{{"type": "perspective", "perspective": {{"yfov": 0.7, "znear": 0.1}}}}],
+ "meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0, "TEXCOORD_0": 2}}, "indices": 1,
+   "material": 0, "mode": {mode}}}]}}],
+ "materials": [{{"pbrMetallicRoughness": {{"baseColorFactor": [0.8, 0.7, 0.6, 1],
+   "baseColorTexture": {{"index": 0}}}}}}],
+ "textures": [{{"source": 0}}], "images": [{image}],
+ "accessors": [
+  {{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+    "min": [0, 0, 0], "max": [1, 1, 0]}},
+  {{"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}},
+  {{"bufferView": 2, "componentType": 5126, "count": 3, "type": "VEC2"}},
+  {{"componentType": 5126, "count": 3, "type": "VEC3",
+    "sparse": {{"count": 1, "indices": {{"bufferView": 1, "componentType": 5123}},
+               "values": {{"bufferView": 0}}}}}}],
+ "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 36}},
+                 {{"buffer": 0, "byteOffset": 36, "byteLength": 6}},
+                 {{"buffer": 0, "byteOffset": 44, "byteLength": 24, "byteStride": 8}}{extra_views}],
+ "buffers": [{buffer}]}}"#
+    )
+}
+
+fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
+    let mut json = json.as_bytes().to_vec();
+    while json.len() % 4 != 0 {
+        json.push(b' ');
+    }
+    let mut bin = bin.to_vec();
+    while bin.len() % 4 != 0 {
+        bin.push(0);
+    }
+    let total = 12 + 8 + json.len() + 8 + bin.len();
+    let mut out = Vec::new();
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&(total as u32).to_le_bytes());
+    out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"JSON");
+    out.extend_from_slice(&json);
+    out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"BIN\0");
+    out.extend_from_slice(&bin);
+    out
+}
+
+fn gltf_seeds(dir: &Path, assets: &Path) {
+    let buffer = files::triangle_buffer();
+    let data_uri = format!("data:application/octet-stream;base64,{}", base64(&buffer));
+    let png_uri = format!("data:image/png;base64,{}", base64(&files::texture_png()));
+    write(
+        dir,
+        "external.gltf",
+        gltf_json(Some("buffer.bin"), r#"{"uri": "texture.png"}"#, "", 4).as_bytes(),
+    );
+    write(
+        dir,
+        "embedded.gltf",
+        gltf_json(
+            Some(&data_uri),
+            &format!(r#"{{"uri": "{png_uri}"}}"#),
+            "",
+            4,
+        )
+        .as_bytes(),
+    );
+    write(
+        dir,
+        "strip.gltf",
+        gltf_json(Some(&data_uri), r#"{"uri": "texture.png"}"#, "", 5).as_bytes(),
+    );
+    write(
+        dir,
+        "fan.gltf",
+        gltf_json(Some("buffer.bin"), r#"{"uri": "texture.png"}"#, "", 6).as_bytes(),
+    );
+    // GLB: the texture lives in the binary chunk after the triangle's 68 bytes.
+    let mut bin = buffer.clone();
+    let png = files::texture_png();
+    bin.extend_from_slice(&png);
+    let json = gltf_json(
+        None,
+        r#"{"bufferView": 3, "mimeType": "image/png"}"#,
+        &format!(
+            r#", {{"buffer": 0, "byteOffset": 68, "byteLength": {}}}"#,
+            png.len()
+        ),
+        4,
+    )
+    .replace(
+        r#""byteLength": 68}"#,
+        &format!(r#""byteLength": {}}}"#, bin.len()),
+    );
+    write(dir, "triangle.glb", &glb(&json, &bin));
+    if let Ok(b) = std::fs::read(assets.join("bunny_res4.glb")) {
+        write(dir, "bunny_res4.glb", &b);
+    }
+}
+
+fn exr_seeds(dir: &Path) {
+    use exr::prelude::*;
+    let compressions = [
+        ("none", Compression::Uncompressed),
+        ("rle", Compression::RLE),
+        ("zip1", Compression::ZIP1),
+        ("zip16", Compression::ZIP16),
+        ("piz", Compression::PIZ),
+        ("pxr24", Compression::PXR24),
+        ("b44", Compression::B44),
+        ("b44a", Compression::B44A),
+    ];
+    for (name, compression) in compressions {
+        for (blocks_name, blocks) in [
+            ("lines", Blocks::ScanLines),
+            ("tiles", Blocks::Tiles(Vec2(4, 4))),
+        ] {
+            let encoding = Encoding {
+                compression,
+                blocks,
+                line_order: LineOrder::Increasing,
+            };
+            let mut out = Cursor::new(Vec::new());
+            if name.starts_with('b') || name == "piz" {
+                // Half channels: what B44 and PIZ are made for.
+                let pixels = SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| {
+                    (
+                        f16::from_f32(x as f32 * 0.25),
+                        f16::from_f32(y as f32 * 0.5),
+                        f16::from_f32(1.0),
+                    )
+                });
+                let layer = Layer::new((8, 4), LayerAttributes::named("rgb"), encoding, pixels);
+                Image::from_layer(layer)
+                    .write()
+                    .to_buffered(&mut out)
+                    .unwrap();
+            } else {
+                let pixels = SpecificChannels::rgba(|Vec2(x, y): Vec2<usize>| {
+                    (x as f32 * 0.25, y as f32 * 0.5, 2.0f32, 1.0f32)
+                });
+                let layer = Layer::new((8, 4), LayerAttributes::named("rgba"), encoding, pixels);
+                Image::from_layer(layer)
+                    .write()
+                    .to_buffered(&mut out)
+                    .unwrap();
+            }
+            write(dir, &format!("{name}_{blocks_name}.exr"), &out.into_inner());
+        }
+    }
+}
+
+fn hdr_seeds(dir: &Path, assets: &Path) {
+    for (w, h) in [(4usize, 2usize), (16, 8), (40, 3)] {
+        let pixels: Vec<image::Rgb<f32>> = (0..w * h)
+            .map(|i| image::Rgb([i as f32 * 0.1, (i % 7) as f32, 0.5]))
+            .collect();
+        let mut out = Vec::new();
+        image::codecs::hdr::HdrEncoder::new(&mut out)
+            .encode(&pixels, w, h)
+            .unwrap();
+        write(dir, &format!("map_{w}x{h}.hdr"), &out);
+    }
+    if let Ok(b) = std::fs::read(assets.join("grace.hdr")) {
+        write(dir, "grace.hdr", &b);
+    }
+}
+
+fn lights_seeds(dir: &Path) {
+    let sky = EnvMap::builtin_sky();
+    let tmp = std::env::temp_dir().join(format!("envshadow-seeds-{}", std::process::id()));
+    std::fs::create_dir_all(&tmp).unwrap();
+    let mut sets = Vec::new();
+    for (n, sampler) in [
+        (1, Sampler::Sis),
+        (6, Sampler::Sis),
+        (12, Sampler::MedianCut),
+    ] {
+        sets.push((
+            format!("{}_{n}.json", envshadow::anim::sampler_name(sampler)),
+            LightSet::build(&sky, n, sampler).unwrap(),
+        ));
+    }
+    let given = LightSet::from_lights(vec![
+        Light {
+            dir: Vec3::Y,
+            energy: Vec3::ONE,
+            solid_angle: 1.0,
+        },
+        Light {
+            dir: Vec3::new(0.6, 0.0, 0.8),
+            energy: Vec3::new(0.5, 0.25, 0.0),
+            solid_angle: 2.0,
+        },
+    ]);
+    sets.push(("given_2.json".to_string(), given));
+    for (name, set) in sets {
+        let p = tmp.join(&name);
+        set.write_json(&p).unwrap();
+        write(dir, &name, &std::fs::read(&p).unwrap());
+    }
+    let _ = std::fs::remove_dir_all(&tmp);
+}
+
+fn spec_seeds(dir: &Path) {
+    for entry in std::fs::read_dir("anims").expect("run from the repository root") {
+        let p = entry.unwrap().path();
+        if p.extension().is_some_and(|e| e == "toml") {
+            write(
+                dir,
+                p.file_name().unwrap().to_str().unwrap(),
+                &std::fs::read(&p).unwrap(),
+            );
+        }
+    }
+    write(
+        dir,
+        "spin.toml",
+        b"name = \"s\"\n[scene]\nbuiltin = \"shapes\"\n[camera]\nposition = [0.0, 2.0, 5.0]\ntarget = [0.0, 0.5, 0.0]\nup = [0.0, 1.0, 0.0]\n[motion]\nkind = \"spin\"\nframes = 12\ndegrees_per_frame = 3.0\npivot = [0.0, 0.0, 0.0]\n[render]\nwidth = 64\nheight = 48\nmethod = \"brute\"\nvalidate = true\ntile = 0\n",
+    );
+    write(
+        dir,
+        "file.toml",
+        b"[scene]\nfile = \"scene.glb\"\n[environment]\nfile = \"map.hdr\"\nrotation = 90.0\nintensity = 2.0\n[lights]\ncount = 50\nsampler = \"median-cut\"\n[camera]\nfrom_file = true\n[motion]\nkind = \"none\"\n[output]\ndir = \"out/x\"\n",
+    );
+}
+
+fn main() {
+    let root = PathBuf::from(std::env::args().nth(1).unwrap_or("fuzz/seeds".into()));
+    let assets = PathBuf::from(
+        std::env::var("ENVSHADOW_ASSETS").unwrap_or_else(|_| "../shared/assets".into()),
+    );
+    spec_seeds(&root.join("anim_spec"));
+    gltf_seeds(&root.join("gltf"), &assets);
+    exr_seeds(&root.join("envmap_exr"));
+    hdr_seeds(&root.join("envmap_hdr"), &assets);
+    lights_seeds(&root.join("lights_json"));
+    println!("seeds written under {}", root.display());
+}

@@ -1,0 +1,166 @@
+//! Limits checked before work starts, so a hostile or mistaken input is refused with a message
+//! instead of exhausting the host: frame size, light count, frames, input file sizes, triangles,
+//! and an estimate of the memory a render would need.
+//!
+//! The limits are fixed numbers, not read from the host, so a farm refuses or accepts the same
+//! jobs on every machine.
+
+use std::path::Path;
+
+use crate::bail_input;
+use crate::error::Result;
+
+/// Largest width or height.
+pub const MAX_DIM: u32 = 16384;
+/// Largest frame, in pixels.
+pub const MAX_PIXELS: u64 = 64 << 20;
+/// Most lights (visibility bitsets and per-pixel work grow with it).
+pub const MAX_LIGHTS: usize = 4096;
+/// Most frames in one animation.
+pub const MAX_FRAMES: usize = 1_000_000;
+/// Largest input file (scene, buffer, image, map, spec, lights JSON): 2 GB.
+pub const MAX_FILE_BYTES: u64 = 2_000_000_000;
+/// Most triangles in a scene (the BVH and per-triangle data take ~100 bytes each).
+pub const MAX_TRIANGLES: usize = 1 << 26;
+/// Most vertices in a scene.
+pub const MAX_VERTICES: usize = 1 << 27;
+/// Largest texture, in texels (12 bytes each once decoded).
+pub const MAX_TEXTURE_TEXELS: u64 = 1 << 26;
+/// The memory a render may be expected to need: 16 GB.
+pub const MAX_MEMORY_BYTES: u64 = 16_000_000_000;
+
+/// Refuses a file larger than [`MAX_FILE_BYTES`] before it is read. A missing file passes: the
+/// reader that follows reports it in its own words.
+pub fn check_file_size(path: &Path, what: &str) -> Result<()> {
+    if let Ok(m) = std::fs::metadata(path)
+        && m.is_file()
+        && m.len() > MAX_FILE_BYTES
+    {
+        bail_input!(
+            path,
+            "{what} is {} bytes; at most {MAX_FILE_BYTES} ({}) are read",
+            m.len(),
+            human_bytes(MAX_FILE_BYTES)
+        );
+    }
+    Ok(())
+}
+
+/// What a render holds in memory, as far as it depends on the request.
+#[derive(Clone, Copy, Debug)]
+pub struct Request {
+    pub width: u32,
+    pub height: u32,
+    pub lights: usize,
+    /// Tile side (0: the whole frame is one tile).
+    pub tile: u32,
+    /// Worker threads (0: one per core).
+    pub threads: usize,
+    pub validate: bool,
+}
+
+/// Frames alive at once: two rendering, two waiting in the writer's channel, one being written.
+const FRAMES_ALIVE: u64 = 5;
+/// The widest halo a tile reads beyond its edges (the scanline block of 64, the grid's h0 ≤ 64).
+const HALO: u64 = 64;
+
+/// An upper estimate of the bytes a render needs beyond its inputs: the films of the frames
+/// alive, each worker's per-pixel tile state over the tile and its halo (surface, counts and four
+/// light bitsets: above, visible, traced, and the shared lattice or blockers), and the per-light
+/// tables. Computed in u128 so absurd requests do not overflow.
+pub fn estimate_bytes(r: &Request) -> u128 {
+    let (w, h) = (u128::from(r.width), u128::from(r.height));
+    let pixels = w * h;
+    let film_per_pixel: u128 = if r.validate { 36 } else { 20 };
+    let films = pixels * film_per_pixel * u128::from(FRAMES_ALIVE);
+    let words = (r.lights as u128).div_ceil(64);
+    let state_per_pixel = 64 + 4 * words * 8;
+    let threads = if r.threads == 0 {
+        std::thread::available_parallelism().map_or(1, |n| n.get()) as u128
+    } else {
+        r.threads as u128
+    };
+    let tile_pixels = if r.tile == 0 {
+        // One tile: the whole frame on one thread.
+        pixels
+    } else {
+        let side = u128::from(r.tile) + 2 * u128::from(HALO);
+        (side * side).min(pixels) * threads
+    };
+    let per_light = r.lights as u128 * 256;
+    films + tile_pixels * state_per_pixel + per_light
+}
+
+/// Refuses a request whose memory estimate exceeds [`MAX_MEMORY_BYTES`]; the message gives the
+/// estimate and what drives it.
+pub fn check_memory(source: impl AsRef<Path>, r: &Request) -> Result<()> {
+    let need = estimate_bytes(r);
+    if need > u128::from(MAX_MEMORY_BYTES) {
+        bail_input!(
+            source,
+            "{}x{} at {} lights would need about {} of memory (more than the {} allowed); use fewer pixels, fewer lights or smaller tiles",
+            r.width,
+            r.height,
+            r.lights,
+            human_bytes_u128(need),
+            human_bytes(MAX_MEMORY_BYTES)
+        );
+    }
+    Ok(())
+}
+
+/// `1.5 GB`, `12 MB`: decimal units, for messages.
+pub fn human_bytes(n: u64) -> String {
+    human_bytes_u128(u128::from(n))
+}
+
+pub fn human_bytes_u128(n: u128) -> String {
+    const UNITS: [&str; 7] = ["bytes", "kB", "MB", "GB", "TB", "PB", "EB"];
+    let mut v = n as f64;
+    let mut u = 0;
+    while v >= 1000.0 && u + 1 < UNITS.len() {
+        v /= 1000.0;
+        u += 1;
+    }
+    if u == 0 {
+        format!("{n} bytes")
+    } else {
+        format!("{v:.1} {}", UNITS[u])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn req(width: u32, height: u32, lights: usize) -> Request {
+        Request {
+            width,
+            height,
+            lights,
+            tile: 64,
+            threads: 2,
+            validate: false,
+        }
+    }
+
+    #[test]
+    fn ordinary_renders_fit_and_absurd_ones_do_not() {
+        // The paper's frame: well under the budget (BENCHMARKS.md measures ~120 MB in all).
+        assert!(estimate_bytes(&req(640, 480, 400)) < 100_000_000);
+        assert!(check_memory("a.toml", &req(640, 480, 400)).is_ok());
+        assert!(check_memory("a.toml", &req(100_000, 100_000, 200)).is_err());
+        assert!(check_memory("a.toml", &req(640, 480, 1_000_000)).is_err());
+        let mut whole = req(16384, 16384, 4096);
+        whole.tile = 0;
+        let e = check_memory("a.toml", &whole).unwrap_err().to_string();
+        assert!(e.contains("would need about") && e.contains("GB"), "{e}");
+    }
+
+    #[test]
+    fn human_units() {
+        assert_eq!(human_bytes(12), "12 bytes");
+        assert_eq!(human_bytes(1_500_000_000), "1.5 GB");
+        assert_eq!(human_bytes(2 << 30), "2.1 GB");
+    }
+}

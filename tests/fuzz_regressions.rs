@@ -1,0 +1,152 @@
+//! Inputs the fuzz campaign (fuzz/, FUZZING.md) found crashing, hanging or exhausting memory,
+//! kept under tests/data/fuzz/TARGET/ and replayed here through the same calls as the fuzz
+//! targets, plus the seed corpora in fuzz/seeds/. Each must give a result (Ok or an input error
+//! naming the file), never a panic.
+
+use std::path::{Path, PathBuf};
+
+use envshadow::accel::Accel;
+use envshadow::anim::{Animation, Overrides};
+use envshadow::envmap::EnvMap;
+use envshadow::error::InputError;
+use envshadow::lights::{LightSet, Sampler, parse_json};
+use envshadow::scene::Scene;
+use glam::Vec3;
+
+#[path = "../fuzz/src/files.rs"]
+mod files;
+
+fn inputs(target: &str) -> Vec<PathBuf> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut v = Vec::new();
+    for dir in [
+        root.join("tests/data/fuzz").join(target),
+        root.join("fuzz/seeds").join(target),
+    ] {
+        if let Ok(rd) = std::fs::read_dir(&dir) {
+            v.extend(
+                rd.filter_map(|e| e.ok())
+                    .map(|e| e.path())
+                    .filter(|p| p.extension().is_none_or(|e| e != "expect")),
+            );
+        }
+    }
+    v.sort();
+    v
+}
+
+/// An error must be an input error naming `name` (the path the loader was given), and contain
+/// the text of `INPUT.expect` where the regression has one (release builds wrap integer
+/// overflows the fuzzer's debug assertions caught, so "no panic" alone would not tell).
+fn check_error(result: anyhow::Result<()>, name: &str, input: &Path) {
+    let mut expect = input.as_os_str().to_owned();
+    expect.push(".expect");
+    if let Ok(text) = std::fs::read_to_string(&expect) {
+        let msg = match &result {
+            Ok(()) => String::new(),
+            Err(e) => format!("{e:#}"),
+        };
+        assert!(msg.contains(text.trim()), "{}: {msg}", input.display());
+    }
+    if let Err(e) = result {
+        let msg = format!("{e:#}");
+        assert!(
+            e.chain().any(|c| c.downcast_ref::<InputError>().is_some()),
+            "{}: not an input error: {msg}",
+            input.display()
+        );
+        assert!(msg.contains(name), "{}: {msg}", input.display());
+        assert!(!msg.contains('\n'), "{}: {msg}", input.display());
+    }
+}
+
+#[test]
+fn anim_spec_inputs() {
+    let scene = Scene::shapes();
+    for input in inputs("anim_spec") {
+        let bytes = std::fs::read(&input).unwrap();
+        let Ok(text) = std::str::from_utf8(&bytes) else {
+            continue;
+        };
+        let r = Animation::parse(text, Path::new("fuzz/spec.toml"), &Overrides::default()).map(
+            |anim| {
+                for frame in [0, anim.frame_count / 2, anim.frame_count - 1] {
+                    if let Ok(camera) = anim.camera(&scene, frame) {
+                        let _ = anim.scene_transform(frame, camera.target);
+                    }
+                }
+            },
+        );
+        check_error(r, "fuzz/spec.toml", &input);
+    }
+}
+
+#[test]
+fn gltf_inputs() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("buffer.bin"), files::triangle_buffer()).unwrap();
+    std::fs::write(dir.path().join("texture.png"), files::texture_png()).unwrap();
+    let path = dir.path().join("fuzz.gltf");
+    for input in inputs("gltf") {
+        let bytes = std::fs::read(&input).unwrap();
+        let r = Scene::load_bytes(&bytes, &path).map(|scene| {
+            let accel = Accel::build(&scene.positions, &scene.triangles);
+            let (lo, hi) = scene.bounds();
+            let centre = (lo + hi) * 0.5;
+            for d in [
+                Vec3::X,
+                Vec3::Y,
+                Vec3::Z,
+                Vec3::NEG_X,
+                Vec3::NEG_Y,
+                Vec3::NEG_Z,
+            ] {
+                let origin = centre + d * ((hi - lo).length() + 1.0);
+                let _ = accel.intersect(origin, -d);
+                let _ = accel.occluded(origin, -d);
+            }
+        });
+        check_error(r, "fuzz.gltf", &input);
+    }
+}
+
+fn map_inputs(target: &str, name: &str) {
+    for input in inputs(target) {
+        let bytes = std::fs::read(&input).unwrap();
+        let r = EnvMap::decode(&bytes, Path::new(name)).map(|env| {
+            if env.width * env.height <= 1 << 16 {
+                for sampler in [Sampler::Sis, Sampler::MedianCut] {
+                    for n in [1, 7, 32] {
+                        if let Ok(set) = LightSet::build(&env, n, sampler) {
+                            let _ = set.cell_of(Vec3::new(0.3, 0.5, -0.8).normalize());
+                        }
+                    }
+                }
+            }
+        });
+        check_error(r, name, &input);
+    }
+}
+
+#[test]
+fn envmap_exr_inputs() {
+    map_inputs("envmap_exr", "fuzz/map.exr");
+}
+
+#[test]
+fn envmap_hdr_inputs() {
+    map_inputs("envmap_hdr", "fuzz/map.hdr");
+}
+
+#[test]
+fn lights_json_inputs() {
+    for input in inputs("lights_json") {
+        let bytes = std::fs::read(&input).unwrap();
+        let r = parse_json(&bytes, Path::new("fuzz/lights.json")).map(|set| {
+            for d in [Vec3::X, Vec3::NEG_Y, Vec3::new(0.6, 0.0, 0.8)] {
+                let _ = set.cell_of(d);
+            }
+        });
+        check_error(r, "fuzz/lights.json", &input);
+    }
+}

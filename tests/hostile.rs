@@ -1,0 +1,540 @@
+//! Hostile and broken inputs through the binary: every kind gives exit code 2, one line on
+//! stderr naming the file and the problem, no panic, and no output file.
+
+mod common;
+
+use std::ffi::OsString;
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use serde_json::{Value, json};
+
+/// Files in `out` a render would leave: frames, temporaries, stats, lights, report.
+fn leftovers(out: &Path) -> Vec<String> {
+    let Ok(rd) = fs::read_dir(out) else {
+        return Vec::new();
+    };
+    rd.filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect()
+}
+
+/// Runs `envshadow ARGS` and checks a bad-input failure naming each of `needles`.
+fn expect_refused(kind: &str, args: &[OsString], needles: &[&str], out: &Path) {
+    let o = common::bin().args(args).output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{kind}: stderr {err}");
+    assert!(!err.contains("panicked"), "{kind}: {err}");
+    let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
+    assert_eq!(lines.len(), 1, "{kind}: one line expected: {err}");
+    assert!(lines[0].starts_with("error: "), "{kind}: {err}");
+    for n in needles {
+        assert!(
+            err.to_lowercase().contains(&n.to_lowercase()),
+            "{kind}: {n:?} not in {err}"
+        );
+    }
+    assert!(
+        leftovers(out).is_empty(),
+        "{kind}: left {:?}",
+        leftovers(out)
+    );
+}
+
+fn base64(data: &[u8]) -> String {
+    const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut s = String::new();
+    for c in data.chunks(3) {
+        let n = (u32::from(c[0]) << 16)
+            | (u32::from(*c.get(1).unwrap_or(&0)) << 8)
+            | u32::from(*c.get(2).unwrap_or(&0));
+        for k in 0..4 {
+            s.push(if k <= c.len() {
+                A[(n >> (18 - 6 * k) & 63) as usize] as char
+            } else {
+                '='
+            });
+        }
+    }
+    s
+}
+
+/// A valid one-primitive glTF (two triangles sharing an edge, normals, u16 indices) in one
+/// `data:` buffer: positions at 0 (48 bytes), normals at 48 (48), indices at 96 (12).
+fn quad_gltf() -> Value {
+    let mut b = Vec::new();
+    for v in [
+        [0.0f32, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+    ] {
+        v.iter().for_each(|c| b.extend_from_slice(&c.to_le_bytes()));
+    }
+    for _ in 0..4 {
+        [0.0f32, 0.0, 1.0]
+            .iter()
+            .for_each(|c| b.extend_from_slice(&c.to_le_bytes()));
+    }
+    for i in [0u16, 1, 2, 0, 2, 3] {
+        b.extend_from_slice(&i.to_le_bytes());
+    }
+    json!({
+        "asset": {"version": "2.0"},
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": [
+            {"attributes": {"POSITION": 0, "NORMAL": 1}, "indices": 2}
+        ]}],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+             "min": [0, 0, 0], "max": [1, 1, 0]},
+            {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
+            {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}
+        ],
+        "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": 48},
+            {"buffer": 0, "byteOffset": 48, "byteLength": 48},
+            {"buffer": 0, "byteOffset": 96, "byteLength": 12}
+        ],
+        "buffers": [{"byteLength": 108,
+                     "uri": format!("data:application/octet-stream;base64,{}", base64(&b))}]
+    })
+}
+
+/// Bytes of a glTF like [`quad_gltf`] with `edit` applied to its JSON and `bytes` (its buffer)
+/// changed by `poke`.
+fn edited_gltf(edit: impl Fn(&mut Value), poke: impl Fn(&mut Vec<u8>)) -> Vec<u8> {
+    let mut doc = quad_gltf();
+    let uri = doc["buffers"][0]["uri"].as_str().unwrap().to_string();
+    let payload = uri.split_once(";base64,").unwrap().1;
+    let mut bytes = decode64(payload);
+    poke(&mut bytes);
+    doc["buffers"][0]["uri"] = json!(format!(
+        "data:application/octet-stream;base64,{}",
+        base64(&bytes)
+    ));
+    edit(&mut doc);
+    serde_json::to_vec_pretty(&doc).unwrap()
+}
+
+fn decode64(s: &str) -> Vec<u8> {
+    let mut out = Vec::new();
+    let (mut acc, mut bits) = (0u32, 0);
+    for c in s.bytes() {
+        let v = match c {
+            b'A'..=b'Z' => c - b'A',
+            b'a'..=b'z' => c - b'a' + 26,
+            b'0'..=b'9' => c - b'0' + 52,
+            b'+' => 62,
+            b'/' => 63,
+            _ => continue,
+        };
+        acc = (acc << 6) | u32::from(v);
+        bits += 6;
+        if bits >= 8 {
+            bits -= 8;
+            out.push((acc >> bits) as u8);
+            acc &= (1 << bits) - 1;
+        }
+    }
+    out
+}
+
+fn write_exr(path: &Path, w: usize, h: usize, f: impl Fn(usize, usize) -> f32 + Sync) {
+    use exr::prelude::*;
+    let layer = SpecificChannels::rgb(|Vec2(x, y)| (f(x, y), 0.5f32, 0.25f32));
+    Image::from_channels((w, h), layer)
+        .write()
+        .to_file(path)
+        .unwrap();
+}
+
+fn write_hdr(path: &Path, w: usize, h: usize) {
+    let pixels: Vec<image::Rgb<f32>> = (0..w * h)
+        .map(|i| image::Rgb([1.0 + i as f32, 0.5, 0.25]))
+        .collect();
+    let mut bytes = Vec::new();
+    image::codecs::hdr::HdrEncoder::new(&mut bytes)
+        .encode(&pixels, w, h)
+        .unwrap();
+    fs::write(path, bytes).unwrap();
+}
+
+struct Case {
+    dir: PathBuf,
+    out: PathBuf,
+    count: usize,
+}
+
+impl Case {
+    fn spec(&self, name: &str, body: &str) -> PathBuf {
+        let p = self.dir.join(name);
+        fs::write(
+            &p,
+            format!(
+                "[output]\ndir = \"{}\"\n{body}\n[lights]\ncount = 8\n",
+                self.out.display()
+            ),
+        )
+        .unwrap();
+        p
+    }
+
+    fn render(&mut self, kind: &str, spec: &Path, flags: &[&str], needles: &[&str]) {
+        let mut args = vec![OsString::from("render"), spec.as_os_str().to_owned()];
+        args.extend(flags.iter().map(OsString::from));
+        args.push("--no-report".into());
+        expect_refused(kind, &args, needles, &self.out);
+        self.count += 1;
+    }
+
+    /// A scene file with `bytes` is refused with a message naming it and each of `needles`.
+    fn scene(&mut self, kind: &str, name: &str, bytes: &[u8], needles: &[&str]) {
+        let file = self.dir.join(name);
+        fs::write(&file, bytes).unwrap();
+        let spec = self.spec(
+            &format!("{name}.toml"),
+            &format!(
+                "[scene]\nfile = \"{}\"\n[render]\nwidth = 16\nheight = 16\n",
+                file.display()
+            ),
+        );
+        let mut all = vec![name];
+        all.extend_from_slice(needles);
+        self.render(kind, &spec, &[], &all);
+    }
+
+    /// An environment map file with `bytes` (or already written) is refused likewise.
+    fn map(&mut self, kind: &str, name: &str, bytes: Option<&[u8]>, needles: &[&str]) {
+        let file = self.dir.join(name);
+        if let Some(b) = bytes {
+            fs::write(&file, b).unwrap();
+        }
+        let spec = self.spec(
+            &format!("{name}.toml"),
+            &format!(
+                "[scene]\nbuiltin = \"shapes\"\n[environment]\nfile = \"{}\"\n[render]\nwidth = 16\nheight = 16\n",
+                file.display()
+            ),
+        );
+        let mut all = vec![name];
+        all.extend_from_slice(needles);
+        self.render(kind, &spec, &[], &all);
+    }
+}
+
+#[test]
+fn every_kind_of_broken_input_is_refused_with_one_located_line() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mut c = Case {
+        dir: tmp.path().to_path_buf(),
+        out: tmp.path().join("out"),
+        count: 0,
+    };
+
+    // The control: the unedited file renders.
+    let good = c.dir.join("good.gltf");
+    fs::write(&good, edited_gltf(|_| {}, |_| {})).unwrap();
+    let spec = c.spec(
+        "good.toml",
+        &format!(
+            "[scene]\nfile = \"{}\"\n[render]\nwidth = 16\nheight = 16\n",
+            good.display()
+        ),
+    );
+    let o = common::bin()
+        .arg("render")
+        .arg(&spec)
+        .args(["--no-report", "-q", "--out"])
+        .arg(c.dir.join("good-out"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+
+    // glTF and GLB.
+    let glb = fs::read(common::asset("bunny_res4.glb")).unwrap();
+    c.scene(
+        "truncated GLB",
+        "half.glb",
+        &glb[..glb.len() / 2],
+        &["truncated GLB"],
+    );
+    let mut bad_magic = glb.clone();
+    bad_magic[12..16].copy_from_slice(b"XXXX");
+    c.scene(
+        "GLB with a broken chunk",
+        "chunk.glb",
+        &bad_magic,
+        &["not a valid glTF"],
+    );
+    c.scene(
+        "wrong accessor count",
+        "count.gltf",
+        &edited_gltf(|d| d["accessors"][1]["count"] = json!(3), |_| {}),
+        &[
+            "mesh 0 primitive 0",
+            "accessor 1 (NORMAL) has 3 elements but accessor 0 (POSITION) has 4",
+        ],
+    );
+    c.scene(
+        "index out of range",
+        "index.gltf",
+        &edited_gltf(|_| {}, |b| b[100..102].copy_from_slice(&9u16.to_le_bytes())),
+        &["mesh 0 primitive 0", "accessor 2", "index 9 out of range"],
+    );
+    c.scene(
+        "missing external buffer",
+        "nobuffer.gltf",
+        &edited_gltf(|d| d["buffers"][0]["uri"] = json!("absent.bin"), |_| {}),
+        &["buffer 0", "absent.bin"],
+    );
+    c.scene(
+        "NaN position",
+        "nan.gltf",
+        &edited_gltf(
+            |_| {},
+            |b| b[16..20].copy_from_slice(&f32::NAN.to_le_bytes()),
+        ),
+        &[
+            "mesh 0 primitive 0",
+            "accessor 0 (POSITION)",
+            "vertex 1 is not finite",
+        ],
+    );
+    c.scene(
+        "only non-triangle primitives",
+        "lines.gltf",
+        &edited_gltf(
+            |d| d["meshes"][0]["primitives"][0]["mode"] = json!(1),
+            |_| {},
+        ),
+        &["no triangles", "mesh 0 primitive 0: mode Lines"],
+    );
+    c.scene(
+        "only zero-area triangles",
+        "flat.gltf",
+        &edited_gltf(
+            |_| {},
+            |b| {
+                for v in 0..4 {
+                    b[v * 12 + 4..v * 12 + 8].copy_from_slice(&0f32.to_le_bytes());
+                }
+            },
+        ),
+        &["no triangles", "2 zero-area triangles skipped"],
+    );
+    c.scene(
+        "POSITION accessor out of range",
+        "posref.gltf",
+        &edited_gltf(
+            |d| d["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = json!(7),
+            |_| {},
+        ),
+        &["mesh 0 primitive 0", "accessor 7"],
+    );
+    c.scene(
+        "buffer view outside its buffer",
+        "view.gltf",
+        &edited_gltf(|d| d["bufferViews"][1]["byteOffset"] = json!(100), |_| {}),
+        &["mesh 0 primitive 0", "accessor 1", "outside its buffer"],
+    );
+    c.scene(
+        "byteStride smaller than the element",
+        "stride.gltf",
+        &edited_gltf(|d| d["bufferViews"][0]["byteStride"] = json!(4), |_| {}),
+        &["accessor 0", "byteStride"],
+    );
+    c.scene(
+        "node cycle",
+        "cycle.gltf",
+        &edited_gltf(
+            |d| d["nodes"] = json!([{"mesh": 0, "children": [1]}, {"children": [0]}]),
+            |_| {},
+        ),
+        &["node 0", "reached twice"],
+    );
+    c.scene(
+        "absurd accessor count",
+        "huge.gltf",
+        &edited_gltf(
+            |d| d["accessors"][0]["count"] = json!(4_000_000_000u64),
+            |_| {},
+        ),
+        &["mesh 0 primitive 0", "accessor 0", "count 4000000000"],
+    );
+    c.scene(
+        "undecodable texture",
+        "texture.gltf",
+        &edited_gltf(
+            |d| {
+                d["materials"] =
+                    json!([{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]);
+                d["textures"] = json!([{"source": 0}]);
+                d["images"] = json!([{"uri": "data:image/png;base64,iVBORw0KGgoAAAA="}]);
+                d["meshes"][0]["primitives"][0]["material"] = json!(0);
+            },
+            |_| {},
+        ),
+        &["material 0: image 0", "cannot decode"],
+    );
+
+    // Environment maps.
+    let exr = c.dir.join("whole.exr");
+    write_exr(&exr, 64, 32, |x, _| x as f32);
+    let bytes = fs::read(&exr).unwrap();
+    c.map(
+        "truncated EXR",
+        "cut.exr",
+        Some(&bytes[..bytes.len() * 2 / 3]),
+        &["OpenEXR"],
+    );
+    write_exr(&c.dir.join("nan.exr"), 8, 4, |x, y| {
+        if (x, y) == (5, 1) { f32::NAN } else { 1.0 }
+    });
+    c.map("NaN texel", "nan.exr", None, &["texel (5, 1)", "NaN"]);
+    write_exr(&c.dir.join("neg.exr"), 8, 4, |x, y| {
+        if (x, y) == (2, 3) { -2.0 } else { 1.0 }
+    });
+    c.map(
+        "negative texel",
+        "neg.exr",
+        None,
+        &["texel (2, 3)", "negative"],
+    );
+    c.map(
+        "HDR with a bad header",
+        "header.hdr",
+        Some(b"#?NOTRADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 2\n"),
+        &["not a valid Radiance HDR"],
+    );
+    c.map(
+        "HDR declaring an absurd size",
+        "vast.hdr",
+        Some(b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 100000 +X 100000\n\x01\x02\x03\x04"),
+        &["100000×100000", "too large"],
+    );
+    let hdr = c.dir.join("whole.hdr");
+    write_hdr(&hdr, 32, 16);
+    let bytes = fs::read(&hdr).unwrap();
+    c.map(
+        "truncated HDR pixels",
+        "cut.hdr",
+        Some(&bytes[..bytes.len() / 2]),
+        &["Radiance HDR"],
+    );
+    c.map(
+        "unsupported map format",
+        "map.png",
+        Some(b"\x89PNG"),
+        &["unsupported environment map format"],
+    );
+
+    // Animation specs and flags.
+    let p = c.spec(
+        "type.toml",
+        "[scene]\nbuiltin = \"shapes\"\n[render]\nwidth = \"wide\"",
+    );
+    c.render(
+        "TOML wrong type",
+        &p,
+        &[],
+        &["type.toml", "line 6", "width = \"wide\"", "invalid type"],
+    );
+    let p = c.spec(
+        "key.toml",
+        "[scene]\nbuiltin = \"shapes\"\n[camera]\nfov = 30.0",
+    );
+    c.render(
+        "TOML unknown key",
+        &p,
+        &[],
+        &["key.toml", "line 6", "unknown field `fov`"],
+    );
+    let p = c.spec("syntax.toml", "[scene\nbuiltin = \"shapes\"");
+    c.render("TOML syntax", &p, &[], &["syntax.toml", "line 3"]);
+    let p = c.spec("ok.toml", "[scene]\nbuiltin = \"shapes\"");
+    c.render(
+        "absurd resolution",
+        &p,
+        &["--width", "100000", "--height", "100000"],
+        &["ok.toml", "100000x100000", "would need about", "TB"],
+    );
+    c.render(
+        "a million lights",
+        &p,
+        &["--lights", "1000000"],
+        &["ok.toml", "1000000 lights", "would need about", "GB"],
+    );
+    c.render(
+        "memory estimate over the budget",
+        &p,
+        &[
+            "--width", "16000", "--height", "4000", "--lights", "4000", "--tile", "0",
+        ],
+        &["ok.toml", "would need about", "GB of memory"],
+    );
+    let p = c.spec(
+        "frames.toml",
+        "[scene]\nbuiltin = \"shapes\"\n[motion]\nframes = 0",
+    );
+    c.render("zero frames", &p, &[], &["frames.toml", "frames = 0"]);
+    let p = c.spec(
+        "vfov.toml",
+        "[scene]\nbuiltin = \"shapes\"\n[camera]\nvfov = 500.0",
+    );
+    c.render("field of view", &p, &[], &["vfov.toml", "vfov = 500"]);
+
+    assert!(c.count >= 20, "{} kinds", c.count);
+}
+
+#[test]
+fn non_triangle_primitives_and_zero_area_triangles_are_skipped_with_warnings() {
+    let tmp = tempfile::tempdir().unwrap();
+    // A second primitive of points beside the quad, and one of the quad's triangles collapsed.
+    let bytes = edited_gltf(
+        |d| {
+            let mut points = d["meshes"][0]["primitives"][0].clone();
+            points["mode"] = json!(0);
+            d["meshes"][0]["primitives"]
+                .as_array_mut()
+                .unwrap()
+                .push(points);
+        },
+        // Vertex 3 onto the diagonal from vertex 0 to 2: triangle (0, 2, 3) has no area.
+        |b| {
+            b[36..40].copy_from_slice(&0.5f32.to_le_bytes());
+            b[40..44].copy_from_slice(&0.5f32.to_le_bytes());
+        },
+    );
+    let file = tmp.path().join("mixed.gltf");
+    fs::write(&file, bytes).unwrap();
+    let spec = tmp.path().join("mixed.toml");
+    fs::write(
+        &spec,
+        format!(
+            "[scene]\nfile = \"{}\"\n[render]\nwidth = 16\nheight = 16\n[lights]\ncount = 8\n[output]\ndir = \"{}\"\n",
+            file.display(),
+            tmp.path().join("out").display()
+        ),
+    )
+    .unwrap();
+    let o = common::bin()
+        .arg("render")
+        .arg(&spec)
+        .args(["-q", "--no-report"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains("warning: ") && err.contains("mixed.gltf: mesh 0 primitive 1: mode Points"),
+        "{err}"
+    );
+    assert!(
+        err.contains("mesh 0 primitive 0: 1 zero-area triangles skipped"),
+        "{err}"
+    );
+    assert!(tmp.path().join("out/frame_0000.exr").exists());
+}
