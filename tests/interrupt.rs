@@ -10,7 +10,10 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-const FRAMES: usize = 8;
+// Enough frames that the third interruption still finds work left: a run may publish two or
+// three frames (two are in flight) before its signal lands, and faster shading made that
+// likelier with 8.
+const FRAMES: usize = 24;
 
 fn spec(dir: &Path) -> PathBuf {
     let p = dir.join("anim.toml");
