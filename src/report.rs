@@ -270,22 +270,42 @@ struct Series {
 
 /// Draws a text-free line plot of `s` (frames on x, from 0 on y) and returns its y axis.
 fn draw_plot(path: &Path, s: &Series, frames: (f64, f64)) -> Result<(f64, f64)> {
-    use plotters::prelude::*;
-    let max = s.points.iter().map(|p| p.1).fold(0.0, f64::max);
-    let (top, step) = nice_axis(max);
-    let (w, h) = PLOT_SIZE;
-    let (x0, x1) = if frames.1 > frames.0 {
+    let x = if frames.1 > frames.0 {
         frames
     } else {
         (frames.0 - 0.5, frames.0 + 0.5)
     };
+    draw_lines(path, &[(&s.points, s.colour)], x, PLOT_SIZE, PLOT_MARGIN)
+}
+
+/// A line of a plot: its points and its colour.
+pub(crate) type Line<'a> = (&'a [(f64, f64)], [u8; 3]);
+
+/// Draws text-free lines with dots (`lines`: drawn in order) over `x` and
+/// from 0 on y, with a light grid at each y step, into a `size` PNG at `path`; returns the y
+/// axis (top, step) so the caller can label it outside the image.
+pub(crate) fn draw_lines(
+    path: &Path,
+    lines: &[Line],
+    x: (f64, f64),
+    size: (u32, u32),
+    margin: u32,
+) -> Result<(f64, f64)> {
+    use plotters::prelude::*;
+    let max = lines
+        .iter()
+        .flat_map(|l| l.0.iter().map(|p| p.1))
+        .fold(0.0, f64::max);
+    let (top, step) = nice_axis(max);
+    let (w, h) = size;
+    let (x0, x1) = x;
     let mut buf = vec![0u8; (w * h * 3) as usize];
     {
         let err = |e: DrawingAreaErrorKind<_>| anyhow!("drawing {}: {e}", path.display());
         let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
         root.fill(&WHITE).map_err(err)?;
         let mut chart = ChartBuilder::on(&root)
-            .margin(PLOT_MARGIN)
+            .margin(margin)
             .build_cartesian_2d(x0..x1, 0.0..top)
             .map_err(err)?;
         let grid = RGBColor(220, 220, 220);
@@ -299,13 +319,15 @@ fn draw_plot(path: &Path, s: &Series, frames: (f64, f64)) -> Result<(f64, f64)> 
                 )))
                 .map_err(err)?;
         }
-        let c = RGBColor(s.colour[0], s.colour[1], s.colour[2]);
-        chart
-            .draw_series(LineSeries::new(s.points.iter().copied(), c.stroke_width(2)))
-            .map_err(err)?;
-        chart
-            .draw_series(s.points.iter().map(|&p| Circle::new(p, 3, c.filled())))
-            .map_err(err)?;
+        for (points, colour) in lines {
+            let c = RGBColor(colour[0], colour[1], colour[2]);
+            chart
+                .draw_series(LineSeries::new(points.iter().copied(), c.stroke_width(2)))
+                .map_err(err)?;
+            chart
+                .draw_series(points.iter().map(|&p| Circle::new(p, 3, c.filled())))
+                .map_err(err)?;
+        }
         root.present().map_err(err)?;
     }
     let img = RgbImage::from_raw(w, h, buf).context("plot buffer size")?;

@@ -390,7 +390,9 @@ fn farm_over_ssh_renders_the_same_frames_survives_a_crash_and_resumes() {
     // SIGHUP: running jobs finish, no new ones start; the same command again runs exactly
     // the jobs that did not run.
     let out = tmp.path().join("hup");
-    let child = farm(&hosts, &out, &["--jobs", "16", "--by", "both"]);
+    // Many small jobs, so that when the first one is logged most are still to come: with
+    // 16, all had finished before the signal or the crash landed on a fast run.
+    let child = farm(&hosts, &out, &["--jobs", "48", "--by", "both"]);
     wait_for_attempts(&out, 1);
     let _ = Command::new("kill")
         .args(["-HUP", &child.id().to_string()])
@@ -407,7 +409,7 @@ fn farm_over_ssh_renders_the_same_frames_survives_a_crash_and_resumes() {
         !done.is_empty() && done.len() < total,
         "{done:?} of {total}"
     );
-    let (code, log) = finish(farm(&hosts, &out, &["--jobs", "16", "--by", "both"]));
+    let (code, log) = finish(farm(&hosts, &out, &["--jobs", "48", "--by", "both"]));
     assert_eq!(code, Some(0), "{log}");
     assert!(log.contains("resuming"), "{log}");
     let second = &joblog(&out)[first.len()..];
@@ -424,7 +426,7 @@ fn farm_over_ssh_renders_the_same_frames_survives_a_crash_and_resumes() {
     // A host crashes mid-run (its sshd and every process under it): the jobs are retried on
     // the others and the frames are still the same.
     let out = tmp.path().join("crash");
-    let child = farm(&hosts, &out, &["--jobs", "16", "--by", "both"]);
+    let child = farm(&hosts, &out, &["--jobs", "48", "--by", "both"]);
     wait_for_attempts(&out, 1);
     let crashed_at = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)

@@ -241,25 +241,7 @@ fn write_tile_image(path: &Path, film: &Film, bbox: Rect) -> Result<()> {
             add(name, pick(&|i| reference[i][c]));
         }
     }
-    let encoding = Encoding {
-        compression: Compression::ZIP16,
-        blocks: Blocks::ScanLines,
-        line_order: LineOrder::Increasing,
-    };
-    let layer = Layer::new(
-        (w, h),
-        LayerAttributes::default(),
-        encoding,
-        AnyChannels::sort(SmallVec::from_vec(channels)),
-    );
-    let image = Image::from_layer(layer);
-    crate::output::write_atomic_with(path, |tmp| {
-        image
-            .write()
-            .non_parallel()
-            .to_file(tmp)
-            .with_context(|| format!("encoding EXR {}", tmp.display()))
-    })
+    crate::output::exr::write_channels(path, (w, h), channels)
 }
 
 /// Reads `job.json` from a job folder.

@@ -37,13 +37,23 @@ pub fn write_frame(path: &Path, film: &Film, extra: &[Aov]) -> Result<()> {
             FlatSamples::F32(aov.values.to_vec()),
         ));
     }
+    write_channels(path, (w, h), channels)
+}
+
+/// Writes float `channels` of a `size` image to `path` atomically: ZIP compression in
+/// increasing scanline order on one thread, so the same samples always give the same bytes.
+pub fn write_channels(
+    path: &Path,
+    size: (usize, usize),
+    channels: Vec<AnyChannel<FlatSamples>>,
+) -> Result<()> {
     let encoding = Encoding {
         compression: Compression::ZIP16,
         blocks: Blocks::ScanLines,
         line_order: LineOrder::Increasing,
     };
     let layer = Layer::new(
-        (w, h),
+        size,
         LayerAttributes::default(),
         encoding,
         AnyChannels::sort(SmallVec::from_vec(channels)),
