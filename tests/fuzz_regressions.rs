@@ -5,14 +5,11 @@
 
 use std::path::{Path, PathBuf};
 
-use envshadow::accel::Accel;
-use envshadow::anim::{Animation, Overrides};
-use envshadow::envmap::EnvMap;
 use envshadow::error::InputError;
-use envshadow::lights::{LightSet, Sampler, parse_json};
 use envshadow::scene::Scene;
-use glam::Vec3;
 
+#[path = "../fuzz/src/exercise.rs"]
+mod exercise;
 #[path = "../fuzz/src/files.rs"]
 mod files;
 
@@ -63,21 +60,17 @@ fn check_error(result: anyhow::Result<()>, name: &str, input: &Path) {
 #[test]
 fn anim_spec_inputs() {
     let scene = Scene::shapes();
+    let path = Path::new("fuzz/spec.toml");
     for input in inputs("anim_spec") {
         let bytes = std::fs::read(&input).unwrap();
         let Ok(text) = std::str::from_utf8(&bytes) else {
             continue;
         };
-        let r = Animation::parse(text, Path::new("fuzz/spec.toml"), &Overrides::default()).map(
-            |anim| {
-                for frame in [0, anim.frame_count / 2, anim.frame_count - 1] {
-                    if let Ok(camera) = anim.camera(&scene, frame) {
-                        let _ = anim.scene_transform(frame, camera.target);
-                    }
-                }
-            },
+        check_error(
+            exercise::anim_spec(text, path, &scene),
+            "fuzz/spec.toml",
+            &input,
         );
-        check_error(r, "fuzz/spec.toml", &input);
     }
 }
 
@@ -89,42 +82,14 @@ fn gltf_inputs() {
     let path = dir.path().join("fuzz.gltf");
     for input in inputs("gltf") {
         let bytes = std::fs::read(&input).unwrap();
-        let r = Scene::load_bytes(&bytes, &path).map(|scene| {
-            let accel = Accel::build(&scene.positions, &scene.triangles);
-            let (lo, hi) = scene.bounds();
-            let centre = (lo + hi) * 0.5;
-            for d in [
-                Vec3::X,
-                Vec3::Y,
-                Vec3::Z,
-                Vec3::NEG_X,
-                Vec3::NEG_Y,
-                Vec3::NEG_Z,
-            ] {
-                let origin = centre + d * ((hi - lo).length() + 1.0);
-                let _ = accel.intersect(origin, -d);
-                let _ = accel.occluded(origin, -d);
-            }
-        });
-        check_error(r, "fuzz.gltf", &input);
+        check_error(exercise::gltf(&bytes, &path), "fuzz.gltf", &input);
     }
 }
 
 fn map_inputs(target: &str, name: &str) {
     for input in inputs(target) {
         let bytes = std::fs::read(&input).unwrap();
-        let r = EnvMap::decode(&bytes, Path::new(name)).map(|env| {
-            if env.width * env.height <= 1 << 16 {
-                for sampler in [Sampler::Sis, Sampler::MedianCut] {
-                    for n in [1, 7, 32] {
-                        if let Ok(set) = LightSet::build(&env, n, sampler) {
-                            let _ = set.cell_of(Vec3::new(0.3, 0.5, -0.8).normalize());
-                        }
-                    }
-                }
-            }
-        });
-        check_error(r, name, &input);
+        check_error(exercise::envmap(&bytes, Path::new(name)), name, &input);
     }
 }
 
@@ -142,11 +107,7 @@ fn envmap_hdr_inputs() {
 fn lights_json_inputs() {
     for input in inputs("lights_json") {
         let bytes = std::fs::read(&input).unwrap();
-        let r = parse_json(&bytes, Path::new("fuzz/lights.json")).map(|set| {
-            for d in [Vec3::X, Vec3::NEG_Y, Vec3::new(0.6, 0.0, 0.8)] {
-                let _ = set.cell_of(d);
-            }
-        });
+        let r = exercise::lights_json(&bytes, Path::new("fuzz/lights.json"));
         check_error(r, "fuzz/lights.json", &input);
     }
 }

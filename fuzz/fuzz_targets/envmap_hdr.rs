@@ -3,13 +3,11 @@
 
 use std::path::Path;
 
-use envshadow::envmap::EnvMap;
 use libfuzzer_sys::fuzz_target;
 
-mod envmap_common;
+#[path = "../src/exercise.rs"]
+mod exercise;
 
 fuzz_target!(|data: &[u8]| {
-    if let Ok(env) = EnvMap::decode(data, Path::new("fuzz/map.hdr")) {
-        envmap_common::exercise(env);
-    }
+    let _ = exercise::envmap(data, Path::new("fuzz/map.hdr"));
 });

@@ -5,9 +5,6 @@
 use std::path::PathBuf;
 use std::sync::OnceLock;
 
-use envshadow::accel::Accel;
-use envshadow::scene::Scene;
-use glam::Vec3;
 use libfuzzer_sys::fuzz_target;
 
 /// A folder with `buffer.bin` (a small triangle's positions and indices) and `texture.png`,
@@ -30,27 +27,9 @@ fn folder() -> &'static PathBuf {
 #[path = "../src/files.rs"]
 mod envshadow_fuzz_files;
 
+#[path = "../src/exercise.rs"]
+mod exercise;
+
 fuzz_target!(|data: &[u8]| {
-    let path = folder().join("fuzz.gltf");
-    let Ok(scene) = Scene::load_bytes(data, &path) else {
-        return;
-    };
-    if scene.triangles.len() > 100_000 {
-        return;
-    }
-    let accel = Accel::build(&scene.positions, &scene.triangles);
-    let (lo, hi) = scene.bounds();
-    let centre = (lo + hi) * 0.5;
-    for d in [
-        Vec3::X,
-        Vec3::Y,
-        Vec3::Z,
-        Vec3::NEG_X,
-        Vec3::NEG_Y,
-        Vec3::NEG_Z,
-    ] {
-        let origin = centre + d * ((hi - lo).length() + 1.0);
-        let _ = accel.intersect(origin, -d);
-        let _ = accel.occluded(origin, -d);
-    }
+    let _ = exercise::gltf(data, &folder().join("fuzz.gltf"));
 });
