@@ -127,10 +127,36 @@ impl Accel {
         self.any_hit(&ray, |t| t < ray.tmax)
     }
 
-    /// obvhs's any-hit traversal (`ray_traverse_miss`) with our node test [`node_hits`]: true
-    /// as soon as a triangle hit at t passes `accept(t)`.
+    /// obvhs's any-hit traversal (`ray_traverse_miss`) with our node test: true as soon as a
+    /// triangle hit at t passes `accept(t)`. With AVX2 (checked once at run time) all eight
+    /// children are tested in one 256-bit lane set, otherwise with SSE2 in two halves; both
+    /// kernels perform the same float operations per child, so every host finds the same
+    /// children, the same hits and the same bits (farm hosts may differ in CPU).
     #[inline(always)]
-    fn any_hit(&self, ray: &Ray, mut accept: impl FnMut(f32) -> bool) -> bool {
+    fn any_hit(&self, ray: &Ray, accept: impl FnMut(f32) -> bool) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if simd::has_avx2() {
+            // SAFETY: AVX2 was detected on this CPU.
+            return unsafe { self.any_hit_avx2(ray, accept) };
+        }
+        self.any_hit_with(ray, accept, node_hits)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn any_hit_avx2(&self, ray: &Ray, accept: impl FnMut(f32) -> bool) -> bool {
+        self.any_hit_with(ray, accept, |node, ray, oct| {
+            simd::node_hits_avx2(node, ray, oct)
+        })
+    }
+
+    #[inline(always)]
+    fn any_hit_with(
+        &self,
+        ray: &Ray,
+        mut accept: impl FnMut(f32) -> bool,
+        node_test: impl Fn(&CwBvhNode, &Ray, u32) -> u32,
+    ) -> bool {
         use glam::UVec2;
         let mut state = self.bvh.new_traversal(ray.direction);
         let mut node;
@@ -140,7 +166,7 @@ impl Accel {
                 self.bvh,
                 node,
                 state,
-                node_hits(node, ray, state.oct_inv4),
+                node_test(node, ray, state.oct_inv4),
                 {
                     let t = self.tris[state.primitive_id as usize].intersect(ray);
                     if accept(t) {
@@ -289,6 +315,90 @@ fn node_hits(node: &CwBvhNode, ray: &Ray, oct_inv4: u32) -> u32 {
     hit_mask
 }
 
+/// The AVX2 node kernel and its run-time switch.
+#[cfg(target_arch = "x86_64")]
+mod simd {
+    use super::*;
+    use std::arch::x86_64::*;
+    use std::sync::OnceLock;
+
+    static AVX2: OnceLock<bool> = OnceLock::new();
+
+    /// Whether this CPU runs the AVX2 kernel; `ENVSHADOW_NO_AVX2` (any value) turns it off so
+    /// both kernels can be compared on one host.
+    pub fn has_avx2() -> bool {
+        *AVX2.get_or_init(|| {
+            std::env::var_os("ENVSHADOW_NO_AVX2").is_none() && is_x86_feature_detected!("avx2")
+        })
+    }
+
+    /// [`node_hits`](super::node_hits) with eight children per instruction: each child's
+    /// slab distances are `plane · inv + org` (a multiply then an add, never fused, as in
+    /// obvhs), clipped by obvhs's epsilon and the ray's tmax, compared `tmin ≤ tmax`.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    pub fn node_hits_avx2(node: &CwBvhNode, ray: &Ray, oct_inv4: u32) -> u32 {
+        const EPSILON: f32 = 0.0001;
+        let inv = node.compute_extent() * ray.inv_direction;
+        let org = (Vec3A::from(node.p) - ray.origin) * ray.inv_direction;
+        let d = ray.direction;
+        let (lo_x, hi_x) = if d.x < 0.0 {
+            (&node.child_max_x, &node.child_min_x)
+        } else {
+            (&node.child_min_x, &node.child_max_x)
+        };
+        let (lo_y, hi_y) = if d.y < 0.0 {
+            (&node.child_max_y, &node.child_min_y)
+        } else {
+            (&node.child_min_y, &node.child_max_y)
+        };
+        let (lo_z, hi_z) = if d.z < 0.0 {
+            (&node.child_max_z, &node.child_min_z)
+        } else {
+            (&node.child_min_z, &node.child_max_z)
+        };
+        // SAFETY: each load reads exactly the 8 bytes of one plane array.
+        let widen = |v: &[u8; 8]| unsafe {
+            _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_loadl_epi64(
+                v.as_ptr() as *const __m128i
+            )))
+        };
+        let slab = |q: &[u8; 8], inv: f32, org: f32| {
+            _mm256_add_ps(
+                _mm256_mul_ps(widen(q), _mm256_set1_ps(inv)),
+                _mm256_set1_ps(org),
+            )
+        };
+        let tmin = _mm256_max_ps(
+            slab(lo_x, inv.x, org.x),
+            _mm256_max_ps(slab(lo_y, inv.y, org.y), slab(lo_z, inv.z, org.z)),
+        );
+        let tmax = _mm256_min_ps(
+            slab(hi_x, inv.x, org.x),
+            _mm256_min_ps(slab(hi_y, inv.y, org.y), slab(hi_z, inv.z, org.z)),
+        );
+        let tmin = _mm256_max_ps(tmin, _mm256_set1_ps(EPSILON));
+        let tmax = _mm256_min_ps(tmax, _mm256_set1_ps(ray.tmax));
+        let hit = _mm256_castps_si256(_mm256_cmp_ps::<_CMP_LE_OQ>(tmin, tmax));
+        // obvhs's hit mask, branch-free: each hit child's bits (one for an inner node, the
+        // leaf's unary triangle count) shifted to its slot, OR-ed over the eight lanes. A loop
+        // over the hit children mispredicted on about every node.
+        let (child_bits8, bit_index8) = node.get_child_and_index_bits(oct_inv4);
+        let bytes = |v: u64| _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(v as i64));
+        let bits = _mm256_and_si256(
+            _mm256_sllv_epi32(bytes(child_bits8), bytes(bit_index8)),
+            hit,
+        );
+        let x = _mm_or_si128(
+            _mm256_castsi256_si128(bits),
+            _mm256_extracti128_si256::<1>(bits),
+        );
+        let x = _mm_or_si128(x, _mm_shuffle_epi32::<0b00_00_11_10>(x));
+        let x = _mm_or_si128(x, _mm_shuffle_epi32::<0b00_00_00_01>(x));
+        _mm_cvtsi128_si32(x) as u32
+    }
+}
+
 #[cfg(not(target_arch = "x86_64"))]
 #[inline(always)]
 fn node_hits(node: &CwBvhNode, ray: &Ray, oct_inv4: u32) -> u32 {
@@ -390,7 +500,13 @@ mod tests {
             let ray = Ray::new(o.into(), d.into(), 0.0, f32::INFINITY);
             let oct = accel.bvh.new_traversal(ray.direction).oct_inv4;
             for node in &accel.bvh.nodes {
-                assert_eq!(node_hits(node, &ray, oct), node.intersect_ray(&ray, oct));
+                let reference = node.intersect_ray(&ray, oct);
+                assert_eq!(node_hits(node, &ray, oct), reference);
+                #[cfg(target_arch = "x86_64")]
+                if is_x86_feature_detected!("avx2") {
+                    // SAFETY: AVX2 was detected.
+                    assert_eq!(unsafe { simd::node_hits_avx2(node, &ray, oct) }, reference);
+                }
                 checked += 1;
             }
             let reference = !accel
