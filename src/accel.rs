@@ -315,22 +315,12 @@ fn node_hits(node: &CwBvhNode, ray: &Ray, oct_inv4: u32) -> u32 {
     hit_mask
 }
 
-/// The AVX2 node kernel and its run-time switch.
+/// The AVX2 node kernel.
 #[cfg(target_arch = "x86_64")]
 mod simd {
     use super::*;
+    pub use crate::simd::has_avx2;
     use std::arch::x86_64::*;
-    use std::sync::OnceLock;
-
-    static AVX2: OnceLock<bool> = OnceLock::new();
-
-    /// Whether this CPU runs the AVX2 kernel; `ENVSHADOW_NO_AVX2` (any value) turns it off so
-    /// both kernels can be compared on one host.
-    pub fn has_avx2() -> bool {
-        *AVX2.get_or_init(|| {
-            std::env::var_os("ENVSHADOW_NO_AVX2").is_none() && is_x86_feature_detected!("avx2")
-        })
-    }
 
     /// [`node_hits`](super::node_hits) with eight children per instruction: each child's
     /// slab distances are `plane · inv + org` (a multiply then an add, never fused, as in

@@ -38,11 +38,8 @@ pub struct FrameContext<'a> {
     /// Light directions and energies as flat arrays for the per-pixel loops.
     pub light_dir: Vec<Vec3>,
     pub light_energy: Vec<Vec3>,
-    /// The directions' coordinates as separate arrays, for the vectorised horizon test.
-    pub light_x: Vec<f32>,
-    pub light_y: Vec<f32>,
-    pub light_z: Vec<f32>,
-    /// The lights for shading, padded with zero lights to whole words (see [`radiance`]).
+    /// The lights for the horizon test and shading, padded with zero lights to whole words
+    /// (see [`above_horizon`] and [`radiance`]).
     pub shade_lights: ShadeLights,
     /// Shadow-ray origin offset along the geometric normal (scene units).
     pub shadow_eps: f32,
@@ -70,9 +67,6 @@ impl<'a> FrameContext<'a> {
             env,
             light_dir: lights.lights.iter().map(|l| l.dir).collect(),
             light_energy: lights.lights.iter().map(|l| l.energy).collect(),
-            light_x: lights.lights.iter().map(|l| l.dir.x).collect(),
-            light_y: lights.lights.iter().map(|l| l.dir.y).collect(),
-            light_z: lights.lights.iter().map(|l| l.dir.z).collect(),
             shade_lights: ShadeLights::new(lights),
             shadow_eps: shadow_epsilon(scene),
             predictor,
@@ -260,20 +254,8 @@ impl TileWork {
         self.surf[i] = s;
         self.needed[i] = true;
         if s.hit {
-            // 64 lights at a time from flat coordinate arrays, so the loop vectorises; the
-            // products sum in glam's dot order, so the result equals `s.n.dot(ω) > 0`.
             let w = self.words;
-            let (lx, ly, lz) = (&ctx.light_x, &ctx.light_y, &ctx.light_z);
-            for (k, word) in self.above[i * w..(i + 1) * w].iter_mut().enumerate() {
-                let base = k * 64;
-                let end = (base + 64).min(lx.len());
-                let mut bits = 0u64;
-                for j in base..end {
-                    let d = s.n.x * lx[j] + s.n.y * ly[j] + s.n.z * lz[j];
-                    bits |= u64::from(d > 0.0) << (j - base);
-                }
-                *word = bits;
-            }
+            above_horizon(&ctx.shade_lights, s.n, &mut self.above[i * w..(i + 1) * w]);
         }
         i
     }
@@ -450,6 +432,23 @@ const BYTE_MASK: [[f32; 8]; 256] = {
 /// whatever the thread or tile, and several times faster than one light at a time.
 #[inline]
 fn radiance(ctx: &FrameContext, s: &Surface, bits: &[u64]) -> Vec3 {
+    #[cfg(target_arch = "x86_64")]
+    if crate::simd::has_avx2() {
+        // SAFETY: AVX2 was detected on this CPU.
+        return unsafe { radiance_avx2(ctx, s, bits) };
+    }
+    radiance_with(ctx, s, bits)
+}
+
+/// [`radiance`] compiled for AVX2: the eight lanes become one register; same operations.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn radiance_avx2(ctx: &FrameContext, s: &Surface, bits: &[u64]) -> Vec3 {
+    radiance_with(ctx, s, bits)
+}
+
+#[inline(always)]
+fn radiance_with(ctx: &FrameContext, s: &Surface, bits: &[u64]) -> Vec3 {
     let sl = &ctx.shade_lights;
     let (nx, ny, nz) = (s.n.x, s.n.y, s.n.z);
     let mut ar = [0.0f32; 8];
@@ -479,6 +478,92 @@ fn radiance(ctx: &FrameContext, s: &Surface, bits: &[u64]) -> Vec3 {
     let sum = |a: [f32; 8]| ((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]));
     let e = Vec3::new(sum(ar), sum(ag), sum(ab));
     s.albedo * std::f32::consts::FRAC_1_PI * e
+}
+
+/// Sets `out`'s bits for the lights above the horizon of normal `n` (`n·ω > 0`, the products
+/// summed in glam's dot order `(x + y) + z`), four or eight lights per instruction.
+#[inline]
+fn above_horizon(sl: &ShadeLights, n: Vec3, out: &mut [u64]) {
+    let lights = out.len() * 64;
+    let (x, y, z) = (&sl.x[..lights], &sl.y[..lights], &sl.z[..lights]);
+    #[cfg(target_arch = "x86_64")]
+    {
+        if crate::simd::has_avx2() {
+            // SAFETY: AVX2 was detected; the slices hold `out.len() * 64` lights.
+            unsafe { above_horizon_avx2(x, y, z, n, out) };
+        } else {
+            // SAFETY: as above (SSE2 is part of x86_64).
+            unsafe { above_horizon_sse2(x, y, z, n, out) };
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    for (k, word) in out.iter_mut().enumerate() {
+        let mut bits = 0u64;
+        for l in 0..64 {
+            let j = k * 64 + l;
+            let d = n.x * x[j] + n.y * y[j] + n.z * z[j];
+            bits |= u64::from(d > 0.0) << l;
+        }
+        *word = bits;
+    }
+}
+
+/// # Safety
+/// `x`, `y`, `z` hold at least `out.len() * 64` values.
+#[cfg(target_arch = "x86_64")]
+unsafe fn above_horizon_sse2(x: &[f32], y: &[f32], z: &[f32], n: Vec3, out: &mut [u64]) {
+    use std::arch::x86_64::*;
+    unsafe {
+        let (nx, ny, nz) = (_mm_set1_ps(n.x), _mm_set1_ps(n.y), _mm_set1_ps(n.z));
+        let zero = _mm_setzero_ps();
+        for (k, word) in out.iter_mut().enumerate() {
+            let mut bits = 0u64;
+            for g in 0..16 {
+                let j = k * 64 + g * 4;
+                let d = _mm_add_ps(
+                    _mm_add_ps(
+                        _mm_mul_ps(nx, _mm_loadu_ps(x.as_ptr().add(j))),
+                        _mm_mul_ps(ny, _mm_loadu_ps(y.as_ptr().add(j))),
+                    ),
+                    _mm_mul_ps(nz, _mm_loadu_ps(z.as_ptr().add(j))),
+                );
+                bits |= (_mm_movemask_ps(_mm_cmpgt_ps(d, zero)) as u64) << (g * 4);
+            }
+            *word = bits;
+        }
+    }
+}
+
+/// # Safety
+/// As [`above_horizon_sse2`], on a CPU with AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn above_horizon_avx2(x: &[f32], y: &[f32], z: &[f32], n: Vec3, out: &mut [u64]) {
+    use std::arch::x86_64::*;
+    unsafe {
+        let (nx, ny, nz) = (
+            _mm256_set1_ps(n.x),
+            _mm256_set1_ps(n.y),
+            _mm256_set1_ps(n.z),
+        );
+        let zero = _mm256_setzero_ps();
+        for (k, word) in out.iter_mut().enumerate() {
+            let mut bits = 0u64;
+            for g in 0..8 {
+                let j = k * 64 + g * 8;
+                let d = _mm256_add_ps(
+                    _mm256_add_ps(
+                        _mm256_mul_ps(nx, _mm256_loadu_ps(x.as_ptr().add(j))),
+                        _mm256_mul_ps(ny, _mm256_loadu_ps(y.as_ptr().add(j))),
+                    ),
+                    _mm256_mul_ps(nz, _mm256_loadu_ps(z.as_ptr().add(j))),
+                );
+                let m = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_GT_OQ>(d, zero)) as u64;
+                bits |= m << (g * 8);
+            }
+            *word = bits;
+        }
+    }
 }
 
 fn shade(ctx: &FrameContext, work: &mut TileWork) -> TileResult {

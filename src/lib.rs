@@ -11,9 +11,9 @@
 //!   [`coordinator`] schedules frames × tiles over threads and streams them to the writer.
 //! - [`output`] writes EXR/PNG/CSV/JSON atomically; [`anim`] parses animation specs;
 //!   [`report`] builds `report.html` from a finished render's folder.
-//! - [`farm`] splits a run into jobs for many machines and assembles their outputs.
-//!   [`report`] builds `report.html` from a finished render's folder; [`temporal`] carries a
-//!   frame's visibility to the next (`--temporal`).
+//! - [`farm`] splits a run into jobs for many machines and assembles their outputs;
+//!   [`temporal`] carries a frame's visibility to the next (`--temporal`); [`simd`] picks the
+//!   AVX2 or SSE2 copy of the hot kernels at run time (same bits either way).
 
 pub mod accel;
 pub mod anim;
@@ -36,6 +36,7 @@ pub mod raydump;
 pub mod report;
 pub mod savings;
 pub mod scene;
+pub mod simd;
 pub mod table;
 pub mod temporal;
 pub mod tile;
