@@ -34,6 +34,8 @@ pub struct Accel {
     tris: Vec<Triangle>,
     /// BVH primitive order → the scene's triangle index.
     scene_index: Vec<u32>,
+    /// The same triangles as precomputed planes for the shadow-ray leaf kernels.
+    planes: TriPlanes,
 }
 
 impl Accel {
@@ -52,6 +54,7 @@ impl Accel {
                 bvh: CwBvh::default(),
                 tris: Vec::new(),
                 scene_index: Vec::new(),
+                planes: TriPlanes::new(&[]),
             };
         }
         let bvh = build_cwbvh_from_tris(
@@ -62,16 +65,18 @@ impl Accel {
             BvhBuildParams::medium_build(),
             &mut Duration::default(),
         );
-        let tris = bvh
+        let tris: Vec<Triangle> = bvh
             .primitive_indices
             .iter()
             .map(|&i| soup[i as usize])
             .collect();
         let scene_index = bvh.primitive_indices.clone();
+        let planes = TriPlanes::new(&tris);
         Accel {
             bvh,
             tris,
             scene_index,
+            planes,
         }
     }
 
@@ -124,43 +129,54 @@ impl Accel {
             return false;
         }
         let ray = Ray::new(origin.into(), dir.into(), 0.0, f32::INFINITY);
-        self.any_hit(&ray, |t| t < ray.tmax)
+        self.any_hit(&ray).is_some()
     }
 
-    /// obvhs's any-hit traversal (`ray_traverse_miss`) with our node test: true as soon as a
-    /// triangle hit at t passes `accept(t)`. With AVX2 (checked once at run time) all eight
-    /// children are tested in one 256-bit lane set, otherwise with SSE2 in two halves; both
-    /// kernels perform the same float operations per child, so every host finds the same
-    /// children, the same hits and the same bits (farm hosts may differ in CPU).
+    /// obvhs's any-hit traversal (`ray_traverse_miss`) with our node and leaf kernels: the
+    /// distance of the nearest hit among the first leaf triangles found hit, or None. With
+    /// AVX2 (checked once at run time) a node's eight children and up to eight leaf triangles
+    /// are tested per instruction, otherwise four with SSE2; both kernels perform the same
+    /// float operations per child and per triangle, so every host finds the same children,
+    /// the same hits and the same bits (farm hosts may differ in CPU).
     #[inline(always)]
-    fn any_hit(&self, ray: &Ray, accept: impl FnMut(f32) -> bool) -> bool {
+    fn any_hit(&self, ray: &Ray) -> Option<f32> {
         #[cfg(target_arch = "x86_64")]
-        if simd::has_avx2() {
-            // SAFETY: AVX2 was detected on this CPU.
-            return unsafe { self.any_hit_avx2(ray, accept) };
+        {
+            if simd::has_avx2() {
+                // SAFETY: AVX2 was detected on this CPU.
+                return unsafe { self.any_hit_avx2(ray) };
+            }
+            self.any_hit_with(ray, node_hits, |p, base, mask, ray| {
+                // SAFETY: `base..` + the mask's bits lie within the padded planes.
+                unsafe { leaf::hit_sse2(p, base, mask, ray) }
+            })
         }
-        self.any_hit_with(ray, accept, node_hits)
+        #[cfg(not(target_arch = "x86_64"))]
+        self.any_hit_with(ray, node_hits, leaf::hit_scalar)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn any_hit_avx2(&self, ray: &Ray, accept: impl FnMut(f32) -> bool) -> bool {
-        self.any_hit_with(ray, accept, |node, ray, oct| {
-            simd::node_hits_avx2(node, ray, oct)
-        })
+    fn any_hit_avx2(&self, ray: &Ray) -> Option<f32> {
+        self.any_hit_with(
+            ray,
+            |node, ray, oct| simd::node_hits_avx2(node, ray, oct),
+            // SAFETY: as for the SSE2 kernel.
+            |p, base, mask, ray| unsafe { leaf::hit_avx2(p, base, mask, ray) },
+        )
     }
 
     #[inline(always)]
     fn any_hit_with(
         &self,
         ray: &Ray,
-        mut accept: impl FnMut(f32) -> bool,
         node_test: impl Fn(&CwBvhNode, &Ray, u32) -> u32,
-    ) -> bool {
+        leaf_test: impl Fn(&TriPlanes, usize, u32, &Ray) -> f32,
+    ) -> Option<f32> {
         use glam::UVec2;
         let mut state = self.bvh.new_traversal(ray.direction);
         let mut node;
-        let mut hit = false;
+        let mut found = None;
         'outer: {
             obvhs::traverse!(
                 self.bvh,
@@ -168,39 +184,250 @@ impl Accel {
                 state,
                 node_test(node, ray, state.oct_inv4),
                 {
-                    let t = self.tris[state.primitive_id as usize].intersect(ray);
-                    if accept(t) {
-                        hit = true;
+                    // The macro hands out one triangle of the node's hit leaves at a time; take
+                    // them all (the group's base and its remaining bits) and test them at once.
+                    let base = state.primitive_group.x;
+                    let mask = state.primitive_group.y | 1 << (state.primitive_id - base);
+                    state.primitive_group.y = 0;
+                    let t = leaf_test(&self.planes, base as usize, mask, ray);
+                    if t < f32::INFINITY {
+                        found = Some(t);
                         break 'outer;
                     }
                 }
             );
         }
-        hit
+        found
     }
 
     /// Like [`occluded`](Self::occluded) but returns the distance to a blocker along the ray
-    /// (the first hit the traversal finds, not necessarily the nearest): the blocker point
-    /// `origin + t·dir` is what the warping predictors re-aim.
+    /// (the nearest hit among the first leaf triangles the traversal finds hit, not
+    /// necessarily the nearest of all): the blocker point `origin + t·dir` is what the warping
+    /// predictors re-aim.
     pub fn blocker_distance(&self, origin: Vec3, dir: Vec3) -> Option<f32> {
         record(origin, dir);
         if self.tris.is_empty() {
             return None;
         }
         let ray = Ray::new(origin.into(), dir.into(), 0.0, f32::INFINITY);
-        let mut t_hit = f32::INFINITY;
-        let hit = self.any_hit(&ray, |t| {
-            if t < t_hit {
-                t_hit = t;
-            }
-            t < ray.tmax
-        });
-        hit.then_some(t_hit)
+        self.any_hit(&ray)
     }
 
     /// The blocking point of [`blocker_distance`](Self::blocker_distance).
     pub fn blocker(&self, origin: Vec3, dir: Vec3) -> Option<Vec3> {
         self.blocker_distance(origin, dir).map(|t| origin + dir * t)
+    }
+}
+
+/// Triangles in the BVH's primitive order as twelve planes of floats (v0, e1 = v0 − v1,
+/// e2 = v2 − v0, n = e1 × e2; obvhs's Möller–Trumbore edges), precomputed once so a leaf
+/// test loads what it needs with one load per plane. Each plane is padded so that a kernel
+/// may read a whole chunk of lanes past the last triangle.
+struct TriPlanes {
+    stride: usize,
+    data: Vec<f32>,
+}
+
+/// Planes, in order: v0, e1, e2, n (x, y, z each).
+const PLANES: usize = 12;
+/// Bits in a primitive group (obvhs's hit mask holds 24), so the padding a chunk may read.
+const GROUP_BITS: usize = 24;
+
+impl TriPlanes {
+    fn new(tris: &[Triangle]) -> TriPlanes {
+        let stride = tris.len() + GROUP_BITS + 8;
+        let mut data = vec![0.0f32; PLANES * stride];
+        for (i, t) in tris.iter().enumerate() {
+            let e1 = t.v0 - t.v1;
+            let e2 = t.v2 - t.v0;
+            let n = e1.cross(e2);
+            for (k, v) in [t.v0, e1, e2, n].iter().enumerate() {
+                data[(3 * k) * stride + i] = v.x;
+                data[(3 * k + 1) * stride + i] = v.y;
+                data[(3 * k + 2) * stride + i] = v.z;
+            }
+        }
+        TriPlanes { stride, data }
+    }
+
+    /// Plane `k` from triangle `i` on.
+    #[inline(always)]
+    fn at(&self, k: usize, i: usize) -> *const f32 {
+        debug_assert!(i + 8 <= self.stride);
+        // SAFETY (of later reads): callers read at most 8 lanes, within the padding.
+        unsafe { self.data.as_ptr().add(k * self.stride + i) }
+    }
+}
+
+/// Leaf kernels: which of a primitive group's triangles a shadow ray hits, as the nearest
+/// such t. Every kernel evaluates, per triangle, exactly these operations in this order
+/// (obvhs's Möller–Trumbore, `c = v0 − o`, `r = d × c`, dots summed `(x + y) + z`):
+/// `det = n·d`, `inv = 1 / det`, `u = (r·e2)·inv`, `v = (r·e1)·inv`, `w = (1 − u) − v`,
+/// `t = (n·c)·inv`; a hit when `inv ≠ 0`, none of u, v, w has its sign bit set, and
+/// 0 ≤ t < ∞. Lanes are independent, so four or eight at a time give the same bits.
+mod leaf {
+    use super::*;
+
+    /// One triangle, in plain f32 (the reference the SIMD lanes follow; non-x86 hosts).
+    #[cfg_attr(all(target_arch = "x86_64", not(test)), allow(dead_code))]
+    pub(super) fn hit_scalar(p: &TriPlanes, base: usize, mask: u32, ray: &Ray) -> f32 {
+        let (o, d) = (ray.origin, ray.direction);
+        let mut best = f32::INFINITY;
+        let mut m = mask;
+        while m != 0 {
+            let i = base + m.trailing_zeros() as usize;
+            m &= m - 1;
+            // SAFETY: i lies within the planes (the group's triangles exist).
+            let g = |k: usize| unsafe { *p.at(k, i) };
+            let (cx, cy, cz) = (g(0) - o.x, g(1) - o.y, g(2) - o.z);
+            let rx = d.y * cz - d.z * cy;
+            let ry = d.z * cx - d.x * cz;
+            let rz = d.x * cy - d.y * cx;
+            let det = g(9) * d.x + g(10) * d.y + g(11) * d.z;
+            let inv = 1.0 / det;
+            let u = (rx * g(6) + ry * g(7) + rz * g(8)) * inv;
+            let v = (rx * g(3) + ry * g(4) + rz * g(5)) * inv;
+            let w = 1.0 - u - v;
+            let t = (g(9) * cx + g(10) * cy + g(11) * cz) * inv;
+            let signs = (u.to_bits() | v.to_bits() | w.to_bits()) & 0x8000_0000;
+            if inv != 0.0 && signs == 0 && (0.0..f32::INFINITY).contains(&t) && t < best {
+                best = t;
+            }
+        }
+        best
+    }
+
+    /// Four triangles per step with SSE2.
+    ///
+    /// # Safety
+    /// `base` + 24 lanes lie within the padded planes.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    pub(super) unsafe fn hit_sse2(p: &TriPlanes, base: usize, mask: u32, ray: &Ray) -> f32 {
+        use std::arch::x86_64::*;
+        let (o, d) = (ray.origin, ray.direction);
+        let mut best = f32::INFINITY;
+        let mut m = mask;
+        let mut i = base;
+        unsafe {
+            let (dx, dy, dz) = (_mm_set1_ps(d.x), _mm_set1_ps(d.y), _mm_set1_ps(d.z));
+            let (ox, oy, oz) = (_mm_set1_ps(o.x), _mm_set1_ps(o.y), _mm_set1_ps(o.z));
+            while m != 0 {
+                let lanes = m & 0xf;
+                if lanes != 0 {
+                    let g = |k: usize| _mm_loadu_ps(p.at(k, i));
+                    let (cx, cy, cz) = (
+                        _mm_sub_ps(g(0), ox),
+                        _mm_sub_ps(g(1), oy),
+                        _mm_sub_ps(g(2), oz),
+                    );
+                    let rx = _mm_sub_ps(_mm_mul_ps(dy, cz), _mm_mul_ps(dz, cy));
+                    let ry = _mm_sub_ps(_mm_mul_ps(dz, cx), _mm_mul_ps(dx, cz));
+                    let rz = _mm_sub_ps(_mm_mul_ps(dx, cy), _mm_mul_ps(dy, cx));
+                    let dot = |ax, ay, az, bx, by, bz| {
+                        _mm_add_ps(
+                            _mm_add_ps(_mm_mul_ps(ax, bx), _mm_mul_ps(ay, by)),
+                            _mm_mul_ps(az, bz),
+                        )
+                    };
+                    let (nx, ny, nz) = (g(9), g(10), g(11));
+                    let inv = _mm_div_ps(_mm_set1_ps(1.0), dot(nx, ny, nz, dx, dy, dz));
+                    let u = _mm_mul_ps(dot(rx, ry, rz, g(6), g(7), g(8)), inv);
+                    let v = _mm_mul_ps(dot(rx, ry, rz, g(3), g(4), g(5)), inv);
+                    let w = _mm_sub_ps(_mm_sub_ps(_mm_set1_ps(1.0), u), v);
+                    let t = _mm_mul_ps(dot(nx, ny, nz, cx, cy, cz), inv);
+                    let signs = _mm_movemask_ps(_mm_or_ps(_mm_or_ps(u, v), w)) as u32;
+                    let ok = _mm_movemask_ps(_mm_cmpneq_ps(inv, _mm_setzero_ps()))
+                        & _mm_movemask_ps(_mm_cmpge_ps(t, _mm_setzero_ps()))
+                        & _mm_movemask_ps(_mm_cmplt_ps(t, _mm_set1_ps(f32::INFINITY)));
+                    let mut hits = ok as u32 & !signs & lanes;
+                    if hits != 0 {
+                        let mut ts = [0.0f32; 4];
+                        _mm_storeu_ps(ts.as_mut_ptr(), t);
+                        while hits != 0 {
+                            best = best.min(ts[hits.trailing_zeros() as usize]);
+                            hits &= hits - 1;
+                        }
+                    }
+                }
+                m >>= 4;
+                i += 4;
+            }
+        }
+        best
+    }
+
+    /// Eight triangles per step with AVX2 (no FMA: the same roundings as SSE2).
+    ///
+    /// # Safety
+    /// As [`hit_sse2`], on a CPU with AVX2.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    pub(super) unsafe fn hit_avx2(p: &TriPlanes, base: usize, mask: u32, ray: &Ray) -> f32 {
+        use std::arch::x86_64::*;
+        let (o, d) = (ray.origin, ray.direction);
+        let mut best = f32::INFINITY;
+        let mut m = mask;
+        let mut i = base;
+        unsafe {
+            let (dx, dy, dz) = (
+                _mm256_set1_ps(d.x),
+                _mm256_set1_ps(d.y),
+                _mm256_set1_ps(d.z),
+            );
+            let (ox, oy, oz) = (
+                _mm256_set1_ps(o.x),
+                _mm256_set1_ps(o.y),
+                _mm256_set1_ps(o.z),
+            );
+            while m != 0 {
+                let lanes = m & 0xff;
+                if lanes != 0 {
+                    let g = |k: usize| _mm256_loadu_ps(p.at(k, i));
+                    let (cx, cy, cz) = (
+                        _mm256_sub_ps(g(0), ox),
+                        _mm256_sub_ps(g(1), oy),
+                        _mm256_sub_ps(g(2), oz),
+                    );
+                    let rx = _mm256_sub_ps(_mm256_mul_ps(dy, cz), _mm256_mul_ps(dz, cy));
+                    let ry = _mm256_sub_ps(_mm256_mul_ps(dz, cx), _mm256_mul_ps(dx, cz));
+                    let rz = _mm256_sub_ps(_mm256_mul_ps(dx, cy), _mm256_mul_ps(dy, cx));
+                    let dot = |ax, ay, az, bx, by, bz| {
+                        _mm256_add_ps(
+                            _mm256_add_ps(_mm256_mul_ps(ax, bx), _mm256_mul_ps(ay, by)),
+                            _mm256_mul_ps(az, bz),
+                        )
+                    };
+                    let (nx, ny, nz) = (g(9), g(10), g(11));
+                    let inv = _mm256_div_ps(_mm256_set1_ps(1.0), dot(nx, ny, nz, dx, dy, dz));
+                    let u = _mm256_mul_ps(dot(rx, ry, rz, g(6), g(7), g(8)), inv);
+                    let v = _mm256_mul_ps(dot(rx, ry, rz, g(3), g(4), g(5)), inv);
+                    let w = _mm256_sub_ps(_mm256_sub_ps(_mm256_set1_ps(1.0), u), v);
+                    let t = _mm256_mul_ps(dot(nx, ny, nz, cx, cy, cz), inv);
+                    let signs = _mm256_movemask_ps(_mm256_or_ps(_mm256_or_ps(u, v), w)) as u32;
+                    let zero = _mm256_setzero_ps();
+                    let ok = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_NEQ_UQ>(inv, zero))
+                        & _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_GE_OQ>(t, zero))
+                        & _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LT_OQ>(
+                            t,
+                            _mm256_set1_ps(f32::INFINITY),
+                        ));
+                    let mut hits = ok as u32 & !signs & lanes;
+                    if hits != 0 {
+                        let mut ts = [0.0f32; 8];
+                        _mm256_storeu_ps(ts.as_mut_ptr(), t);
+                        while hits != 0 {
+                            best = best.min(ts[hits.trailing_zeros() as usize]);
+                            hits &= hits - 1;
+                        }
+                    }
+                }
+                m >>= 8;
+                i += 8;
+            }
+        }
+        best
     }
 }
 
@@ -505,5 +732,77 @@ mod tests {
             assert_eq!(accel.occluded(o, d), reference);
         }
         assert!(checked > 1000);
+    }
+
+    #[test]
+    fn leaf_kernels_agree_with_obvhs_and_each_other_bit_for_bit() {
+        // Rays aimed at points of a dense soup (so many hit, some on edges), each leaf group of
+        // up to 24 triangles at random offsets: scalar, SSE2 and AVX2 give the same nearest t,
+        // and that t is the nearest of obvhs's own triangle test over the same triangles.
+        let mut seed = 777u32;
+        let mut rnd = move || {
+            seed = seed.wrapping_mul(1664525).wrapping_add(1013904223);
+            (seed >> 8) as f32 / (1u32 << 24) as f32
+        };
+        let mut p = Vec::new();
+        let mut t = Vec::new();
+        for i in 0..600u32 {
+            let c = Vec3::new(rnd(), rnd(), rnd()) * 2.0 - 1.0;
+            for _ in 0..3 {
+                p.push(c + Vec3::new(rnd(), rnd(), rnd()) * 0.5);
+            }
+            t.push([3 * i, 3 * i + 1, 3 * i + 2]);
+        }
+        let accel = Accel::build(&p, &t);
+        let n = accel.tris.len();
+        let mut hits = 0;
+        for k in 0..4000 {
+            let o = Vec3::new(rnd(), rnd(), rnd()) * 8.0 - 4.0;
+            let base = (rnd() * (n - 24) as f32) as usize;
+            let mask = (rnd() * (1 << 24) as f32) as u32 | 1;
+            // Aim at one of the group's triangles: inside it, or (every fourth ray) through a
+            // vertex, where the edge rules decide.
+            let aim = &accel.tris[base + (rnd() * 23.0) as usize];
+            let (a, b) = (rnd(), rnd());
+            let target: Vec3 = if k % 4 == 0 {
+                aim.v1.into()
+            } else {
+                let (a, b) = if a + b > 1.0 {
+                    (1.0 - a, 1.0 - b)
+                } else {
+                    (a, b)
+                };
+                (aim.v0 + (aim.v1 - aim.v0) * a + (aim.v2 - aim.v0) * b).into()
+            };
+            let d = (target - o).normalize_or(Vec3::Y);
+            let ray = Ray::new(o.into(), d.into(), 0.0, f32::INFINITY);
+            let mut reference = f32::INFINITY;
+            for b in 0..24 {
+                if mask >> b & 1 == 1 {
+                    let t = accel.tris[base + b].intersect(&ray);
+                    if t < f32::INFINITY {
+                        reference = reference.min(t);
+                    }
+                }
+            }
+            let scalar = leaf::hit_scalar(&accel.planes, base, mask, &ray);
+            assert_eq!(scalar.to_bits(), reference.to_bits(), "ray {k}");
+            #[cfg(target_arch = "x86_64")]
+            {
+                // SAFETY: base + 24 lies within the padded planes.
+                let sse = unsafe { leaf::hit_sse2(&accel.planes, base, mask, &ray) };
+                assert_eq!(sse.to_bits(), scalar.to_bits(), "ray {k}");
+                if is_x86_feature_detected!("avx2") {
+                    // SAFETY: as above, and AVX2 was detected.
+                    let avx = unsafe { leaf::hit_avx2(&accel.planes, base, mask, &ray) };
+                    assert_eq!(avx.to_bits(), scalar.to_bits(), "ray {k}");
+                }
+            }
+            hits += usize::from(scalar < f32::INFINITY);
+        }
+        assert!(
+            hits > 1000,
+            "only {hits} rays hit: the test would prove little"
+        );
     }
 }
