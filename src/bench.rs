@@ -1,6 +1,7 @@
 //! `envshadow bench`: seconds per frame and shadow rays per second, for each light count,
 //! thread count and method, measured side by side in one run (the machines are shared and
-//! noisy, so ratios are only meaningful within one run). Prints a markdown table.
+//! noisy, so ratios are only meaningful within one run; each repeat renders every method once,
+//! round robin, and the median per method is reported). Prints a markdown table.
 //!
 //! The split of a frame's time: the BVH build is timed on its own; the shadow rays are the
 //! method's own rays, recorded during an extra (untimed) render and traced again alone, in the
@@ -101,6 +102,9 @@ pub struct BenchRow {
     pub seconds: f64,
     pub queries: u64,
     pub rays: u64,
+    /// Whether the timed frame built its BVH (moving geometry) or reused the run's (still
+    /// geometry, built before timing).
+    pub build_in_frame: bool,
     /// The split (absent with `--no-split`).
     pub split: Option<Split>,
 }
@@ -131,6 +135,12 @@ pub fn replay(accel: &Accel, rays: &[ShadowRay]) -> u64 {
                 .count() as u64
         })
         .sum()
+}
+
+/// Whether the frame's geometry is the unposed scene (its BVH is built once per run).
+fn still_geometry(anim: &Animation, inputs: &Inputs, frame: usize) -> Result<bool> {
+    let camera0 = anim.camera(&inputs.scene, 0)?;
+    Ok(anim.scene_transform(frame, camera0.target).is_none())
 }
 
 /// The frame's BVH, built as `render_frame` builds it.
@@ -199,19 +209,32 @@ pub fn measure(args: &BenchArgs, mut log: impl FnMut(&BenchRow)) -> Result<Vec<B
                 recorded.push((method, rays));
             }
         }
+        // Still geometry (an orbit turntable) has one BVH per run, built by its first frame:
+        // build it before timing so every repeat measures a frame as the run's later frames
+        // cost. The build itself is the split's `build s` column.
+        let still = still_geometry(&anim, &inputs, frame)?;
+        if still {
+            inputs.still_accel();
+        }
         for &threads in &args.threads {
             let pool = thread_pool(threads)?;
-            for &method in &args.methods {
-                anim.method = method;
-                let mut times = Vec::with_capacity(args.repeat);
-                let mut counts = Default::default();
-                for _ in 0..args.repeat {
+            // Round robin: each repeat renders every method once, so a slow spell of the
+            // shared machine falls on all methods alike instead of on one method's repeats.
+            let mut times = vec![Vec::with_capacity(args.repeat); args.methods.len()];
+            let mut counts = vec![Default::default(); args.methods.len()];
+            for _ in 0..args.repeat {
+                for (k, &method) in args.methods.iter().enumerate() {
+                    anim.method = method;
                     let t = Instant::now();
                     let (film, _) =
                         pool.install(|| render_frame(&anim, &inputs, frame, None, &Silent))?;
-                    times.push(t.elapsed().as_secs_f64());
-                    counts = film.counts;
+                    times[k].push(t.elapsed().as_secs_f64());
+                    counts[k] = film.counts;
                 }
+            }
+            for (k, &method) in args.methods.iter().enumerate() {
+                anim.method = method;
+                let counts: crate::output::stats::Counts = counts[k];
                 let split = match &accel {
                     Some(accel) => {
                         let rays = &recorded.iter().find(|(m, _)| *m == method).unwrap().1;
@@ -236,10 +259,11 @@ pub fn measure(args: &BenchArgs, mut log: impl FnMut(&BenchRow)) -> Result<Vec<B
                     None => None,
                 };
                 let row = BenchRow {
+                    build_in_frame: !still,
                     lights: inputs.lights.len(),
                     threads: pool.current_num_threads(),
                     method,
-                    seconds: median(times),
+                    seconds: median(std::mem::take(&mut times[k])),
                     queries: counts.queries,
                     rays: counts.rays,
                     split,
@@ -303,12 +327,13 @@ pub fn markdown(rows: &[BenchRow]) -> String {
 }
 
 /// The split columns of row `r`: primary rays and shading are the frame without shadows less
-/// its build; prediction is what remains of the frame beyond `none` and the shadow rays.
+/// its build (when the frame builds one); prediction is what remains of the frame beyond `none` and the shadow rays.
 fn split_cells(r: &BenchRow, none: Option<&BenchRow>) -> String {
     let Some(sp) = r.split else {
         return " – | – | – | – | – |".into();
     };
-    let primary = none.map(|o| o.seconds - sp.build);
+    let own_build = if r.build_in_frame { sp.build } else { 0.0 };
+    let primary = none.map(|o| o.seconds - own_build);
     let prediction = none.map(|o| r.seconds - o.seconds - sp.shadow);
     let f = |v: Option<f64>| v.map(|v| format!("{v:.3}")).unwrap_or_else(|| "–".into());
     let rate = if sp.shadow > 0.0 && sp.replayed > 0 {
@@ -385,9 +410,16 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             r.lights, r.threads, r.method, r.seconds
         )
     })?;
+    let builds = match rows.first() {
+        Some(r) if !r.build_in_frame => {
+            "; still geometry: the BVH is built once per run, so s/frame excludes its build"
+        }
+        Some(_) => "; moving geometry: every frame builds its BVH",
+        None => "",
+    };
     println!(
-        "{} {}x{}, frame {}, median of {}:\n",
-        args.scene, args.sweep.width, args.sweep.height, args.sweep.frame, args.repeat
+        "{} {}x{}, frame {}, median of {}{}:\n",
+        args.scene, args.sweep.width, args.sweep.height, args.sweep.frame, args.repeat, builds
     );
     print!("{}", markdown(&rows));
     Ok(())

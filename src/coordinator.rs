@@ -5,8 +5,8 @@
 //! flight and the channel's capacity.
 
 use std::path::Path;
-use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Mutex, OnceLock};
 use std::time::Instant;
 
 use anyhow::Context;
@@ -53,9 +53,28 @@ pub struct Inputs {
     pub scene: Scene,
     pub env: EnvMap,
     pub lights: LightSet,
+    /// The BVH of the unposed scene, built by the first frame that needs it: frames whose
+    /// geometry does not move (orbit turntables, still cameras) share one build per run.
+    still: OnceLock<Accel>,
 }
 
 impl Inputs {
+    /// Inputs from parts already loaded.
+    pub fn new(scene: Scene, env: EnvMap, lights: LightSet) -> Inputs {
+        Inputs {
+            scene,
+            env,
+            lights,
+            still: OnceLock::new(),
+        }
+    }
+
+    /// The unposed scene's BVH, built once.
+    pub fn still_accel(&self) -> &Accel {
+        self.still
+            .get_or_init(|| Accel::build(&self.scene.positions, &self.scene.triangles))
+    }
+
     /// Loads the scene and environment and samples the lights.
     pub fn load(anim: &Animation) -> Result<Inputs> {
         let scene = match &anim.scene {
@@ -72,7 +91,7 @@ impl Inputs {
             .with_rotation(anim.env_rotation_deg)
             .with_intensity(anim.env_intensity)?;
         let lights = LightSet::build(&env, anim.lights, anim.sampler)?;
-        Ok(Inputs { scene, env, lights })
+        Ok(Inputs::new(scene, env, lights))
     }
 }
 
@@ -196,20 +215,20 @@ fn render_tile_list(
 ) -> Result<(Film, FrameStats, Option<Carried>)> {
     let start = Instant::now();
     let camera0 = anim.camera(&inputs.scene, 0)?;
-    let posed;
-    let scene = match anim.scene_transform(frame, camera0.target) {
+    let (posed, built);
+    let (scene, accel) = match anim.scene_transform(frame, camera0.target) {
         Some(m) => {
             posed = inputs.scene.transformed(m);
-            &posed
+            built = Accel::build(&posed.positions, &posed.triangles);
+            (&posed, &built)
         }
-        None => &inputs.scene,
+        None => (&inputs.scene, inputs.still_accel()),
     };
     let camera = anim.camera(&inputs.scene, frame)?;
-    let accel = Accel::build(&scene.positions, &scene.triangles);
     let predictor = anim.method.predictor(anim.params);
     let mut ctx = FrameContext::new(
         scene,
-        &accel,
+        accel,
         camera,
         &inputs.lights,
         &inputs.env,

@@ -432,28 +432,29 @@ const BYTE_MASK: [[f32; 8]; 256] = {
 /// whatever the thread or tile, and several times faster than one light at a time.
 #[inline]
 fn radiance(ctx: &FrameContext, s: &Surface, bits: &[u64]) -> Vec3 {
-    #[cfg(target_arch = "x86_64")]
-    if crate::simd::has_avx2() {
-        // SAFETY: AVX2 was detected on this CPU.
-        return unsafe { radiance_avx2(ctx, s, bits) };
-    }
-    radiance_with(ctx, s, bits)
-}
-
-/// [`radiance`] compiled for AVX2: the eight lanes become one register; same operations.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn radiance_avx2(ctx: &FrameContext, s: &Surface, bits: &[u64]) -> Vec3 {
-    radiance_with(ctx, s, bits)
-}
-
-#[inline(always)]
-fn radiance_with(ctx: &FrameContext, s: &Surface, bits: &[u64]) -> Vec3 {
     let sl = &ctx.shade_lights;
-    let (nx, ny, nz) = (s.n.x, s.n.y, s.n.z);
-    let mut ar = [0.0f32; 8];
-    let mut ag = [0.0f32; 8];
-    let mut ab = [0.0f32; 8];
+    assert!(bits.len() * 64 <= sl.x.len());
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: the light planes hold every light of `bits` (asserted); AVX2 where detected.
+    let lanes = unsafe {
+        if crate::simd::has_avx2() {
+            radiance_avx2(sl, s.n, bits)
+        } else {
+            radiance_sse2(sl, s.n, bits)
+        }
+    };
+    #[cfg(not(target_arch = "x86_64"))]
+    let lanes = radiance_lanes(sl, s.n, bits);
+    let sum = |a: [f32; 8]| ((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]));
+    let e = Vec3::new(sum(lanes[0]), sum(lanes[1]), sum(lanes[2]));
+    s.albedo * std::f32::consts::FRAC_1_PI * e
+}
+
+/// The eight per-lane partial sums (r, g, b) of [`radiance`], one light at a time: the
+/// reference the SIMD kernels follow operation for operation.
+#[cfg_attr(all(target_arch = "x86_64", not(test)), allow(dead_code))]
+fn radiance_lanes(sl: &ShadeLights, n: Vec3, bits: &[u64]) -> [[f32; 8]; 3] {
+    let mut acc = [[0.0f32; 8]; 3];
     for (k, &word) in bits.iter().enumerate() {
         let mut w = word;
         let mut base = k * 64;
@@ -461,23 +462,106 @@ fn radiance_with(ctx: &FrameContext, s: &Surface, bits: &[u64]) -> Vec3 {
             let byte = (w & 0xff) as usize;
             if byte != 0 {
                 let m = &BYTE_MASK[byte];
-                let r = base..base + 8;
-                let (x, y, z) = (&sl.x[r.clone()], &sl.y[r.clone()], &sl.z[r.clone()]);
-                let (er, eg, eb) = (&sl.r[r.clone()], &sl.g[r.clone()], &sl.b[r]);
                 for l in 0..8 {
-                    let c = (nx * x[l] + ny * y[l] + nz * z[l]) * m[l];
-                    ar[l] += er[l] * c;
-                    ag[l] += eg[l] * c;
-                    ab[l] += eb[l] * c;
+                    let j = base + l;
+                    let c = (n.x * sl.x[j] + n.y * sl.y[j] + n.z * sl.z[j]) * m[l];
+                    acc[0][l] += sl.r[j] * c;
+                    acc[1][l] += sl.g[j] * c;
+                    acc[2][l] += sl.b[j] * c;
                 }
             }
             w >>= 8;
             base += 8;
         }
     }
-    let sum = |a: [f32; 8]| ((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]));
-    let e = Vec3::new(sum(ar), sum(ag), sum(ab));
-    s.albedo * std::f32::consts::FRAC_1_PI * e
+    acc
+}
+
+/// [`radiance_lanes`] with SSE2, lanes 0–3 and 4–7 in two registers per channel.
+///
+/// # Safety
+/// The light planes hold at least `bits.len() * 64` lights.
+#[cfg(target_arch = "x86_64")]
+unsafe fn radiance_sse2(sl: &ShadeLights, n: Vec3, bits: &[u64]) -> [[f32; 8]; 3] {
+    use std::arch::x86_64::*;
+    let mut out = [[0.0f32; 8]; 3];
+    unsafe {
+        let (nx, ny, nz) = (_mm_set1_ps(n.x), _mm_set1_ps(n.y), _mm_set1_ps(n.z));
+        let mut acc = [_mm_setzero_ps(); 6];
+        for (k, &word) in bits.iter().enumerate() {
+            let mut w = word;
+            let mut base = k * 64;
+            while w != 0 {
+                let byte = (w & 0xff) as usize;
+                if byte != 0 {
+                    for h in 0..2 {
+                        let j = base + 4 * h;
+                        let ld = |v: &[f32]| _mm_loadu_ps(v.as_ptr().add(j));
+                        let m = _mm_loadu_ps(BYTE_MASK[byte].as_ptr().add(4 * h));
+                        let d = _mm_add_ps(
+                            _mm_add_ps(_mm_mul_ps(nx, ld(&sl.x)), _mm_mul_ps(ny, ld(&sl.y))),
+                            _mm_mul_ps(nz, ld(&sl.z)),
+                        );
+                        let c = _mm_mul_ps(d, m);
+                        acc[h] = _mm_add_ps(acc[h], _mm_mul_ps(ld(&sl.r), c));
+                        acc[2 + h] = _mm_add_ps(acc[2 + h], _mm_mul_ps(ld(&sl.g), c));
+                        acc[4 + h] = _mm_add_ps(acc[4 + h], _mm_mul_ps(ld(&sl.b), c));
+                    }
+                }
+                w >>= 8;
+                base += 8;
+            }
+        }
+        for ch in 0..3 {
+            _mm_storeu_ps(out[ch].as_mut_ptr(), acc[2 * ch]);
+            _mm_storeu_ps(out[ch].as_mut_ptr().add(4), acc[2 * ch + 1]);
+        }
+    }
+    out
+}
+
+/// [`radiance_lanes`] with AVX2 (no FMA), eight lanes in one register per channel.
+///
+/// # Safety
+/// As [`radiance_sse2`], on a CPU with AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn radiance_avx2(sl: &ShadeLights, n: Vec3, bits: &[u64]) -> [[f32; 8]; 3] {
+    use std::arch::x86_64::*;
+    let mut out = [[0.0f32; 8]; 3];
+    unsafe {
+        let (nx, ny, nz) = (
+            _mm256_set1_ps(n.x),
+            _mm256_set1_ps(n.y),
+            _mm256_set1_ps(n.z),
+        );
+        let mut acc = [_mm256_setzero_ps(); 3];
+        for (k, &word) in bits.iter().enumerate() {
+            let mut w = word;
+            let mut base = k * 64;
+            while w != 0 {
+                let byte = (w & 0xff) as usize;
+                if byte != 0 {
+                    let ld = |v: &[f32]| _mm256_loadu_ps(v.as_ptr().add(base));
+                    let m = _mm256_loadu_ps(BYTE_MASK[byte].as_ptr());
+                    let d = _mm256_add_ps(
+                        _mm256_add_ps(_mm256_mul_ps(nx, ld(&sl.x)), _mm256_mul_ps(ny, ld(&sl.y))),
+                        _mm256_mul_ps(nz, ld(&sl.z)),
+                    );
+                    let c = _mm256_mul_ps(d, m);
+                    acc[0] = _mm256_add_ps(acc[0], _mm256_mul_ps(ld(&sl.r), c));
+                    acc[1] = _mm256_add_ps(acc[1], _mm256_mul_ps(ld(&sl.g), c));
+                    acc[2] = _mm256_add_ps(acc[2], _mm256_mul_ps(ld(&sl.b), c));
+                }
+                w >>= 8;
+                base += 8;
+            }
+        }
+        for ch in 0..3 {
+            _mm256_storeu_ps(out[ch].as_mut_ptr(), acc[ch]);
+        }
+    }
+    out
 }
 
 /// Sets `out`'s bits for the lights above the horizon of normal `n` (`n·ω > 0`, the products
@@ -641,5 +725,102 @@ fn shade(ctx: &FrameContext, work: &mut TileWork) -> TileResult {
         wrong,
         reference,
         counts: work.counts,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// 200 pseudo-random lights (some below any horizon, unequal energies), padded as for a
+    /// frame, and random normals and visibility words.
+    fn setup() -> (ShadeLights, Vec<(Vec3, [u64; 4])>) {
+        let mut seed = 99u32;
+        let mut rnd = move || {
+            seed = seed.wrapping_mul(1664525).wrapping_add(1013904223);
+            (seed >> 8) as f32 / (1u32 << 24) as f32
+        };
+        let n = 200;
+        let pad = |v: Vec<f32>| {
+            let mut v = v;
+            v.resize(256, 0.0);
+            v
+        };
+        let dirs: Vec<Vec3> = (0..n)
+            .map(|_| (Vec3::new(rnd(), rnd(), rnd()) * 2.0 - 1.0).normalize_or(Vec3::Y))
+            .collect();
+        let energy: Vec<Vec3> = (0..n)
+            .map(|_| Vec3::new(rnd(), rnd(), rnd()) * 3.0)
+            .collect();
+        let sl = ShadeLights {
+            x: pad(dirs.iter().map(|d| d.x).collect()),
+            y: pad(dirs.iter().map(|d| d.y).collect()),
+            z: pad(dirs.iter().map(|d| d.z).collect()),
+            r: pad(energy.iter().map(|e| e.x).collect()),
+            g: pad(energy.iter().map(|e| e.y).collect()),
+            b: pad(energy.iter().map(|e| e.z).collect()),
+        };
+        let mut cases = Vec::new();
+        for _ in 0..300 {
+            let nrm = (Vec3::new(rnd(), rnd(), rnd()) * 2.0 - 1.0).normalize_or(Vec3::Z);
+            let mut bits = [0u64; 4];
+            for (j, d) in dirs.iter().enumerate() {
+                if nrm.dot(*d) > 0.0 && rnd() < 0.7 {
+                    bits[j / 64] |= 1 << (j % 64);
+                }
+            }
+            cases.push((nrm, bits));
+        }
+        (sl, cases)
+    }
+
+    #[test]
+    fn shading_kernels_give_the_reference_lanes_bit_for_bit() {
+        let (sl, cases) = setup();
+        for (n, bits) in &cases {
+            let reference = radiance_lanes(&sl, *n, bits);
+            assert!(reference[0].iter().any(|&v| v != 0.0));
+            #[cfg(target_arch = "x86_64")]
+            {
+                let bitwise = |a: [[f32; 8]; 3]| a.map(|c| c.map(f32::to_bits));
+                // SAFETY: the planes hold 256 lights, `bits` covers 256.
+                let sse = unsafe { radiance_sse2(&sl, *n, bits) };
+                assert_eq!(bitwise(sse), bitwise(reference));
+                if std::arch::is_x86_feature_detected!("avx2") {
+                    // SAFETY: as above, and AVX2 was detected.
+                    let avx = unsafe { radiance_avx2(&sl, *n, bits) };
+                    assert_eq!(bitwise(avx), bitwise(reference));
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn horizon_kernels_agree_with_the_dot_product() {
+        let (sl, cases) = setup();
+        for (n, _) in &cases {
+            let mut reference = [0u64; 4];
+            for j in 0..256 {
+                let d = Vec3::new(sl.x[j], sl.y[j], sl.z[j]);
+                if n.dot(d) > 0.0 {
+                    reference[j / 64] |= 1 << (j % 64);
+                }
+            }
+            let mut out = [0u64; 4];
+            above_horizon(&sl, *n, &mut out);
+            assert_eq!(out, reference);
+            #[cfg(target_arch = "x86_64")]
+            {
+                let (x, y, z) = (&sl.x[..], &sl.y[..], &sl.z[..]);
+                // SAFETY: the planes hold 256 lights.
+                unsafe { above_horizon_sse2(x, y, z, *n, &mut out) };
+                assert_eq!(out, reference);
+                if std::arch::is_x86_feature_detected!("avx2") {
+                    // SAFETY: as above, and AVX2 was detected.
+                    unsafe { above_horizon_avx2(x, y, z, *n, &mut out) };
+                    assert_eq!(out, reference);
+                }
+            }
+        }
     }
 }

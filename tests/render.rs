@@ -36,11 +36,7 @@ fn sphere_shadow_on_plane_matches_the_analytic_shadow() {
     common::add_plane(&mut scene, 40.0, 0.0, 0);
     common::add_sphere(&mut scene, centre, r, 256, 512, 1);
     let light = Vec3::new(1.0, 1.0, 0.3).normalize();
-    let inputs = Inputs {
-        scene,
-        env: uniform_env(0.0),
-        lights: one_light(light),
-    };
+    let inputs = Inputs::new(scene, uniform_env(0.0), one_light(light));
     let anim = common::animation(
         "[camera]\nposition = [-1.4, 9.0, -0.4]\ntarget = [-1.4, 0.0, -0.4]\nup = [0.0, 0.0, -1.0]\nvfov = 32.0\n\
          [motion]\nkind = \"none\"\n[render]\nwidth = 200\nheight = 200\ntile = 32\n",
@@ -103,7 +99,7 @@ fn open_plane_under_uniform_white_sky_renders_albedo_times_radiance() {
     common::add_plane(&mut scene, 10.0, 0.0, 0);
     let env = uniform_env(radiance);
     let lights = LightSet::build(&env, 400, Sampler::Sis).unwrap();
-    let inputs = Inputs { scene, env, lights };
+    let inputs = Inputs::new(scene, env, lights);
     let anim = common::animation(
         "[camera]\nposition = [0.0, 3.0, 0.5]\ntarget = [0.0, 0.0, 0.0]\nvfov = 30.0\n\
          [motion]\nkind = \"none\"\n[render]\nwidth = 32\nheight = 32\n",
@@ -137,11 +133,7 @@ fn no_shadow_acne_on_the_ground_plane_at_grazing_lights() {
             });
         }
     }
-    let inputs = Inputs {
-        scene,
-        env: uniform_env(0.0),
-        lights: LightSet::from_lights(lights),
-    };
+    let inputs = Inputs::new(scene, uniform_env(0.0), LightSet::from_lights(lights));
     let anim = common::animation(
         "[camera]\nposition = [3.0, 1.5, 40.0]\ntarget = [0.0, 0.0, 0.0]\nvfov = 40.0\n\
          [motion]\nkind = \"none\"\n[render]\nwidth = 120\nheight = 90\nmethod = \"brute\"\n",
@@ -166,7 +158,7 @@ fn brute_force_equals_no_shadows_where_nothing_can_block() {
     common::add_plane(&mut scene, 10.0, 0.0, 0);
     let env = EnvMap::builtin_sky();
     let lights = LightSet::build(&env, 64, Sampler::Sis).unwrap();
-    let inputs = Inputs { scene, env, lights };
+    let inputs = Inputs::new(scene, env, lights);
     let mut anim = common::animation(
         "[camera]\nposition = [0.0, 2.0, 3.0]\ntarget = [0.0, 0.0, 0.0]\n[motion]\nkind = \"none\"\n[render]\nwidth = 48\nheight = 32\n",
     );
