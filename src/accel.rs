@@ -14,7 +14,7 @@ use obvhs::BvhBuildParams;
 use obvhs::cwbvh::CwBvh;
 use obvhs::cwbvh::builder::build_cwbvh_from_tris;
 use obvhs::cwbvh::node::{CwBvhNode, extract_byte64};
-use obvhs::ray::{Ray, RayHit};
+use obvhs::ray::Ray;
 use obvhs::triangle::Triangle;
 
 /// A closest hit: distance along the ray, the scene's triangle index, and barycentrics (u, v)
@@ -91,21 +91,70 @@ impl Accel {
             return None;
         }
         let ray = Ray::new(origin.into(), dir.into(), 0.0, f32::INFINITY);
-        let mut hit = RayHit::none();
-        if !self
-            .bvh
-            .ray_traverse(ray, &mut hit, |r, id| self.tris[id].intersect(r))
-        {
-            return None;
-        }
-        let prim = hit.primitive_id as usize;
+        #[cfg(target_arch = "x86_64")]
+        let found = if simd::has_avx2() {
+            // SAFETY: AVX2 was detected on this CPU.
+            unsafe { self.closest_avx2(&ray) }
+        } else {
+            self.closest_with(&ray, node_hits, |p, base, mask, ray| {
+                // SAFETY: the group's lanes lie within the padded planes.
+                unsafe { leaf::hit_sse2(p, base, mask, ray) }
+            })
+        };
+        #[cfg(not(target_arch = "x86_64"))]
+        let found = self.closest_with(&ray, node_hits, leaf::hit_scalar);
+        let (t, prim) = found?;
         let (u, v) = barycentrics(&self.tris[prim], ray.origin, ray.direction);
         Some(Hit {
-            t: hit.t,
+            t,
             tri: self.scene_index[prim],
             u,
             v,
         })
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn closest_avx2(&self, ray: &Ray) -> Option<(f32, usize)> {
+        self.closest_with(
+            ray,
+            |node, ray, oct| simd::node_hits_avx2(node, ray, oct),
+            // SAFETY: as for the SSE2 kernel.
+            |p, base, mask, ray| unsafe { leaf::hit_avx2(p, base, mask, ray) },
+        )
+    }
+
+    /// obvhs's closest-hit traversal (`ray_traverse`) with our kernels: each hit group's
+    /// nearest triangle shortens the ray, so later nodes and groups must come nearer.
+    #[inline(always)]
+    fn closest_with(
+        &self,
+        ray: &Ray,
+        node_test: impl Fn(&CwBvhNode, &Ray, u32) -> u32,
+        leaf_test: impl Fn(&TriPlanes, usize, u32, &Ray) -> (f32, usize),
+    ) -> Option<(f32, usize)> {
+        use glam::UVec2;
+        let mut ray = *ray;
+        let mut state = self.bvh.new_traversal(ray.direction);
+        let mut node;
+        let mut found = None;
+        obvhs::traverse!(
+            self.bvh,
+            node,
+            state,
+            node_test(node, &ray, state.oct_inv4),
+            {
+                let base = state.primitive_group.x;
+                let mask = state.primitive_group.y | 1 << (state.primitive_id - base);
+                state.primitive_group.y = 0;
+                let (t, i) = leaf_test(&self.planes, base as usize, mask, &ray);
+                if t < ray.tmax {
+                    ray.tmax = t;
+                    found = Some((t, i));
+                }
+            }
+        );
+        found
     }
 
     /// The triangles in the hierarchy's order (for ray dumps that other tracers replay).
@@ -171,7 +220,7 @@ impl Accel {
         &self,
         ray: &Ray,
         node_test: impl Fn(&CwBvhNode, &Ray, u32) -> u32,
-        leaf_test: impl Fn(&TriPlanes, usize, u32, &Ray) -> f32,
+        leaf_test: impl Fn(&TriPlanes, usize, u32, &Ray) -> (f32, usize),
     ) -> Option<f32> {
         use glam::UVec2;
         let mut state = self.bvh.new_traversal(ray.direction);
@@ -189,7 +238,7 @@ impl Accel {
                     let base = state.primitive_group.x;
                     let mask = state.primitive_group.y | 1 << (state.primitive_id - base);
                     state.primitive_group.y = 0;
-                    let t = leaf_test(&self.planes, base as usize, mask, ray);
+                    let (t, _) = leaf_test(&self.planes, base as usize, mask, ray);
                     if t < f32::INFINITY {
                         found = Some(t);
                         break 'outer;
@@ -259,8 +308,8 @@ impl TriPlanes {
     }
 }
 
-/// Leaf kernels: which of a primitive group's triangles a shadow ray hits, as the nearest
-/// such t. Every kernel evaluates, per triangle, exactly these operations in this order
+/// Leaf kernels: which of a primitive group's triangles a ray hits, as the nearest such t
+/// and that triangle's index (the first of equals; (∞, 0) when none). Every kernel evaluates, per triangle, exactly these operations in this order
 /// (obvhs's Möller–Trumbore, `c = v0 − o`, `r = d × c`, dots summed `(x + y) + z`):
 /// `det = n·d`, `inv = 1 / det`, `u = (r·e2)·inv`, `v = (r·e1)·inv`, `w = (1 − u) − v`,
 /// `t = (n·c)·inv`; a hit when `inv ≠ 0`, none of u, v, w has its sign bit set, and
@@ -270,9 +319,9 @@ mod leaf {
 
     /// One triangle, in plain f32 (the reference the SIMD lanes follow; non-x86 hosts).
     #[cfg_attr(all(target_arch = "x86_64", not(test)), allow(dead_code))]
-    pub(super) fn hit_scalar(p: &TriPlanes, base: usize, mask: u32, ray: &Ray) -> f32 {
+    pub(super) fn hit_scalar(p: &TriPlanes, base: usize, mask: u32, ray: &Ray) -> (f32, usize) {
         let (o, d) = (ray.origin, ray.direction);
-        let mut best = f32::INFINITY;
+        let (mut best, mut index) = (f32::INFINITY, 0);
         let mut m = mask;
         while m != 0 {
             let i = base + m.trailing_zeros() as usize;
@@ -291,10 +340,10 @@ mod leaf {
             let t = (g(9) * cx + g(10) * cy + g(11) * cz) * inv;
             let signs = (u.to_bits() | v.to_bits() | w.to_bits()) & 0x8000_0000;
             if inv != 0.0 && signs == 0 && (0.0..f32::INFINITY).contains(&t) && t < best {
-                best = t;
+                (best, index) = (t, i);
             }
         }
-        best
+        (best, index)
     }
 
     /// Four triangles per step with SSE2.
@@ -303,10 +352,15 @@ mod leaf {
     /// `base` + 24 lanes lie within the padded planes.
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
-    pub(super) unsafe fn hit_sse2(p: &TriPlanes, base: usize, mask: u32, ray: &Ray) -> f32 {
+    pub(super) unsafe fn hit_sse2(
+        p: &TriPlanes,
+        base: usize,
+        mask: u32,
+        ray: &Ray,
+    ) -> (f32, usize) {
         use std::arch::x86_64::*;
         let (o, d) = (ray.origin, ray.direction);
-        let mut best = f32::INFINITY;
+        let (mut best, mut index) = (f32::INFINITY, 0);
         let mut m = mask;
         let mut i = base;
         unsafe {
@@ -345,7 +399,10 @@ mod leaf {
                         let mut ts = [0.0f32; 4];
                         _mm_storeu_ps(ts.as_mut_ptr(), t);
                         while hits != 0 {
-                            best = best.min(ts[hits.trailing_zeros() as usize]);
+                            let l = hits.trailing_zeros() as usize;
+                            if ts[l] < best {
+                                (best, index) = (ts[l], i + l);
+                            }
                             hits &= hits - 1;
                         }
                     }
@@ -354,7 +411,7 @@ mod leaf {
                 i += 4;
             }
         }
-        best
+        (best, index)
     }
 
     /// Eight triangles per step with AVX2 (no FMA: the same roundings as SSE2).
@@ -364,10 +421,15 @@ mod leaf {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     #[inline]
-    pub(super) unsafe fn hit_avx2(p: &TriPlanes, base: usize, mask: u32, ray: &Ray) -> f32 {
+    pub(super) unsafe fn hit_avx2(
+        p: &TriPlanes,
+        base: usize,
+        mask: u32,
+        ray: &Ray,
+    ) -> (f32, usize) {
         use std::arch::x86_64::*;
         let (o, d) = (ray.origin, ray.direction);
-        let mut best = f32::INFINITY;
+        let (mut best, mut index) = (f32::INFINITY, 0);
         let mut m = mask;
         let mut i = base;
         unsafe {
@@ -418,7 +480,10 @@ mod leaf {
                         let mut ts = [0.0f32; 8];
                         _mm256_storeu_ps(ts.as_mut_ptr(), t);
                         while hits != 0 {
-                            best = best.min(ts[hits.trailing_zeros() as usize]);
+                            let l = hits.trailing_zeros() as usize;
+                            if ts[l] < best {
+                                (best, index) = (ts[l], i + l);
+                            }
                             hits &= hits - 1;
                         }
                     }
@@ -427,7 +492,7 @@ mod leaf {
                 i += 8;
             }
         }
-        best
+        (best, index)
     }
 }
 
@@ -730,6 +795,13 @@ mod tests {
                 .bvh
                 .ray_traverse_miss(ray, |r, id| accel.tris[id].intersect(r));
             assert_eq!(accel.occluded(o, d), reference);
+            // Closest hits: obvhs's own traversal and triangle test find the same one.
+            let mut hit = obvhs::ray::RayHit::none();
+            let closest = accel
+                .bvh
+                .ray_traverse(ray, &mut hit, |r, id| accel.tris[id].intersect(r))
+                .then(|| (hit.t, accel.scene_index[hit.primitive_id as usize]));
+            assert_eq!(accel.intersect(o, d).map(|h| (h.t, h.tri)), closest);
         }
         assert!(checked > 1000);
     }
@@ -786,19 +858,23 @@ mod tests {
                 }
             }
             let scalar = leaf::hit_scalar(&accel.planes, base, mask, &ray);
-            assert_eq!(scalar.to_bits(), reference.to_bits(), "ray {k}");
+            assert_eq!(scalar.0.to_bits(), reference.to_bits(), "ray {k}");
+            if scalar.0 < f32::INFINITY {
+                assert_eq!(accel.tris[scalar.1].intersect(&ray), scalar.0);
+            }
+            let bitwise = |(t, i): (f32, usize)| (t.to_bits(), i);
             #[cfg(target_arch = "x86_64")]
             {
                 // SAFETY: base + 24 lies within the padded planes.
                 let sse = unsafe { leaf::hit_sse2(&accel.planes, base, mask, &ray) };
-                assert_eq!(sse.to_bits(), scalar.to_bits(), "ray {k}");
+                assert_eq!(bitwise(sse), bitwise(scalar), "ray {k}");
                 if is_x86_feature_detected!("avx2") {
                     // SAFETY: as above, and AVX2 was detected.
                     let avx = unsafe { leaf::hit_avx2(&accel.planes, base, mask, &ray) };
-                    assert_eq!(avx.to_bits(), scalar.to_bits(), "ray {k}");
+                    assert_eq!(bitwise(avx), bitwise(scalar), "ray {k}");
                 }
             }
-            hits += usize::from(scalar < f32::INFINITY);
+            hits += usize::from(scalar.0 < f32::INFINITY);
         }
         assert!(
             hits > 1000,
