@@ -102,9 +102,13 @@ def envshadow_frame(binary, spec, frame, lights, method, threads, out):
         check=True)
     with open(os.path.join(out, "stats.csv")) as f:
         row = list(csv.DictReader(f))[-1]
+    # Reading an EXR runs on Dr.Jit's thread pool, which waits forever when it has a single
+    # thread (seen with set_thread_count(1)): read with two, then restore the timed count.
+    dr.set_thread_count(max(threads, 2))
     bmp = mi.Bitmap(os.path.join(out, f"frame_{frame:04d}.exr"))
     names = [field.name for field in bmp.struct_()]
     data = np.array(bmp)
+    dr.set_thread_count(threads)
     rgb = np.stack([data[..., names.index(c)] for c in ("R", "G", "B")], axis=-1)
     return float(row["seconds"]), rgb.astype(np.float64)
 

@@ -282,21 +282,34 @@ fn render_tile_list(
         }
     }
     let carry = carried.is_some();
-    let results: Option<Vec<_>> = list
-        .par_iter()
-        .map(|t| {
-            if cancel.is_cancelled() {
-                return None;
+    // Dearest tiles first, dealt one at a time to whichever worker is free (longest-processing-
+    // time order): a tile on the object's silhouette costs many times one of open ground, and
+    // splitting the list by position left one thread finishing the frame alone. Results keep
+    // the list's order, so the frame does not depend on the schedule.
+    let mut order: Vec<usize> = (0..list.len()).collect();
+    order.sort_by_key(|&k| (std::cmp::Reverse(lattice.rays_in(list[k].rect)), k));
+    let slots: Vec<Mutex<Option<_>>> = (0..list.len()).map(|_| Mutex::new(None)).collect();
+    let next = AtomicUsize::new(0);
+    (0..rayon::current_num_threads())
+        .into_par_iter()
+        .with_max_len(1)
+        .for_each(|_| {
+            loop {
+                let k = next.fetch_add(1, Ordering::Relaxed);
+                if k >= order.len() || cancel.is_cancelled() {
+                    break;
+                }
+                let t = &list[order[k]];
+                let r = with_work(|work| {
+                    let r = render_tile(&ctx, t.rect, work, &lattice);
+                    let patch = carry.then(|| CarryPatch::record(work, &inputs.lights, edges));
+                    (r, patch)
+                });
+                progress.tile_done(r.0.counts.rays);
+                *slots[order[k]].lock().unwrap() = Some(r);
             }
-            let r = with_work(|work| {
-                let r = render_tile(&ctx, t.rect, work, &lattice);
-                let patch = carry.then(|| CarryPatch::record(work, &inputs.lights, edges));
-                (r, patch)
-            });
-            progress.tile_done(r.0.counts.rays);
-            Some(r)
-        })
-        .collect();
+        });
+    let results: Option<Vec<_>> = slots.into_iter().map(|s| s.into_inner().unwrap()).collect();
     let Some(results) = results else {
         return Err(Interrupted.into());
     };

@@ -73,6 +73,21 @@ impl Lattice {
         (c < self.cols && r < self.rows).then_some((r * self.cols + c) as usize)
     }
 
+    /// Rays traced at the evaluated lattice pixels inside `rect`: where the coarse levels were
+    /// unsure, the finer ones trace most, so this ranks tiles by the work they will do.
+    pub fn rays_in(&self, rect: crate::tile::Rect) -> u64 {
+        if self.step == 0 {
+            return 0;
+        }
+        let mut sum = 0u64;
+        for r in rect.y0.div_ceil(self.step)..rect.y1.div_ceil(self.step).min(self.rows) {
+            for c in rect.x0.div_ceil(self.step)..rect.x1.div_ceil(self.step).min(self.cols) {
+                sum += u64::from(self.rays[(r * self.cols + c) as usize]);
+            }
+        }
+        sum
+    }
+
     /// Copies evaluated pixel (x, y) into region pixel `i` of `work`.
     pub fn copy_into(&self, x: u32, y: u32, work: &mut TileWork, i: usize) -> bool {
         let Some(k) = self.index(x, y).filter(|&k| self.have[k]) else {
