@@ -92,7 +92,7 @@ impl Accel {
         }
         let ray = Ray::new(origin.into(), dir.into(), 0.0, f32::INFINITY);
         #[cfg(target_arch = "x86_64")]
-        let found = if simd::has_avx2() {
+        let found = if crate::simd::has_avx2() {
             // SAFETY: AVX2 was detected on this CPU.
             unsafe { self.closest_avx2(&ray) }
         } else {
@@ -118,7 +118,7 @@ impl Accel {
     fn closest_avx2(&self, ray: &Ray) -> Option<(f32, usize)> {
         self.closest_with(
             ray,
-            |node, ray, oct| simd::node_hits_avx2(node, ray, oct),
+            |node, ray, oct| avx2::node_hits_avx2(node, ray, oct),
             // SAFETY: as for the SSE2 kernel.
             |p, base, mask, ray| unsafe { leaf::hit_avx2(p, base, mask, ray) },
         )
@@ -191,7 +191,7 @@ impl Accel {
     fn any_hit(&self, ray: &Ray) -> Option<f32> {
         #[cfg(target_arch = "x86_64")]
         {
-            if simd::has_avx2() {
+            if crate::simd::has_avx2() {
                 // SAFETY: AVX2 was detected on this CPU.
                 return unsafe { self.any_hit_avx2(ray) };
             }
@@ -209,7 +209,7 @@ impl Accel {
     fn any_hit_avx2(&self, ray: &Ray) -> Option<f32> {
         self.any_hit_with(
             ray,
-            |node, ray, oct| simd::node_hits_avx2(node, ray, oct),
+            |node, ray, oct| avx2::node_hits_avx2(node, ray, oct),
             // SAFETY: as for the SSE2 kernel.
             |p, base, mask, ray| unsafe { leaf::hit_avx2(p, base, mask, ray) },
         )
@@ -609,9 +609,8 @@ fn node_hits(node: &CwBvhNode, ray: &Ray, oct_inv4: u32) -> u32 {
 
 /// The AVX2 node kernel.
 #[cfg(target_arch = "x86_64")]
-mod simd {
+mod avx2 {
     use super::*;
-    pub use crate::simd::has_avx2;
     use std::arch::x86_64::*;
 
     /// [`node_hits`](super::node_hits) with eight children per instruction: each child's
@@ -787,7 +786,7 @@ mod tests {
                 #[cfg(target_arch = "x86_64")]
                 if is_x86_feature_detected!("avx2") {
                     // SAFETY: AVX2 was detected.
-                    assert_eq!(unsafe { simd::node_hits_avx2(node, &ray, oct) }, reference);
+                    assert_eq!(unsafe { avx2::node_hits_avx2(node, &ray, oct) }, reference);
                 }
                 checked += 1;
             }

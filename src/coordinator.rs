@@ -287,7 +287,7 @@ fn render_tile_list(
     // splitting the list by position left one thread finishing the frame alone. Results keep
     // the list's order, so the frame does not depend on the schedule.
     let mut order: Vec<usize> = (0..list.len()).collect();
-    order.sort_by_key(|&k| (std::cmp::Reverse(lattice.rays_in(list[k].rect)), k));
+    order.sort_by_cached_key(|&k| (std::cmp::Reverse(lattice.rays_in(list[k].rect)), k));
     let slots: Vec<Mutex<Option<_>>> = (0..list.len()).map(|_| Mutex::new(None)).collect();
     let next = AtomicUsize::new(0);
     (0..rayon::current_num_threads())

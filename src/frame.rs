@@ -35,9 +35,8 @@ pub struct FrameContext<'a> {
     pub camera: Camera,
     pub lights: &'a LightSet,
     pub env: &'a EnvMap,
-    /// Light directions and energies as flat arrays for the per-pixel loops.
+    /// Light directions as a flat array, for shadow rays and warping.
     pub light_dir: Vec<Vec3>,
-    pub light_energy: Vec<Vec3>,
     /// The lights for the horizon test and shading, padded with zero lights to whole words
     /// (see [`above_horizon`] and [`radiance`]).
     pub shade_lights: ShadeLights,
@@ -66,7 +65,6 @@ impl<'a> FrameContext<'a> {
             lights,
             env,
             light_dir: lights.lights.iter().map(|l| l.dir).collect(),
-            light_energy: lights.lights.iter().map(|l| l.energy).collect(),
             shade_lights: ShadeLights::new(lights),
             shadow_eps: shadow_epsilon(scene),
             predictor,
