@@ -17,6 +17,9 @@ use obvhs::cwbvh::node::{CwBvhNode, extract_byte64};
 use obvhs::ray::Ray;
 use obvhs::triangle::Triangle;
 
+/// The most rays [`Accel::occluded_packet`] traces at once (bits of its answer).
+pub const PACKET: usize = 32;
+
 /// A closest hit: distance along the ray, the scene's triangle index, and barycentrics (u, v)
 /// such that the point is (1 − u − v)·p0 + u·p1 + v·p2.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -169,6 +172,39 @@ impl Accel {
     pub fn occluded(&self, origin: Vec3, dir: Vec3) -> bool {
         record(origin, dir);
         self.occluded_unrecorded(origin, dir)
+    }
+
+    /// [`occluded`](Self::occluded) for up to [`PACKET`] rays from one origin (a pixel's rays
+    /// to several lights), traced together: bit r is set when `dirs[r]` is occluded. The same
+    /// answers as one ray at a time, found faster: rays from one point share much of their
+    /// walk through the hierarchy (on the bunny at 400 lights, 1.6× on the default method's
+    /// rays and 1.9× on brute force's; BENCHMARKS.md).
+    pub fn occluded_packet(&self, origin: Vec3, dirs: &[Vec3]) -> u32 {
+        for d in dirs {
+            record(origin, *d);
+        }
+        self.occluded_packet_unrecorded(origin, dirs)
+    }
+
+    /// [`occluded_packet`](Self::occluded_packet) without the recording hook.
+    pub fn occluded_packet_unrecorded(&self, origin: Vec3, dirs: &[Vec3]) -> u32 {
+        assert!(dirs.len() <= PACKET, "a packet holds at most {PACKET} rays");
+        if self.tris.is_empty() || dirs.is_empty() {
+            return 0;
+        }
+        #[cfg(target_arch = "x86_64")]
+        if crate::simd::has_avx2() {
+            // SAFETY: AVX2 was detected on this CPU.
+            return unsafe { avx2::occluded_packet(self, origin.into(), dirs) };
+        }
+        // Without AVX2, one ray at a time: the same answers.
+        let mut blocked = 0;
+        for (r, d) in dirs.iter().enumerate() {
+            if self.occluded_unrecorded(origin, *d) {
+                blocked |= 1 << r;
+            }
+        }
+        blocked
     }
 
     /// [`occluded`](Self::occluded) without the recording hook: what a replay measures.
@@ -613,6 +649,162 @@ mod avx2 {
     use super::*;
     use std::arch::x86_64::*;
 
+    /// Up to [`PACKET`] shadow rays from one origin traversed together: bit r of the result
+    /// is set when `dirs[r]` is occluded. Each ray meets a node's children through exactly
+    /// the operations of [`node_hits_avx2`] (its slab ends chosen by its direction's signs, by
+    /// a blend instead of a branch), so it reaches exactly the leaves it would reach alone, and
+    /// tests them with [`leaf::hit_avx2`]: the answers are the single-ray answers. What the
+    /// rays share is the walk — one stack, one pop and one widening of the child planes per
+    /// node for all the rays that entered it, and independent work for the CPU to overlap.
+    #[target_feature(enable = "avx2")]
+    pub(super) fn occluded_packet(accel: &Accel, origin: Vec3A, dirs: &[Vec3]) -> u32 {
+        use std::mem::MaybeUninit;
+        const EPSILON: f32 = 0.0001;
+        const STACK: usize = 256;
+        let n = dirs.len();
+        debug_assert!((1..=PACKET).contains(&n));
+        let bvh = &accel.bvh;
+        let mut inv = [Vec3A::ZERO; PACKET];
+        let mut sign = [0u8; PACKET];
+        for (r, d) in dirs.iter().enumerate() {
+            inv[r] = Ray::new(origin, (*d).into(), 0.0, f32::INFINITY).inv_direction;
+            sign[r] = (d.x < 0.0) as u8 | ((d.y < 0.0) as u8) << 1 | ((d.z < 0.0) as u8) << 2;
+        }
+        // Per sign pattern, the blend masks that swap an axis's slab ends.
+        let mask = |on: bool| _mm256_castsi256_ps(_mm256_set1_epi32(-(on as i32)));
+        let swaps: [[__m256; 3]; 8] =
+            std::array::from_fn(|s| [mask(s & 1 != 0), mask(s & 2 != 0), mask(s & 4 != 0)]);
+        // Near-first order for the first ray's octant (obvhs's slot order XOR the octant).
+        let oct = 7 ^ sign[0] as u32;
+        let oct = (oct & 1) << 2 | (oct & 2) | (oct & 4) >> 2;
+        let all = if n == 32 { u32::MAX } else { (1u32 << n) - 1 };
+        let mut done = 0u32;
+        let mut stack = [MaybeUninit::<(u32, u32)>::uninit(); STACK];
+        stack[0].write((0, all));
+        let mut top = 1;
+        let eps = _mm256_set1_ps(EPSILON);
+        let tmax_ray = _mm256_set1_ps(f32::INFINITY);
+        while top > 0 {
+            top -= 1;
+            // SAFETY: entries below `top` were written.
+            let (ni, m0) = unsafe { stack[top].assume_init() };
+            let m = m0 & !done;
+            if m == 0 {
+                continue;
+            }
+            let node = &bvh.nodes[ni as usize];
+            // SAFETY: each load reads exactly the 8 bytes of one plane array.
+            let widen = |v: &[u8; 8]| unsafe {
+                _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_loadl_epi64(
+                    v.as_ptr() as *const __m128i
+                )))
+            };
+            let (lx, hx, ly, hy, lz, hz) = (
+                widen(&node.child_min_x),
+                widen(&node.child_max_x),
+                widen(&node.child_min_y),
+                widen(&node.child_max_y),
+                widen(&node.child_min_z),
+                widen(&node.child_max_z),
+            );
+            let extent = node.compute_extent();
+            let pmo = Vec3A::from(node.p) - origin;
+            let mut acc = _mm256_setzero_si256();
+            let mut mm = m;
+            while mm != 0 {
+                let r = mm.trailing_zeros() as usize;
+                mm &= mm - 1;
+                // node_hits_avx2's `inv` and `org`, the same products.
+                let ri = extent * inv[r];
+                let ro = pmo * inv[r];
+                let slab = |lo: __m256, hi: __m256, i: f32, o: f32, sw: __m256| {
+                    let (i, o) = (_mm256_set1_ps(i), _mm256_set1_ps(o));
+                    let a = _mm256_add_ps(_mm256_mul_ps(lo, i), o);
+                    let b = _mm256_add_ps(_mm256_mul_ps(hi, i), o);
+                    (_mm256_blendv_ps(a, b, sw), _mm256_blendv_ps(b, a, sw))
+                };
+                let [sx, sy, sz] = swaps[sign[r] as usize];
+                let (nx, fx) = slab(lx, hx, ri.x, ro.x, sx);
+                let (ny, fy) = slab(ly, hy, ri.y, ro.y, sy);
+                let (nz, fz) = slab(lz, hz, ri.z, ro.z, sz);
+                let tmin = _mm256_max_ps(nx, _mm256_max_ps(ny, nz));
+                let tmax = _mm256_min_ps(fx, _mm256_min_ps(fy, fz));
+                let tmin = _mm256_max_ps(tmin, eps);
+                let tmax = _mm256_min_ps(tmax, tmax_ray);
+                let hit = _mm256_castps_si256(_mm256_cmp_ps::<_CMP_LE_OQ>(tmin, tmax));
+                acc = _mm256_or_si256(acc, _mm256_and_si256(hit, _mm256_set1_epi32(1 << r)));
+            }
+            // Lane c: the rays that entered child c.
+            let mut child_rays = [0u32; 8];
+            // SAFETY: writes exactly the 32 bytes of the array.
+            unsafe { _mm256_storeu_si256(child_rays.as_mut_ptr() as *mut __m256i, acc) };
+            // Leaves: each ray tests the triangles of all the leaf children it entered at once
+            // (obvhs's primitive group: a unary count shifted to the leaf's offset).
+            let mut prim = [0u32; PACKET];
+            let mut leaf_rays = 0u32;
+            for (c, (&meta, &rr)) in node.child_meta.iter().zip(&child_rays).enumerate() {
+                if node.imask & (1 << c) != 0 || meta == 0 || rr == 0 {
+                    continue;
+                }
+                let bits = (meta >> 5) as u32 & 7;
+                let bits = bits << (meta & 0x1f);
+                leaf_rays |= rr;
+                let mut rr = rr;
+                while rr != 0 {
+                    let r = rr.trailing_zeros() as usize;
+                    rr &= rr - 1;
+                    prim[r] |= bits;
+                }
+            }
+            while leaf_rays != 0 {
+                let r = leaf_rays.trailing_zeros() as usize;
+                leaf_rays &= leaf_rays - 1;
+                let ray = Ray {
+                    origin,
+                    direction: dirs[r].into(),
+                    inv_direction: inv[r],
+                    tmin: 0.0,
+                    tmax: f32::INFINITY,
+                };
+                // SAFETY: the node's primitive group lies within the padded planes.
+                let (t, _) = unsafe {
+                    leaf::hit_avx2(
+                        &accel.planes,
+                        node.primitive_base_idx as usize,
+                        prim[r],
+                        &ray,
+                    )
+                };
+                if t < f32::INFINITY {
+                    done |= 1 << r;
+                }
+            }
+            if done == all {
+                break;
+            }
+            if top + 8 > STACK {
+                // Deeper than any hierarchy we build; finish the open rays one at a time.
+                for (r, d) in dirs.iter().enumerate() {
+                    if done & (1 << r) == 0 && accel.occluded_unrecorded(origin.into(), *d) {
+                        done |= 1 << r;
+                    }
+                }
+                break;
+            }
+            // Inner children, pushed so the nearest (for the first ray's octant) pops first.
+            for i in 0..8u32 {
+                let c = i ^ oct;
+                let rr = child_rays[c as usize] & !done;
+                if node.imask & (1 << c) != 0 && rr != 0 {
+                    let rel = (node.imask as u32 & ((1 << c) - 1)).count_ones();
+                    stack[top].write((node.child_base_idx + rel, rr));
+                    top += 1;
+                }
+            }
+        }
+        done
+    }
+
     /// [`node_hits`](super::node_hits) with eight children per instruction: each child's
     /// slab distances are `plane · inv + org` (a multiply then an add, never fused, as in
     /// obvhs), clipped by obvhs's epsilon and the ray's tmax, compared `tmin ≤ tmax`.
@@ -803,6 +995,56 @@ mod tests {
             assert_eq!(accel.intersect(o, d).map(|h| (h.t, h.tri)), closest);
         }
         assert!(checked > 1000);
+    }
+
+    #[test]
+    fn packets_answer_exactly_as_single_rays() {
+        // A soup dense enough that about half the rays are blocked; origins inside and outside
+        // it, every packet size from 1 to PACKET, directions in all octants mixed in a packet.
+        let mut seed = 4242u32;
+        let mut rnd = move || {
+            seed = seed.wrapping_mul(1664525).wrapping_add(1013904223);
+            (seed >> 8) as f32 / (1u32 << 24) as f32
+        };
+        let mut p = Vec::new();
+        let mut t = Vec::new();
+        for i in 0..3000u32 {
+            let c = Vec3::new(rnd(), rnd(), rnd()) * 4.0 - 2.0;
+            for _ in 0..3 {
+                p.push(c + Vec3::new(rnd(), rnd(), rnd()) * 0.3);
+            }
+            t.push([3 * i, 3 * i + 1, 3 * i + 2]);
+        }
+        let accel = Accel::build(&p, &t);
+        let (mut rays, mut blocked) = (0, 0);
+        for k in 0..400 {
+            let o = Vec3::new(rnd(), rnd(), rnd()) * 5.0 - 2.5;
+            let n = 1 + k % PACKET;
+            let dirs: Vec<Vec3> = (0..n)
+                .map(|_| (Vec3::new(rnd(), rnd(), rnd()) * 2.0 - 1.0).normalize_or(Vec3::Y))
+                .collect();
+            let single: u32 = dirs
+                .iter()
+                .enumerate()
+                .map(|(r, d)| u32::from(accel.occluded_unrecorded(o, *d)) << r)
+                .sum();
+            assert_eq!(
+                accel.occluded_packet_unrecorded(o, &dirs),
+                single,
+                "packet {k}"
+            );
+            rays += n;
+            blocked += single.count_ones() as usize;
+        }
+        // Both answers occur often, or agreement would prove little.
+        assert!(
+            blocked > rays / 5 && blocked < rays * 4 / 5,
+            "{blocked} of {rays}"
+        );
+        assert_eq!(
+            Accel::build(&[], &[]).occluded_packet(Vec3::ZERO, &[Vec3::Y]),
+            0
+        );
     }
 
     #[test]
