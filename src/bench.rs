@@ -15,7 +15,7 @@ use std::time::Instant;
 use clap::Args;
 use rayon::prelude::*;
 
-use crate::accel::{self, Accel, ShadowRay};
+use crate::accel::{self, Accel, PACKET, ShadowRay};
 use crate::anim::{Animation, Overrides};
 use crate::coordinator::{Inputs, Silent, render_frame, thread_pool};
 use crate::error::{Result, input_error};
@@ -127,12 +127,34 @@ pub struct Split {
 pub const REPLAY_CHUNK: usize = 4096;
 
 /// Traces `rays` on the current pool in chunks of [`REPLAY_CHUNK`]; returns the occluded count.
-pub fn replay(accel: &Accel, rays: &[ShadowRay]) -> u64 {
+/// One at a time (`packets` false), as another tracer's single-ray query would; or as a frame
+/// traces them, each run of up to [`PACKET`] consecutive rays from one origin (a pixel's) as
+/// one packet.
+pub fn replay(accel: &Accel, rays: &[ShadowRay], packets: bool) -> u64 {
     rays.par_chunks(REPLAY_CHUNK)
         .map(|c| {
-            c.iter()
-                .filter(|r| accel.occluded_unrecorded(r.origin, r.dir))
-                .count() as u64
+            if !packets {
+                return c
+                    .iter()
+                    .filter(|r| accel.occluded_unrecorded(r.origin, r.dir))
+                    .count() as u64;
+            }
+            let mut blocked = 0;
+            let mut dirs = [glam::Vec3::ZERO; PACKET];
+            let mut i = 0;
+            while i < c.len() {
+                let origin = c[i].origin;
+                let mut n = 0;
+                while i < c.len() && c[i].origin == origin && n < PACKET {
+                    dirs[n] = c[i].dir;
+                    n += 1;
+                    i += 1;
+                }
+                blocked += accel
+                    .occluded_packet_unrecorded(origin, &dirs[..n])
+                    .count_ones() as u64;
+            }
+            blocked
         })
         .sum()
 }
@@ -246,7 +268,7 @@ pub fn measure(args: &BenchArgs, mut log: impl FnMut(&BenchRow)) -> Result<Vec<B
                             pool.install(|| frame_accel(&anim, &inputs, frame))?;
                             build.push(t.elapsed().as_secs_f64());
                             let t = Instant::now();
-                            blocked = pool.install(|| replay(accel, rays));
+                            blocked = pool.install(|| replay(accel, rays, true));
                             shadow.push(t.elapsed().as_secs_f64());
                         }
                         Some(Split {
@@ -375,23 +397,34 @@ fn run_replay(path: &Path, args: &BenchArgs) -> Result<()> {
         args.repeat
     );
     println!("| tracer | threads | s | M rays/s | occluded |\n|---|---:|---:|---:|---:|");
+    // One at a time: the work of another tracer's single-ray query. Packets: as a frame
+    // traces them. Alternated, so both see the same machine load.
+    let tracers = [
+        ("envshadow (obvhs), one ray at a time", false),
+        ("envshadow (obvhs), packets from one origin", true),
+    ];
     for &threads in &args.threads {
         let pool = thread_pool(threads)?;
-        let mut times = Vec::new();
-        let mut blocked = 0;
+        let mut times = vec![Vec::new(); tracers.len()];
+        let mut blocked = vec![0; tracers.len()];
         for _ in 0..args.repeat {
-            let t = Instant::now();
-            blocked = pool.install(|| replay(&accel, &dump.rays));
-            times.push(t.elapsed().as_secs_f64());
+            for (k, &(_, packets)) in tracers.iter().enumerate() {
+                let t = Instant::now();
+                blocked[k] = pool.install(|| replay(&accel, &dump.rays, packets));
+                times[k].push(t.elapsed().as_secs_f64());
+            }
         }
-        let s = median(times);
-        println!(
-            "| envshadow (obvhs) | {} | {:.3} | {:.2} | {} |",
-            pool.current_num_threads(),
-            s,
-            dump.rays.len() as f64 / s / 1e6,
-            blocked
-        );
+        for (k, &(name, _)) in tracers.iter().enumerate() {
+            let s = median(std::mem::take(&mut times[k]));
+            println!(
+                "| {} | {} | {:.3} | {:.2} | {} |",
+                name,
+                pool.current_num_threads(),
+                s,
+                dump.rays.len() as f64 / s / 1e6,
+                blocked[k]
+            );
+        }
     }
     Ok(())
 }

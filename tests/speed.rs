@@ -70,14 +70,21 @@ fn recorded_rays_are_the_frames_rays_and_a_dump_replays_them_identically() {
         let rebuilt = Accel::build(&positions, &tris);
         let blocked = thread_pool(1)
             .unwrap()
-            .install(|| replay(&frame_accel, &rays));
+            .install(|| replay(&frame_accel, &rays, false));
         assert!(
             blocked > 0 && blocked < rays.len() as u64,
             "{method}: {blocked}"
         );
+        // Packets from one origin answer exactly as single rays do.
         for threads in [1, 2] {
             let pool = thread_pool(threads).unwrap();
-            assert_eq!(pool.install(|| replay(&rebuilt, &dump.rays)), blocked);
+            for packets in [false, true] {
+                assert_eq!(
+                    pool.install(|| replay(&rebuilt, &dump.rays, packets)),
+                    blocked,
+                    "{method}: {threads} threads, packets {packets}"
+                );
+            }
         }
     }
 }
