@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use crate::accel::Accel;
+use crate::accel::{Accel, PACKET};
 use crate::camera::Camera;
 use crate::envmap::EnvMap;
 use crate::lights::LightSet;
@@ -119,6 +119,19 @@ impl<'a> FrameContext<'a> {
         !self
             .accel
             .occluded(s.p + s.ng * self.shadow_eps, self.light_dir[j])
+    }
+
+    /// [`trace`](Self::trace) for several lights at once (at most [`PACKET`]): bit k of the
+    /// result is set when light `lights[k]` is blocked. One packet from the pixel's point,
+    /// the same answers as tracing each light alone.
+    #[inline]
+    pub fn trace_packet(&self, s: &Surface, lights: &[u32]) -> u32 {
+        let mut dirs = [Vec3::ZERO; PACKET];
+        for (d, &j) in dirs.iter_mut().zip(lights) {
+            *d = self.light_dir[j as usize];
+        }
+        self.accel
+            .occluded_packet(s.p + s.ng * self.shadow_eps, &dirs[..lights.len()])
     }
 
     /// Like [`trace`](Self::trace), returning the distance from `s.p` to a blocker when the
@@ -274,29 +287,46 @@ impl TileWork {
         }
         self.blockers.begin(i);
         let mut n = 0;
-        for k in 0..w {
-            let mut m = self.above[i * w + k];
-            while m != 0 {
-                let j = k * 64 + m.trailing_zeros() as usize;
-                m &= m - 1;
-                n += 1;
-                let visible = if keep_blockers {
+        if keep_blockers {
+            for k in 0..w {
+                let mut m = self.above[i * w + k];
+                while m != 0 {
+                    let j = k * 64 + m.trailing_zeros() as usize;
+                    m &= m - 1;
+                    n += 1;
                     match ctx.trace_blocker(&s, j) {
-                        Some(t) => {
-                            self.blockers.push(i, j, t);
-                            false
-                        }
-                        None => true,
+                        Some(t) => self.blockers.push(i, j, t),
+                        None => self.vis[i * w + k] |= 1 << (j & 63),
                     }
-                } else {
-                    ctx.trace(&s, j)
-                };
-                if visible {
-                    self.vis[i * w + k] |= 1 << (j & 63);
                 }
             }
-            self.traced[i * w + k] = self.above[i * w + k];
+        } else {
+            // Packets of up to PACKET lights from the pixel's point.
+            let mut batch = [0u32; PACKET];
+            let mut len = 0;
+            let vis = &mut self.vis[i * w..(i + 1) * w];
+            let mut flush = |batch: &[u32]| {
+                let blocked = ctx.trace_packet(&s, batch);
+                for (k, &j) in batch.iter().enumerate() {
+                    if blocked & (1 << k) == 0 {
+                        bits::set(vis, j as usize);
+                    }
+                }
+            };
+            bits::for_each(&self.above[i * w..(i + 1) * w], |j| {
+                batch[len] = j as u32;
+                len += 1;
+                if len == PACKET {
+                    flush(&batch);
+                    len = 0;
+                }
+            });
+            if len > 0 {
+                flush(&batch[..len]);
+            }
+            n = bits::count(&self.above[i * w..(i + 1) * w]);
         }
+        self.traced[i * w..(i + 1) * w].copy_from_slice(&self.above[i * w..(i + 1) * w]);
         self.rays[i] = n;
     }
 }

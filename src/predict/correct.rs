@@ -19,6 +19,7 @@
 //! lights that are traced or whose cells received warped blockers.
 
 use super::bits;
+use crate::accel::PACKET;
 use crate::frame::{FrameContext, TileWork};
 
 /// How neighbours vote.
@@ -276,44 +277,55 @@ pub(super) fn correct(
     let out = &mut vis[i * w..(i + 1) * w];
     tr.fill(0);
     out.copy_from_slice(&sc.pred_vis);
-    let mut n = 0u32;
     let mut head = 0;
+    // The queue is traced in waves of up to PACKET lights, one packet from the pixel's point
+    // each (one ray at a time when the blockers' distances are kept). A wave's results are
+    // taken in queue order and flooding only appends to the queue, so the traced set and the
+    // queue's order are those of tracing one light at a time.
     while head < sc.queue.len() {
-        let j = sc.queue[head] as usize;
-        head += 1;
-        n += 1;
-        bits::set(tr, j);
-        let visible = if keep_blockers {
-            match ctx.trace_blocker(&s, j) {
-                Some(t) => {
-                    sc.hit_dist[j] = t;
-                    false
-                }
-                None => true,
-            }
+        let wave = head..sc.queue.len().min(head + PACKET);
+        let blocked = if keep_blockers {
+            0
         } else {
-            ctx.trace(&s, j)
+            ctx.trace_packet(&s, &sc.queue[wave.clone()])
         };
-        let predicted = bits::get(&sc.pred_vis, j);
-        if visible {
-            bits::set(out, j);
-        } else {
-            bits::clear(out, j);
-        }
-        let flood = match flood_rule {
-            Flood::Uncertainty => bits::get(&sc.uncertain, j) || visible != predicted,
-            Flood::Boundary => visible != predicted,
-        };
-        if flood {
-            for &a in ctx.lights.neighbors(j) {
-                let a = a as usize;
-                if bits::get(mine, a) && !bits::get(&sc.queued, a) {
-                    bits::set(&mut sc.queued, a);
-                    sc.queue.push(a as u32);
+        for (k, q) in wave.clone().enumerate() {
+            let j = sc.queue[q] as usize;
+            bits::set(tr, j);
+            let visible = if keep_blockers {
+                match ctx.trace_blocker(&s, j) {
+                    Some(t) => {
+                        sc.hit_dist[j] = t;
+                        false
+                    }
+                    None => true,
+                }
+            } else {
+                blocked & (1 << k) == 0
+            };
+            let predicted = bits::get(&sc.pred_vis, j);
+            if visible {
+                bits::set(out, j);
+            } else {
+                bits::clear(out, j);
+            }
+            let flood = match flood_rule {
+                Flood::Uncertainty => bits::get(&sc.uncertain, j) || visible != predicted,
+                Flood::Boundary => visible != predicted,
+            };
+            if flood {
+                for &a in ctx.lights.neighbors(j) {
+                    let a = a as usize;
+                    if bits::get(mine, a) && !bits::get(&sc.queued, a) {
+                        bits::set(&mut sc.queued, a);
+                        sc.queue.push(a as u32);
+                    }
                 }
             }
         }
+        head = wave.end;
     }
+    let n = sc.queue.len() as u32;
     rays[i] = n;
 
     // 4. Blockers of this pixel: traced hits, and (rule.keep_predicted) for predicted-blocked
