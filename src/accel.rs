@@ -177,8 +177,8 @@ impl Accel {
     /// [`occluded`](Self::occluded) for up to [`PACKET`] rays from one origin (a pixel's rays
     /// to several lights), traced together: bit r is set when `dirs[r]` is occluded. The same
     /// answers as one ray at a time, found faster: rays from one point share much of their
-    /// walk through the hierarchy (on the bunny at 400 lights, 1.6× on the default method's
-    /// rays and 1.9× on brute force's; BENCHMARKS.md).
+    /// walk through the hierarchy (on the bunny at 400 lights, 1.7× on the default method's
+    /// rays and 1.9–2.3× on brute force's; BENCHMARKS.md).
     pub fn occluded_packet(&self, origin: Vec3, dirs: &[Vec3]) -> u32 {
         for d in dirs {
             record(origin, *d);
