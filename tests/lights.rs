@@ -218,6 +218,14 @@ fn adjacency_is_symmetric_and_plausible() {
                     "{name}: {j}→{k} not symmetric"
                 );
             }
+            // The bitset form lists the same lights.
+            let mut from_bits = Vec::new();
+            for (m, &word) in set.neighbor_bits(j).iter().enumerate() {
+                (0..64)
+                    .filter(|b| word >> b & 1 == 1)
+                    .for_each(|b| from_bits.push((m * 64 + b) as u32));
+            }
+            assert_eq!(from_bits, nb, "{name}: neighbour bits of {j}");
             total += nb.len();
         }
         let mean = total as f64 / set.len() as f64;

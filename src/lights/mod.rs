@@ -106,6 +106,9 @@ pub struct LightSet {
     /// CSR adjacency: `adj_ids[adj_offsets[j]..adj_offsets[j + 1]]`, ascending.
     adj_offsets: Vec<u32>,
     adj_ids: Vec<u32>,
+    /// The same adjacency as bitsets, `ceil(n / 64)` words per light: flooding adds a light's
+    /// untraced neighbours with a few word operations instead of a branch per neighbour.
+    adj_bits: Vec<u64>,
 }
 
 impl LightSet {
@@ -157,6 +160,7 @@ impl LightSet {
             dirs,
             adj_offsets: Vec::new(),
             adj_ids: Vec::new(),
+            adj_bits: Vec::new(),
         };
         set.build_adjacency();
         set
@@ -194,6 +198,12 @@ impl LightSet {
     /// Lights whose cells share a border with light `j`'s cell (symmetric, ascending).
     pub fn neighbors(&self, j: usize) -> &[u32] {
         &self.adj_ids[self.adj_offsets[j] as usize..self.adj_offsets[j + 1] as usize]
+    }
+
+    /// [`neighbors`](Self::neighbors) of light `j` as a bitset of `ceil(len / 64)` words.
+    pub fn neighbor_bits(&self, j: usize) -> &[u64] {
+        let w = self.lights.len().div_ceil(64);
+        &self.adj_bits[j * w..(j + 1) * w]
     }
 
     /// Mean number of `cell_of` candidates per lookup-table texel.
@@ -328,8 +338,16 @@ impl LightSet {
         for j in 0..n {
             ids[offsets[j] as usize..offsets[j + 1] as usize].sort_unstable();
         }
+        let w = n.div_ceil(64);
+        let mut bits = vec![0u64; n * w];
+        for j in 0..n {
+            for &a in &ids[offsets[j] as usize..offsets[j + 1] as usize] {
+                bits[j * w + (a as usize >> 6)] |= 1 << (a & 63);
+            }
+        }
         self.adj_offsets = offsets;
         self.adj_ids = ids;
+        self.adj_bits = bits;
     }
 
     /// Whether the cells of lights `a` and `b` share a border of positive length: some arc of

@@ -314,11 +314,15 @@ pub(super) fn correct(
                 Flood::Boundary => visible != predicted,
             };
             if flood {
-                for &a in ctx.lights.neighbors(j) {
-                    let a = a as usize;
-                    if bits::get(mine, a) && !bits::get(&sc.queued, a) {
-                        bits::set(&mut sc.queued, a);
-                        sc.queue.push(a as u32);
+                // Untraced above-horizon neighbours, appended in ascending order (as the
+                // adjacency lists them), a word at a time.
+                let nb = ctx.lights.neighbor_bits(j);
+                for m in 0..w {
+                    let mut new = nb[m] & mine[m] & !sc.queued[m];
+                    sc.queued[m] |= new;
+                    while new != 0 {
+                        sc.queue.push((m * 64) as u32 + new.trailing_zeros());
+                        new &= new - 1;
                     }
                 }
             }
