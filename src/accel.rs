@@ -909,6 +909,35 @@ mod tests {
         (p, t)
     }
 
+    /// A deterministic generator of floats in [0, 1) for the random-soup tests.
+    struct Lcg(u32);
+
+    impl Lcg {
+        fn next(&mut self) -> f32 {
+            self.0 = self.0.wrapping_mul(1664525).wrapping_add(1013904223);
+            (self.0 >> 8) as f32 / (1u32 << 24) as f32
+        }
+
+        fn vec(&mut self) -> Vec3 {
+            Vec3::new(self.next(), self.next(), self.next())
+        }
+    }
+
+    /// `n` random triangles of size up to `size`, their corners within `half` (plus `size`)
+    /// of the origin.
+    fn soup(rng: &mut Lcg, n: u32, half: f32, size: f32) -> Accel {
+        let mut p = Vec::new();
+        let mut t = Vec::new();
+        for i in 0..n {
+            let c = rng.vec() * (2.0 * half) - half;
+            for _ in 0..3 {
+                p.push(c + rng.vec() * size);
+            }
+            t.push([3 * i, 3 * i + 1, 3 * i + 2]);
+        }
+        Accel::build(&p, &t)
+    }
+
     #[test]
     fn closest_hit_and_barycentrics_reconstruct_the_point() {
         let (p, t) = quad();
@@ -951,25 +980,12 @@ mod tests {
     fn our_node_test_agrees_with_obvhs_on_every_node() {
         // A random soup, rays from points inside and outside it in all octants: the children
         // our kernel reports must be exactly obvhs's, or traversal (and hits) could differ.
-        let mut seed = 12345u32;
-        let mut rnd = move || {
-            seed = seed.wrapping_mul(1664525).wrapping_add(1013904223);
-            (seed >> 8) as f32 / (1u32 << 24) as f32
-        };
-        let mut p = Vec::new();
-        let mut t = Vec::new();
-        for i in 0..2000u32 {
-            let c = Vec3::new(rnd(), rnd(), rnd()) * 4.0 - 2.0;
-            for _ in 0..3 {
-                p.push(c + Vec3::new(rnd(), rnd(), rnd()) * 0.2);
-            }
-            t.push([3 * i, 3 * i + 1, 3 * i + 2]);
-        }
-        let accel = Accel::build(&p, &t);
+        let mut rng = Lcg(12345);
+        let accel = soup(&mut rng, 2000, 2.0, 0.2);
         let mut checked = 0;
         for _ in 0..300 {
-            let o = Vec3::new(rnd(), rnd(), rnd()) * 6.0 - 3.0;
-            let d = (Vec3::new(rnd(), rnd(), rnd()) * 2.0 - 1.0).normalize_or(Vec3::Y);
+            let o = rng.vec() * 6.0 - 3.0;
+            let d = (rng.vec() * 2.0 - 1.0).normalize_or(Vec3::Y);
             let ray = Ray::new(o.into(), d.into(), 0.0, f32::INFINITY);
             let oct = accel.bvh.new_traversal(ray.direction).oct_inv4;
             for node in &accel.bvh.nodes {
@@ -1001,27 +1017,14 @@ mod tests {
     fn packets_answer_exactly_as_single_rays() {
         // A soup dense enough that about half the rays are blocked; origins inside and outside
         // it, every packet size from 1 to PACKET, directions in all octants mixed in a packet.
-        let mut seed = 4242u32;
-        let mut rnd = move || {
-            seed = seed.wrapping_mul(1664525).wrapping_add(1013904223);
-            (seed >> 8) as f32 / (1u32 << 24) as f32
-        };
-        let mut p = Vec::new();
-        let mut t = Vec::new();
-        for i in 0..3000u32 {
-            let c = Vec3::new(rnd(), rnd(), rnd()) * 4.0 - 2.0;
-            for _ in 0..3 {
-                p.push(c + Vec3::new(rnd(), rnd(), rnd()) * 0.3);
-            }
-            t.push([3 * i, 3 * i + 1, 3 * i + 2]);
-        }
-        let accel = Accel::build(&p, &t);
+        let mut rng = Lcg(4242);
+        let accel = soup(&mut rng, 3000, 2.0, 0.3);
         let (mut rays, mut blocked) = (0, 0);
         for k in 0..400 {
-            let o = Vec3::new(rnd(), rnd(), rnd()) * 5.0 - 2.5;
+            let o = rng.vec() * 5.0 - 2.5;
             let n = 1 + k % PACKET;
             let dirs: Vec<Vec3> = (0..n)
-                .map(|_| (Vec3::new(rnd(), rnd(), rnd()) * 2.0 - 1.0).normalize_or(Vec3::Y))
+                .map(|_| (rng.vec() * 2.0 - 1.0).normalize_or(Vec3::Y))
                 .collect();
             let single: u32 = dirs
                 .iter()
@@ -1052,31 +1055,18 @@ mod tests {
         // Rays aimed at points of a dense soup (so many hit, some on edges), each leaf group of
         // up to 24 triangles at random offsets: scalar, SSE2 and AVX2 give the same nearest t,
         // and that t is the nearest of obvhs's own triangle test over the same triangles.
-        let mut seed = 777u32;
-        let mut rnd = move || {
-            seed = seed.wrapping_mul(1664525).wrapping_add(1013904223);
-            (seed >> 8) as f32 / (1u32 << 24) as f32
-        };
-        let mut p = Vec::new();
-        let mut t = Vec::new();
-        for i in 0..600u32 {
-            let c = Vec3::new(rnd(), rnd(), rnd()) * 2.0 - 1.0;
-            for _ in 0..3 {
-                p.push(c + Vec3::new(rnd(), rnd(), rnd()) * 0.5);
-            }
-            t.push([3 * i, 3 * i + 1, 3 * i + 2]);
-        }
-        let accel = Accel::build(&p, &t);
+        let mut rng = Lcg(777);
+        let accel = soup(&mut rng, 600, 1.0, 0.5);
         let n = accel.tris.len();
         let mut hits = 0;
         for k in 0..4000 {
-            let o = Vec3::new(rnd(), rnd(), rnd()) * 8.0 - 4.0;
-            let base = (rnd() * (n - 24) as f32) as usize;
-            let mask = (rnd() * (1 << 24) as f32) as u32 | 1;
+            let o = rng.vec() * 8.0 - 4.0;
+            let base = (rng.next() * (n - 24) as f32) as usize;
+            let mask = (rng.next() * (1 << 24) as f32) as u32 | 1;
             // Aim at one of the group's triangles: inside it, or (every fourth ray) through a
             // vertex, where the edge rules decide.
-            let aim = &accel.tris[base + (rnd() * 23.0) as usize];
-            let (a, b) = (rnd(), rnd());
+            let aim = &accel.tris[base + (rng.next() * 23.0) as usize];
+            let (a, b) = (rng.next(), rng.next());
             let target: Vec3 = if k % 4 == 0 {
                 aim.v1.into()
             } else {
