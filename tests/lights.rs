@@ -147,6 +147,20 @@ fn cell_of_matches_brute_force() {
             }
         }
         assert_eq!(wrong, 0, "{name} {s:?} n={n}");
+        // The shortcut for directions expected near light j: the same cell, whether the
+        // direction is in j's inner cap, near its border, or in a neighbour's cell.
+        for (j, l) in set.lights.iter().enumerate() {
+            for scale in [0.0, 0.002, 0.01, 0.03, 0.1, 0.3] {
+                for _ in 0..20 {
+                    let d = (l.dir + scale * rng.dir()).normalize();
+                    assert_eq!(
+                        set.cell_of_near(d, j),
+                        set.cell_of_brute_force(d),
+                        "{name} {s:?} n={n}: light {j}, {d}"
+                    );
+                }
+            }
+        }
         // Each light is in its own cell, unless another light is so close that the f32 dot
         // products tie (median cut's several lights inside one sun texel).
         for (j, l) in set.lights.iter().enumerate() {
@@ -257,6 +271,7 @@ fn adjacency_is_symmetric_and_plausible() {
     }]);
     assert!(one.neighbors(0).is_empty());
     assert_eq!(one.cell_of(-Vec3::Z), 0);
+    assert_eq!(one.cell_of_near(-Vec3::Z, 0), 0);
 }
 
 #[test]

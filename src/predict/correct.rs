@@ -163,7 +163,7 @@ pub fn solve_pixel(
                         continue;
                     }
                     let dn = d / len;
-                    let c = ctx.lights.cell_of(dn) as usize;
+                    let c = ctx.lights.cell_of_near(dn, j) as usize;
                     if sc.votes[c] == 0 {
                         sc.touched.push(c as u32);
                     }
