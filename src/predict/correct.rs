@@ -44,8 +44,7 @@ pub enum Flood {
 #[derive(Default)]
 pub struct Scratch {
     words: usize,
-    /// Up to four voters' vote bitsets, then their above-horizon bitsets.
-    voted: Vec<u64>,
+    /// Up to four voters' above-horizon bitsets (warping votes count them per light).
     voter_above: Vec<u64>,
     pub(super) pred_vis: Vec<u64>,
     pub(super) uncertain: Vec<u64>,
@@ -78,7 +77,6 @@ impl Scratch {
             return;
         }
         self.words = w;
-        self.voted = vec![0; 4 * w];
         self.ext = vec![0; EXT_ROWS * w];
         self.voter_above = vec![0; 4 * w];
         self.pred_vis = vec![0; w];
@@ -139,42 +137,34 @@ pub fn solve_pixel(
         ..
     } = work;
 
-    // 1. Votes. No warp: one bitset per voter (its blocked lights). Warp: each voter's
-    //    blockers, re-aimed from this point, counted per cell they land in [paper].
-    for (k, &q) in voters.iter().enumerate() {
-        sc.voter_above[k * w..(k + 1) * w].copy_from_slice(&above[q * w..(q + 1) * w]);
-        match rule.vote {
-            Vote::NoWarp => {
-                let vv = &mut sc.voted[k * w..(k + 1) * w];
-                for m in 0..w {
-                    vv[m] = above[q * w + m] & !vis[q * w + m];
+    // 1. Votes. No warp: a voter's blocked lights, read word by word in step 2. Warp: each
+    //    voter's blockers, re-aimed from this point, counted per cell they land in [paper].
+    if rule.vote == Vote::Warp {
+        for (k, &q) in voters.iter().enumerate() {
+            sc.voter_above[k * w..(k + 1) * w].copy_from_slice(&above[q * w..(q + 1) * w]);
+            let pq = surf[q].p;
+            for (j, t) in blockers.of(q) {
+                let b = pq + ctx.light_dir[j] * t;
+                let d = b - s.p;
+                if s.n.dot(d) <= 0.0 {
+                    continue; // re-aimed below the current horizon: cannot block it
                 }
-            }
-            Vote::Warp => {
-                let pq = surf[q].p;
-                for (j, t) in blockers.of(q) {
-                    let b = pq + ctx.light_dir[j] * t;
-                    let d = b - s.p;
-                    if s.n.dot(d) <= 0.0 {
-                        continue; // re-aimed below the current horizon: cannot block it
-                    }
-                    let len = d.length();
-                    if len <= 0.0 {
-                        continue;
-                    }
-                    let dn = d / len;
-                    let c = ctx.lights.cell_of_near(dn, j) as usize;
-                    if sc.votes[c] == 0 {
-                        sc.touched.push(c as u32);
-                    }
-                    sc.votes[c] = sc.votes[c].saturating_add(1);
-                    // [ours] a light predicted blocked keeps the warped blocker best
-                    // aligned with it, so later pixels can warp it in turn.
-                    let align = dn.dot(ctx.light_dir[c]);
-                    if align > sc.best_dot[c] {
-                        sc.best_dot[c] = align;
-                        sc.best_dist[c] = d.dot(ctx.light_dir[c]).max(0.0);
-                    }
+                let len = d.length();
+                if len <= 0.0 {
+                    continue;
+                }
+                let dn = d / len;
+                let c = ctx.lights.cell_of_near(dn, j) as usize;
+                if sc.votes[c] == 0 {
+                    sc.touched.push(c as u32);
+                }
+                sc.votes[c] = sc.votes[c].saturating_add(1);
+                // [ours] a light predicted blocked keeps the warped blocker best
+                // aligned with it, so later pixels can warp it in turn.
+                let align = dn.dot(ctx.light_dir[c]);
+                if align > sc.best_dot[c] {
+                    sc.best_dot[c] = align;
+                    sc.best_dist[c] = d.dot(ctx.light_dir[c]).max(0.0);
                 }
             }
         }
@@ -198,15 +188,15 @@ pub fn solve_pixel(
         }
     }
     for m in 0..w {
-        for k in 0..nv {
-            above_words[k] = sc.voter_above[k * w + m];
+        for (k, &q) in voters.iter().enumerate() {
+            above_words[k] = above[q * w + m];
         }
         let (any, all) = match rule.vote {
             Vote::Warp => (sc.vote_any[m], sc.vote_all[m]),
             Vote::NoWarp => {
                 let (mut all, mut any) = (!0u64, 0u64);
-                for k in 0..nv {
-                    let v = sc.voted[k * w + m];
+                for (k, &q) in voters.iter().enumerate() {
+                    let v = above_words[k] & !vis[q * w + m];
                     all &= !above_words[k] | v;
                     any |= v;
                 }
