@@ -114,36 +114,6 @@ pub struct LightSet {
     inner_cos: Vec<f32>,
 }
 
-/// Cosines of the caps behind [`LightSet::cell_of_near`]. Within half the angle θ to the
-/// nearest other light a direction is strictly nearer to its own light than to any other; the
-/// cap keeps 0.45 θ, so the dot products `cell_of` compares differ by about 0.05 θ², far above
-/// f32 rounding for θ ≥ 0.01 rad (4096 lights lie about 0.05 rad apart). Closer lights get no
-/// cap (cosine 2: never taken); a single light owns the sphere (−2: always). O(n²), n ≤ 4096.
-fn inner_caps(dirs: &[Vec3]) -> Vec<f32> {
-    let d64: Vec<[f64; 3]> = dirs
-        .iter()
-        .map(|d| [d.x as f64, d.y as f64, d.z as f64])
-        .collect();
-    (0..d64.len())
-        .map(|j| {
-            let a = d64[j];
-            let nearest = (0..d64.len())
-                .filter(|&k| k != j)
-                .map(|k| a[0] * d64[k][0] + a[1] * d64[k][1] + a[2] * d64[k][2])
-                .fold(f64::NEG_INFINITY, f64::max);
-            if nearest == f64::NEG_INFINITY {
-                return -2.0;
-            }
-            let theta = nearest.clamp(-1.0, 1.0).acos();
-            if theta < 0.01 {
-                2.0
-            } else {
-                (0.45 * theta).cos() as f32
-            }
-        })
-        .collect()
-}
-
 impl LightSet {
     /// Samples `n` lights from `env` with `sampler`. Deterministic. `n == 0` is an error.
     pub fn build(env: &EnvMap, n: usize, sampler: Sampler) -> Result<LightSet> {
@@ -197,7 +167,7 @@ impl LightSet {
             inner_cos: Vec::new(),
         };
         set.build_adjacency();
-        set.inner_cos = inner_caps(&set.dirs);
+        set.inner_cos = (0..set.dirs.len()).map(|j| set.inner_cap(j)).collect();
         set
     }
 
@@ -438,6 +408,26 @@ impl LightSet {
     }
 
     /// The light nearest to light `j` other than itself (ties to the lower index).
+    /// Cosine of light `j`'s cap behind [`cell_of_near`](Self::cell_of_near). Within half the
+    /// angle θ to the nearest other light a direction is strictly nearer to its own light than
+    /// to any other; the cap keeps 0.45 θ, so the dot products `cell_of` compares differ by
+    /// about 0.05 θ², far above f32 rounding for θ ≥ 0.01 rad (4096 lights lie about 0.05 rad
+    /// apart; a near-tie for the nearest other light changes θ by rounding only). Closer lights
+    /// get no cap (cosine 2: never taken); a single light owns the sphere (−2: always).
+    fn inner_cap(&self, j: usize) -> f32 {
+        if self.dirs.len() < 2 {
+            return -2.0;
+        }
+        let (a, b) = (self.dirs[j], self.dirs[self.nearest_other(j) as usize]);
+        let cos = a.x as f64 * b.x as f64 + a.y as f64 * b.y as f64 + a.z as f64 * b.z as f64;
+        let theta = cos.clamp(-1.0, 1.0).acos();
+        if theta < 0.01 {
+            2.0
+        } else {
+            (0.45 * theta).cos() as f32
+        }
+    }
+
     fn nearest_other(&self, j: usize) -> u32 {
         let mut best = if j == 0 { 1 } else { 0 };
         let mut best_dot = f32::NEG_INFINITY;
