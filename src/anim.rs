@@ -30,6 +30,7 @@
 //! validate = false              # also trace every query; record mistakes in stats.csv
 //! h0 = 16                       # coarse grid spacing (power of two)
 //! min_voters = 3                # fewer voters with the light above their horizon → trace it
+//! flood_to = "all"              # or "contrary": flood only to lights predicted opposite
 //! scan_block = 64               # scanline order restarts every scan_block pixels
 //! temporal = false              # the previous frame votes too (grid uncertainty methods)
 //! keyframe = 16                 # with temporal: frames 0, 16, 32, … restart the chain
@@ -53,7 +54,7 @@ use crate::bail_input;
 use crate::camera::Camera;
 use crate::error::{Result, input_error};
 use crate::lights::Sampler;
-use crate::predict::{Method, Params};
+use crate::predict::{FloodTo, Method, Params};
 use crate::scene::Scene;
 
 /// Limits checked before any work starts (see [`crate::limits`]).
@@ -204,6 +205,8 @@ struct RenderSpec {
     h0: u32,
     #[serde(default = "default_min_voters")]
     min_voters: u32,
+    #[serde(default = "default_flood_to")]
+    flood_to: String,
     #[serde(default = "default_scan_block")]
     scan_block: u32,
     #[serde(default)]
@@ -223,6 +226,7 @@ impl Default for RenderSpec {
             validate: false,
             h0: default_h0(),
             min_voters: default_min_voters(),
+            flood_to: default_flood_to(),
             scan_block: default_scan_block(),
             temporal: false,
             keyframe: None,
@@ -288,6 +292,9 @@ fn default_h0() -> u32 {
 fn default_min_voters() -> u32 {
     Params::default().min_voters
 }
+fn default_flood_to() -> String {
+    Params::default().flood_to.name().into()
+}
 fn default_scan_block() -> u32 {
     Params::default().scan_block
 }
@@ -349,6 +356,7 @@ pub struct Overrides {
     pub validate: bool,
     pub h0: Option<u32>,
     pub min_voters: Option<u32>,
+    pub flood_to: Option<FloodTo>,
     pub scan_block: Option<u32>,
     pub temporal: bool,
     pub keyframe: Option<u32>,
@@ -472,6 +480,11 @@ impl Animation {
             .method
             .parse()
             .map_err(|m| input_error(path, format!("[render] method: {m}")))?;
+        let flood_to: FloodTo = spec
+            .render
+            .flood_to
+            .parse()
+            .map_err(|m| input_error(path, format!("[render] flood_to: {m}")))?;
         let motion = match spec.motion.kind.as_str() {
             "orbit" => MotionKind::Orbit,
             "spin" => MotionKind::Spin,
@@ -527,6 +540,7 @@ impl Animation {
             params: Params {
                 h0: spec.render.h0,
                 min_voters: spec.render.min_voters,
+                flood_to,
                 scan_block: spec.render.scan_block,
             },
             validate: spec.render.validate,
@@ -592,6 +606,9 @@ impl Animation {
         }
         if let Some(v) = o.min_voters {
             self.params.min_voters = v;
+        }
+        if let Some(v) = o.flood_to {
+            self.params.flood_to = v;
         }
         if let Some(v) = o.scan_block {
             self.params.scan_block = v;

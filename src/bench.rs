@@ -19,7 +19,7 @@ use crate::accel::{self, Accel, PACKET, ShadowRay};
 use crate::anim::{Animation, Overrides};
 use crate::coordinator::{Inputs, Silent, render_frame, thread_pool};
 use crate::error::{Result, input_error};
-use crate::predict::Method;
+use crate::predict::{FloodTo, Method, Variant};
 use crate::raydump;
 
 #[derive(Args, Debug, Clone)]
@@ -35,6 +35,14 @@ pub struct BenchArgs {
     /// Methods, comma-separated (`none` is the frame without shadows).
     #[arg(long, value_delimiter = ',', default_value = "none,brute")]
     pub methods: Vec<Method>,
+    /// Flood rules, comma-separated: each flooding method is measured with each.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "all",
+        value_name = "RULES"
+    )]
+    pub flood_to: Vec<FloodTo>,
     /// Renders per configuration; the median time is reported.
     #[arg(long, default_value_t = 3)]
     pub repeat: usize,
@@ -99,6 +107,8 @@ pub struct BenchRow {
     pub lights: usize,
     pub threads: usize,
     pub method: Method,
+    /// The method with its flood rule.
+    pub variant: Variant,
     pub seconds: f64,
     pub queries: u64,
     pub rays: u64,
@@ -209,6 +219,7 @@ pub fn measure(args: &BenchArgs, mut log: impl FnMut(&BenchRow)) -> Result<Vec<B
     let spec = spec_path(&args.scene);
     let frame = args.sweep.frame;
     let split = !args.no_split || args.dump_rays.is_some();
+    let variants = Variant::sweep(&args.methods, &args.flood_to);
     let mut rows = Vec::new();
     for &n in &args.sweep.lights {
         let (mut anim, inputs) = args.sweep.load(&spec, n, Some(args.tile))?;
@@ -218,17 +229,23 @@ pub fn measure(args: &BenchArgs, mut log: impl FnMut(&BenchRow)) -> Result<Vec<B
             None
         };
         // Each method's rays, recorded once per light count (they do not depend on threads).
-        let mut recorded: Vec<(Method, Vec<ShadowRay>)> = Vec::new();
+        let base = anim.params;
+        let mut recorded: Vec<(Variant, Vec<ShadowRay>)> = Vec::new();
         if let Some(accel) = &accel {
-            for &method in &args.methods {
-                anim.method = method;
+            for &v in &variants {
+                anim.method = v.method;
+                anim.params = v.params(base);
                 let rays = record_rays(&anim, &inputs, frame)?;
                 if let (Some(dir), false) = (&args.dump_rays, rays.is_empty()) {
-                    let path = dir.join(format!("rays-{}-{}.bin", inputs.lights.len(), method));
+                    let name = match v.flood_to {
+                        FloodTo::All => v.method.to_string(),
+                        f => format!("{}-{f}", v.method),
+                    };
+                    let path = dir.join(format!("rays-{}-{name}.bin", inputs.lights.len()));
                     raydump::write(&path, accel, &rays)?;
                     eprintln!("wrote {} ({} rays)", path.display(), rays.len());
                 }
-                recorded.push((method, rays));
+                recorded.push((v, rays));
             }
         }
         // Still geometry (an orbit turntable) has one BVH per run, built by its first frame:
@@ -242,11 +259,12 @@ pub fn measure(args: &BenchArgs, mut log: impl FnMut(&BenchRow)) -> Result<Vec<B
             let pool = thread_pool(threads)?;
             // Round robin: each repeat renders every method once, so a slow spell of the
             // shared machine falls on all methods alike instead of on one method's repeats.
-            let mut times = vec![Vec::with_capacity(args.repeat); args.methods.len()];
-            let mut counts = vec![Default::default(); args.methods.len()];
+            let mut times = vec![Vec::with_capacity(args.repeat); variants.len()];
+            let mut counts = vec![Default::default(); variants.len()];
             for _ in 0..args.repeat {
-                for (k, &method) in args.methods.iter().enumerate() {
-                    anim.method = method;
+                for (k, &v) in variants.iter().enumerate() {
+                    anim.method = v.method;
+                    anim.params = v.params(base);
                     let t = Instant::now();
                     let (film, _) =
                         pool.install(|| render_frame(&anim, &inputs, frame, None, &Silent))?;
@@ -254,12 +272,13 @@ pub fn measure(args: &BenchArgs, mut log: impl FnMut(&BenchRow)) -> Result<Vec<B
                     counts[k] = film.counts;
                 }
             }
-            for (k, &method) in args.methods.iter().enumerate() {
-                anim.method = method;
+            for (k, &v) in variants.iter().enumerate() {
+                anim.method = v.method;
+                anim.params = v.params(base);
                 let counts: crate::output::stats::Counts = counts[k];
                 let split = match &accel {
                     Some(accel) => {
-                        let rays = &recorded.iter().find(|(m, _)| *m == method).unwrap().1;
+                        let rays = &recorded.iter().find(|(r, _)| *r == v).unwrap().1;
                         let mut build = Vec::new();
                         let mut shadow = Vec::new();
                         let mut blocked = 0;
@@ -284,7 +303,8 @@ pub fn measure(args: &BenchArgs, mut log: impl FnMut(&BenchRow)) -> Result<Vec<B
                     build_in_frame: !still,
                     lights: inputs.lights.len(),
                     threads: pool.current_num_threads(),
-                    method,
+                    method: v.method,
+                    variant: v,
                     seconds: median(std::mem::take(&mut times[k])),
                     queries: counts.queries,
                     rays: counts.rays,
@@ -331,7 +351,7 @@ pub fn markdown(rows: &[BenchRow]) -> String {
             "| {} | {} | {} | {:.3} | {} | {} | {} | {:.1} | {:.2} |\n",
             r.lights,
             r.threads,
-            r.method,
+            r.variant,
             r.seconds,
             none,
             r.queries,
@@ -440,7 +460,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let rows = measure(args, |r| {
         eprintln!(
             "{} lights, {} threads, {}: {:.3} s/frame",
-            r.lights, r.threads, r.method, r.seconds
+            r.lights, r.threads, r.variant, r.seconds
         )
     })?;
     let builds = match rows.first() {

@@ -18,7 +18,7 @@ use crate::envmap::EnvMap;
 use crate::error::{Result, input_error};
 use crate::lights::{LightSet, Sampler};
 use crate::output::stats::FrameStats;
-use crate::predict::Method;
+use crate::predict::{FloodTo, Method};
 use crate::tile::Rect;
 
 const AFTER_HELP: &str = "\
@@ -162,6 +162,11 @@ pub struct AnimFlags {
     /// horizon (1–4; default 3).
     #[arg(long, value_name = "K")]
     pub min_voters: Option<u32>,
+    /// Which neighbour lights a flooding trace also traces: `all` untraced ones (the default),
+    /// or `contrary`: only those predicted opposite to the traced answer — about a third
+    /// fewer rays, with more wrong pairs (docs/methods.md).
+    #[arg(long, value_name = "RULE")]
+    pub flood_to: Option<FloodTo>,
     /// Block size at which the scanline order restarts (default 64).
     #[arg(long, value_name = "N")]
     pub scan_block: Option<u32>,
@@ -205,6 +210,7 @@ impl AnimFlags {
             validate: self.validate,
             h0: self.h0,
             min_voters: self.min_voters,
+            flood_to: self.flood_to,
             scan_block: self.scan_block,
             temporal: self.temporal,
             keyframe: self.keyframe,

@@ -10,7 +10,7 @@ use crate::bench::Sweep;
 use crate::coordinator::{Silent, render_frame, thread_pool};
 use crate::error::Result;
 use crate::output::write_atomic;
-use crate::predict::Method;
+use crate::predict::{FloodTo, Method, Variant};
 
 #[derive(Args, Debug, Clone)]
 pub struct TableArgs {
@@ -22,6 +22,14 @@ pub struct TableArgs {
     /// Methods, comma-separated (default: the paper's rows).
     #[arg(long, value_delimiter = ',')]
     pub methods: Vec<Method>,
+    /// Flood rules, comma-separated: each flooding method is rendered with each.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "all",
+        value_name = "RULES"
+    )]
+    pub flood_to: Vec<FloodTo>,
     /// Worker threads (0: one per core).
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
@@ -34,6 +42,8 @@ pub struct TableArgs {
 #[derive(Clone, Debug)]
 pub struct TableRow {
     pub method: Method,
+    /// The method with its flood rule.
+    pub variant: Variant,
     pub lights: usize,
     pub queries: u64,
     pub rays: u64,
@@ -72,12 +82,16 @@ pub fn measure(args: &TableArgs, mut log: impl FnMut(&TableRow)) -> Result<Vec<T
     } else {
         args.methods.clone()
     };
+    let variants = Variant::sweep(&methods, &args.flood_to);
     let pool = thread_pool(args.threads)?;
     let mut rows = Vec::new();
     for &n in &args.sweep.lights {
         let (mut anim, inputs) = args.sweep.load(&spec, n, None)?;
-        for &method in &methods {
+        let base = anim.params;
+        for &variant in &variants {
+            let method = variant.method;
             anim.method = method;
+            anim.params = variant.params(base);
             // Brute force is its own reference: nothing to validate.
             anim.validate = method != Method::Brute;
             let (_, stats) =
@@ -85,6 +99,7 @@ pub fn measure(args: &TableArgs, mut log: impl FnMut(&TableRow)) -> Result<Vec<T
             let c = stats.counts;
             let row = TableRow {
                 method,
+                variant,
                 lights: n,
                 queries: c.queries,
                 rays: c.rays,
@@ -104,10 +119,10 @@ pub fn measure(args: &TableArgs, mut log: impl FnMut(&TableRow)) -> Result<Vec<T
 
 /// Table 1 as markdown: % traced (the paper's figure in parentheses), then error rates.
 pub fn markdown(rows: &[TableRow], lights: &[usize]) -> String {
-    let mut methods: Vec<Method> = Vec::new();
+    let mut variants: Vec<Variant> = Vec::new();
     for r in rows {
-        if !methods.contains(&r.method) {
-            methods.push(r.method);
+        if !variants.contains(&r.variant) {
+            variants.push(r.variant);
         }
     }
     let head = |title: &str| {
@@ -122,9 +137,9 @@ pub fn markdown(rows: &[TableRow], lights: &[usize]) -> String {
         s.push('\n');
         s
     };
-    let cell = |m: Method, n: usize| rows.iter().find(|r| r.method == m && r.lights == n);
+    let cell = |m: Variant, n: usize| rows.iter().find(|r| r.variant == m && r.lights == n);
     let mut s = head("% of shadow queries traced: ours (paper)");
-    for &m in &methods {
+    for &m in &variants {
         let _ = write!(s, "| {m} |");
         for &n in lights {
             match cell(m, n) {
@@ -143,7 +158,7 @@ pub fn markdown(rows: &[TableRow], lights: &[usize]) -> String {
     }
     s.push('\n');
     s.push_str(&head("wrong pairs, % of queries (relative image RMSE, %)"));
-    for &m in &methods {
+    for &m in &variants {
         let _ = write!(s, "| {m} |");
         for &n in lights {
             match cell(m, n) {
@@ -161,13 +176,14 @@ pub fn markdown(rows: &[TableRow], lights: &[usize]) -> String {
 /// The rows as CSV.
 pub fn csv(rows: &[TableRow], scene: &str) -> String {
     let mut s = String::from(
-        "scene,method,lights,queries,rays_traced,percent_traced,paper_percent,error_percent,wrong_pixels,rel_rmse,seconds\n",
+        "scene,method,flood_to,lights,queries,rays_traced,percent_traced,paper_percent,error_percent,wrong_pixels,rel_rmse,seconds\n",
     );
     for r in rows {
         let _ = writeln!(
             s,
-            "{scene},{},{},{},{},{:.4},{},{:.6},{},{:.6e},{:.3}",
+            "{scene},{},{},{},{},{},{:.4},{},{:.6},{},{:.6e},{:.3}",
             r.method,
+            r.variant.flood_to,
             r.lights,
             r.queries,
             r.rays,
@@ -187,7 +203,7 @@ pub fn run(args: &TableArgs) -> Result<()> {
     let rows = measure(args, |r| {
         eprintln!(
             "{} lights, {}: {:.2} % traced, {:.4} % wrong, {:.2} s",
-            r.lights, r.method, r.percent, r.error_percent, r.seconds
+            r.lights, r.variant, r.percent, r.error_percent, r.seconds
         )
     })?;
     println!(

@@ -323,7 +323,10 @@ fn table_and_bench_commands_measure_every_requested_configuration() {
     let rows = fs::read_to_string(&csv).unwrap();
     assert_eq!(rows.lines().count(), 1 + 2 * 6, "{rows}");
     let brute: Vec<&str> = rows.lines().nth(1).unwrap().split(',').collect();
-    assert_eq!((brute[1], brute[2], brute[5]), ("brute", "20", "100.0000"));
+    assert_eq!(
+        (brute[1], brute[2], brute[3], brute[6]),
+        ("brute", "all", "20", "100.0000")
+    );
 
     let o = common::bin()
         .args(["bench", "--scene"])
@@ -335,6 +338,8 @@ fn table_and_bench_commands_measure_every_requested_configuration() {
             "1",
             "--methods",
             "none,brute,grid-nowarp-uncertainty",
+            "--flood-to",
+            "all,contrary",
         ])
         .args(["--width", "40", "--height", "30", "--repeat", "1"])
         .output()
@@ -342,9 +347,14 @@ fn table_and_bench_commands_measure_every_requested_configuration() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let out = String::from_utf8_lossy(&o.stdout);
     let lines: Vec<&str> = out.lines().filter(|l| l.starts_with("| 16 |")).collect();
-    assert_eq!(lines.len(), 3, "{out}");
+    // The flood rule multiplies only the method it can change.
+    assert_eq!(lines.len(), 4, "{out}");
     assert!(
         lines[0].contains("| none |") && lines[0].contains("| 1.00 |"),
+        "{out}"
+    );
+    assert!(
+        lines[3].contains("| grid-nowarp-uncertainty --flood-to contrary |"),
         "{out}"
     );
 }

@@ -485,6 +485,27 @@ fn every_kind_of_broken_input_is_refused_with_one_located_line() {
         "[scene]\nbuiltin = \"shapes\"\n[camera]\nvfov = 500.0",
     );
     c.render("field of view", &p, &[], &["vfov.toml", "vfov = 500"]);
+    let p = c.spec(
+        "flood.toml",
+        "[scene]\nbuiltin = \"shapes\"\n[render]\nflood_to = \"some\"",
+    );
+    c.render(
+        "unknown flood rule",
+        &p,
+        &[],
+        &[
+            "flood.toml",
+            "[render] flood_to",
+            "\"some\"",
+            "all or contrary",
+        ],
+    );
+    c.render(
+        "unknown flood rule flag",
+        &c.dir.join("ok.toml"),
+        &["--flood-to", "most"],
+        &["--flood-to", "most", "all or contrary"],
+    );
 
     assert!(c.count >= 20, "{} kinds", c.count);
 }

@@ -6,7 +6,7 @@ use envshadow::anim::{Animation, Overrides};
 use envshadow::coordinator::{Inputs, Silent, render_frame, thread_pool};
 use envshadow::film::Film;
 use envshadow::output::stats::Counts;
-use envshadow::predict::Method;
+use envshadow::predict::{FloodTo, Method, Variant};
 
 /// A small shapes frame under the built-in sky and a small bunny frame under grace.hdr.
 fn scenes(width: u32, height: u32, lights: usize) -> Vec<(&'static str, Animation, Inputs)> {
@@ -32,15 +32,22 @@ fn scenes(width: u32, height: u32, lights: usize) -> Vec<(&'static str, Animatio
     vec![("shapes", shapes, si), ("bunny", bunny, bi)]
 }
 
+/// Every method, the uncertainty methods with each flood rule.
+fn variants() -> Vec<Variant> {
+    Variant::sweep(&Method::ALL, &FloodTo::ALL)
+}
+
 fn render(
     anim: &Animation,
     inputs: &Inputs,
-    method: Method,
+    v: impl Into<Variant>,
     tile: u32,
     threads: usize,
 ) -> (Film, Counts) {
+    let v = v.into();
     let mut a = anim.clone();
-    a.method = method;
+    a.method = v.method;
+    a.params = v.params(a.params);
     a.tile = tile;
     a.validate = true;
     let pool = thread_pool(threads).unwrap();
@@ -52,13 +59,14 @@ fn render(
 
 /// Stated bounds on wrong (pixel, light) pairs, in % of queries, for these small frames
 /// (predictions are poorer at 160×120 than at 640×480: voters are further apart in the scene).
-fn error_bound(m: Method) -> f64 {
-    match m {
-        Method::None => f64::INFINITY,
-        Method::Brute => 0.0,
-        Method::GridNowarpUncertainty => 0.15,
+fn error_bound(v: Variant) -> f64 {
+    match (v.method, v.flood_to) {
+        (Method::None, _) => f64::INFINITY,
+        (Method::Brute, _) => 0.0,
+        (Method::GridNowarpUncertainty, FloodTo::All) => 0.15,
+        (Method::GridNowarpUncertainty, FloodTo::Contrary) => 0.2,
         // Errors travel along the scan until a boundary trace catches them.
-        Method::ScanWarpBoundary => 2.5,
+        (Method::ScanWarpBoundary, _) => 2.5,
         _ => 0.5,
     }
 }
@@ -68,8 +76,8 @@ fn every_method_agrees_with_brute_force_within_its_stated_error() {
     for (name, anim, inputs) in scenes(160, 120, 100) {
         let (brute, bc) = render(&anim, &inputs, Method::Brute, 64, 0);
         assert_eq!(bc.rays, bc.queries);
-        for m in Method::ALL {
-            if m == Method::None {
+        for m in variants() {
+            if m.method == Method::None {
                 continue;
             }
             let (film, c) = render(&anim, &inputs, m, 64, 0);
@@ -84,7 +92,7 @@ fn every_method_agrees_with_brute_force_within_its_stated_error() {
             );
             let err = c.error_percent();
             assert!(err <= error_bound(m), "{name} {m}: {err:.4} % wrong pairs");
-            if m != Method::Brute {
+            if m.method != Method::Brute {
                 let pct = c.percent_traced();
                 assert!(pct < 50.0, "{name} {m}: traced {pct:.1} %");
                 assert!(c.rays > 0);
@@ -101,9 +109,40 @@ fn every_method_agrees_with_brute_force_within_its_stated_error() {
 }
 
 #[test]
+fn flooding_to_contrary_lights_saves_rays_only_where_it_can() {
+    for (name, anim, inputs) in scenes(160, 120, 100) {
+        for m in Method::ALL {
+            let all = Variant {
+                method: m,
+                flood_to: FloodTo::All,
+            };
+            let contrary = Variant {
+                method: m,
+                flood_to: FloodTo::Contrary,
+            };
+            let (fa, ca) = render(&anim, &inputs, all, 64, 0);
+            let (fc, cc) = render(&anim, &inputs, contrary, 64, 0);
+            if m.floods_by_rule() {
+                // Uncertainty flooding: a smaller flood, at least a sixth fewer rays here.
+                assert!(
+                    cc.rays * 6 < ca.rays * 5,
+                    "{name} {m}: {} rays against {}",
+                    cc.rays,
+                    ca.rays
+                );
+            } else {
+                // Boundary flooding already queues what `contrary` leaves out: same traces.
+                assert_eq!(cc, ca, "{name} {m}");
+                assert!(fc.beauty == fa.beauty && fc.rays == fa.rays, "{name} {m}");
+            }
+        }
+    }
+}
+
+#[test]
 fn tiles_and_threads_give_identical_pixels_and_counts_for_every_method() {
     for (name, anim, inputs) in scenes(128, 96, 48) {
-        for m in Method::ALL {
+        for m in variants() {
             let (reference, rc) = render(&anim, &inputs, m, 0, 1);
             assert_eq!(rc.halo_pixels, 0, "a whole-frame tile has no halo");
             for threads in [1, 2] {

@@ -13,7 +13,9 @@
 //!
 //! Flooding: after each trace, if the light was uncertain or its traced value differs from its
 //! prediction, its untraced above-horizon neighbour lights are traced too, until no trace
-//! disagrees. The traced set does not depend on the queue's order.
+//! disagrees ([`FloodTo::All`]); or [ours] only those neighbours predicted opposite to the
+//! traced value ([`FloodTo::Contrary`]). The traced set does not depend on the queue's order:
+//! which neighbours a trace floods to depends only on the prediction and the traced answer.
 //!
 //! Everything per light is a bitset word operation; the only per-light loops are over
 //! lights that are traced or whose cells received warped blockers.
@@ -38,6 +40,49 @@ pub enum Flood {
     Uncertainty,
     /// Trace lights at the visible/blocked boundary of the prediction, flood on mistakes.
     Boundary,
+}
+
+/// Which neighbours a flooding trace queues (`--flood-to`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum FloodTo {
+    /// Every untraced above-horizon neighbour light: a ring around each uncertain or
+    /// mispredicted light [ALGORITHM.md §6].
+    #[default]
+    All,
+    /// [ours] Only the untraced above-horizon neighbours whose prediction is the opposite of
+    /// the traced answer: the border between the two lights is where the prediction and the
+    /// truth disagree. A neighbour predicted like the traced answer is taken as predicted.
+    /// On the paper's scenes it traces about a third fewer rays for 1.1–1.9× the wrong pairs
+    /// (BENCHMARKS.md, "Flooding only to contrary neighbours").
+    Contrary,
+}
+
+impl FloodTo {
+    pub const ALL: [FloodTo; 2] = [FloodTo::All, FloodTo::Contrary];
+
+    /// The name on the command line and in animation specs.
+    pub fn name(self) -> &'static str {
+        match self {
+            FloodTo::All => "all",
+            FloodTo::Contrary => "contrary",
+        }
+    }
+}
+
+impl std::fmt::Display for FloodTo {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for FloodTo {
+    type Err = String;
+    fn from_str(s: &str) -> Result<FloodTo, String> {
+        FloodTo::ALL
+            .into_iter()
+            .find(|f| f.name() == s)
+            .ok_or_else(|| format!("unknown flood rule {s:?}; expected all or contrary"))
+    }
 }
 
 /// Reused per-pixel scratch: bitsets, the flood queue, warped-blocker bookkeeping.
@@ -98,6 +143,8 @@ impl Scratch {
 pub struct Rule {
     pub vote: Vote,
     pub flood: Flood,
+    /// Which neighbours a flooding trace queues.
+    pub flood_to: FloodTo,
     pub min_voters: u32,
     /// Which blockers a pixel keeps for later warping: only its traced hits ([paper] §3), or
     /// also, for lights predicted blocked, the warped blocker that voted for them ([ours]).
@@ -232,20 +279,20 @@ pub fn solve_pixel(
         }
     }
 
-    correct(ctx, work, i, rule.flood, rule.keep_predicted, keep_blockers);
+    correct(ctx, work, i, rule, keep_blockers);
 }
 
 /// Steps 3 and 4 of [`solve_pixel`], shared with the temporal predictor: traces the queued
 /// lights of region pixel `i` starting from the prediction in the scratch (`pred_vis`,
-/// `uncertain`, `queued`), flooding where a trace was uncertain or disagreed, then records the
-/// pixel's blockers when `keep_blockers`.
+/// `uncertain`, `queued`), flooding (`rule.flood`, `rule.flood_to`) where a trace was uncertain
+/// or disagreed, then records the pixel's blockers when `keep_blockers` (and, with
+/// `rule.keep_predicted`, the warped blockers of lights predicted blocked).
 #[allow(clippy::needless_range_loop)]
 pub(super) fn correct(
     ctx: &FrameContext,
     work: &mut TileWork,
     i: usize,
-    flood_rule: Flood,
-    keep_predicted: bool,
+    rule: Rule,
     keep_blockers: bool,
 ) {
     let s = work.surf[i];
@@ -299,16 +346,22 @@ pub(super) fn correct(
             } else {
                 bits::clear(out, j);
             }
-            let flood = match flood_rule {
+            let flood = match rule.flood {
                 Flood::Uncertainty => bits::get(&sc.uncertain, j) || visible != predicted,
                 Flood::Boundary => visible != predicted,
             };
             if flood {
-                // Untraced above-horizon neighbours, appended in ascending order (as the
-                // adjacency lists them), a word at a time.
+                // Untraced above-horizon neighbours (with `Contrary`, those predicted
+                // opposite to this answer), appended in ascending order (as the adjacency
+                // lists them), a word at a time.
                 let nb = ctx.lights.neighbor_bits(j);
                 for m in 0..w {
-                    let mut new = nb[m] & mine[m] & !sc.queued[m];
+                    let to = match rule.flood_to {
+                        FloodTo::All => !0,
+                        FloodTo::Contrary if visible => !sc.pred_vis[m],
+                        FloodTo::Contrary => sc.pred_vis[m],
+                    };
+                    let mut new = nb[m] & mine[m] & !sc.queued[m] & to;
                     sc.queued[m] |= new;
                     while new != 0 {
                         sc.queue.push((m * 64) as u32 + new.trailing_zeros());
@@ -333,7 +386,7 @@ pub(super) fn correct(
                 blocked &= blocked - 1;
                 if bits::get(tr, j) {
                     blockers.push(i, j, sc.hit_dist[j]);
-                } else if keep_predicted && sc.best_dot[j] > f32::NEG_INFINITY {
+                } else if rule.keep_predicted && sc.best_dot[j] > f32::NEG_INFINITY {
                     blockers.push(i, j, sc.best_dist[j]);
                 }
             }

@@ -40,6 +40,7 @@ impl Grid {
             rule: Rule {
                 vote,
                 flood,
+                flood_to: params.flood_to,
                 min_voters,
                 // [ours]: a grid voter is s pixels away and every light it predicted
                 // blocked should still vote (docs/methods.md).
@@ -230,7 +231,7 @@ impl Predictor for Grid {
                     } else {
                         self.voters(work, frame, x, y, phase, &mut voters)
                     };
-                    if solve_temporal(ctx, work, i, &voters[..nv], self.rule.min_voters, warp) {
+                    if solve_temporal(ctx, work, i, &voters[..nv], self.rule, warp) {
                         // predicted from the previous frame
                     } else if phase == 0 {
                         work.trace_all(ctx, i, warp);
@@ -285,7 +286,7 @@ impl Predictor for Grid {
                 let (x, y) = coords(i);
                 let i = work.begin_pixel(ctx, x, y);
                 let nv = self.voters(work, frame, x, y, p, &mut voters);
-                if solve_temporal(ctx, work, i, &voters[..nv], self.rule.min_voters, keep) {
+                if solve_temporal(ctx, work, i, &voters[..nv], self.rule, keep) {
                     continue;
                 }
                 solve_pixel(ctx, work, i, &voters[..nv], self.rule, keep);

@@ -22,7 +22,7 @@ use std::fmt;
 use std::str::FromStr;
 
 pub use brute::Brute;
-pub use correct::{Flood, Scratch, Vote};
+pub use correct::{Flood, FloodTo, Scratch, Vote};
 pub use grid::Grid;
 pub use lattice::{Lattice, LatticePatch};
 pub use none::NoShadows;
@@ -85,6 +85,9 @@ pub struct Params {
     /// trace; we trace below 3: on the paper scenes at 200 lights, 2 traced 5.6 % with 0.064 %
     /// wrong pairs (bunny), 3 traces 7.8 % with 0.016 % (BENCHMARKS.md).
     pub min_voters: u32,
+    /// Which neighbour lights a flooding trace queues: all untraced ones (the default), or
+    /// [ours] only those predicted opposite to the traced answer.
+    pub flood_to: FloodTo,
     /// Scanline order restarts at frame-anchored blocks of this many pixels, so a tile's
     /// halo is bounded (the paper scans the whole frame) [ours].
     pub scan_block: u32,
@@ -95,6 +98,7 @@ impl Default for Params {
         Params {
             h0: 16,
             min_voters: 3,
+            flood_to: FloodTo::All,
             scan_block: 64,
         }
     }
@@ -166,6 +170,17 @@ impl Method {
         Method::GridNowarpUncertainty,
     ];
 
+    /// Whether `--flood-to` can change what the method traces: only uncertainty flooding.
+    /// Boundary flooding already queues every light whose prediction differs from an adjacent
+    /// light's, so the neighbours `contrary` leaves out of a flood (predicted unlike the
+    /// mispredicted light) are queued anyway: both rules trace the same set.
+    pub fn floods_by_rule(self) -> bool {
+        matches!(
+            self,
+            Method::GridWarpUncertainty | Method::GridNowarpUncertainty
+        )
+    }
+
     pub fn name(self) -> &'static str {
         match self {
             Method::None => "none",
@@ -222,6 +237,64 @@ impl Method {
             "shapes" => Some(row[col]),
             "bunny" => Some(row[4 + col]),
             _ => None,
+        }
+    }
+}
+
+/// A method with its flood rule: what the measuring commands (`bench`, `table`) sweep.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Variant {
+    pub method: Method,
+    pub flood_to: FloodTo,
+}
+
+impl Variant {
+    /// Every method with every flood rule, in that order; methods the rule cannot change
+    /// ([`Method::floods_by_rule`]) once, with the default rule.
+    pub fn sweep(methods: &[Method], floods: &[FloodTo]) -> Vec<Variant> {
+        let mut v = Vec::new();
+        for &method in methods {
+            for &flood_to in floods {
+                let flood_to = if method.floods_by_rule() {
+                    flood_to
+                } else {
+                    FloodTo::default()
+                };
+                let variant = Variant { method, flood_to };
+                if !v.contains(&variant) {
+                    v.push(variant);
+                }
+            }
+        }
+        v
+    }
+
+    /// The variant's parameters: `params` with its flood rule.
+    pub fn params(self, params: Params) -> Params {
+        Params {
+            flood_to: self.flood_to,
+            ..params
+        }
+    }
+}
+
+impl From<Method> for Variant {
+    /// The method with the default flood rule.
+    fn from(method: Method) -> Variant {
+        Variant {
+            method,
+            flood_to: FloodTo::default(),
+        }
+    }
+}
+
+/// The method's name, followed by the flag that selects a flood rule other than the default.
+impl fmt::Display for Variant {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if self.flood_to == FloodTo::default() {
+            write!(f, "{}", self.method)
+        } else {
+            write!(f, "{} --flood-to {}", self.method, self.flood_to)
         }
     }
 }

@@ -8,7 +8,7 @@
 //! halo is then the part of its blocks above and to the left of it; tiles that are multiples
 //! of the block (the default 64) have none.
 
-use super::correct::{Flood, Rule, Vote, solve_pixel};
+use super::correct::{Flood, FloodTo, Rule, Vote, solve_pixel};
 use super::{Lattice, LatticePatch, Params, Predictor};
 use crate::frame::{FrameContext, TileWork};
 use crate::tile::Rect;
@@ -17,6 +17,7 @@ use crate::tile::Rect;
 pub struct Scanline {
     name: &'static str,
     block: u32,
+    flood_to: FloodTo,
 }
 
 impl Scanline {
@@ -24,6 +25,7 @@ impl Scanline {
         Scanline {
             name,
             block: params.scan_block,
+            flood_to: params.flood_to,
         }
     }
 }
@@ -53,6 +55,7 @@ impl Predictor for Scanline {
         let rule = Rule {
             vote: Vote::Warp,
             flood: Flood::Boundary,
+            flood_to: self.flood_to,
             min_voters: 1,
             // [paper] §3: only traced hits are blockers. Keeping predicted ones too lets a
             // misprediction travel along the row: fewer rays, up to 3× the wrong pairs at

@@ -6,7 +6,8 @@
 //! previous pixels around it whose surface points lie on the same surface vote, exactly like
 //! spatial voters: a light is predicted blocked when at least `min_voters` of them have it
 //! above their horizon and all of those found it blocked, visible when none did, and traced
-//! otherwise; the traces flood as in [`super::correct`] (uncertainty flooding).
+//! otherwise; the traces flood as in [`super::correct`] (uncertainty flooding, to the
+//! neighbours the rule's `flood_to` names).
 //!
 //! For a spinning object the lights turn relative to the object, so the votes are pulled
 //! through the turn: light j reads the previous frame's light whose cell contains j's
@@ -16,7 +17,7 @@
 //! or newly visible surfaces) the caller falls back to the spatial method.
 
 use super::bits;
-use super::correct::{Flood, correct};
+use super::correct::{Flood, Rule, correct};
 use crate::frame::{FrameContext, TileWork};
 
 /// Predicts and corrects region pixel `i` (already begun) from the previous frame. Returns
@@ -29,9 +30,10 @@ pub fn solve_temporal(
     work: &mut TileWork,
     i: usize,
     spatial: &[usize],
-    min_voters: u32,
+    rule: Rule,
     keep_blockers: bool,
 ) -> bool {
+    let min_voters = rule.min_voters;
     let Some(prev) = ctx.temporal else {
         return false;
     };
@@ -134,7 +136,12 @@ pub fn solve_temporal(
     }
     // Temporal prediction runs only under the grid's uncertainty methods, which keep
     // predicted blockers ([ours], docs/methods.md).
-    correct(ctx, work, i, Flood::Uncertainty, true, keep_blockers);
+    let rule = Rule {
+        flood: Flood::Uncertainty,
+        keep_predicted: true,
+        ..rule
+    };
+    correct(ctx, work, i, rule, keep_blockers);
     work.temporal[i] = true;
     true
 }
