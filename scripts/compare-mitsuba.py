@@ -95,10 +95,14 @@ def render(scene, mesh, meta, dirs, ldir, lenergy, count):
 
 
 def envshadow_frame(binary, spec, frame, lights, method, threads, out):
-    """Renders one frame with envshadow; returns (seconds from stats.csv, RGB array)."""
+    """Renders one frame with envshadow; returns (seconds from stats.csv, RGB array).
+    `method` is a method name, optionally followed by more render flags
+    ("grid-nowarp-uncertainty --flood-to contrary")."""
+    name, *flags = method.split()
     subprocess.run(
         [binary, "render", spec, "--frames", str(frame), "--lights", str(lights),
-         "--method", method, "--threads", str(threads), "--out", out, "-q", "--no-report"],
+         "--method", name, *flags, "--threads", str(threads), "--out", out, "-q",
+         "--no-report"],
         check=True)
     with open(os.path.join(out, "stats.csv")) as f:
         row = list(csv.DictReader(f))[-1]
@@ -121,7 +125,8 @@ def main():
     ap.add_argument("--frame", type=int, default=0)
     ap.add_argument("--threads", default="1,2")
     ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--methods", default="brute,grid-nowarp-uncertainty")
+    ap.add_argument("--methods", default="brute,grid-nowarp-uncertainty",
+                    help="comma-separated; each a method name, optionally with render flags")
     ap.add_argument("--work", required=True)
     args = ap.parse_args()
 
@@ -152,7 +157,7 @@ def main():
             images["mitsuba"] = (np.array(b, copy=False).T.reshape(h, w, 3).astype(np.float64),
                                  np.array(hit, copy=False).reshape(h, w))
             for method in args.methods.split(","):
-                out = os.path.join(args.work, f"{method}-t{threads}")
+                out = os.path.join(args.work, f"{'_'.join(method.split())}-t{threads}")
                 secs, img = envshadow_frame(args.binary, args.spec, meta["frame"], count,
                                             method, threads, out)
                 rows.append((method, threads, rep, None, secs))

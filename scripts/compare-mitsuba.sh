@@ -3,12 +3,14 @@
 # exactly at every pixel centre) and with envshadow, time both in the same run, compare images.
 #
 # usage: scripts/compare-mitsuba.sh [SPEC.toml] [--frame F] [--lights N] [--threads 1,2]
-#                                   [--repeat R] [--work DIR]
+#                                   [--repeat R] [--work DIR] [--methods LIST]
 # Defaults: anims/bunny-turntable.toml, frame 0, 400 lights, threads 1,2, 3 repeats,
-# work folder target/compare-mitsuba. The virtual environment (target/mitsuba-venv, or
-# $MITSUBA_VENV) is made on first use with `pip install mitsuba numpy`. Mitsuba's LLVM variant
-# needs a libLLVM shared library: Debian's libllvm19 (installed with apt-get when missing and
-# run as root); $DRJIT_LIBLLVM_PATH points Dr.Jit at another one.
+# work folder target/compare-mitsuba, methods brute,grid-nowarp-uncertainty (each entry a
+# method name, optionally with render flags: "grid-nowarp-uncertainty --flood-to contrary").
+# The virtual environment (target/mitsuba-venv, or $MITSUBA_VENV) is made on first use with
+# `pip install mitsuba numpy`. Mitsuba's LLVM variant needs a libLLVM shared library: Debian's
+# libllvm19 (installed with apt-get when missing and run as root); $DRJIT_LIBLLVM_PATH points
+# Dr.Jit at another one.
 set -euo pipefail
 
 SCRIPT_DIR="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -20,6 +22,7 @@ FRAME=0
 LIGHTS=400
 THREADS=1,2
 REPEAT=3
+METHODS=brute,grid-nowarp-uncertainty
 WORK=target/compare-mitsuba
 VENV="${MITSUBA_VENV:-target/mitsuba-venv}"
 while [ $# -gt 0 ]; do
@@ -29,7 +32,8 @@ while [ $# -gt 0 ]; do
     --threads) THREADS="$2"; shift 2 ;;
     --repeat) REPEAT="$2"; shift 2 ;;
     --work) WORK="$2"; shift 2 ;;
-    -h|--help) sed -n '2,12p' "$0"; exit 0 ;;
+    --methods) METHODS="$2"; shift 2 ;;
+    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
     -*) echo "compare-mitsuba.sh: unknown option $1" >&2; exit 2 ;;
     *) SPEC="$1"; shift ;;
   esac
@@ -59,4 +63,4 @@ mkdir -p "$WORK"
 ./target/release/envshadow export "$SPEC" --frame "$FRAME" --lights "$LIGHTS" --out "$WORK/export"
 echo "libLLVM: $DRJIT_LIBLLVM_PATH"
 "$VENV/bin/python" "$SCRIPT_DIR/compare-mitsuba.py" "$WORK/export" --spec "$SPEC" \
-  --threads "$THREADS" --repeat "$REPEAT" --work "$WORK"
+  --threads "$THREADS" --repeat "$REPEAT" --work "$WORK" --methods "$METHODS"
