@@ -106,7 +106,6 @@ impl Sweep {
 pub struct BenchRow {
     pub lights: usize,
     pub threads: usize,
-    pub method: Method,
     /// The method with its flood rule.
     pub variant: Variant,
     pub seconds: f64,
@@ -303,7 +302,6 @@ pub fn measure(args: &BenchArgs, mut log: impl FnMut(&BenchRow)) -> Result<Vec<B
                     build_in_frame: !still,
                     lights: inputs.lights.len(),
                     threads: pool.current_num_threads(),
-                    method: v.method,
                     variant: v,
                     seconds: median(std::mem::take(&mut times[k])),
                     queries: counts.queries,
@@ -336,9 +334,9 @@ pub fn markdown(rows: &[BenchRow]) -> String {
     }
     s.push('\n');
     for r in rows {
-        let none_row = rows
-            .iter()
-            .find(|o| o.lights == r.lights && o.threads == r.threads && o.method == Method::None);
+        let none_row = rows.iter().find(|o| {
+            o.lights == r.lights && o.threads == r.threads && o.variant.method == Method::None
+        });
         let none = none_row
             .map(|o| format!("{:.2}", r.seconds / o.seconds))
             .unwrap_or_else(|| "–".into());
@@ -388,7 +386,7 @@ fn split_cells(r: &BenchRow, none: Option<&BenchRow>) -> String {
         sp.build,
         f(primary),
         sp.shadow,
-        if r.method == Method::None {
+        if r.variant.method == Method::None {
             "–".into()
         } else {
             f(prediction)

@@ -41,7 +41,6 @@ pub struct TableArgs {
 /// One validated frame of one method at one light count.
 #[derive(Clone, Debug)]
 pub struct TableRow {
-    pub method: Method,
     /// The method with its flood rule.
     pub variant: Variant,
     pub lights: usize,
@@ -98,7 +97,6 @@ pub fn measure(args: &TableArgs, mut log: impl FnMut(&TableRow)) -> Result<Vec<T
                 pool.install(|| render_frame(&anim, &inputs, args.sweep.frame, None, &Silent))?;
             let c = stats.counts;
             let row = TableRow {
-                method,
                 variant,
                 lights: n,
                 queries: c.queries,
@@ -182,7 +180,7 @@ pub fn csv(rows: &[TableRow], scene: &str) -> String {
         let _ = writeln!(
             s,
             "{scene},{},{},{},{},{},{:.4},{},{:.6},{},{:.6e},{:.3}",
-            r.method,
+            r.variant.method,
             r.variant.flood_to,
             r.lights,
             r.queries,
