@@ -78,9 +78,28 @@ pub struct Sweep {
     /// Which frame of the animation.
     #[arg(long, default_value_t = 0)]
     pub frame: usize,
+    /// Coarse grid spacing of the grid methods (default: the spec's, else 16).
+    #[arg(long, value_name = "N")]
+    pub h0: Option<u32>,
+    /// Uncertainty methods' voter threshold, 1–4 (default: the spec's, else 3).
+    #[arg(long, value_name = "K")]
+    pub min_voters: Option<u32>,
 }
 
 impl Sweep {
+    /// The parameters the sweep sets beyond the spec's, for a table's heading
+    /// (", h0 8, min_voters 2"; empty when none).
+    pub fn tuning(&self) -> String {
+        let mut s = String::new();
+        if let Some(h0) = self.h0 {
+            s.push_str(&format!(", h0 {h0}"));
+        }
+        if let Some(k) = self.min_voters {
+            s.push_str(&format!(", min_voters {k}"));
+        }
+        s
+    }
+
     /// The animation `spec` at `lights` lights and the sweep's size, with its inputs loaded.
     pub fn load(
         &self,
@@ -93,6 +112,8 @@ impl Sweep {
             width: Some(self.width),
             height: Some(self.height),
             tile,
+            h0: self.h0,
+            min_voters: self.min_voters,
             ..Default::default()
         };
         let anim = Animation::load(spec, &overrides)?;
@@ -469,8 +490,14 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         None => "",
     };
     println!(
-        "{} {}x{}, frame {}, median of {}{}:\n",
-        args.scene, args.sweep.width, args.sweep.height, args.sweep.frame, args.repeat, builds
+        "{} {}x{}, frame {}{}, median of {}{}:\n",
+        args.scene,
+        args.sweep.width,
+        args.sweep.height,
+        args.sweep.frame,
+        args.sweep.tuning(),
+        args.repeat,
+        builds
     );
     print!("{}", markdown(&rows));
     Ok(())

@@ -205,8 +205,12 @@ pub fn run(args: &TableArgs) -> Result<()> {
         )
     })?;
     println!(
-        "Table 1, {} at {}x{}, frame {}:\n",
-        args.scene, args.sweep.width, args.sweep.height, args.sweep.frame
+        "Table 1, {} at {}x{}, frame {}{}:\n",
+        args.scene,
+        args.sweep.width,
+        args.sweep.height,
+        args.sweep.frame,
+        args.sweep.tuning()
     );
     print!("{}", markdown(&rows, &args.sweep.lights));
     if let Some(path) = &args.csv {

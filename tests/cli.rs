@@ -328,6 +328,41 @@ fn table_and_bench_commands_measure_every_requested_configuration() {
         ("brute", "all", "20", "100.0000")
     );
 
+    // The sweep's parameters reach the renders: a stricter voter threshold traces more.
+    let traced = |flags: &[&str]| {
+        let o = common::bin()
+            .args(["table", "--scene"])
+            .arg(&spec)
+            .args(["--lights", "40", "--width", "96", "--height", "64"])
+            .args(["--methods", "grid-nowarp-uncertainty", "--csv"])
+            .arg(&csv)
+            .args(flags)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let heading = String::from_utf8_lossy(&o.stdout)
+            .lines()
+            .next()
+            .unwrap()
+            .to_string();
+        let rows = fs::read_to_string(&csv).unwrap();
+        let pct: f64 = rows
+            .lines()
+            .nth(1)
+            .unwrap()
+            .split(',')
+            .nth(6)
+            .unwrap()
+            .parse()
+            .unwrap();
+        (heading, pct)
+    };
+    let (plain, p3) = traced(&[]);
+    let (strict, p4) = traced(&["--min-voters", "4"]);
+    assert!(!plain.contains("min_voters"), "{plain}");
+    assert!(strict.contains("min_voters 4"), "{strict}");
+    assert!(p4 > p3, "--min-voters 4 traced {p4} %, the default {p3} %");
+
     let o = common::bin()
         .args(["bench", "--scene"])
         .arg(&spec)
