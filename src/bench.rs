@@ -35,7 +35,8 @@ pub struct BenchArgs {
     /// Methods, comma-separated (`none` is the frame without shadows).
     #[arg(long, value_delimiter = ',', default_value = "none,brute")]
     pub methods: Vec<Method>,
-    /// Flood rules, comma-separated: each flooding method is measured with each.
+    /// Flood rules, comma-separated: each uncertainty method is measured with each (the
+    /// others trace the same under every rule).
     #[arg(
         long,
         value_delimiter = ',',

@@ -162,9 +162,10 @@ pub struct AnimFlags {
     /// horizon (1–4; default 3).
     #[arg(long, value_name = "K")]
     pub min_voters: Option<u32>,
-    /// Which neighbour lights a flooding trace also traces: `all` untraced ones (the default),
-    /// or `contrary`: only those predicted opposite to the traced answer — about a third
-    /// fewer rays, with more wrong pairs (docs/methods.md).
+    /// Uncertainty methods: which neighbour lights a flooding trace also traces — `all`
+    /// untraced ones (the default), or `contrary`: only those predicted opposite to the traced
+    /// answer, about a third fewer rays with more wrong pairs (docs/methods.md). Boundary
+    /// methods trace the same under both.
     #[arg(long, value_name = "RULE")]
     pub flood_to: Option<FloodTo>,
     /// Block size at which the scanline order restarts (default 64).

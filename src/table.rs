@@ -22,7 +22,8 @@ pub struct TableArgs {
     /// Methods, comma-separated (default: the paper's rows).
     #[arg(long, value_delimiter = ',')]
     pub methods: Vec<Method>,
-    /// Flood rules, comma-separated: each flooding method is rendered with each.
+    /// Flood rules, comma-separated: each uncertainty method is rendered with each (the
+    /// others trace the same under every rule).
     #[arg(
         long,
         value_delimiter = ',',
