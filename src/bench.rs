@@ -35,15 +35,6 @@ pub struct BenchArgs {
     /// Methods, comma-separated (`none` is the frame without shadows).
     #[arg(long, value_delimiter = ',', default_value = "none,brute")]
     pub methods: Vec<Method>,
-    /// Flood rules, comma-separated: each uncertainty method is measured with each (the
-    /// others trace the same under every rule).
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "all",
-        value_name = "RULES"
-    )]
-    pub flood_to: Vec<FloodTo>,
     /// Renders per configuration; the median time is reported.
     #[arg(long, default_value_t = 3)]
     pub repeat: usize,
@@ -85,6 +76,15 @@ pub struct Sweep {
     /// Uncertainty methods' voter threshold, 1–4 (default: the spec's, else 3).
     #[arg(long, value_name = "K")]
     pub min_voters: Option<u32>,
+    /// Flood rules, comma-separated: each uncertainty method is measured with each (the
+    /// others trace the same under every rule).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "all",
+        value_name = "RULES"
+    )]
+    pub flood_to: Vec<FloodTo>,
 }
 
 impl Sweep {
@@ -240,7 +240,7 @@ pub fn measure(args: &BenchArgs, mut log: impl FnMut(&BenchRow)) -> Result<Vec<B
     let spec = spec_path(&args.scene);
     let frame = args.sweep.frame;
     let split = !args.no_split || args.dump_rays.is_some();
-    let variants = Variant::sweep(&args.methods, &args.flood_to);
+    let variants = Variant::sweep(&args.methods, &args.sweep.flood_to);
     let mut rows = Vec::new();
     for &n in &args.sweep.lights {
         let (mut anim, inputs) = args.sweep.load(&spec, n, Some(args.tile))?;

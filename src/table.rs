@@ -10,7 +10,7 @@ use crate::bench::Sweep;
 use crate::coordinator::{Silent, render_frame, thread_pool};
 use crate::error::Result;
 use crate::output::write_atomic;
-use crate::predict::{FloodTo, Method, Variant};
+use crate::predict::{Method, Variant};
 
 #[derive(Args, Debug, Clone)]
 pub struct TableArgs {
@@ -22,15 +22,6 @@ pub struct TableArgs {
     /// Methods, comma-separated (default: the paper's rows).
     #[arg(long, value_delimiter = ',')]
     pub methods: Vec<Method>,
-    /// Flood rules, comma-separated: each uncertainty method is rendered with each (the
-    /// others trace the same under every rule).
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "all",
-        value_name = "RULES"
-    )]
-    pub flood_to: Vec<FloodTo>,
     /// Worker threads (0: one per core).
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
@@ -82,7 +73,7 @@ pub fn measure(args: &TableArgs, mut log: impl FnMut(&TableRow)) -> Result<Vec<T
     } else {
         args.methods.clone()
     };
-    let variants = Variant::sweep(&methods, &args.flood_to);
+    let variants = Variant::sweep(&methods, &args.sweep.flood_to);
     let pool = thread_pool(args.threads)?;
     let mut rows = Vec::new();
     for &n in &args.sweep.lights {
