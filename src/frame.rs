@@ -286,14 +286,12 @@ impl TileWork {
             return;
         }
         self.blockers.begin(i);
-        let mut n = 0;
         if keep_blockers {
             for k in 0..w {
                 let mut m = self.above[i * w + k];
                 while m != 0 {
                     let j = k * 64 + m.trailing_zeros() as usize;
                     m &= m - 1;
-                    n += 1;
                     match ctx.trace_blocker(&s, j) {
                         Some(t) => self.blockers.push(i, j, t),
                         None => self.vis[i * w + k] |= 1 << (j & 63),
@@ -324,10 +322,10 @@ impl TileWork {
             if len > 0 {
                 flush(&batch[..len]);
             }
-            n = bits::count(&self.above[i * w..(i + 1) * w]);
         }
-        self.traced[i * w..(i + 1) * w].copy_from_slice(&self.above[i * w..(i + 1) * w]);
-        self.rays[i] = n;
+        let above = &self.above[i * w..(i + 1) * w];
+        self.traced[i * w..(i + 1) * w].copy_from_slice(above);
+        self.rays[i] = bits::count(above);
     }
 }
 

@@ -407,7 +407,6 @@ impl LightSet {
         true
     }
 
-    /// The light nearest to light `j` other than itself (ties to the lower index).
     /// Cosine of light `j`'s cap behind [`cell_of_near`](Self::cell_of_near). Within half the
     /// angle θ to the nearest other light a direction is strictly nearer to its own light than
     /// to any other; the cap keeps 0.45 θ, so the dot products `cell_of` compares differ by
@@ -428,6 +427,7 @@ impl LightSet {
         }
     }
 
+    /// The light nearest to light `j` other than itself (ties to the lower index).
     fn nearest_other(&self, j: usize) -> u32 {
         let mut best = if j == 0 { 1 } else { 0 };
         let mut best_dot = f32::NEG_INFINITY;

@@ -89,8 +89,6 @@ impl std::str::FromStr for FloodTo {
 #[derive(Default)]
 pub struct Scratch {
     words: usize,
-    /// Up to four voters' above-horizon bitsets (warping votes count them per light).
-    voter_above: Vec<u64>,
     pub(super) pred_vis: Vec<u64>,
     pub(super) uncertain: Vec<u64>,
     pub(super) queued: Vec<u64>,
@@ -123,7 +121,6 @@ impl Scratch {
         }
         self.words = w;
         self.ext = vec![0; EXT_ROWS * w];
-        self.voter_above = vec![0; 4 * w];
         self.pred_vis = vec![0; w];
         self.uncertain = vec![0; w];
         self.queued = vec![0; w];
@@ -187,8 +184,7 @@ pub fn solve_pixel(
     // 1. Votes. No warp: a voter's blocked lights, read word by word in step 2. Warp: each
     //    voter's blockers, re-aimed from this point, counted per cell they land in [paper].
     if rule.vote == Vote::Warp {
-        for (k, &q) in voters.iter().enumerate() {
-            sc.voter_above[k * w..(k + 1) * w].copy_from_slice(&above[q * w..(q + 1) * w]);
+        for &q in voters {
             let pq = surf[q].p;
             for (j, t) in blockers.of(q) {
                 let b = pq + ctx.light_dir[j] * t;
@@ -226,8 +222,9 @@ pub fn solve_pixel(
         for &c in &sc.touched {
             let c = c as usize;
             bits::set(&mut sc.vote_any, c);
-            let k_j = (0..nv)
-                .filter(|&k| bits::get(&sc.voter_above[k * w..(k + 1) * w], c))
+            let k_j = voters
+                .iter()
+                .filter(|&&q| bits::get(&above[q * w..(q + 1) * w], c))
                 .count();
             if sc.votes[c] as usize >= k_j {
                 bits::set(&mut sc.vote_all, c);
