@@ -201,6 +201,20 @@ impl Blockers {
     }
 }
 
+/// Why a pixel's shadow rays were traced, for measuring where the work goes. The rays
+/// neither counted here were queued by the pixel's own prediction (lights its voters disagree
+/// on, see too few of, or that border a predicted shadow).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RaySplit {
+    /// Rays of a pixel that traced every above-horizon light (the coarse grid, pixels without
+    /// voters, brute force).
+    pub every: u32,
+    /// Rays queued by flooding.
+    pub flooded: u32,
+    /// Flooded rays whose answer differed from the prediction: wrong pairs flooding caught.
+    pub fixes: u32,
+}
+
 /// Per-tile working buffers, reused across tiles by one thread. Flat arrays and bitsets only:
 /// `words` u64 per pixel for each bitset, indexed by the pixel's position in `region`.
 #[derive(Default)]
@@ -222,6 +236,8 @@ pub struct TileWork {
     pub traced: Vec<u64>,
     /// Shadow rays traced per pixel.
     pub rays: Vec<u32>,
+    /// Why they were traced.
+    pub split: Vec<RaySplit>,
     /// Pixels predicted from the previous frame (`--temporal`).
     pub temporal: Vec<bool>,
     /// Blockers, for the warping methods.
@@ -250,6 +266,8 @@ impl TileWork {
         }
         self.rays.clear();
         self.rays.resize(n, 0);
+        self.split.clear();
+        self.split.resize(n, RaySplit::default());
         self.temporal.clear();
         self.temporal.resize(n, false);
         self.blockers.reset(n);
@@ -326,6 +344,10 @@ impl TileWork {
         let above = &self.above[i * w..(i + 1) * w];
         self.traced[i * w..(i + 1) * w].copy_from_slice(above);
         self.rays[i] = bits::count(above);
+        self.split[i] = RaySplit {
+            every: self.rays[i],
+            ..RaySplit::default()
+        };
     }
 }
 
@@ -392,6 +414,10 @@ fn count_work(work: &mut TileWork) {
                 debug_assert!(work.needed[i], "method left pixel ({x}, {y}) unevaluated");
                 c.queries += bits::count(TileWork::row(&work.above, i, w)) as u64;
                 c.rays += work.rays[i] as u64;
+                let why = work.split[i];
+                c.rays_every_light += why.every as u64;
+                c.rays_flooded += why.flooded as u64;
+                c.flood_fixes += why.fixes as u64;
                 if work.temporal[i] {
                     c.temporal_pixels += 1;
                     c.temporal_rays += work.rays[i] as u64;

@@ -44,6 +44,12 @@ pub struct TableRow {
     pub rel_rmse: f64,
     pub seconds: f64,
     pub paper: Option<f64>,
+    /// Where the rays went: at pixels tracing every light, queued by the prediction, queued
+    /// by flooding; and the flooded rays that caught a wrong prediction.
+    pub rays_every_light: u64,
+    pub rays_unsure: u64,
+    pub rays_flooded: u64,
+    pub flood_fixes: u64,
 }
 
 fn spec_and_key(scene: &str) -> (PathBuf, String) {
@@ -99,6 +105,10 @@ pub fn measure(args: &TableArgs, mut log: impl FnMut(&TableRow)) -> Result<Vec<T
                 rel_rmse: stats.image_error.map_or(0.0, |e| e.rel_rmse),
                 seconds: stats.seconds,
                 paper: method.paper_percent(&key, n),
+                rays_every_light: c.rays_every_light,
+                rays_unsure: c.rays_unsure(),
+                rays_flooded: c.rays_flooded,
+                flood_fixes: c.flood_fixes,
             };
             log(&row);
             rows.push(row);
@@ -160,18 +170,42 @@ pub fn markdown(rows: &[TableRow], lights: &[usize]) -> String {
         }
         s.push('\n');
     }
+    s.push('\n');
+    s.push_str(&head(
+        "where the rays go, % of queries: every light + prediction + flooding (flooded rays that caught a wrong prediction)",
+    ));
+    let pct = |r: &TableRow, n: u64| 100.0 * n as f64 / r.queries.max(1) as f64;
+    for &m in &variants {
+        let _ = write!(s, "| {m} |");
+        for &n in lights {
+            match cell(m, n) {
+                Some(r) => {
+                    let _ = write!(
+                        s,
+                        " {:.1} + {:.1} + {:.1} ({}) |",
+                        pct(r, r.rays_every_light),
+                        pct(r, r.rays_unsure),
+                        pct(r, r.rays_flooded),
+                        r.flood_fixes
+                    );
+                }
+                None => s.push_str(" – |"),
+            }
+        }
+        s.push('\n');
+    }
     s
 }
 
 /// The rows as CSV.
 pub fn csv(rows: &[TableRow], scene: &str) -> String {
     let mut s = String::from(
-        "scene,method,flood_to,lights,queries,rays_traced,percent_traced,paper_percent,error_percent,wrong_pixels,rel_rmse,seconds\n",
+        "scene,method,flood_to,lights,queries,rays_traced,percent_traced,paper_percent,error_percent,wrong_pixels,rel_rmse,seconds,rays_every_light,rays_unsure,rays_flooded,flood_fixes\n",
     );
     for r in rows {
         let _ = writeln!(
             s,
-            "{scene},{},{},{},{},{},{:.4},{},{:.6},{},{:.6e},{:.3}",
+            "{scene},{},{},{},{},{},{:.4},{},{:.6},{},{:.6e},{:.3},{},{},{},{}",
             r.variant.method,
             r.variant.flood_to,
             r.lights,
@@ -182,7 +216,11 @@ pub fn csv(rows: &[TableRow], scene: &str) -> String {
             r.error_percent,
             r.wrong_pixels,
             r.rel_rmse,
-            r.seconds
+            r.seconds,
+            r.rays_every_light,
+            r.rays_unsure,
+            r.rays_flooded,
+            r.flood_fixes
         );
     }
     s

@@ -83,6 +83,17 @@ fn render_writes_frames_stats_and_lights_deterministically() {
     let (queries, rays): (u64, u64) = (row[5].parse().unwrap(), row[6].parse().unwrap());
     assert!(rays < queries, "the default method predicts some shadows");
     assert_eq!(row[11], "", "no validation columns without --validate");
+    // Where the rays went adds up to the rays traced.
+    let header: Vec<&str> = lines[0].split(',').collect();
+    let col = |name: &str| -> u64 {
+        let k = header.iter().position(|h| *h == name).unwrap();
+        row[k].parse().unwrap()
+    };
+    assert_eq!(
+        col("rays_every_light") + col("rays_unsure") + col("rays_flooded"),
+        rays
+    );
+    assert!(col("rays_every_light") > 0 && col("rays_flooded") >= col("flood_fixes"));
 
     let lights: serde_json::Value =
         serde_json::from_str(&fs::read_to_string(out.join("lights.json")).unwrap()).unwrap();

@@ -31,6 +31,14 @@ pub struct Counts {
     /// other pixels' rays are the spatially predicted ones.
     pub temporal_pixels: u64,
     pub temporal_rays: u64,
+    /// Where the tile's rays went: at pixels tracing every light, and queued by flooding (the
+    /// rest were queued by the prediction); flooded rays that caught a wrong prediction.
+    #[serde(default)]
+    pub rays_every_light: u64,
+    #[serde(default)]
+    pub rays_flooded: u64,
+    #[serde(default)]
+    pub flood_fixes: u64,
 }
 
 impl AddAssign for Counts {
@@ -45,6 +53,9 @@ impl AddAssign for Counts {
         self.wrong_traced += o.wrong_traced;
         self.temporal_pixels += o.temporal_pixels;
         self.temporal_rays += o.temporal_rays;
+        self.rays_every_light += o.rays_every_light;
+        self.rays_flooded += o.rays_flooded;
+        self.flood_fixes += o.flood_fixes;
     }
 }
 
@@ -56,6 +67,12 @@ impl Counts {
         } else {
             100.0 * self.rays as f64 / self.queries as f64
         }
+    }
+
+    /// Rays queued by the prediction itself: neither at pixels tracing every light nor by
+    /// flooding.
+    pub fn rays_unsure(&self) -> u64 {
+        self.rays - self.rays_every_light - self.rays_flooded
     }
 
     /// Wrong pairs / queries, in percent (validation only).
@@ -103,7 +120,7 @@ pub struct FrameStats {
 pub const HEADER: &str = "frame,method,lights,width,height,queries,rays_traced,percent_traced,\
 halo_pixels,halo_rays,seconds,wrong_visible,wrong_blocked,error_percent,wrong_pixels,rmse,rel_rmse,\
 psnr_db,camera_x,camera_y,camera_z,target_x,target_y,target_z,up_x,up_y,up_z,vfov_deg,\
-temporal_pixels,temporal_rays,spatial_rays";
+temporal_pixels,temporal_rays,spatial_rays,rays_every_light,rays_unsure,rays_flooded,flood_fixes";
 
 impl FrameStats {
     /// The CSV row (no newline), columns as in [`HEADER`]. Validation columns are empty for
@@ -145,7 +162,7 @@ impl FrameStats {
         }
         let _ = write!(
             s,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             p.x,
             p.y,
             p.z,
@@ -158,7 +175,11 @@ impl FrameStats {
             self.vfov_deg,
             c.temporal_pixels,
             c.temporal_rays,
-            c.rays - c.temporal_rays
+            c.rays - c.temporal_rays,
+            c.rays_every_light,
+            c.rays_unsure(),
+            c.rays_flooded,
+            c.flood_fixes
         );
         s
     }

@@ -299,6 +299,7 @@ pub(super) fn correct(
         vis,
         traced,
         rays,
+        split,
         blockers,
         scratch: sc,
         ..
@@ -312,6 +313,9 @@ pub(super) fn correct(
     tr.fill(0);
     out.copy_from_slice(&sc.pred_vis);
     let mut head = 0;
+    // Lights queued beyond this were queued by flooding.
+    let predicted_queue = sc.queue.len();
+    let mut fixes = 0;
     // The queue is traced in waves of up to PACKET lights, one packet from the pixel's point
     // each (one ray at a time when the blockers' distances are kept). A wave's results are
     // taken in queue order and flooding only appends to the queue, so the traced set and the
@@ -338,6 +342,9 @@ pub(super) fn correct(
                 blocked & (1 << k) == 0
             };
             let predicted = bits::get(&sc.pred_vis, j);
+            if q >= predicted_queue && visible != predicted {
+                fixes += 1;
+            }
             if visible {
                 bits::set(out, j);
             } else {
@@ -371,6 +378,11 @@ pub(super) fn correct(
     }
     let n = sc.queue.len() as u32;
     rays[i] = n;
+    split[i] = crate::frame::RaySplit {
+        every: 0,
+        flooded: n - predicted_queue as u32,
+        fixes,
+    };
 
     // 4. Blockers of this pixel: traced hits, and (rule.keep_predicted) for predicted-blocked
     //    lights the warped blocker that voted for them.

@@ -6,7 +6,7 @@
 //! tile that contains it, and kept here; tiles then copy what they read. A lattice pixel is a
 //! pure function of the frame, so the result is the same whatever evaluates it.
 
-use crate::frame::{Blockers, Surface, TileWork};
+use crate::frame::{Blockers, RaySplit, Surface, TileWork};
 
 /// Evaluated pixels on a frame-anchored lattice (every `step`-th pixel in x and y).
 #[derive(Default)]
@@ -20,6 +20,7 @@ pub struct Lattice {
     /// above, vis and traced bitsets, `3 · words` per pixel.
     bits: Vec<u64>,
     rays: Vec<u32>,
+    split: Vec<RaySplit>,
     /// Predicted from the previous frame (`--temporal`).
     temporal: Vec<bool>,
     blockers: Blockers,
@@ -32,6 +33,7 @@ pub struct LatticePatch {
     surf: Vec<Surface>,
     bits: Vec<u64>,
     rays: Vec<u32>,
+    split: Vec<RaySplit>,
     temporal: Vec<bool>,
     blk_len: Vec<u32>,
     blk_light: Vec<u16>,
@@ -58,6 +60,7 @@ impl Lattice {
             surf: vec![Surface::default(); n],
             bits: vec![0; n * 3 * words],
             rays: vec![0; n],
+            split: vec![RaySplit::default(); n],
             temporal: vec![false; n],
             blockers,
         }
@@ -100,6 +103,7 @@ impl Lattice {
         work.vis[i * w..(i + 1) * w].copy_from_slice(&src[w..2 * w]);
         work.traced[i * w..(i + 1) * w].copy_from_slice(&src[2 * w..]);
         work.rays[i] = self.rays[k];
+        work.split[i] = self.split[k];
         work.temporal[i] = self.temporal[k];
         work.blockers.begin(i);
         for (j, t) in self.blockers.of(k) {
@@ -119,6 +123,7 @@ impl Lattice {
             self.bits[k * 3 * w..(k + 1) * 3 * w]
                 .copy_from_slice(&patch.bits[n * 3 * w..(n + 1) * 3 * w]);
             self.rays[k] = patch.rays[n];
+            self.split[k] = patch.split[n];
             self.temporal[k] = patch.temporal[n];
             self.blockers.begin(k);
             for _ in 0..patch.blk_len[n] {
@@ -144,6 +149,7 @@ impl LatticePatch {
         self.bits
             .extend_from_slice(&work.traced[i * w..(i + 1) * w]);
         self.rays.push(work.rays[i]);
+        self.split.push(work.split[i]);
         self.temporal.push(work.temporal[i]);
         let mut n = 0;
         for (j, t) in work.blockers.of(i) {
