@@ -30,7 +30,8 @@
 //! validate = false              # also trace every query; record mistakes in stats.csv
 //! h0 = 16                       # coarse grid spacing (power of two)
 //! min_voters = 3                # fewer voters with the light above their horizon → trace it
-//! flood_to = "all"              # or "contrary": flood only to lights predicted opposite
+//! flood_to = "contrary-finest"  # or "all", or "contrary": flood only to lights predicted
+//!                               # opposite (contrary-finest: so at the finest grid level only)
 //! scan_block = 64               # scanline order restarts every scan_block pixels
 //! temporal = false              # the previous frame votes too (grid uncertainty methods)
 //! keyframe = 16                 # with temporal: frames 0, 16, 32, … restart the chain

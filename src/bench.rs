@@ -81,7 +81,7 @@ pub struct Sweep {
     #[arg(
         long,
         value_delimiter = ',',
-        default_value = "all",
+        default_value = "contrary-finest",
         value_name = "RULES"
     )]
     pub flood_to: Vec<FloodTo>,
@@ -258,9 +258,10 @@ pub fn measure(args: &BenchArgs, mut log: impl FnMut(&BenchRow)) -> Result<Vec<B
                 anim.params = v.params(base);
                 let rays = record_rays(&anim, &inputs, frame)?;
                 if let (Some(dir), false) = (&args.dump_rays, rays.is_empty()) {
-                    let name = match v.flood_to {
-                        FloodTo::All => v.method.to_string(),
-                        f => format!("{}-{f}", v.method),
+                    let name = if v.flood_to == FloodTo::default() {
+                        v.method.to_string()
+                    } else {
+                        format!("{}-{}", v.method, v.flood_to)
                     };
                     let path = dir.join(format!("rays-{}-{name}.bin", inputs.lights.len()));
                     raydump::write(&path, accel, &rays)?;

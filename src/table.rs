@@ -207,7 +207,12 @@ pub fn csv(rows: &[TableRow], scene: &str) -> String {
             s,
             "{scene},{},{},{},{},{},{:.4},{},{:.6},{},{:.6e},{:.3},{},{},{},{}",
             r.variant.method,
-            r.variant.flood_to,
+            // Empty for the methods every rule traces alike.
+            if r.variant.method.floods_by_rule() {
+                r.variant.flood_to.name()
+            } else {
+                ""
+            },
             r.lights,
             r.queries,
             r.rays,

@@ -336,7 +336,7 @@ fn table_and_bench_commands_measure_every_requested_configuration() {
     let brute: Vec<&str> = rows.lines().nth(1).unwrap().split(',').collect();
     assert_eq!(
         (brute[1], brute[2], brute[3], brute[6]),
-        ("brute", "all", "20", "100.0000")
+        ("brute", "", "20", "100.0000")
     );
 
     // The sweep's parameters reach the renders: a stricter voter threshold traces more.

@@ -497,14 +497,14 @@ fn every_kind_of_broken_input_is_refused_with_one_located_line() {
             "flood.toml",
             "[render] flood_to",
             "\"some\"",
-            "all or contrary",
+            "all, contrary-finest or contrary",
         ],
     );
     c.render(
         "unknown flood rule flag",
         &c.dir.join("ok.toml"),
         &["--flood-to", "most"],
-        &["--flood-to", "most", "all or contrary"],
+        &["--flood-to", "most", "all, contrary-finest or contrary"],
     );
 
     assert!(c.count >= 20, "{} kinds", c.count);

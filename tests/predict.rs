@@ -63,7 +63,7 @@ fn error_bound(v: Variant) -> f64 {
     match (v.method, v.flood_to) {
         (Method::None, _) => f64::INFINITY,
         (Method::Brute, _) => 0.0,
-        (Method::GridNowarpUncertainty, FloodTo::All) => 0.15,
+        (Method::GridNowarpUncertainty, FloodTo::All | FloodTo::ContraryFinest) => 0.15,
         (Method::GridNowarpUncertainty, FloodTo::Contrary) => 0.2,
         // Errors travel along the scan until a boundary trace catches them.
         (Method::ScanWarpBoundary, _) => 2.5,
@@ -110,6 +110,8 @@ fn every_method_agrees_with_brute_force_within_its_stated_error() {
 
 #[test]
 fn flooding_to_contrary_lights_saves_rays_only_where_it_can() {
+    // Uncertainty methods: `contrary` < `contrary-finest` < `all` in rays; boundary methods
+    // trace the same under every rule.
     for (name, anim, inputs) in scenes(160, 120, 100) {
         for m in Method::ALL {
             let all = Variant {
@@ -120,8 +122,37 @@ fn flooding_to_contrary_lights_saves_rays_only_where_it_can() {
                 method: m,
                 flood_to: FloodTo::Contrary,
             };
+            let finest = Variant {
+                method: m,
+                flood_to: FloodTo::ContraryFinest,
+            };
             let (fa, ca) = render(&anim, &inputs, all, 64, 0);
             let (fc, cc) = render(&anim, &inputs, contrary, 64, 0);
+            let (ff, cf) = render(&anim, &inputs, finest, 64, 0);
+            if m.floods_by_rule() {
+                // Contrary at the finest level only: between the two.
+                assert!(
+                    cc.rays < cf.rays && cf.rays * 10 < ca.rays * 9,
+                    "{name} {m}: {} rays, against {} (contrary) and {} (all)",
+                    cf.rays,
+                    cc.rays,
+                    ca.rays
+                );
+                // The coarser levels (pixels with x and y even) flood to all, and read only
+                // coarser pixels: exactly the `all` rule's rays and visibility there.
+                for y in (0..fa.height).step_by(2) {
+                    for x in (0..fa.width).step_by(2) {
+                        let k = (y * fa.width + x) as usize;
+                        assert!(
+                            ff.rays[k] == fa.rays[k] && ff.visible[k] == fa.visible[k],
+                            "{name} {m}: ({x}, {y}) differs from flooding to all"
+                        );
+                    }
+                }
+            } else {
+                assert_eq!(cf, ca, "{name} {m}");
+                assert!(ff.beauty == fa.beauty && ff.rays == fa.rays, "{name} {m}");
+            }
             if m.floods_by_rule() {
                 // Uncertainty flooding: a smaller flood, at least a sixth fewer rays here.
                 assert!(

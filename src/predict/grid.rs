@@ -104,6 +104,12 @@ fn voters_of(x: u32, y: u32, p: usize, h0: u32, frame: Rect, out: &mut [(u32, u3
 }
 
 impl Grid {
+    /// The rule at the pixels of pass `p`: the finest level's two passes read voters one
+    /// pixel away and are read by nothing coarser.
+    fn rule_at(&self, p: usize) -> Rule {
+        self.rule.at_level(p + 2 >= self.passes())
+    }
+
     /// The voters' distance s of pass `p` (≥ 1).
     fn spacing(&self, p: usize) -> u32 {
         (self.h0 >> ((p - 1) / 2)) / 2
@@ -231,12 +237,13 @@ impl Predictor for Grid {
                     } else {
                         self.voters(work, frame, x, y, phase, &mut voters)
                     };
-                    if solve_temporal(ctx, work, i, &voters[..nv], self.rule, warp) {
+                    let rule = self.rule_at(phase);
+                    if solve_temporal(ctx, work, i, &voters[..nv], rule, warp) {
                         // predicted from the previous frame
                     } else if phase == 0 {
                         work.trace_all(ctx, i, warp);
                     } else {
-                        solve_pixel(ctx, work, i, &voters[..nv], self.rule, warp);
+                        solve_pixel(ctx, work, i, &voters[..nv], rule, warp);
                     }
                     patch.record(lattice, x, y, work, i);
                 }
@@ -286,10 +293,11 @@ impl Predictor for Grid {
                 let (x, y) = coords(i);
                 let i = work.begin_pixel(ctx, x, y);
                 let nv = self.voters(work, frame, x, y, p, &mut voters);
-                if solve_temporal(ctx, work, i, &voters[..nv], self.rule, keep) {
+                let rule = self.rule_at(p);
+                if solve_temporal(ctx, work, i, &voters[..nv], rule, keep) {
                     continue;
                 }
-                solve_pixel(ctx, work, i, &voters[..nv], self.rule, keep);
+                solve_pixel(ctx, work, i, &voters[..nv], rule, keep);
             }
         }
     }

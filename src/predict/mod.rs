@@ -85,8 +85,9 @@ pub struct Params {
     /// trace; we trace below 3: on the paper scenes at 200 lights, 2 traced 5.6 % with 0.064 %
     /// wrong pairs (bunny), 3 traces 7.8 % with 0.016 % (BENCHMARKS.md).
     pub min_voters: u32,
-    /// Which neighbour lights a flooding trace queues: all untraced ones (the default), or
-    /// [ours] only those predicted opposite to the traced answer.
+    /// Which neighbour lights a flooding trace queues: all untraced ones, or [ours] only those
+    /// predicted opposite to the traced answer — at the grid's finest level only (the
+    /// default), or everywhere.
     pub flood_to: FloodTo,
     /// Scanline order restarts at frame-anchored blocks of this many pixels, so a tile's
     /// halo is bounded (the paper scans the whole frame) [ours].
@@ -98,7 +99,7 @@ impl Default for Params {
         Params {
             h0: 16,
             min_voters: 3,
-            flood_to: FloodTo::All,
+            flood_to: FloodTo::ContraryFinest,
             scan_block: 64,
         }
     }

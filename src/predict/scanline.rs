@@ -55,6 +55,8 @@ impl Predictor for Scanline {
         let rule = Rule {
             vote: Vote::Warp,
             flood: Flood::Boundary,
+            // No levels: `contrary-finest` floods to all (the same traces under boundary
+            // flooding anyway).
             flood_to: self.flood_to,
             min_voters: 1,
             // [paper] §3: only traced hits are blockers. Keeping predicted ones too lets a
