@@ -52,7 +52,7 @@ pub enum FloodTo {
     /// level (spacing 1: three pixels in four), [`All`](Self::All) at the coarser levels. A
     /// wrong pair at a coarse pixel is a wrong vote for every finer pixel it predicts; at the
     /// finest level it reaches at most the last pass's pixels, and those vote for nobody. On
-    /// the paper's scenes it traces about a fifth fewer rays than `all` for 0–4 % more wrong
+    /// the paper's scenes it traces about a fifth fewer rays than `all` for 0–3.5 % more wrong
     /// pairs (BENCHMARKS.md, "Where the default method's rays go"). Orders without levels
     /// (the scanline) flood to all.
     #[default]
@@ -385,7 +385,8 @@ pub(super) fn correct(
                 let nb = ctx.lights.neighbor_bits(j);
                 for m in 0..w {
                     let to = match rule.flood_to {
-                        // Unresolved (an order without levels): flood to all.
+                        // `ContraryFinest` is resolved per pixel by the order
+                        // (`Rule::at_level`) before it gets here.
                         FloodTo::All | FloodTo::ContraryFinest => !0,
                         FloodTo::Contrary if visible => !sc.pred_vis[m],
                         FloodTo::Contrary => sc.pred_vis[m],

@@ -55,15 +55,16 @@ impl Predictor for Scanline {
         let rule = Rule {
             vote: Vote::Warp,
             flood: Flood::Boundary,
-            // No levels: `contrary-finest` floods to all (the same traces under boundary
-            // flooding anyway).
             flood_to: self.flood_to,
             min_voters: 1,
             // [paper] §3: only traced hits are blockers. Keeping predicted ones too lets a
             // misprediction travel along the row: fewer rays, up to 3× the wrong pairs at
             // 400 lights (docs/methods.md).
             keep_predicted: false,
-        };
+        }
+        // No levels: `contrary-finest` floods to all (the same traces under boundary flooding
+        // anyway).
+        .at_level(false);
         let mut voters = [0usize; 3];
         for y in region.y0..region.y1 {
             for x in region.x0..region.x1 {
