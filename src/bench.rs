@@ -20,7 +20,7 @@ use crate::anim::{Animation, Overrides};
 use crate::coordinator::{Inputs, Silent, render_frame, thread_pool};
 use crate::error::{Result, input_error};
 use crate::predict::{FloodTo, Method, Variant};
-use crate::raydump;
+use crate::raydump::{self, REPLAY_CHUNK};
 
 #[derive(Args, Debug, Clone)]
 pub struct BenchArgs {
@@ -152,10 +152,6 @@ pub struct Split {
     /// Occluded rays among them (a check against other tracers on the same rays).
     pub blocked: u64,
 }
-
-/// Rays per work item when a recorded ray list is traced again over a pool: small enough to
-/// balance two threads, large enough that scheduling is noise. benches/embree uses the same.
-pub const REPLAY_CHUNK: usize = 4096;
 
 /// Traces `rays` on the current pool in chunks of [`REPLAY_CHUNK`]; returns the occluded count.
 /// One at a time (`packets` false), as another tracer's single-ray query would; or as a frame
@@ -297,7 +293,7 @@ pub fn measure(args: &BenchArgs, mut log: impl FnMut(&BenchRow)) -> Result<Vec<B
             for (k, &v) in variants.iter().enumerate() {
                 anim.method = v.method;
                 anim.params = v.params(base);
-                let counts: crate::output::stats::Counts = counts[k];
+                let counts: crate::film::Counts = counts[k];
                 let split = match &accel {
                     Some(accel) => {
                         let rays = &recorded.iter().find(|(r, _)| *r == v).unwrap().1;

@@ -1,9 +1,123 @@
-//! The film: a frame's beauty and AOV buffers, assembled from finished tiles.
+//! The film: a frame's beauty and AOV buffers, assembled from finished tiles, and the counts
+//! of the work that made them.
 
-use crate::frame::TileResult;
-use crate::output::png::srgb_encode;
-use crate::output::stats::{Counts, ImageError};
+use std::ops::AddAssign;
+
 use crate::tile::Rect;
+
+/// A finished tile: beauty and AOVs for the tile's pixels, and its counts.
+#[derive(Clone, Debug)]
+pub struct TileResult {
+    pub rect: Rect,
+    /// Linear RGB radiance.
+    pub beauty: Vec<[f32; 3]>,
+    /// Shadow rays traced per pixel.
+    pub rays: Vec<f32>,
+    /// Fraction of the above-horizon lights that are visible (0 for background pixels).
+    pub visible: Vec<f32>,
+    /// With validation: wrong (pixel, light) pairs per pixel, and the brute-force beauty.
+    pub wrong: Option<Vec<f32>>,
+    pub reference: Option<Vec<[f32; 3]>>,
+    pub counts: Counts,
+}
+
+/// Work counted while deciding visibility.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Counts {
+    /// Shadow queries: (pixel, light) pairs with N·ω > 0 [paper].
+    pub queries: u64,
+    /// Shadow rays traced for the tile's own pixels.
+    pub rays: u64,
+    /// Pixels outside the tile that its method evaluated (its halo), and their rays.
+    pub halo_pixels: u64,
+    pub halo_rays: u64,
+    /// With validation: pairs predicted visible that are blocked, and the reverse.
+    pub wrong_visible: u64,
+    pub wrong_blocked: u64,
+    /// With validation: pixels with any wrong pair.
+    pub wrong_pixels: u64,
+    /// With validation: wrong pairs among those the method traced (always 0 unless a method
+    /// mis-records its own traces; checked by the tests).
+    pub wrong_traced: u64,
+    /// Pixels predicted from the previous frame (`--temporal`) and the rays they traced; the
+    /// other pixels' rays are the spatially predicted ones.
+    pub temporal_pixels: u64,
+    pub temporal_rays: u64,
+    /// Where the tile's rays went: at pixels tracing every light, and queued by flooding (the
+    /// rest were queued by the prediction); flooded rays that caught a wrong prediction.
+    #[serde(default)]
+    pub rays_every_light: u64,
+    #[serde(default)]
+    pub rays_flooded: u64,
+    #[serde(default)]
+    pub flood_fixes: u64,
+}
+
+impl AddAssign for Counts {
+    fn add_assign(&mut self, o: Counts) {
+        self.queries += o.queries;
+        self.rays += o.rays;
+        self.halo_pixels += o.halo_pixels;
+        self.halo_rays += o.halo_rays;
+        self.wrong_visible += o.wrong_visible;
+        self.wrong_blocked += o.wrong_blocked;
+        self.wrong_pixels += o.wrong_pixels;
+        self.wrong_traced += o.wrong_traced;
+        self.temporal_pixels += o.temporal_pixels;
+        self.temporal_rays += o.temporal_rays;
+        self.rays_every_light += o.rays_every_light;
+        self.rays_flooded += o.rays_flooded;
+        self.flood_fixes += o.flood_fixes;
+    }
+}
+
+impl Counts {
+    /// Rays traced as a percentage of queries (100 when there were no queries).
+    pub fn percent_traced(&self) -> f64 {
+        if self.queries == 0 {
+            100.0
+        } else {
+            100.0 * self.rays as f64 / self.queries as f64
+        }
+    }
+
+    /// Rays queued by the prediction itself: neither at pixels tracing every light nor by
+    /// flooding.
+    pub fn rays_unsure(&self) -> u64 {
+        self.rays - self.rays_every_light - self.rays_flooded
+    }
+
+    /// Wrong pairs / queries, in percent (validation only).
+    pub fn error_percent(&self) -> f64 {
+        if self.queries == 0 {
+            0.0
+        } else {
+            100.0 * (self.wrong_visible + self.wrong_blocked) as f64 / self.queries as f64
+        }
+    }
+}
+
+/// How a validated frame's image compares with the brute-force image.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ImageError {
+    /// Root mean square difference of linear RGB, over all pixels and channels.
+    pub rmse: f64,
+    /// `rmse` / the mean of the brute-force image over pixels that hit the scene.
+    pub rel_rmse: f64,
+    /// PSNR of the tone-mapped previews (sRGB in [0, 1], peak 1), dB; infinite when equal.
+    pub psnr_db: f64,
+}
+
+/// Linear → sRGB-encoded value in [0, 1].
+#[inline]
+pub fn srgb_encode(x: f32) -> f32 {
+    let x = x.clamp(0.0, 1.0);
+    if x <= 0.003_130_8 {
+        12.92 * x
+    } else {
+        1.055 * x.powf(1.0 / 2.4) - 0.055
+    }
+}
 
 /// One frame's pixels: linear RGB beauty and the per-pixel AOVs, row-major, full frame.
 #[derive(Clone, Debug, PartialEq)]

@@ -7,8 +7,8 @@ use glam::Vec3;
 use crate::accel::{Accel, PACKET};
 use crate::camera::Camera;
 use crate::envmap::EnvMap;
+use crate::film::{Counts, TileResult};
 use crate::lights::LightSet;
-use crate::output::stats::Counts;
 use crate::predict::{Lattice, LatticePatch, Predictor, bits};
 use crate::scene::Scene;
 use crate::tile::Rect;
@@ -349,22 +349,6 @@ impl TileWork {
             ..RaySplit::default()
         };
     }
-}
-
-/// A finished tile: beauty and AOVs for the tile's pixels, and its counts.
-#[derive(Clone, Debug)]
-pub struct TileResult {
-    pub rect: Rect,
-    /// Linear RGB radiance.
-    pub beauty: Vec<[f32; 3]>,
-    /// Shadow rays traced per pixel.
-    pub rays: Vec<f32>,
-    /// Fraction of the above-horizon lights that are visible (0 for background pixels).
-    pub visible: Vec<f32>,
-    /// With validation: wrong (pixel, light) pairs per pixel, and the brute-force beauty.
-    pub wrong: Option<Vec<f32>>,
-    pub reference: Option<Vec<[f32; 3]>>,
-    pub counts: Counts,
 }
 
 /// Runs shared phase `phase` of the frame's method on one tile: returns the pixels it

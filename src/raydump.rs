@@ -2,7 +2,7 @@
 //! so another tracer (benches/embree) can trace exactly the same rays as ours.
 //!
 //! Layout, little-endian: the 8 bytes `ESRAYS1\0`; u32 triangle count; u32 chunk size (rays
-//! per work item when traced over threads, [`crate::bench::REPLAY_CHUNK`]); u64 ray count; per
+//! per work item when traced over threads, [`REPLAY_CHUNK`]); u64 ray count; per
 //! triangle 9 f32 (three vertices); per ray 6 f32 (origin, unit direction; t in (0, ∞)).
 
 use std::fs;
@@ -17,6 +17,10 @@ use crate::error::{Result, input_error};
 
 const MAGIC: &[u8; 8] = b"ESRAYS1\0";
 
+/// Rays per work item when a recorded ray list is traced again over a pool: small enough to
+/// balance two threads, large enough that scheduling is noise. benches/embree uses the same.
+pub const REPLAY_CHUNK: usize = 4096;
+
 /// Writes the triangles of `accel` and `rays` to `path` (atomically).
 pub fn write(path: &Path, accel: &Accel, rays: &[ShadowRay]) -> Result<()> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
@@ -26,7 +30,7 @@ pub fn write(path: &Path, accel: &Accel, rays: &[ShadowRay]) -> Result<()> {
         let mut f = BufWriter::new(fs::File::create(tmp)?);
         f.write_all(MAGIC)?;
         f.write_all(&(accel.triangle_count() as u32).to_le_bytes())?;
-        f.write_all(&(crate::bench::REPLAY_CHUNK as u32).to_le_bytes())?;
+        f.write_all(&(REPLAY_CHUNK as u32).to_le_bytes())?;
         f.write_all(&(rays.len() as u64).to_le_bytes())?;
         for t in accel.triangles() {
             for v in t {

@@ -466,7 +466,7 @@ fn heat_maps(
                     (Some(r), Some(g), Some(b)) => 0.2126 * r[k] + 0.7152 * g[k] + 0.0722 * b[k],
                     _ => 0.0,
                 };
-                let g = (output::png::srgb_encode(lum) * 90.0) as u8;
+                let g = (crate::film::srgb_encode(lum) * 90.0) as u8;
                 Rgb([g, g, g])
             };
         }

@@ -4,8 +4,8 @@ mod common;
 
 use envshadow::anim::{Animation, Overrides};
 use envshadow::coordinator::{Inputs, Silent, render_frame, thread_pool};
+use envshadow::film::Counts;
 use envshadow::film::Film;
-use envshadow::output::stats::Counts;
 use envshadow::predict::{FloodTo, Method, Variant};
 
 /// A small shapes frame under the built-in sky and a small bunny frame under grace.hdr.

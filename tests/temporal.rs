@@ -10,8 +10,8 @@ use envshadow::anim::{Animation, Overrides};
 use envshadow::coordinator::{
     Inputs, RunOptions, Silent, Temporal, render_animation, render_frame_with, thread_pool,
 };
+use envshadow::film::Counts;
 use envshadow::film::Film;
-use envshadow::output::stats::Counts;
 use envshadow::predict::FloodTo;
 use envshadow::temporal::Carried;
 

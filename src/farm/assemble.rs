@@ -12,9 +12,10 @@ use crate::error::{Result, input_error};
 use crate::farm::job::{Manifest, Settings, TileFrame, bounding, read_manifest, tiles_path};
 use crate::farm::plan::{Job, PlanRequest, plan};
 use crate::farm::{PlanFile, identity};
+use crate::film::Counts;
 use crate::film::Film;
 use crate::output::exr::read_frame;
-use crate::output::stats::{Counts, FrameStats, StatsFile};
+use crate::output::stats::{FrameStats, StatsFile};
 use crate::output::write_atomic;
 use crate::tile::Tile;
 

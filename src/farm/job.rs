@@ -21,8 +21,9 @@ use crate::anim::Animation;
 use crate::error::{Result, input_error};
 use crate::farm::identity;
 use crate::farm::plan::{By, Job};
+use crate::film::Counts;
 use crate::film::Film;
-use crate::output::stats::{Counts, FrameStats};
+use crate::output::stats::FrameStats;
 use crate::output::write_atomic;
 use crate::tile::{Rect, Tile, tiles};
 

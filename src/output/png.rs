@@ -5,17 +5,7 @@ use std::path::Path;
 use anyhow::Context;
 
 use crate::error::Result;
-
-/// Linear → sRGB-encoded value in [0, 1].
-#[inline]
-pub fn srgb_encode(x: f32) -> f32 {
-    let x = x.clamp(0.0, 1.0);
-    if x <= 0.003_130_8 {
-        12.92 * x
-    } else {
-        1.055 * x.powf(1.0 / 2.4) - 0.055
-    }
-}
+use crate::film::srgb_encode;
 
 /// Linear RGB → 8-bit sRGB with an exposure multiplier (clipped highlights).
 pub fn tonemap(rgb: [f32; 3], exposure: f32) -> [u8; 3] {
