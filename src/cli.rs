@@ -444,7 +444,7 @@ fn render(args: RenderArgs) -> Result<()> {
     let opts = RunOptions {
         resume: args.resume,
         region: args.region,
-        job: None,
+        tiles: None,
         cancel: crate::cancel::Cancel::on_signals()?,
     };
     let progress: Box<dyn Progress> = if args.quiet {
@@ -452,7 +452,8 @@ fn render(args: RenderArgs) -> Result<()> {
     } else {
         Box::new(Reporter::new(std::io::stderr().is_terminal()))
     };
-    let summary = coordinator::render_animation(&anim, &opts, progress.as_ref())?;
+    let mut files = coordinator::FrameFiles::new(&anim);
+    let summary = coordinator::render_animation(&anim, &opts, &mut files, progress.as_ref())?;
     if !args.quiet {
         eprintln!(
             "{}: {} frames rendered, {} skipped in {:.1} s; {} shadow queries, {} rays traced ({:.2} %); output in {}",

@@ -4,7 +4,7 @@
 //! thread that writes them while rendering goes on. Memory stays bounded by the frames in
 //! flight and the channel's capacity.
 
-use std::path::Path;
+use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Mutex, OnceLock};
 use std::time::Instant;
@@ -18,8 +18,7 @@ use crate::anim::{Animation, EnvSource, MotionKind, SceneSource};
 use crate::cancel::Cancel;
 use crate::envmap::EnvMap;
 use crate::error::{Interrupted, Result};
-use crate::film::Counts;
-use crate::film::Film;
+use crate::film::{Counts, Film};
 use crate::frame::{FrameContext, TileWork, render_shared, render_tile};
 use crate::lights::LightSet;
 use crate::output::stats::{FrameStats, StatsFile};
@@ -48,6 +47,50 @@ pub trait Progress: Sync {
 /// Reports nothing.
 pub struct Silent;
 impl Progress for Silent {}
+
+/// Where a run's finished frames go: frame files and `stats.csv` in the output folder
+/// ([`FrameFiles`]), or a farm job's tile images and statistics (the farm's `JobWriter`).
+pub trait FrameSink: Send {
+    /// Called once the output folder exists, before any frame is rendered.
+    fn begin(&mut self) -> Result<()> {
+        Ok(())
+    }
+    /// Whether `frame` is already complete here (`--resume` skips it).
+    fn frame_done(&self, frame: usize) -> bool;
+    /// Publishes one finished frame (from the writer thread, in the order frames finish).
+    fn write(&mut self, film: &Film, stats: &FrameStats) -> Result<()>;
+}
+
+/// A render's own folder: `frame_NNNN.exr` and `.png` per frame, one `stats.csv` row each.
+pub struct FrameFiles {
+    dir: PathBuf,
+    exposure: f32,
+    stats: StatsFile,
+}
+
+impl FrameFiles {
+    /// The frame files of `anim`'s output folder (`stats.csv` rows already there are kept).
+    pub fn new(anim: &Animation) -> FrameFiles {
+        let dir = anim.out_dir.clone();
+        FrameFiles {
+            stats: StatsFile::open(&dir.join("stats.csv")),
+            dir,
+            exposure: anim.exposure,
+        }
+    }
+}
+
+impl FrameSink for FrameFiles {
+    fn frame_done(&self, frame: usize) -> bool {
+        frame_path(&self.dir, frame, "exr").exists() && frame_path(&self.dir, frame, "png").exists()
+    }
+
+    fn write(&mut self, film: &Film, stats: &FrameStats) -> Result<()> {
+        output::write_frame_files(&self.dir, stats.frame, film, self.exposure)?;
+        self.stats.set(stats);
+        self.stats.write(&self.dir.join("stats.csv"))
+    }
+}
 
 /// An animation's inputs, loaded once per run.
 pub struct Inputs {
@@ -106,9 +149,9 @@ pub struct RunOptions {
     pub resume: bool,
     /// Render only this pixel rectangle (the rest of the frame stays black).
     pub region: Option<Rect>,
-    /// A farm job: render only the job's tiles and publish them as its tile images and
-    /// per-frame statistics (`crate::farm::job`) instead of frames and `stats.csv`.
-    pub job: Option<crate::farm::job::JobWriter>,
+    /// Render only these tiles of the frame-anchored grid (sorted; a farm job's), as a region
+    /// render of their bounding rectangle would.
+    pub tiles: Option<Vec<usize>>,
     /// Stops the run between tiles: complete frames are written, frames in flight dropped.
     pub cancel: Cancel,
 }
@@ -172,30 +215,29 @@ pub fn render_frame_with(
     let list = tiles(anim.width, anim.height, anim.tile, region);
     let never = Cancel::default();
     render_tile_list(
-        anim, inputs, frame, list, region, progress, temporal, &never,
+        anim, inputs, frame, &list, region, progress, temporal, &never,
     )
 }
 
-/// Renders the tiles of a frame whose indices are in `indices` (sorted; the frame-anchored
-/// grid), as a region render of their bounding rectangle would: the shared phases run as far
-/// as that rectangle's halos reach, so each tile gets the bits of a whole-frame render.
-pub fn render_frame_tiles(
-    anim: &Animation,
-    inputs: &Inputs,
-    frame: usize,
-    indices: &[usize],
-    progress: &dyn Progress,
-    temporal: &Temporal,
-    cancel: &Cancel,
-) -> Result<(Film, FrameStats, Option<Carried>)> {
+/// The tiles a run renders and the region that bounds them: `--region`'s tiles, or the
+/// tiles of `indices` (sorted; the frame-anchored grid) with their bounding rectangle, so
+/// the shared phases reach as far as their halos and each tile gets the bits of a
+/// whole-frame render.
+fn selection(anim: &Animation, opts: &RunOptions) -> (Vec<Tile>, Option<Rect>) {
+    let Some(indices) = &opts.tiles else {
+        return (
+            tiles(anim.width, anim.height, anim.tile, opts.region),
+            opts.region,
+        );
+    };
     let all = tiles(anim.width, anim.height, anim.tile, None);
     let whole = indices.len() == all.len();
     let list: Vec<Tile> = all
         .into_iter()
         .filter(|t| indices.binary_search(&t.index).is_ok())
         .collect();
-    let bbox = (!whole).then(|| crate::farm::job::bounding(&list));
-    render_tile_list(anim, inputs, frame, list, bbox, progress, temporal, cancel)
+    let bbox = (!whole).then(|| crate::tile::bounding(&list));
+    (list, bbox)
 }
 
 /// Renders `list` (tiles of one frame); `region` (if any) bounds them and decides how far the
@@ -208,7 +250,7 @@ fn render_tile_list(
     anim: &Animation,
     inputs: &Inputs,
     frame: usize,
-    list: Vec<Tile>,
+    list: &[Tile],
     region: Option<Rect>,
     progress: &dyn Progress,
     temporal: &Temporal,
@@ -270,7 +312,7 @@ fn render_tile_list(
             let grown = r.grow(predictor.shared_reach());
             tiles(anim.width, anim.height, anim.tile, Some(grown))
         });
-        let shared_tiles = reach.as_ref().unwrap_or(&list);
+        let shared_tiles = reach.as_deref().unwrap_or(list);
         for phase in 0..phases {
             cancel.check()?;
             let patches: Vec<_> = shared_tiles
@@ -340,25 +382,6 @@ fn render_tile_list(
     Ok((film, stats, carried))
 }
 
-/// Writes one frame's files: `frame_NNNN.exr` (beauty + AOVs) and `frame_NNNN.png`.
-pub fn write_frame_files(dir: &Path, frame: usize, film: &Film, exposure: f32) -> Result<()> {
-    let mut aovs = Vec::new();
-    if let Some(wrong) = &film.wrong {
-        aovs.push(output::exr::Aov {
-            name: "wrong",
-            values: wrong,
-        });
-    }
-    output::exr::write_frame(&frame_path(dir, frame, "exr"), film, &aovs)?;
-    output::png::write_preview(
-        &frame_path(dir, frame, "png"),
-        film.width,
-        film.height,
-        &film.beauty,
-        exposure,
-    )
-}
-
 /// A thread pool with `threads` workers (0: one per core).
 pub fn thread_pool(threads: usize) -> Result<rayon::ThreadPool> {
     rayon::ThreadPoolBuilder::new()
@@ -372,6 +395,7 @@ pub fn thread_pool(threads: usize) -> Result<rayon::ThreadPool> {
 pub fn render_animation(
     anim: &Animation,
     opts: &RunOptions,
+    sink: &mut dyn FrameSink,
     progress: &dyn Progress,
 ) -> Result<RunSummary> {
     let start = Instant::now();
@@ -388,22 +412,14 @@ pub fn render_animation(
     opts.cancel.check()?;
     std::fs::create_dir_all(dir)
         .with_context(|| format!("creating output folder {}", dir.display()))?;
-    if let Some(job) = &opts.job {
-        job.begin()?;
-    }
+    sink.begin()?;
     inputs.lights.write_json(&dir.join("lights.json"))?;
 
     let todo: Vec<usize> = anim
         .frames
         .clone()
         .filter(|&f| {
-            let done = opts.resume
-                && match &opts.job {
-                    Some(job) => job.frame_done(f),
-                    None => {
-                        frame_path(dir, f, "exr").exists() && frame_path(dir, f, "png").exists()
-                    }
-                };
+            let done = opts.resume && sink.frame_done(f);
             if done {
                 progress.frame_skipped(f);
             }
@@ -427,14 +443,9 @@ pub fn render_animation(
              (not written) to warm it up from its key frame"
         ));
     }
-    let tiles_per_frame = match &opts.job {
-        Some(job) => job.tiles().len(),
-        None => tiles(anim.width, anim.height, anim.tile, opts.region).len(),
-    };
-    progress.begin(todo.len(), tiles_per_frame);
+    let (list, region) = selection(anim, opts);
+    progress.begin(todo.len(), list.len());
     let pool = thread_pool(anim.threads)?;
-    let stats_path = dir.join("stats.csv");
-    let mut stats_file = StatsFile::open(&stats_path);
 
     // Two chains in flight share the pool: while the last tiles of one frame finish, idle
     // workers take tiles of the other chain's frame. Each driver thread renders its chain's
@@ -451,13 +462,7 @@ pub fn render_animation(
         let writer = s.spawn(|| -> Result<RunSummary> {
             let mut done = RunSummary::default();
             for (film, stats) in rx {
-                if let Some(job) = &opts.job {
-                    job.write_frame(&film, &stats)?;
-                } else {
-                    write_frame_files(dir, stats.frame, &film, anim.exposure)?;
-                    stats_file.set(&stats);
-                    stats_file.write(&stats_path)?;
-                }
+                sink.write(&film, &stats)?;
                 done.counts += stats.counts;
                 done.rendered += 1;
             }
@@ -465,8 +470,8 @@ pub fn render_animation(
         });
         for _ in 0..FRAMES_IN_FLIGHT.min(work.len()) {
             let tx = tx.clone();
-            let (next, failed, first_error, work, pool, inputs) =
-                (&next, &failed, &first_error, &work, &pool, &inputs);
+            let (next, failed, first_error, work, pool, inputs, list) =
+                (&next, &failed, &first_error, &work, &pool, &inputs, &list);
             s.spawn(move || {
                 'chains: loop {
                     let k = next.fetch_add(1, Ordering::Relaxed);
@@ -488,26 +493,17 @@ pub fn render_animation(
                             no_validate: !write,
                         };
                         let shown: &dyn Progress = if write { progress } else { &Silent };
-                        let rendered = pool.install(|| match &opts.job {
-                            Some(job) => render_frame_tiles(
+                        let rendered = pool.install(|| {
+                            render_tile_list(
                                 anim,
                                 inputs,
                                 frame,
-                                job.tiles(),
+                                list,
+                                region,
                                 shown,
                                 &link,
                                 &opts.cancel,
-                            ),
-                            None => render_tile_list(
-                                anim,
-                                inputs,
-                                frame,
-                                tiles(anim.width, anim.height, anim.tile, opts.region),
-                                opts.region,
-                                shown,
-                                &link,
-                                &opts.cancel,
-                            ),
+                            )
                         });
                         match rendered {
                             Ok((film, stats, carried)) => {

@@ -149,3 +149,17 @@ mod tests {
         assert_eq!(part.iter().map(|t| t.rect.area()).sum::<usize>(), 100);
     }
 }
+
+/// The bounding rectangle of some tiles.
+pub fn bounding(tiles: &[Tile]) -> Rect {
+    let mut r = tiles.first().map(|t| t.rect).unwrap_or_default();
+    for t in tiles {
+        r = Rect::new(
+            r.x0.min(t.rect.x0),
+            r.y0.min(t.rect.y0),
+            r.x1.max(t.rect.x1),
+            r.y1.max(t.rect.y1),
+        );
+    }
+    r
+}

@@ -8,7 +8,8 @@ use std::path::Path;
 
 use envshadow::anim::{Animation, Overrides};
 use envshadow::coordinator::{
-    Inputs, RunOptions, Silent, Temporal, render_animation, render_frame_with, thread_pool,
+    FrameFiles, Inputs, RunOptions, Silent, Temporal, render_animation, render_frame_with,
+    thread_pool,
 };
 use envshadow::film::Counts;
 use envshadow::film::Film;
@@ -163,13 +164,25 @@ fn one_job_and_split_jobs_write_identical_frames() {
     let mut anim = bunny("spin", 64, 48, 32, &one);
     anim.validate = false;
     anim.frames = 0..7;
-    render_animation(&anim, &RunOptions::default(), &Silent).unwrap();
+    render_animation(
+        &anim,
+        &RunOptions::default(),
+        &mut FrameFiles::new(&anim),
+        &Silent,
+    )
+    .unwrap();
     // Two jobs split in the middle of a chain (key frames 0 and 4): the second warms up from
     // frame 0 without writing frames 0 and 1.
     anim.out_dir = split.clone();
     for range in [0..2, 2..7] {
         anim.frames = range;
-        render_animation(&anim, &RunOptions::default(), &Silent).unwrap();
+        render_animation(
+            &anim,
+            &RunOptions::default(),
+            &mut FrameFiles::new(&anim),
+            &Silent,
+        )
+        .unwrap();
     }
     assert!(files(&one, 0..7) == files(&split, 0..7));
     assert_eq!(anim.frame_alignment(), 4);
@@ -216,10 +229,22 @@ fn savings_plot_compares_two_renders() {
     let mut anim = bunny("orbit", 64, 48, 32, &with);
     anim.validate = false;
     anim.frames = 0..3;
-    render_animation(&anim, &RunOptions::default(), &Silent).unwrap();
+    render_animation(
+        &anim,
+        &RunOptions::default(),
+        &mut FrameFiles::new(&anim),
+        &Silent,
+    )
+    .unwrap();
     anim.temporal = false;
     anim.out_dir = without.clone();
-    render_animation(&anim, &RunOptions::default(), &Silent).unwrap();
+    render_animation(
+        &anim,
+        &RunOptions::default(),
+        &mut FrameFiles::new(&anim),
+        &Silent,
+    )
+    .unwrap();
     let s = envshadow::savings::write_savings(&with, &without, None).unwrap();
     assert_eq!(s.png, with.join("savings.png"));
     assert_eq!(s.frames.len(), 3);

@@ -9,7 +9,7 @@ use std::path::Path;
 use glam::Vec3;
 
 use crate::error::{Result, input_error};
-use crate::farm::job::{Manifest, Settings, TileFrame, bounding, read_manifest, tiles_path};
+use crate::farm::job::{Manifest, Settings, TileFrame, read_manifest, tiles_path};
 use crate::farm::plan::{Job, PlanRequest, plan};
 use crate::farm::{PlanFile, identity};
 use crate::film::Counts;
@@ -17,7 +17,7 @@ use crate::film::Film;
 use crate::output::exr::read_frame;
 use crate::output::stats::{FrameStats, StatsFile};
 use crate::output::write_atomic;
-use crate::tile::Tile;
+use crate::tile::{Tile, bounding};
 
 /// How `read_piece` says a frame's files are absent (not corrupt).
 const NOT_RENDERED: &str = "not rendered: no ";
@@ -265,7 +265,7 @@ pub fn assemble(dir: &Path) -> Result<Assembled> {
             && let Some(tf) = meta
         {
             film.counts = counts;
-            crate::coordinator::write_frame_files(dir, f, &film, settings.exposure)?;
+            crate::output::write_frame_files(dir, f, &film, settings.exposure)?;
             let full = crate::tile::Rect::frame(settings.width, settings.height);
             let v = |a: [f32; 3]| Vec3::from_array(a);
             stats_file.set(&FrameStats {

@@ -18,6 +18,7 @@ use exr::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::anim::Animation;
+use crate::coordinator::FrameSink;
 use crate::error::{Result, input_error};
 use crate::farm::identity;
 use crate::farm::plan::{By, Job};
@@ -25,7 +26,7 @@ use crate::film::Counts;
 use crate::film::Film;
 use crate::output::stats::FrameStats;
 use crate::output::write_atomic;
-use crate::tile::{Rect, Tile, tiles};
+use crate::tile::{Rect, Tile, bounding, tiles};
 
 /// The manifest's `format`; assemble refuses others.
 pub const FORMAT: &str = "envshadow-job 1";
@@ -116,20 +117,6 @@ pub fn tiles_path(dir: &Path, frame: usize, ext: &str) -> PathBuf {
     dir.join(format!("tiles_{frame:04}.{ext}"))
 }
 
-/// The bounding rectangle of some tiles.
-pub fn bounding(tiles: &[Tile]) -> Rect {
-    let mut r = tiles.first().map(|t| t.rect).unwrap_or_default();
-    for t in tiles {
-        r = Rect::new(
-            r.x0.min(t.rect.x0),
-            r.y0.min(t.rect.y0),
-            r.x1.max(t.rect.x1),
-            r.y1.max(t.rect.y1),
-        );
-    }
-    r
-}
-
 /// Channel names of a job's tile image, in the order they are stored (EXR sorts them).
 pub fn channel_names(validate: bool) -> Vec<&'static str> {
     let mut v = vec!["R", "G", "B", "rays", "visible"];
@@ -165,18 +152,20 @@ impl JobWriter {
         }
     }
 
-    /// Publishes `job.json`; called once the folder exists, before any frame.
-    pub fn begin(&self) -> Result<()> {
-        write_manifest(&self.dir, &self.manifest)
-    }
-
     /// The tiles this job renders.
     pub fn tiles(&self) -> &[usize] {
         &self.tiles
     }
+}
+
+impl FrameSink for JobWriter {
+    /// Publishes `job.json`.
+    fn begin(&mut self) -> Result<()> {
+        write_manifest(&self.dir, &self.manifest)
+    }
 
     /// The frame's files exist and agree on the EXR's size (`--resume`).
-    pub fn frame_done(&self, frame: usize) -> bool {
+    fn frame_done(&self, frame: usize) -> bool {
         let Ok(text) = std::fs::read_to_string(tiles_path(&self.dir, frame, "json")) else {
             return false;
         };
@@ -189,7 +178,7 @@ impl JobWriter {
     }
 
     /// Publishes one rendered frame: the tile image, then its statistics.
-    pub fn write_frame(&self, film: &Film, stats: &FrameStats) -> Result<()> {
+    fn write(&mut self, film: &Film, stats: &FrameStats) -> Result<()> {
         let exr_path = tiles_path(&self.dir, stats.frame, "exr");
         write_tile_image(&exr_path, film, self.bbox)?;
         let bytes =

@@ -189,12 +189,13 @@ pub fn render_job(
     let mut job_anim = anim.clone();
     job_anim.frames = job.frames.clone();
     job_anim.out_dir = dir.clone();
+    let mut writer = JobWriter::new(dir.clone(), &job, &grid, manifest);
     let opts = RunOptions {
         resume,
         region: None,
-        job: Some(JobWriter::new(dir.clone(), &job, &grid, manifest)),
+        tiles: Some(writer.tiles().to_vec()),
         cancel,
     };
-    let summary = coordinator::render_animation(&job_anim, &opts, progress)?;
+    let summary = coordinator::render_animation(&job_anim, &opts, &mut writer, progress)?;
     Ok((job, dir, summary))
 }

@@ -13,6 +13,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 
 use crate::error::Result;
+use crate::film::Film;
 
 /// The temporary name a file is written under before it is renamed into place.
 pub fn temp_path(path: &Path) -> PathBuf {
@@ -47,4 +48,23 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
 /// `DIR/frame_0042.ext`.
 pub fn frame_path(dir: &Path, frame: usize, ext: &str) -> PathBuf {
     dir.join(format!("frame_{frame:04}.{ext}"))
+}
+
+/// Writes one frame's files: `frame_NNNN.exr` (beauty + AOVs) and `frame_NNNN.png`.
+pub fn write_frame_files(dir: &Path, frame: usize, film: &Film, exposure: f32) -> Result<()> {
+    let mut aovs = Vec::new();
+    if let Some(wrong) = &film.wrong {
+        aovs.push(exr::Aov {
+            name: "wrong",
+            values: wrong,
+        });
+    }
+    exr::write_frame(&frame_path(dir, frame, "exr"), film, &aovs)?;
+    png::write_preview(
+        &frame_path(dir, frame, "png"),
+        film.width,
+        film.height,
+        &film.beauty,
+        exposure,
+    )
 }
