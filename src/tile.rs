@@ -112,6 +112,20 @@ pub fn tiles(width: u32, height: u32, size: u32, region: Option<Rect>) -> Vec<Ti
     out
 }
 
+/// The bounding rectangle of some tiles.
+pub fn bounding(tiles: &[Tile]) -> Rect {
+    let mut r = tiles.first().map(|t| t.rect).unwrap_or_default();
+    for t in tiles {
+        r = Rect::new(
+            r.x0.min(t.rect.x0),
+            r.y0.min(t.rect.y0),
+            r.x1.max(t.rect.x1),
+            r.y1.max(t.rect.y1),
+        );
+    }
+    r
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -148,18 +162,4 @@ mod tests {
         }
         assert_eq!(part.iter().map(|t| t.rect.area()).sum::<usize>(), 100);
     }
-}
-
-/// The bounding rectangle of some tiles.
-pub fn bounding(tiles: &[Tile]) -> Rect {
-    let mut r = tiles.first().map(|t| t.rect).unwrap_or_default();
-    for t in tiles {
-        r = Rect::new(
-            r.x0.min(t.rect.x0),
-            r.y0.min(t.rect.y0),
-            r.x1.max(t.rect.x1),
-            r.y1.max(t.rect.y1),
-        );
-    }
-    r
 }
