@@ -354,7 +354,7 @@ pub fn markdown(rows: &[BenchRow]) -> String {
     s.push('\n');
     for r in rows {
         let none_row = rows.iter().find(|o| {
-            o.lights == r.lights && o.threads == r.threads && o.variant.method == Method::None
+            o.lights == r.lights && o.threads == r.threads && o.variant.method == Method::NONE
         });
         let none = none_row
             .map(|o| format!("{:.2}", r.seconds / o.seconds))
@@ -405,7 +405,7 @@ fn split_cells(r: &BenchRow, none: Option<&BenchRow>) -> String {
         sp.build,
         f(primary),
         sp.shadow,
-        if r.variant.method == Method::None {
+        if r.variant.method == Method::NONE {
             "–".into()
         } else {
             f(prediction)

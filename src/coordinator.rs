@@ -16,16 +16,17 @@ use rayon::prelude::*;
 use crate::accel::Accel;
 use crate::anim::{Animation, EnvSource, MotionKind, SceneSource};
 use crate::cancel::Cancel;
+use crate::context::FrameContext;
+use crate::driver::{FrameWork, Slot};
 use crate::envmap::EnvMap;
 use crate::error::{Interrupted, Result};
 use crate::film::{Counts, Film};
-use crate::frame::{FrameContext, TileWork, render_shared, render_tile};
+use crate::history::{Carried, CarryPatch};
 use crate::lights::LightSet;
 use crate::output::stats::{FrameStats, StatsFile};
 use crate::output::{self, frame_path};
-use crate::predict::Lattice;
 use crate::scene::Scene;
-use crate::temporal::{Carried, CarryPatch, Prev, chains};
+use crate::temporal::{chains, prev_view};
 use crate::tile::{Rect, Tile, tiles};
 
 /// Progress reports from the library; the CLI decides how to show them (a bar or log lines).
@@ -166,14 +167,15 @@ pub struct RunSummary {
 }
 
 thread_local! {
-    /// Each worker's tile buffers, kept across tiles and frames so they are allocated once.
-    static WORK: std::cell::RefCell<TileWork> = std::cell::RefCell::new(TileWork::default());
+    /// Each worker's tile buffers and scratch, kept across tiles and frames so they are
+    /// allocated once.
+    static SLOT: std::cell::RefCell<Slot> = std::cell::RefCell::new(Slot::default());
 }
 
-/// Runs `f` with this thread's tile buffers. Tile work never re-enters the pool, so the
-/// buffers are never borrowed twice.
-fn with_work<R>(f: impl FnOnce(&mut TileWork) -> R) -> R {
-    WORK.with_borrow_mut(f)
+/// Runs `f` with this thread's slot. Tile work never re-enters the pool, so the slot is never
+/// borrowed twice.
+fn with_slot<R>(f: impl FnOnce(&mut Slot) -> R) -> R {
+    SLOT.with_borrow_mut(f)
 }
 
 /// Renders one frame: poses the scene, builds its BVH, renders every tile on the current
@@ -268,30 +270,28 @@ fn render_tile_list(
         None => (&inputs.scene, inputs.still_accel()),
     };
     let camera = anim.camera(&inputs.scene, frame)?;
-    let predictor = anim.method.predictor(anim.params);
-    let mut ctx = FrameContext::new(
-        scene,
-        accel,
-        camera,
-        &inputs.lights,
-        &inputs.env,
-        predictor.as_ref(),
-    );
-    ctx.validate = anim.validate && !temporal.no_validate;
-    let prev;
-    if let Some(carried) = temporal.prev {
-        let prev_camera = anim.camera(&inputs.scene, carried.frame)?;
-        prev = Prev::new(
-            anim,
-            carried,
-            frame,
-            prev_camera,
-            &camera,
-            camera0.target,
-            &inputs.lights,
-        );
-        ctx.temporal = Some(&prev);
-    }
+    let ctx = FrameContext::new(scene, accel, camera, &inputs.lights, &inputs.env);
+    let prev = match temporal.prev {
+        Some(carried) => {
+            let prev_camera = anim.camera(&inputs.scene, carried.frame)?;
+            Some(prev_view(
+                anim,
+                carried,
+                frame,
+                prev_camera,
+                &camera,
+                camera0.target,
+                &inputs.lights,
+            ))
+        }
+        None => None,
+    };
+    let shadows = anim.method.build(anim.params, prev.as_ref());
+    let work = FrameWork {
+        ctx: &ctx,
+        shadows: &shadows,
+        validate: anim.validate && !temporal.no_validate,
+    };
     // A spinning object turns the lights relative to itself: keep the edges of each pixel's
     // shadow in light space, which the turn may carry across a light.
     let edges = anim.motion == MotionKind::Spin;
@@ -300,16 +300,11 @@ fn render_tile_list(
         .then(|| Carried::new(frame, anim.width, anim.height, ctx.words(), edges));
     // Shared phases (the grid's coarse levels) run over every tile the rendered tiles' halos
     // reach, so a region render reads exactly what the whole frame would have computed.
-    let phases = predictor.shared_phases();
-    let mut lattice = Lattice::new(
-        anim.width,
-        anim.height,
-        predictor.lattice_step(),
-        ctx.words(),
-    );
+    let phases = work.shared_phases();
+    let mut lattice = work.lattice();
     if phases > 0 {
         let reach = region.map(|r| {
-            let grown = r.grow(predictor.shared_reach());
+            let grown = r.grow(work.shared_reach());
             tiles(anim.width, anim.height, anim.tile, Some(grown))
         });
         let shared_tiles = reach.as_deref().unwrap_or(list);
@@ -317,7 +312,7 @@ fn render_tile_list(
             cancel.check()?;
             let patches: Vec<_> = shared_tiles
                 .par_iter()
-                .map(|t| with_work(|work| render_shared(&ctx, t.rect, work, phase, &lattice)))
+                .map(|t| with_slot(|slot| work.shared_phase(t.rect, slot, phase, &lattice)))
                 .collect();
             for p in &patches {
                 lattice.insert(p);
@@ -343,9 +338,10 @@ fn render_tile_list(
                     break;
                 }
                 let t = &list[order[k]];
-                let r = with_work(|work| {
-                    let r = render_tile(&ctx, t.rect, work, &lattice);
-                    let patch = carry.then(|| CarryPatch::record(work, &inputs.lights, edges));
+                let r = with_slot(|slot| {
+                    let r = work.tile(t.rect, slot, &lattice);
+                    let patch =
+                        carry.then(|| CarryPatch::record(&slot.bufs, &inputs.lights, edges));
                     (r, patch)
                 });
                 progress.tile_done(r.0.counts.rays);
@@ -356,7 +352,7 @@ fn render_tile_list(
     let Some(results) = results else {
         return Err(Interrupted.into());
     };
-    let mut film = Film::new(anim.width, anim.height, ctx.validate);
+    let mut film = Film::new(anim.width, anim.height, work.validate);
     for (r, patch) in &results {
         film.add(r);
         if let (Some(c), Some(p)) = (&mut carried, patch) {

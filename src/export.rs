@@ -14,9 +14,9 @@ use clap::Args;
 use serde_json::json;
 
 use crate::anim::{Animation, Overrides};
+use crate::context::shadow_epsilon;
 use crate::coordinator::Inputs;
 use crate::error::{Result, input_error};
-use crate::frame::shadow_epsilon;
 use crate::output::write_atomic_with;
 
 #[derive(Args, Debug)]

@@ -52,6 +52,58 @@ pub struct TableRow {
     pub flood_fixes: u64,
 }
 
+/// The paper's Table 1: % of N·L > 0 shadow rays traced per method, for shapes then bunny at
+/// 50, 100, 200 and 400 lights; its rows in the paper's order ("true" = brute first).
+pub const TABLE1: [(&str, [f64; 8]); 6] = [
+    ("brute", [100.0; 8]),
+    (
+        "scan-warp-boundary",
+        [40.5, 34.3, 26.3, 22.4, 52.4, 42.6, 33.6, 25.9],
+    ),
+    (
+        "grid-warp-boundary",
+        [22.0, 17.9, 15.1, 12.4, 21.5, 16.6, 13.5, 11.6],
+    ),
+    (
+        "grid-nowarp-boundary",
+        [21.7, 17.1, 13.8, 10.6, 21.2, 15.8, 12.0, 9.3],
+    ),
+    (
+        "grid-warp-uncertainty",
+        [10.4, 10.7, 11.0, 11.3, 9.1, 9.4, 10.2, 11.5],
+    ),
+    (
+        "grid-nowarp-uncertainty",
+        [9.4, 8.8, 8.3, 7.5, 8.1, 7.7, 7.2, 6.7],
+    ),
+];
+
+/// The methods of the paper's Table 1, in its row order.
+pub fn table1_methods() -> Vec<Method> {
+    TABLE1
+        .iter()
+        .map(|(name, _)| name.parse().expect("Table 1 names registered methods"))
+        .collect()
+}
+
+/// The paper's Table 1 figure (% of N·L > 0 shadow rays traced) for this method, scene
+/// (`shapes` or `bunny`) and light count, where the paper gives one.
+pub fn paper_percent(method: Method, scene: &str, lights: usize) -> Option<f64> {
+    let col = match lights {
+        50 => 0,
+        100 => 1,
+        200 => 2,
+        400 => 3,
+        _ => return None,
+    };
+    let row = TABLE1.iter().find(|(name, _)| *name == method.name())?.1;
+    match scene {
+        "shapes" => Some(row[col]),
+        "bunny" => Some(row[4 + col]),
+        _ => None,
+    }
+}
+
 fn spec_and_key(scene: &str) -> (PathBuf, String) {
     match scene {
         "shapes" | "bunny" => (
@@ -75,7 +127,7 @@ fn spec_and_key(scene: &str) -> (PathBuf, String) {
 pub fn measure(args: &TableArgs, mut log: impl FnMut(&TableRow)) -> Result<Vec<TableRow>> {
     let (spec, key) = spec_and_key(&args.scene);
     let methods: Vec<Method> = if args.methods.is_empty() {
-        Method::TABLE1.to_vec()
+        table1_methods()
     } else {
         args.methods.clone()
     };
@@ -90,7 +142,7 @@ pub fn measure(args: &TableArgs, mut log: impl FnMut(&TableRow)) -> Result<Vec<T
             anim.method = method;
             anim.params = variant.params(base);
             // Brute force is its own reference: nothing to validate.
-            anim.validate = method != Method::Brute;
+            anim.validate = method != Method::BRUTE;
             let (_, stats) =
                 pool.install(|| render_frame(&anim, &inputs, args.sweep.frame, None, &Silent))?;
             let c = stats.counts;
@@ -104,7 +156,7 @@ pub fn measure(args: &TableArgs, mut log: impl FnMut(&TableRow)) -> Result<Vec<T
                 wrong_pixels: c.wrong_pixels,
                 rel_rmse: stats.image_error.map_or(0.0, |e| e.rel_rmse),
                 seconds: stats.seconds,
-                paper: method.paper_percent(&key, n),
+                paper: paper_percent(method, &key, n),
                 rays_every_light: c.rays_every_light,
                 rays_unsure: c.rays_unsure(),
                 rays_flooded: c.rays_flooded,
@@ -208,7 +260,7 @@ pub fn csv(rows: &[TableRow], scene: &str) -> String {
             "{scene},{},{},{},{},{},{:.4},{},{:.6},{},{:.6e},{:.3},{},{},{},{}",
             r.variant.method,
             // Empty for the methods every rule traces alike.
-            if r.variant.method.floods_by_rule() {
+            if r.variant.method.reads("flood_to") {
                 r.variant.flood_to.name()
             } else {
                 ""

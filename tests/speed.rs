@@ -37,14 +37,14 @@ fn recorded(anim: &Animation, inputs: &Inputs) -> (envshadow::film::Film, Vec<ac
 
 #[test]
 fn recorded_rays_are_the_frames_rays_and_a_dump_replays_them_identically() {
-    for method in [Method::Brute, Method::GridNowarpUncertainty] {
+    for method in [Method::BRUTE, Method::DEFAULT] {
         let (anim, inputs) = shapes(50, method);
         let (film, rays) = recorded(&anim, &inputs);
         let c = film.counts;
         assert!(c.rays > 0);
         // Every traced ray is recorded once: the tiles' own and their halos'.
         assert_eq!(rays.len() as u64, c.rays + c.halo_rays, "{method}");
-        if method == Method::Brute {
+        if method == Method::BRUTE {
             assert_eq!(c.rays, c.queries);
         }
         // Not recording: nothing is kept.

@@ -13,8 +13,8 @@ use envshadow::coordinator::{
 };
 use envshadow::film::Counts;
 use envshadow::film::Film;
+use envshadow::history::Carried;
 use envshadow::predict::FloodTo;
-use envshadow::temporal::Carried;
 
 /// A small bunny animation: `kind` = orbit or spin, 3° per frame, validated, temporal.
 fn bunny(kind: &str, width: u32, height: u32, lights: usize, out: &Path) -> Animation {
@@ -202,7 +202,10 @@ fn temporal_flags_are_checked() {
     .unwrap();
     let out = dir.path().join("out");
     for (args, needle) in [
-        (vec!["--temporal", "--method", "brute"], "grid uncertainty"),
+        (
+            vec!["--temporal", "--method", "brute"],
+            "uncertainty flooding",
+        ),
         (vec!["--temporal", "--keyframe", "0"], "keyframe"),
         (vec!["--temporal", "--region", "0,0,8,8"], "--region"),
     ] {

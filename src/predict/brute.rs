@@ -1,31 +1,28 @@
-//! `brute`: trace every shadow query (the "true" row of Table 1).
+//! `brute`'s rule: trace every shadow query (the "true" row of Table 1).
 
-use super::{Lattice, LatticePatch, Predictor};
-use crate::frame::{FrameContext, TileWork};
-use crate::tile::Rect;
+use super::Scratch;
+use super::correct::At;
+use super::rule::Rule;
+use crate::buffers::TileBuffers;
+use crate::context::FrameContext;
 
 /// Traces one shadow ray per (pixel, light) pair with N·ω > 0.
-pub struct Brute;
+pub struct TraceAll;
 
-impl Predictor for Brute {
-    fn name(&self) -> &'static str {
-        "brute"
+impl Rule for TraceAll {
+    fn parts(&self) -> (&'static str, &'static str) {
+        ("", "")
     }
 
     fn solve(
         &self,
         ctx: &FrameContext,
-        tile: Rect,
-        work: &mut TileWork,
-        _phase: usize,
-        _lattice: &Lattice,
-        _patch: &mut LatticePatch,
+        bufs: &mut TileBuffers,
+        _sc: &mut Scratch,
+        i: usize,
+        _voters: &[usize],
+        at: At,
     ) {
-        for y in tile.y0..tile.y1 {
-            for x in tile.x0..tile.x1 {
-                let i = work.begin_pixel(ctx, x, y);
-                work.trace_all(ctx, i, false);
-            }
-        }
+        bufs.trace_all(ctx, i, at.keep_blockers);
     }
 }

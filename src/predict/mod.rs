@@ -1,77 +1,237 @@
 //! Shadow visibility: which (pixel, light) pairs are traced and which are predicted
 //! (ALGORITHM.md §3–6).
 //!
-//! Every method implements [`Predictor`]: given a frame and a tile, decide the visibility of
-//! every light at every pixel of the tile, tracing some shadow rays and predicting the rest.
-//! The paper's methods are combinations of three parts, one file each:
-//! an evaluation order ([`grid`] coarse-to-fine, [`scanline`] row by row), a voting rule
-//! (warped blockers or plain neighbour visibility, in [`correct`]) and a correction rule
-//! (uncertainty or boundary flooding, in [`correct`]). A new method is one new file here plus
-//! one line in [`Method::predictor`].
+//! A method is an evaluation [`Order`] (which pixels are decided in which pass, and which
+//! earlier pixels vote for each) and a [`Rule`] (how a pixel is decided from its voters). The
+//! predicting rule, [`Predict`], is a voting rule ([`Vote`]: [`NoWarp`], [`Warp`]) and a flood
+//! rule ([`Flood`]: [`Uncertainty`], [`Boundary`]). The tile driver (the driver's
+//! `FrameWork`) walks an order's passes and does the per-pixel bookkeeping for every method;
+//! the previous frame's voters ([`temporal`]) come first where a frame has one.
+//!
+//! The methods are the lines of [`METHODS`]: a new combination of existing parts is one line
+//! there; a new order, vote or flood rule is one file here implementing its trait, plus its
+//! `mod` line and the method lines that use it.
 
-pub mod bits;
+mod boundary;
 mod brute;
 mod correct;
+mod every;
+mod flood;
 mod grid;
-pub mod lattice;
 mod none;
+mod nowarp;
+mod order;
+mod rule;
 mod scanline;
+mod scratch;
 pub mod temporal;
+mod uncertainty;
+mod vote;
+mod warp;
 
 use std::fmt;
 use std::str::FromStr;
 
-pub use brute::Brute;
-pub use correct::{Flood, FloodTo, Scratch, Vote};
+pub use boundary::Boundary;
+pub use brute::TraceAll;
+pub use correct::{At, correct};
+pub use every::EveryPixel;
+pub use flood::{Flood, FloodTo};
 pub use grid::Grid;
-pub use lattice::{Lattice, LatticePatch};
-pub use none::NoShadows;
+pub use none::Unshadowed;
+pub use nowarp::NoWarp;
+pub use order::Order;
+pub use rule::{Predict, Rule};
 pub use scanline::Scanline;
+pub use scratch::Scratch;
+pub use uncertainty::Uncertainty;
+pub use vote::Vote;
+pub use warp::Warp;
 
-use crate::frame::{FrameContext, TileWork};
-use crate::tile::Rect;
+use crate::history::Prev;
 
-/// A way of deciding shadow visibility for the pixels of a tile.
-///
-/// A frame is rendered in phases: first [`shared_phases`](Self::shared_phases) phases over all
-/// tiles whose pixels go into a frame-wide [`Lattice`] (work every tile reads, done once), then
-/// the final phase that decides every pixel of each tile and shades it.
-pub trait Predictor: Send + Sync {
+/// One method: its name, what it does, and how to build its order and rule.
+pub struct MethodDef {
+    /// The name on the command line, in specs and in `stats.csv`.
+    pub name: &'static str,
+    /// One line for `--help` and the README.
+    pub about: &'static str,
+    order: fn(&Params) -> Box<dyn Order>,
+    rule: fn(&Params) -> Box<dyn Rule>,
+}
+
+const fn method(
+    name: &'static str,
+    about: &'static str,
+    order: fn(&Params) -> Box<dyn Order>,
+    rule: fn(&Params) -> Box<dyn Rule>,
+) -> MethodDef {
+    MethodDef {
+        name,
+        about,
+        order,
+        rule,
+    }
+}
+
+fn grid(p: &Params) -> Box<dyn Order> {
+    Box::new(Grid::new(p))
+}
+
+fn scan(p: &Params) -> Box<dyn Order> {
+    Box::new(Scanline::new(p))
+}
+
+fn every(_: &Params) -> Box<dyn Order> {
+    Box::new(EveryPixel)
+}
+
+fn predict<V: Vote, F: Flood>(p: &Params) -> Box<dyn Rule> {
+    Box::new(Predict::<V, F>::new(p))
+}
+
+fn trace_all(_: &Params) -> Box<dyn Rule> {
+    Box::new(TraceAll)
+}
+
+fn unshadowed(_: &Params) -> Box<dyn Rule> {
+    Box::new(Unshadowed)
+}
+
+/// Every method, in the order `--help` lists them: an order and a rule each.
+pub static METHODS: [MethodDef; 7] = [
+    method(
+        "none",
+        "no shadows (every light visible): the cost of a frame without them",
+        every,
+        unshadowed,
+    ),
+    method(
+        "brute",
+        "traces every query: the reference",
+        every,
+        trace_all,
+    ),
+    method(
+        "scan-warp-boundary",
+        "row-by-row order from the left, upper-left and upper neighbours' warped blockers; \
+         traces the predicted shadow's boundary",
+        scan,
+        predict::<Warp, Boundary>,
+    ),
+    method(
+        "grid-warp-boundary",
+        "grid order, warped blockers, binary prediction; traces the visible/blocked boundary",
+        grid,
+        predict::<Warp, Boundary>,
+    ),
+    method(
+        "grid-nowarp-boundary",
+        "grid order, neighbours' visibility, binary prediction; traces the visible/blocked \
+         boundary",
+        grid,
+        predict::<NoWarp, Boundary>,
+    ),
+    method(
+        "grid-warp-uncertainty",
+        "grid order with the neighbours' blockers re-aimed from the pixel (warped); traces \
+         what they disagree on and floods",
+        grid,
+        predict::<Warp, Uncertainty>,
+    ),
+    method(
+        "grid-nowarp-uncertainty",
+        "traces every light on a coarse grid (every 16th pixel), then predicts finer pixels \
+         from four neighbours' visibility; traces lights the neighbours disagree on and floods \
+         to adjacent lights until traces agree",
+        grid,
+        predict::<NoWarp, Uncertainty>,
+    ),
+];
+
+/// A shadow method: one of [`METHODS`].
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Method(usize);
+
+impl Method {
+    /// No shadows.
+    pub const NONE: Method = Method(0);
+    /// Trace every query.
+    pub const BRUTE: Method = Method(1);
+    /// The default: `grid-nowarp-uncertainty`, the paper's best.
+    pub const DEFAULT: Method = Method(6);
+
+    /// Every method, in [`METHODS`]' order.
+    pub fn all() -> impl Iterator<Item = Method> {
+        (0..METHODS.len()).map(Method)
+    }
+
+    fn def(self) -> &'static MethodDef {
+        &METHODS[self.0]
+    }
+
     /// The method's name as the CLI and `stats.csv` spell it.
-    fn name(&self) -> &'static str;
-    /// Phases whose results are shared through the lattice (0: none).
-    fn shared_phases(&self) -> usize {
-        0
+    pub fn name(self) -> &'static str {
+        self.def().name
     }
-    /// Spacing of the lattice that holds the shared phases' pixels (0: none).
-    fn lattice_step(&self) -> u32 {
-        0
+
+    /// What the method does, in one line.
+    pub fn about(self) -> &'static str {
+        self.def().about
     }
-    /// How far beyond a tile the shared phases' pixels it depends on reach (directly or
-    /// through other shared pixels): a region render runs the shared phases that far out.
-    fn shared_reach(&self) -> u32 {
-        0
+
+    /// The method's order and rule for one frame, with `params` and, for temporal prediction,
+    /// the previous frame.
+    pub fn build<'a>(self, params: Params, prev: Option<&'a Prev<'a>>) -> Shadows<'a> {
+        let d = self.def();
+        Shadows {
+            order: (d.order)(&params),
+            rule: (d.rule)(&params),
+            params,
+            prev,
+        }
     }
-    /// The pixels whose surfaces and visibility this method may read or evaluate for `tile`
-    /// in `phase`: the tile plus its halo, inside the frame.
-    fn region(&self, ctx: &FrameContext, tile: Rect, phase: usize) -> Rect {
-        let _ = (ctx, phase);
-        tile
+
+    /// Its parts' names: order, vote and flood rule (`""` for rules without them).
+    pub fn parts(self) -> (&'static str, &'static str, &'static str) {
+        let s = self.build(Params::default(), None);
+        let (vote, flood) = s.rule.parts();
+        (s.order.name(), vote, flood)
     }
-    /// Decides visibility for the pixels of `tile` that `phase` evaluates. `work` comes
-    /// prepared for `tile` and [`region`](Self::region); the method copies what it reads from
-    /// `lattice`, evaluates pixels with [`TileWork::begin_pixel`], sets their `vis`, `traced`
-    /// and `rays`, and marks them `needed` (pixels outside the tile so marked are its halo).
-    /// In a shared phase it records the pixels it evaluated into `patch`.
-    fn solve(
-        &self,
-        ctx: &FrameContext,
-        tile: Rect,
-        work: &mut TileWork,
-        phase: usize,
-        lattice: &Lattice,
-        patch: &mut LatticePatch,
-    );
+
+    /// Whether the method reads `setting` (`h0`, `min_voters`, `flood_to`, `scan_block`,
+    /// `temporal`, `keyframe`): a setting it does not read cannot change what it does.
+    pub fn reads(self, setting: &str) -> bool {
+        let s = self.build(Params::default(), None);
+        s.order.reads().contains(&setting) || s.rule.reads().contains(&setting)
+    }
+}
+
+impl Default for Method {
+    fn default() -> Method {
+        Method::DEFAULT
+    }
+}
+
+/// A method built for one frame: its order and rule, the parameters, and the previous frame
+/// its pixels may be predicted from (`--temporal`).
+pub struct Shadows<'a> {
+    pub order: Box<dyn Order>,
+    pub rule: Box<dyn Rule>,
+    pub params: Params,
+    pub prev: Option<&'a Prev<'a>>,
+}
+
+impl Shadows<'_> {
+    /// How the pixels of `pass` are decided: the flood rule at their level, and which
+    /// blockers they keep.
+    pub fn at(&self, pass: usize) -> At {
+        At {
+            flood_to: self.params.flood_to.at_level(self.order.finest(pass)),
+            keep_blockers: self.rule.reads_blockers() && self.order.read_later(pass),
+            keep_predicted: self.order.keeps_predicted(),
+        }
+    }
 }
 
 /// The tunable parameters of the prediction methods (ALGORITHM.md §4–5).
@@ -130,118 +290,6 @@ impl Params {
     }
 }
 
-/// The shadow methods, as named on the command line and in animation specs.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
-pub enum Method {
-    /// No shadows: every light counts as visible (the cost of rendering without shadows).
-    None,
-    /// Trace every query: the reference every other method is checked against.
-    Brute,
-    /// Scanline order, warped blockers, boundary flooding.
-    ScanWarpBoundary,
-    /// Coarse-to-fine grid, warped blockers, boundary flooding.
-    GridWarpBoundary,
-    /// Coarse-to-fine grid, neighbours' visibility, boundary flooding.
-    GridNowarpBoundary,
-    /// Coarse-to-fine grid, warped blockers, uncertainty flooding.
-    GridWarpUncertainty,
-    /// Coarse-to-fine grid, neighbours' visibility, uncertainty flooding: the paper's best.
-    #[default]
-    GridNowarpUncertainty,
-}
-
-impl Method {
-    pub const ALL: [Method; 7] = [
-        Method::None,
-        Method::Brute,
-        Method::ScanWarpBoundary,
-        Method::GridWarpBoundary,
-        Method::GridNowarpBoundary,
-        Method::GridWarpUncertainty,
-        Method::GridNowarpUncertainty,
-    ];
-
-    /// The methods of the paper's Table 1, in its row order ("true" = brute first).
-    pub const TABLE1: [Method; 6] = [
-        Method::Brute,
-        Method::ScanWarpBoundary,
-        Method::GridWarpBoundary,
-        Method::GridNowarpBoundary,
-        Method::GridWarpUncertainty,
-        Method::GridNowarpUncertainty,
-    ];
-
-    /// Whether `--flood-to` can change what the method traces: only uncertainty flooding.
-    /// Boundary flooding already queues every light whose prediction differs from an adjacent
-    /// light's, so the neighbours `contrary` leaves out of a flood (predicted unlike the
-    /// mispredicted light) are queued anyway: both rules trace the same set.
-    pub fn floods_by_rule(self) -> bool {
-        matches!(
-            self,
-            Method::GridWarpUncertainty | Method::GridNowarpUncertainty
-        )
-    }
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Method::None => "none",
-            Method::Brute => "brute",
-            Method::ScanWarpBoundary => "scan-warp-boundary",
-            Method::GridWarpBoundary => "grid-warp-boundary",
-            Method::GridNowarpBoundary => "grid-nowarp-boundary",
-            Method::GridWarpUncertainty => "grid-warp-uncertainty",
-            Method::GridNowarpUncertainty => "grid-nowarp-uncertainty",
-        }
-    }
-
-    /// The method's implementation with `params`.
-    pub fn predictor(self, params: Params) -> Box<dyn Predictor> {
-        use Flood::*;
-        use Vote::*;
-        match self {
-            Method::None => Box::new(NoShadows),
-            Method::Brute => Box::new(Brute),
-            Method::ScanWarpBoundary => Box::new(Scanline::new(self.name(), params)),
-            Method::GridWarpBoundary => Box::new(Grid::new(self.name(), Warp, Boundary, params)),
-            Method::GridNowarpBoundary => {
-                Box::new(Grid::new(self.name(), NoWarp, Boundary, params))
-            }
-            Method::GridWarpUncertainty => {
-                Box::new(Grid::new(self.name(), Warp, Uncertainty, params))
-            }
-            Method::GridNowarpUncertainty => {
-                Box::new(Grid::new(self.name(), NoWarp, Uncertainty, params))
-            }
-        }
-    }
-
-    /// The paper's Table 1 figure (% of N·L > 0 shadow rays traced) for this method, scene
-    /// (`shapes` or `bunny`) and light count, where the paper gives one.
-    pub fn paper_percent(self, scene: &str, lights: usize) -> Option<f64> {
-        let col = match lights {
-            50 => 0,
-            100 => 1,
-            200 => 2,
-            400 => 3,
-            _ => return None,
-        };
-        let row: [f64; 8] = match self {
-            Method::Brute => [100.0; 8],
-            Method::ScanWarpBoundary => [40.5, 34.3, 26.3, 22.4, 52.4, 42.6, 33.6, 25.9],
-            Method::GridWarpBoundary => [22.0, 17.9, 15.1, 12.4, 21.5, 16.6, 13.5, 11.6],
-            Method::GridNowarpBoundary => [21.7, 17.1, 13.8, 10.6, 21.2, 15.8, 12.0, 9.3],
-            Method::GridWarpUncertainty => [10.4, 10.7, 11.0, 11.3, 9.1, 9.4, 10.2, 11.5],
-            Method::GridNowarpUncertainty => [9.4, 8.8, 8.3, 7.5, 8.1, 7.7, 7.2, 6.7],
-            Method::None => return None,
-        };
-        match scene {
-            "shapes" => Some(row[col]),
-            "bunny" => Some(row[4 + col]),
-            _ => None,
-        }
-    }
-}
-
 /// A method with its flood rule: what the measuring commands (`bench`, `table`) sweep.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Variant {
@@ -251,12 +299,12 @@ pub struct Variant {
 
 impl Variant {
     /// Every method with every flood rule, in that order; methods the rule cannot change
-    /// ([`Method::floods_by_rule`]) once, with the default rule.
+    /// (that do not read `flood_to`) once, with the default rule.
     pub fn sweep(methods: &[Method], floods: &[FloodTo]) -> Vec<Variant> {
         let mut v = Vec::new();
         for &method in methods {
             for &flood_to in floods {
-                let flood_to = if method.floods_by_rule() {
+                let flood_to = if method.reads("flood_to") {
                     flood_to
                 } else {
                     FloodTo::default()
@@ -306,18 +354,43 @@ impl fmt::Display for Method {
     }
 }
 
+impl fmt::Debug for Method {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 impl FromStr for Method {
     type Err = String;
     fn from_str(s: &str) -> Result<Method, String> {
-        Method::ALL
-            .into_iter()
-            .find(|m| m.name() == s)
-            .ok_or_else(|| {
-                let names: Vec<_> = Method::ALL.iter().map(|m| m.name()).collect();
-                format!(
-                    "unknown shadow method {s:?}; expected one of {}",
-                    names.join(", ")
-                )
-            })
+        Method::all().find(|m| m.name() == s).ok_or_else(|| {
+            let names: Vec<_> = Method::all().map(|m| m.name()).collect();
+            format!(
+                "unknown shadow method {s:?}; expected one of {}",
+                names.join(", ")
+            )
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn named_methods_are_the_registered_ones() {
+        assert_eq!(Method::NONE.name(), "none");
+        assert_eq!(Method::BRUTE.name(), "brute");
+        assert_eq!(Method::DEFAULT.name(), "grid-nowarp-uncertainty");
+        assert_eq!(Method::DEFAULT.parts(), ("grid", "nowarp", "uncertainty"));
+        for m in Method::all() {
+            assert_eq!(m.name().parse::<Method>(), Ok(m));
+        }
+        assert!(
+            "magic"
+                .parse::<Method>()
+                .unwrap_err()
+                .contains("grid-nowarp-uncertainty")
+        );
     }
 }

@@ -1,37 +1,34 @@
-//! `none`: no shadows at all, every light visible. The baseline cost of a frame without
+//! `none`'s rule: no shadows at all, every light visible. The baseline cost of a frame without
 //! shadows, against which the shadow methods are timed.
 
-use super::{Lattice, LatticePatch, Predictor};
-use crate::frame::{FrameContext, TileWork};
-use crate::tile::Rect;
+use super::Scratch;
+use super::correct::At;
+use super::rule::Rule;
+use crate::buffers::TileBuffers;
+use crate::context::FrameContext;
 
 /// Marks every above-horizon light visible and traces nothing.
-pub struct NoShadows;
+pub struct Unshadowed;
 
-impl Predictor for NoShadows {
-    fn name(&self) -> &'static str {
-        "none"
+impl Rule for Unshadowed {
+    fn parts(&self) -> (&'static str, &'static str) {
+        ("", "")
     }
 
     fn solve(
         &self,
-        ctx: &FrameContext,
-        tile: Rect,
-        work: &mut TileWork,
-        _phase: usize,
-        _lattice: &Lattice,
-        _patch: &mut LatticePatch,
+        _ctx: &FrameContext,
+        bufs: &mut TileBuffers,
+        _sc: &mut Scratch,
+        i: usize,
+        _voters: &[usize],
+        _at: At,
     ) {
-        let w = work.words;
-        for y in tile.y0..tile.y1 {
-            for x in tile.x0..tile.x1 {
-                let i = work.begin_pixel(ctx, x, y);
-                let (above, vis) = (
-                    &work.above[i * w..(i + 1) * w],
-                    &mut work.vis[i * w..(i + 1) * w],
-                );
-                vis.copy_from_slice(above);
-            }
-        }
+        let w = bufs.words;
+        let (above, vis) = (
+            &bufs.above[i * w..(i + 1) * w],
+            &mut bufs.vis[i * w..(i + 1) * w],
+        );
+        vis.copy_from_slice(above);
     }
 }

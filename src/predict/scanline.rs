@@ -1,6 +1,5 @@
-//! Scanline order (ALGORITHM.md §5) [paper]: pixels in row-major order, each predicted from
-//! its left, upper-left and upper neighbours' warped blockers (traced hits only); any vote → blocked; boundary
-//! flooding; a pixel with no voters is traced in full.
+//! Scanline order (ALGORITHM.md §5) [paper]: pixels in row-major order, each predicted from its
+//! left, upper-left and upper neighbours; a pixel with no voters is traced in full.
 //!
 //! Tiles [ours]: in the paper the scan runs over the whole frame, so a pixel depends on every
 //! pixel above and to the left of it. Here the scan restarts at frame-anchored blocks of
@@ -8,84 +7,70 @@
 //! halo is then the part of its blocks above and to the left of it; tiles that are multiples
 //! of the block (the default 64) have none.
 
-use super::correct::{Flood, FloodTo, Rule, Vote, solve_pixel};
-use super::{Lattice, LatticePatch, Params, Predictor};
-use crate::frame::{FrameContext, TileWork};
+use super::{Order, Params};
 use crate::tile::Rect;
 
-/// The scanline method with warped blockers and boundary flooding.
+/// Row-major order restarting at blocks of `block` pixels.
 pub struct Scanline {
-    name: &'static str,
     block: u32,
-    flood_to: FloodTo,
 }
 
 impl Scanline {
-    pub fn new(name: &'static str, params: Params) -> Scanline {
+    pub fn new(params: &Params) -> Scanline {
         Scanline {
-            name,
             block: params.scan_block,
-            flood_to: params.flood_to,
         }
     }
 }
 
-impl Predictor for Scanline {
+impl Order for Scanline {
     fn name(&self) -> &'static str {
-        self.name
+        "scan"
     }
 
-    fn region(&self, _ctx: &FrameContext, tile: Rect, _phase: usize) -> Rect {
+    /// Left, upper-left and upper, inside the pixel's block.
+    fn voters(
+        &self,
+        x: u32,
+        y: u32,
+        _pass: usize,
+        frame: Rect,
+        out: &mut [(u32, u32); 4],
+    ) -> usize {
+        let b = self.block;
+        let (bx, by) = (x / b * b, y / b * b);
+        let mut n = 0;
+        for (ok, vx, vy) in [
+            (x > bx, x.wrapping_sub(1), y),
+            (x > bx && y > by, x.wrapping_sub(1), y.wrapping_sub(1)),
+            (y > by, x, y.wrapping_sub(1)),
+        ] {
+            if ok && frame.contains(vx, vy) {
+                out[n] = (vx, vy);
+                n += 1;
+            }
+        }
+        n
+    }
+
+    /// Every pixel may be read by the next ones along its row and column.
+    fn read_later(&self, _pass: usize) -> bool {
+        true
+    }
+
+    /// [paper] §3: only traced hits are blockers. Keeping predicted ones too lets a
+    /// misprediction travel along the row: fewer rays, up to 3× the wrong pairs at 400 lights
+    /// (docs/methods.md).
+    fn keeps_predicted(&self) -> bool {
+        false
+    }
+
+    fn region(&self, _frame: Rect, tile: Rect, _phase: usize) -> Rect {
         let b = self.block;
         Rect::new(tile.x0 / b * b, tile.y0 / b * b, tile.x1, tile.y1)
     }
 
-    fn solve(
-        &self,
-        ctx: &FrameContext,
-        _tile: Rect,
-        work: &mut TileWork,
-        _phase: usize,
-        _lattice: &Lattice,
-        _patch: &mut LatticePatch,
-    ) {
-        let region = work.region;
-        let b = self.block;
-        // [paper] any vote → blocked: one voter is enough.
-        let rule = Rule {
-            vote: Vote::Warp,
-            flood: Flood::Boundary,
-            flood_to: self.flood_to,
-            min_voters: 1,
-            // [paper] §3: only traced hits are blockers. Keeping predicted ones too lets a
-            // misprediction travel along the row: fewer rays, up to 3× the wrong pairs at
-            // 400 lights (docs/methods.md).
-            keep_predicted: false,
-        }
-        // No levels: `contrary-finest` floods to all (the same traces under boundary flooding
-        // anyway).
-        .at_level(false);
-        let mut voters = [0usize; 3];
-        for y in region.y0..region.y1 {
-            for x in region.x0..region.x1 {
-                let i = work.begin_pixel(ctx, x, y);
-                let (bx, by) = (x / b * b, y / b * b);
-                let mut n = 0;
-                for (ok, vx, vy) in [
-                    (x > bx, x.wrapping_sub(1), y),
-                    (x > bx && y > by, x.wrapping_sub(1), y.wrapping_sub(1)),
-                    (y > by, x, y.wrapping_sub(1)),
-                ] {
-                    if ok {
-                        let q = region.index(vx, vy);
-                        if work.surf[q].hit {
-                            voters[n] = q;
-                            n += 1;
-                        }
-                    }
-                }
-                solve_pixel(ctx, work, i, &voters[..n], rule, true);
-            }
-        }
+    fn reads(&self) -> &'static [&'static str] {
+        &["scan_block"]
     }
 }

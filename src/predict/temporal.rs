@@ -1,5 +1,4 @@
-//! Predicting a pixel from the previous frame (ALGORITHM.md §8 [ours]; the frame-level side —
-//! carried data, reprojection, key frames — is in [`crate::temporal`]).
+//! Predicting a pixel from the previous frame (ALGORITHM.md §8 [ours]).
 //!
 //! The current pixel's surface point is carried back into the previous frame (reprojected for a
 //! moving camera; through the object's motion for a spinning object) and the up to four
@@ -7,37 +6,42 @@
 //! spatial voters: a light is predicted blocked when at least `min_voters` of them have it
 //! above their horizon and all of those found it blocked, visible when none did, and traced
 //! otherwise; the traces flood as in [`super::correct`] (uncertainty flooding, to the
-//! neighbours the rule's `flood_to` names).
+//! neighbours `--flood-to` names).
 //!
 //! For a spinning object the lights turn relative to the object, so the votes are pulled
 //! through the turn: light j reads the previous frame's light whose cell contains j's
 //! direction as the object saw it then. A light at the edge of a voter's shadow in light space
 //! (an adjacent light differs) is uncertain, since the turn may have carried the edge across it.
 //! With fewer than `min_voters` valid previous pixels (the first frame of a chain, disoccluded
-//! or newly visible surfaces) the caller falls back to the spatial method.
+//! or newly visible surfaces) the driver falls back to the spatial method. The previous frame's
+//! data and the reprojection are [`Prev`]'s; key frames and chains are decided above.
 
-use super::bits;
-use super::correct::{Flood, Rule, correct};
-use crate::frame::{FrameContext, TileWork};
+use super::correct::{At, correct};
+use super::{Scratch, Uncertainty};
+use crate::bits;
+use crate::buffers::TileBuffers;
+use crate::context::FrameContext;
+use crate::history::Prev;
 
-/// Predicts and corrects region pixel `i` (already begun) from the previous frame. Returns
-/// false, touching nothing, when there is no previous frame or too few of its pixels saw the
-/// same surface point: the caller then predicts the pixel spatially.
+/// Predicts and corrects region pixel `i` (already begun) from the previous frame `prev`, with
+/// `spatial` (its valid spatial voters) settling edge lights of a spinning object. Returns
+/// false, touching nothing, when too few of the previous frame's pixels saw the same surface
+/// point: the caller then predicts the pixel spatially.
 // Word loops index several parallel bitsets at once; iterator chains would hide that.
 #[allow(clippy::needless_range_loop)]
+// The previous frame, the pixel and its spatial voters, the voter threshold, and the flooding.
+#[allow(clippy::too_many_arguments)]
 pub fn solve_temporal(
     ctx: &FrameContext,
-    work: &mut TileWork,
+    bufs: &mut TileBuffers,
+    sc: &mut Scratch,
+    prev: &Prev,
     i: usize,
     spatial: &[usize],
-    rule: Rule,
-    keep_blockers: bool,
+    min_voters: u32,
+    at: At,
 ) -> bool {
-    let min_voters = rule.min_voters;
-    let Some(prev) = ctx.temporal else {
-        return false;
-    };
-    let s = work.surf[i];
+    let s = bufs.surf[i];
     if !s.hit {
         return false;
     }
@@ -46,14 +50,9 @@ pub fn solve_temporal(
     if nv < min_voters as usize {
         return false;
     }
-    let w = work.words;
+    let w = bufs.words;
     let carried = prev.carried();
-    let TileWork {
-        above,
-        vis,
-        scratch: sc,
-        ..
-    } = work;
+    let (above, vis) = (&bufs.above, &bufs.vis);
     // Rows of the scratch: 0 = predicted blocked, 1 = sure (the voters agree), 2 = at an edge
     // that the turn may have carried across, indexed by the previous frame's lights; 3–5 the
     // same pulled to the current lights.
@@ -134,14 +133,13 @@ pub fn solve_temporal(
         sc.uncertain[m] = my & !settled & !(e & ext[sure + m]);
         sc.queued[m] = my & !settled;
     }
-    // Temporal prediction runs only under the grid's uncertainty methods, which keep
-    // predicted blockers ([ours], docs/methods.md).
-    let rule = Rule {
-        flood: Flood::Uncertainty,
+    // The voters' agreement is uncertainty flooding's, and predicted blockers are kept
+    // ([ours], docs/methods.md) whatever the spatial order does.
+    let at = At {
         keep_predicted: true,
-        ..rule
+        ..at
     };
-    correct(ctx, work, i, rule, keep_blockers);
-    work.temporal[i] = true;
+    correct::<Uncertainty>(ctx, bufs, sc, i, at);
+    bufs.temporal[i] = true;
     true
 }

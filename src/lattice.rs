@@ -6,7 +6,9 @@
 //! tile that contains it, and kept here; tiles then copy what they read. A lattice pixel is a
 //! pure function of the frame, so the result is the same whatever evaluates it.
 
-use crate::frame::{Blockers, RaySplit, Surface, TileWork};
+use crate::blockers::Blockers;
+use crate::buffers::{RaySplit, TileBuffers};
+use crate::context::Surface;
 
 /// Evaluated pixels on a frame-anchored lattice (every `step`-th pixel in x and y).
 #[derive(Default)]
@@ -66,6 +68,11 @@ impl Lattice {
         }
     }
 
+    /// The spacing of the lattice (0: it holds nothing).
+    pub fn step(&self) -> u32 {
+        self.step
+    }
+
     /// The lattice index of frame pixel (x, y), if it lies on the lattice.
     #[inline]
     pub fn index(&self, x: u32, y: u32) -> Option<usize> {
@@ -91,23 +98,23 @@ impl Lattice {
         sum
     }
 
-    /// Copies evaluated pixel (x, y) into region pixel `i` of `work`.
-    pub fn copy_into(&self, x: u32, y: u32, work: &mut TileWork, i: usize) -> bool {
+    /// Copies evaluated pixel (x, y) into region pixel `i` of `bufs`.
+    pub fn copy_into(&self, x: u32, y: u32, bufs: &mut TileBuffers, i: usize) -> bool {
         let Some(k) = self.index(x, y).filter(|&k| self.have[k]) else {
             return false;
         };
         let w = self.words;
-        work.surf[i] = self.surf[k];
+        bufs.surf[i] = self.surf[k];
         let src = &self.bits[k * 3 * w..(k + 1) * 3 * w];
-        work.above[i * w..(i + 1) * w].copy_from_slice(&src[..w]);
-        work.vis[i * w..(i + 1) * w].copy_from_slice(&src[w..2 * w]);
-        work.traced[i * w..(i + 1) * w].copy_from_slice(&src[2 * w..]);
-        work.rays[i] = self.rays[k];
-        work.split[i] = self.split[k];
-        work.temporal[i] = self.temporal[k];
-        work.blockers.begin(i);
+        bufs.above[i * w..(i + 1) * w].copy_from_slice(&src[..w]);
+        bufs.vis[i * w..(i + 1) * w].copy_from_slice(&src[w..2 * w]);
+        bufs.traced[i * w..(i + 1) * w].copy_from_slice(&src[2 * w..]);
+        bufs.rays[i] = self.rays[k];
+        bufs.split[i] = self.split[k];
+        bufs.temporal[i] = self.temporal[k];
+        bufs.blockers.begin(i);
         for (j, t) in self.blockers.of(k) {
-            work.blockers.push(i, j, t);
+            bufs.blockers.push(i, j, t);
         }
         true
     }
@@ -136,23 +143,23 @@ impl Lattice {
 }
 
 impl LatticePatch {
-    /// Records region pixel `i` of `work`, which is lattice pixel (x, y) of `lattice`.
-    pub fn record(&mut self, lattice: &Lattice, x: u32, y: u32, work: &TileWork, i: usize) {
+    /// Records region pixel `i` of `bufs`, which is lattice pixel (x, y) of `lattice`.
+    pub fn record(&mut self, lattice: &Lattice, x: u32, y: u32, bufs: &TileBuffers, i: usize) {
         let k = lattice
             .index(x, y)
             .expect("shared passes evaluate lattice pixels only");
-        let w = work.words;
+        let w = bufs.words;
         self.index.push(k as u32);
-        self.surf.push(work.surf[i]);
-        self.bits.extend_from_slice(&work.above[i * w..(i + 1) * w]);
-        self.bits.extend_from_slice(&work.vis[i * w..(i + 1) * w]);
+        self.surf.push(bufs.surf[i]);
+        self.bits.extend_from_slice(&bufs.above[i * w..(i + 1) * w]);
+        self.bits.extend_from_slice(&bufs.vis[i * w..(i + 1) * w]);
         self.bits
-            .extend_from_slice(&work.traced[i * w..(i + 1) * w]);
-        self.rays.push(work.rays[i]);
-        self.split.push(work.split[i]);
-        self.temporal.push(work.temporal[i]);
+            .extend_from_slice(&bufs.traced[i * w..(i + 1) * w]);
+        self.rays.push(bufs.rays[i]);
+        self.split.push(bufs.split[i]);
+        self.temporal.push(bufs.temporal[i]);
         let mut n = 0;
-        for (j, t) in work.blockers.of(i) {
+        for (j, t) in bufs.blockers.of(i) {
             self.blk_light.push(j as u16);
             self.blk_dist.push(t);
             n += 1;

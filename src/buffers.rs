@@ -1,0 +1,158 @@
+//! A tile's working buffers: for every pixel of the tile and its halo, the surface its
+//! primary ray found, its above-horizon, visible and traced lights as bitsets, its rays and
+//! why they were traced, and its blockers. Flat arrays indexed by the pixel's place in the
+//! region; no per-pixel heap vectors.
+
+use crate::accel::PACKET;
+use crate::bits;
+use crate::blockers::Blockers;
+use crate::context::{FrameContext, Surface};
+use crate::tile::Rect;
+
+/// Why a pixel's shadow rays were traced, for measuring where the work goes. The rays
+/// neither counted here were queued by the pixel's own prediction (lights its voters disagree
+/// on, see too few of, or that border a predicted shadow).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RaySplit {
+    /// Rays of a pixel that traced every above-horizon light (the coarse grid, pixels without
+    /// voters, brute force).
+    pub every: u32,
+    /// Rays queued by flooding.
+    pub flooded: u32,
+    /// Flooded rays whose answer differed from the prediction: wrong pairs flooding caught.
+    pub fixes: u32,
+}
+
+/// A tile's pixels while its method decides them, reused across tiles by one thread. Flat arrays and bitsets only:
+/// `words` u64 per pixel for each bitset, indexed by the pixel's position in `region`.
+#[derive(Default)]
+pub struct TileBuffers {
+    /// The pixels this tile outputs.
+    pub tile: Rect,
+    /// The pixels the buffers cover: the tile plus whatever halo its method reads.
+    pub region: Rect,
+    pub words: usize,
+    /// Surfaces over `region` (valid where `needed`).
+    pub surf: Vec<Surface>,
+    /// Pixels the method evaluated (the tile's own pixels and its halo).
+    pub needed: Vec<bool>,
+    /// Lights above each pixel's horizon: its shadow queries.
+    pub above: Vec<u64>,
+    /// Lights visible from each pixel (traced or predicted).
+    pub vis: Vec<u64>,
+    /// Lights traced at each pixel.
+    pub traced: Vec<u64>,
+    /// Shadow rays traced per pixel.
+    pub rays: Vec<u32>,
+    /// Why they were traced.
+    pub split: Vec<RaySplit>,
+    /// Pixels predicted from the previous frame (`--temporal`).
+    pub temporal: Vec<bool>,
+    /// Blockers, for the warping methods.
+    pub blockers: Blockers,
+}
+
+impl TileBuffers {
+    /// Sizes the buffers for `tile` within `region` (⊇ tile); nothing is evaluated yet.
+    pub fn prepare(&mut self, ctx: &FrameContext, tile: Rect, region: Rect) {
+        self.tile = tile;
+        self.region = region;
+        self.words = ctx.words();
+        let n = region.area();
+        let nw = n * self.words;
+        self.surf.clear();
+        self.surf.resize(n, Surface::default());
+        self.needed.clear();
+        self.needed.resize(n, false);
+        for v in [&mut self.above, &mut self.vis, &mut self.traced] {
+            v.clear();
+            v.resize(nw, 0);
+        }
+        self.rays.clear();
+        self.rays.resize(n, 0);
+        self.split.clear();
+        self.split.resize(n, RaySplit::default());
+        self.temporal.clear();
+        self.temporal.resize(n, false);
+        self.blockers.reset(n);
+    }
+
+    /// Evaluates pixel (x, y) of the region: its surface and above-horizon lights. Marks it
+    /// needed and returns its region index.
+    pub fn begin_pixel(&mut self, ctx: &FrameContext, x: u32, y: u32) -> usize {
+        let i = self.region.index(x, y);
+        let s = ctx.surface(x, y);
+        self.surf[i] = s;
+        self.needed[i] = true;
+        if s.hit {
+            let w = self.words;
+            crate::shade::above_horizon(
+                &ctx.shade_lights,
+                s.n,
+                &mut self.above[i * w..(i + 1) * w],
+            );
+        }
+        i
+    }
+
+    /// Bitset `words` of pixel `i` in one of the per-pixel bitset arrays.
+    #[inline]
+    pub fn row(v: &[u64], i: usize, words: usize) -> &[u64] {
+        &v[i * words..(i + 1) * words]
+    }
+
+    /// Traces every above-horizon light of pixel `i` (the coarse pixels and pixels with no
+    /// voters), keeping blockers when `keep_blockers`.
+    pub fn trace_all(&mut self, ctx: &FrameContext, i: usize, keep_blockers: bool) {
+        let w = self.words;
+        let s = self.surf[i];
+        if !s.hit {
+            return;
+        }
+        self.blockers.begin(i);
+        if keep_blockers {
+            for k in 0..w {
+                let mut m = self.above[i * w + k];
+                while m != 0 {
+                    let j = k * 64 + m.trailing_zeros() as usize;
+                    m &= m - 1;
+                    match ctx.trace_blocker(&s, j) {
+                        Some(t) => self.blockers.push(i, j, t),
+                        None => self.vis[i * w + k] |= 1 << (j & 63),
+                    }
+                }
+            }
+        } else {
+            // Packets of up to PACKET lights from the pixel's point.
+            let mut batch = [0u32; PACKET];
+            let mut len = 0;
+            let vis = &mut self.vis[i * w..(i + 1) * w];
+            let mut flush = |batch: &[u32]| {
+                let blocked = ctx.trace_packet(&s, batch);
+                for (k, &j) in batch.iter().enumerate() {
+                    if blocked & (1 << k) == 0 {
+                        bits::set(vis, j as usize);
+                    }
+                }
+            };
+            bits::for_each(&self.above[i * w..(i + 1) * w], |j| {
+                batch[len] = j as u32;
+                len += 1;
+                if len == PACKET {
+                    flush(&batch);
+                    len = 0;
+                }
+            });
+            if len > 0 {
+                flush(&batch[..len]);
+            }
+        }
+        let above = &self.above[i * w..(i + 1) * w];
+        self.traced[i * w..(i + 1) * w].copy_from_slice(above);
+        self.rays[i] = bits::count(above);
+        self.split[i] = RaySplit {
+            every: self.rays[i],
+            ..RaySplit::default()
+        };
+    }
+}

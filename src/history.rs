@@ -1,0 +1,236 @@
+//! What a frame keeps for the next one (`--temporal`, ALGORITHM.md §8 [ours]): every pixel's
+//! surface point and normal and its above-horizon and visible lights ([`Carried`], assembled
+//! from the tiles' [`CarryPatch`]es), and how the next frame finds the previous pixels that
+//! saw its surface points ([`Prev`]). Key frames and chains, and the per-pixel temporal
+//! prediction, are built on these by the modules above.
+
+use glam::{Mat3, Mat4, Vec3};
+
+use crate::bits;
+use crate::buffers::TileBuffers;
+use crate::camera::Camera;
+use crate::context::Surface;
+use crate::lights::LightSet;
+use crate::tile::Rect;
+
+/// A whole frame's visibility, kept for the next frame: per pixel, row-major over the frame.
+pub struct Carried {
+    pub frame: usize,
+    width: u32,
+    height: u32,
+    words: usize,
+    /// Bitset rows per pixel: above, visible, and with `edges` the light-space shadow edge.
+    rows: usize,
+    hit: Vec<bool>,
+    /// World-space point and normal of the frame it was rendered in.
+    p: Vec<Vec3>,
+    n: Vec<Vec3>,
+    bits: Vec<u64>,
+}
+
+/// The carried data of one tile's pixels, to be inserted into its frame's [`Carried`].
+pub struct CarryPatch {
+    rect: Rect,
+    hit: Vec<bool>,
+    p: Vec<Vec3>,
+    n: Vec<Vec3>,
+    bits: Vec<u64>,
+}
+
+impl Carried {
+    /// Empty carried data for `frame`; `edges` also keeps light-space shadow edges.
+    pub fn new(frame: usize, width: u32, height: u32, words: usize, edges: bool) -> Carried {
+        let n = width as usize * height as usize;
+        let rows = if edges { 3 } else { 2 };
+        Carried {
+            frame,
+            width,
+            height,
+            words,
+            rows,
+            hit: vec![false; n],
+            p: vec![Vec3::ZERO; n],
+            n: vec![Vec3::ZERO; n],
+            bits: vec![0; n * rows * words],
+        }
+    }
+
+    /// Adds one tile's pixels.
+    pub fn insert(&mut self, patch: &CarryPatch) {
+        let r = patch.rect;
+        let (w, rw) = (r.width() as usize, self.rows * self.words);
+        for y in r.y0..r.y1 {
+            let src = (y - r.y0) as usize * w;
+            let dst = y as usize * self.width as usize + r.x0 as usize;
+            self.hit[dst..dst + w].copy_from_slice(&patch.hit[src..src + w]);
+            self.p[dst..dst + w].copy_from_slice(&patch.p[src..src + w]);
+            self.n[dst..dst + w].copy_from_slice(&patch.n[src..src + w]);
+            self.bits[dst * rw..(dst + w) * rw]
+                .copy_from_slice(&patch.bits[src * rw..(src + w) * rw]);
+        }
+    }
+
+    /// Word `m` of pixel `q`'s above, visible and edge bitsets (edge 0 when not kept).
+    #[inline]
+    pub fn word(&self, q: usize, m: usize) -> (u64, u64, u64) {
+        let base = q * self.rows * self.words;
+        let edge = if self.rows > 2 {
+            self.bits[base + 2 * self.words + m]
+        } else {
+            0
+        };
+        (self.bits[base + m], self.bits[base + self.words + m], edge)
+    }
+
+    /// Whether the light-space shadow edges are kept (a spinning object).
+    pub fn has_edges(&self) -> bool {
+        self.rows > 2
+    }
+
+    /// Bytes held.
+    pub fn bytes(&self) -> usize {
+        self.hit.len() * (1 + 24) + self.bits.len() * 8
+    }
+}
+
+impl CarryPatch {
+    /// Records the tile's own pixels from `bufs` after the tile was rendered. With `edges`
+    /// (a spinning object), also the edge lights: those whose visibility differs from an
+    /// adjacent above-horizon light's.
+    pub fn record(bufs: &TileBuffers, lights: &LightSet, edges: bool) -> CarryPatch {
+        let t = bufs.tile;
+        let w = bufs.words;
+        let rows = if edges { 3 } else { 2 };
+        let n = t.area();
+        let mut patch = CarryPatch {
+            rect: t,
+            hit: Vec::with_capacity(n),
+            p: Vec::with_capacity(n),
+            n: Vec::with_capacity(n),
+            bits: vec![0; n * rows * w],
+        };
+        let mut k = 0;
+        for y in t.y0..t.y1 {
+            for x in t.x0..t.x1 {
+                let i = bufs.region.index(x, y);
+                let s = bufs.surf[i];
+                patch.hit.push(s.hit);
+                patch.p.push(s.p);
+                patch.n.push(s.n);
+                let above = TileBuffers::row(&bufs.above, i, w);
+                let vis = TileBuffers::row(&bufs.vis, i, w);
+                let out = &mut patch.bits[k * rows * w..(k + 1) * rows * w];
+                out[..w].copy_from_slice(above);
+                out[w..2 * w].copy_from_slice(vis);
+                if edges {
+                    // Only blocked lights can sit at an edge or have a visible neighbour
+                    // across one, so the loop runs over the (usually few) blocked lights.
+                    // Both sides are marked: marking only the side the turn moves towards
+                    // traced 2 % fewer rays with twice the wrong pairs (docs/temporal.md).
+                    let (head, edge) = out.split_at_mut(2 * w);
+                    for m in 0..w {
+                        let mut blocked = head[m] & !head[w + m];
+                        while blocked != 0 {
+                            let j = m * 64 + blocked.trailing_zeros() as usize;
+                            blocked &= blocked - 1;
+                            for &a in lights.neighbors(j) {
+                                let a = a as usize;
+                                if bits::get(&head[..w], a) && bits::get(&head[w..2 * w], a) {
+                                    bits::set(edge, j);
+                                    bits::set(edge, a);
+                                }
+                            }
+                        }
+                    }
+                }
+                k += 1;
+            }
+        }
+        patch
+    }
+}
+
+/// What frame k reads of frame k − 1: its carried data and how to find a point in it.
+pub struct Prev<'a> {
+    carried: &'a Carried,
+    /// Current world → the previous frame's world (the object's motion between the frames).
+    to_prev: Mat4,
+    to_prev_rot: Mat3,
+    camera: Camera,
+    /// The current camera's eye and the angle one pixel subtends (radians, vertically).
+    eye: Vec3,
+    pixel_angle: f32,
+    /// Lights whose votes are pulled from another of the previous frame's lights (spin):
+    /// (current light, previous light).
+    remap: Vec<(u16, u16)>,
+}
+
+impl<'a> Prev<'a> {
+    /// The view of `carried` (the frame before the current one) from the current frame, whose
+    /// camera is `camera`: `to_prev` carries a current world point into the previous frame's
+    /// world (the object's motion between them), `prev_camera` saw the previous frame, and
+    /// `remap` lists the lights whose votes come from another previous light (spin).
+    pub fn new(
+        carried: &'a Carried,
+        to_prev: Mat4,
+        prev_camera: Camera,
+        camera: &Camera,
+        remap: Vec<(u16, u16)>,
+    ) -> Prev<'a> {
+        Prev {
+            carried,
+            to_prev,
+            to_prev_rot: Mat3::from_mat4(to_prev),
+            camera: prev_camera,
+            eye: camera.position,
+            pixel_angle: 2.0 * (camera.vfov_deg.to_radians() * 0.5).tan() / camera.height as f32,
+            remap,
+        }
+    }
+
+    pub fn carried(&self) -> &Carried {
+        self.carried
+    }
+
+    pub fn remap(&self) -> &[(u16, u16)] {
+        &self.remap
+    }
+
+    /// The previous frame's pixels (up to four around the reprojected point) that saw the
+    /// surface point of `s`: near it, on its tangent plane, with a similar normal.
+    pub fn voters(&self, s: &Surface, out: &mut [usize; 4]) -> usize {
+        let p = self.to_prev.transform_point3(s.p);
+        let n = self.to_prev_rot * s.n;
+        let Some((u, v)) = self.camera.project(p) else {
+            return 0;
+        };
+        let (fx, fy) = ((u - 0.5).floor(), (v - 0.5).floor());
+        let c = self.carried;
+        if !(fx >= -1.0 && fy >= -1.0 && fx < c.width as f32 && fy < c.height as f32) {
+            return 0;
+        }
+        // One pixel's footprint at the point's depth; grazing surfaces stretch it.
+        let view = s.p - self.eye;
+        let dist = view.length();
+        let footprint = dist * self.pixel_angle;
+        let cos = (s.n.dot(view) / dist).abs().max(0.25);
+        let (near, plane) = (2.5 * footprint / cos, 0.5 * footprint);
+        let mut k = 0;
+        for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+            let (x, y) = (fx as i64 + dx, fy as i64 + dy);
+            if x < 0 || y < 0 || x >= c.width as i64 || y >= c.height as i64 {
+                continue;
+            }
+            let q = y as usize * c.width as usize + x as usize;
+            if !c.hit[q] {
+                continue;
+            }
+            let d = c.p[q] - p;
+            if d.length() <= near && n.dot(d).abs() <= plane && n.dot(c.n[q]) >= 0.8 {
+                out[k] = q;
+                k += 1;
+            }
+        }
+        k
+    }
+}

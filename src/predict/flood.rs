@@ -1,0 +1,100 @@
+//! Which lights are traced beyond what the votes settle, and where a trace floods to
+//! (ALGORITHM.md §6). A flood rule turns the votes into a prediction (blocked, and unsure:
+//! traced), may queue more lights (the boundary rule queues the prediction's edges), and says
+//! which traces flood: queue their untraced above-horizon neighbour lights too, until no trace
+//! disagrees. Which neighbours a flooding trace queues is [`FloodTo`] (`--flood-to`).
+//!
+//! Rules: [`Uncertainty`](super::Uncertainty) and [`Boundary`](super::Boundary).
+
+use super::Scratch;
+use crate::context::FrameContext;
+
+/// A flood rule.
+pub trait Flood: Send + Sync + 'static {
+    /// The rule's name, as method names spell it (`uncertainty`, `boundary`).
+    const NAME: &'static str;
+    /// The settings the rule reads.
+    const READS: &'static [&'static str];
+
+    /// How many voters must have a light above their horizon for it to be predicted, given
+    /// the `min_voters` setting.
+    fn min_voters(setting: u32) -> u32;
+
+    /// Word of the prediction: `(blocked, unsure)` among `my` above-horizon lights, from the
+    /// lights with `enough` voters, `any` vote and `all` votes.
+    fn predict(my: u64, enough: u64, any: u64, all: u64) -> (u64, u64);
+
+    /// Queues lights beyond the unsure ones (`sc.queued`), given the prediction in
+    /// `sc.pred_vis` and the pixel's above-horizon lights `mine`.
+    fn queue_more(ctx: &FrameContext, mine: &[u64], sc: &mut Scratch) {
+        let _ = (ctx, mine, sc);
+    }
+
+    /// Whether a traced light floods: it was `uncertain`, or its trace `disagrees` with the
+    /// prediction.
+    fn floods(uncertain: bool, disagrees: bool) -> bool;
+}
+
+/// Which neighbours a flooding trace queues (`--flood-to`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum FloodTo {
+    /// Every untraced above-horizon neighbour light: a ring around each uncertain or
+    /// mispredicted light [ALGORITHM.md §6].
+    All,
+    /// [ours, the default] [`Contrary`](Self::Contrary) at the pixels of the grid's finest
+    /// level (spacing 1: three pixels in four), [`All`](Self::All) at the coarser levels. A
+    /// wrong pair at a coarse pixel is a wrong vote for every finer pixel it predicts; at the
+    /// finest level it reaches at most the last pass's pixels, and those vote for nobody. On
+    /// the paper's scenes it traces about a fifth fewer rays than `all` for 0–3.5 % more wrong
+    /// pairs (BENCHMARKS.md, "Where the default method's rays go"). Orders without levels
+    /// (the scanline) flood to all.
+    #[default]
+    ContraryFinest,
+    /// [ours] Only the untraced above-horizon neighbours whose prediction is the opposite of
+    /// the traced answer: the border between the two lights is where the prediction and the
+    /// truth disagree. A neighbour predicted like the traced answer is taken as predicted.
+    /// On the paper's scenes it traces about a third fewer rays for 1.1–1.9× the wrong pairs
+    /// (BENCHMARKS.md, "Flooding only to contrary neighbours").
+    Contrary,
+}
+
+impl FloodTo {
+    pub const ALL: [FloodTo; 3] = [FloodTo::All, FloodTo::ContraryFinest, FloodTo::Contrary];
+
+    /// The name on the command line and in animation specs.
+    pub fn name(self) -> &'static str {
+        match self {
+            FloodTo::All => "all",
+            FloodTo::ContraryFinest => "contrary-finest",
+            FloodTo::Contrary => "contrary",
+        }
+    }
+
+    /// The rule at a pixel of the order's finest level (`finest`) or a coarser one:
+    /// [`ContraryFinest`](Self::ContraryFinest) resolved to what the flooding applies there.
+    pub fn at_level(self, finest: bool) -> FloodTo {
+        match self {
+            FloodTo::ContraryFinest if finest => FloodTo::Contrary,
+            FloodTo::ContraryFinest => FloodTo::All,
+            f => f,
+        }
+    }
+}
+
+impl std::fmt::Display for FloodTo {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for FloodTo {
+    type Err = String;
+    fn from_str(s: &str) -> Result<FloodTo, String> {
+        FloodTo::ALL
+            .into_iter()
+            .find(|f| f.name() == s)
+            .ok_or_else(|| {
+                format!("unknown flood rule {s:?}; expected all, contrary-finest or contrary")
+            })
+    }
+}

@@ -1,0 +1,108 @@
+//! A method's rule: how a pixel's visibility is decided from its voters. [`Predict`] votes
+//! ([`Vote`]), predicts and corrects by tracing ([`Flood`], [`correct`]); `brute` and `none`
+//! have rules of their own ([`TraceAll`](super::TraceAll), [`Unshadowed`](super::Unshadowed)).
+
+use std::marker::PhantomData;
+
+use super::correct::{At, correct};
+use super::{Flood, Params, Scratch, Vote};
+use crate::bits;
+use crate::buffers::TileBuffers;
+use crate::context::FrameContext;
+
+/// How a pixel's visibility is decided.
+pub trait Rule: Send + Sync {
+    /// The voting and flood rules' names (`""` where the rule has none).
+    fn parts(&self) -> (&'static str, &'static str);
+
+    /// Whether pixels must keep their blockers for the votes of later pixels.
+    fn reads_blockers(&self) -> bool {
+        false
+    }
+
+    /// The settings the rule reads.
+    fn reads(&self) -> &'static [&'static str] {
+        &[]
+    }
+
+    /// Decides region pixel `i` (begun: surface and above-horizon lights set) from the region
+    /// pixels `voters` (valid: evaluated, not background; at most four): sets its `vis`,
+    /// `traced`, `rays` and `split`, and its blockers when `at.keep_blockers`.
+    fn solve(
+        &self,
+        ctx: &FrameContext,
+        bufs: &mut TileBuffers,
+        sc: &mut Scratch,
+        i: usize,
+        voters: &[usize],
+        at: At,
+    );
+}
+
+/// Vote with `V`, predict and correct with `F`. A pixel without voters traces every light.
+pub struct Predict<V, F> {
+    min_voters: u32,
+    rules: PhantomData<(V, F)>,
+}
+
+impl<V: Vote, F: Flood> Predict<V, F> {
+    pub fn new(params: &Params) -> Predict<V, F> {
+        Predict {
+            min_voters: F::min_voters(params.min_voters),
+            rules: PhantomData,
+        }
+    }
+}
+
+impl<V: Vote, F: Flood> Rule for Predict<V, F> {
+    fn parts(&self) -> (&'static str, &'static str) {
+        (V::NAME, F::NAME)
+    }
+
+    fn reads_blockers(&self) -> bool {
+        V::READS_BLOCKERS
+    }
+
+    fn reads(&self) -> &'static [&'static str] {
+        F::READS
+    }
+
+    fn solve(
+        &self,
+        ctx: &FrameContext,
+        bufs: &mut TileBuffers,
+        sc: &mut Scratch,
+        i: usize,
+        voters: &[usize],
+        at: At,
+    ) {
+        if !bufs.surf[i].hit {
+            return;
+        }
+        if voters.is_empty() {
+            bufs.trace_all(ctx, i, at.keep_blockers);
+            return;
+        }
+        debug_assert!(voters.len() <= 4);
+        let (w, nv) = (bufs.words, voters.len());
+        // 1. What the votes need (warp: the voters' blockers re-aimed from this point).
+        V::gather(ctx, bufs, sc, i, voters);
+        // 2. The prediction, word by word: `any` = some vote, `all` = every voter's vote.
+        let mut above = [0u64; 4];
+        for m in 0..w {
+            for (k, &q) in voters.iter().enumerate() {
+                above[k] = bufs.above[q * w + m];
+            }
+            let (any, all) = V::word(bufs, sc, voters, m, &above[..nv]);
+            let enough = bits::at_least(&above[..nv], self.min_voters);
+            let my = bufs.above[i * w + m];
+            let (blocked, unsure) = F::predict(my, enough, any, all);
+            sc.pred_vis[m] = my & !blocked;
+            sc.uncertain[m] = unsure;
+            sc.queued[m] = unsure;
+        }
+        F::queue_more(ctx, &bufs.above[i * w..(i + 1) * w], sc);
+        // 3–4. Trace the queue, flooding; keep the blockers.
+        correct::<F>(ctx, bufs, sc, i, at);
+    }
+}
