@@ -79,6 +79,7 @@ impl TileBuffers {
 
     /// Evaluates pixel (x, y) of the region: its surface and above-horizon lights. Marks it
     /// needed and returns its region index.
+    #[inline]
     pub fn begin_pixel(&mut self, ctx: &FrameContext, x: u32, y: u32) -> usize {
         let i = self.region.index(x, y);
         let s = ctx.surface(x, y);

@@ -73,6 +73,7 @@ impl<'a> FrameContext<'a> {
     }
 
     /// The surface seen through the centre of pixel (x, y).
+    #[inline]
     pub fn surface(&self, x: u32, y: u32) -> Surface {
         let dir = self.camera.ray_dir(x, y);
         let Some(hit) = self.accel.intersect(self.camera.position, dir) else {

@@ -16,7 +16,7 @@ use crate::context::FrameContext;
 use crate::film::{Counts, TileResult};
 use crate::lattice::{Lattice, LatticePatch};
 use crate::predict::temporal::solve_temporal;
-use crate::predict::{Order, Scratch, Shadows};
+use crate::predict::{At, Order, Scratch, Shadows};
 use crate::shade::radiance;
 use crate::tile::Rect;
 
@@ -98,15 +98,15 @@ impl FrameWork<'_> {
         }
     }
 
-    /// Decides frame pixel (x, y) of `pass`: its surface and above-horizon lights, its valid
-    /// voters, then the previous frame's voters where it has them, else the method's rule.
-    /// Returns its region index.
-    fn evaluate(&self, slot: &mut Slot, x: u32, y: u32, pass: usize) -> usize {
+    /// Decides frame pixel (x, y) of `pass` (decided `at`): its surface and above-horizon
+    /// lights, its valid voters, then the previous frame's voters where it has them, else the
+    /// method's rule. Returns its region index.
+    fn evaluate(&self, slot: &mut Slot, x: u32, y: u32, pass: usize, at: At, frame: Rect) -> usize {
         let (ctx, order) = (self.ctx, self.order());
         let Slot { bufs, scratch, .. } = slot;
         let i = bufs.begin_pixel(ctx, x, y);
         let mut candidates = [(0u32, 0u32); 4];
-        let n = order.voters(x, y, pass, self.frame(), &mut candidates);
+        let n = order.voters(x, y, pass, frame, &mut candidates);
         let mut voters = [0usize; 4];
         let mut nv = 0;
         for &(vx, vy) in &candidates[..n] {
@@ -117,7 +117,6 @@ impl FrameWork<'_> {
             }
         }
         let voters = &voters[..nv];
-        let at = self.shadows.at(pass);
         if let Some(prev) = self.shadows.prev {
             let min_voters = self.shadows.params.min_voters;
             if solve_temporal(ctx, bufs, scratch, prev, i, voters, min_voters, at) {
@@ -139,6 +138,7 @@ impl FrameWork<'_> {
     ) -> LatticePatch {
         self.prepare(slot, tile, phase, lattice);
         let mut patch = LatticePatch::default();
+        let (at, frame) = (self.shadows.at(phase), self.frame());
         let step = lattice.step();
         let (x0, y0) = (tile.x0.div_ceil(step) * step, tile.y0.div_ceil(step) * step);
         for y in (y0..tile.y1).step_by(step as usize) {
@@ -146,7 +146,7 @@ impl FrameWork<'_> {
                 if self.order().pass_of(x, y) != phase {
                     continue;
                 }
-                let i = self.evaluate(slot, x, y, phase);
+                let i = self.evaluate(slot, x, y, phase, at, frame);
                 patch.record(lattice, x, y, &slot.bufs, i);
             }
         }
@@ -165,61 +165,70 @@ impl FrameWork<'_> {
         // The region's unshared pixels, by pass, each pass in row-major order.
         slot.pass_start.clear();
         slot.pass_start.resize(passes + 1, 0);
-        for y in region.y0..region.y1 {
-            for x in region.x0..region.x1 {
-                let p = order.pass_of(x, y);
-                if p >= shared {
-                    slot.pass_start[p + 1] += 1;
-                }
-            }
-        }
-        for p in 0..passes {
-            slot.pass_start[p + 1] += slot.pass_start[p];
-        }
-        let mut fill = slot.pass_start.clone();
         slot.by_pass.clear();
-        slot.by_pass.resize(slot.pass_start[passes], 0);
-        for y in region.y0..region.y1 {
-            for x in region.x0..region.x1 {
-                let p = order.pass_of(x, y);
-                if p >= shared {
-                    slot.by_pass[fill[p]] = region.index(x, y) as u32;
-                    fill[p] += 1;
+        if passes == shared + 1 {
+            // One pass: the region in row-major order.
+            slot.pass_start[passes] = region.area();
+            slot.by_pass.extend(0..region.area() as u32);
+        } else {
+            for y in region.y0..region.y1 {
+                for x in region.x0..region.x1 {
+                    let p = order.pass_of(x, y);
+                    if p >= shared {
+                        slot.pass_start[p + 1] += 1;
+                    }
+                }
+            }
+            for p in 0..passes {
+                slot.pass_start[p + 1] += slot.pass_start[p];
+            }
+            let mut fill = slot.pass_start.clone();
+            slot.by_pass.resize(slot.pass_start[passes], 0);
+            for y in region.y0..region.y1 {
+                for x in region.x0..region.x1 {
+                    let p = order.pass_of(x, y);
+                    if p >= shared {
+                        slot.by_pass[fill[p]] = region.index(x, y) as u32;
+                        fill[p] += 1;
+                    }
                 }
             }
         }
-        // The pixels the tile depends on: its own, then backwards through the passes (and
-        // backwards within a pass, whose pixels may read earlier ones of the same pass) every
-        // voter of a needed pixel.
+        // The pixels the tile depends on: without a halo, its own; else its own, then
+        // backwards through the passes (and backwards within a pass, whose pixels may read
+        // earlier ones of the same pass) every voter of a needed pixel.
         slot.need.clear();
-        slot.need.resize(region.area(), false);
-        for y in tile.y0..tile.y1 {
-            for x in tile.x0..tile.x1 {
-                slot.need[region.index(x, y)] = true;
-            }
-        }
+        slot.need.resize(region.area(), region == tile);
         let rw = region.width();
         let coords = |i: u32| (region.x0 + i % rw, region.y0 + i / rw);
-        let mut candidates = [(0u32, 0u32); 4];
-        for p in (shared..passes).rev() {
-            for k in (slot.pass_start[p]..slot.pass_start[p + 1]).rev() {
-                let i = slot.by_pass[k];
-                if !slot.need[i as usize] {
-                    continue;
+        if region != tile {
+            for y in tile.y0..tile.y1 {
+                for x in tile.x0..tile.x1 {
+                    slot.need[region.index(x, y)] = true;
                 }
-                let (x, y) = coords(i);
-                let n = order.voters(x, y, p, frame, &mut candidates);
-                for &(vx, vy) in &candidates[..n] {
-                    slot.need[region.index(vx, vy)] = true;
+            }
+            let mut candidates = [(0u32, 0u32); 4];
+            for p in (shared..passes).rev() {
+                for k in (slot.pass_start[p]..slot.pass_start[p + 1]).rev() {
+                    let i = slot.by_pass[k];
+                    if !slot.need[i as usize] {
+                        continue;
+                    }
+                    let (x, y) = coords(i);
+                    let n = order.voters(x, y, p, frame, &mut candidates);
+                    for &(vx, vy) in &candidates[..n] {
+                        slot.need[region.index(vx, vy)] = true;
+                    }
                 }
             }
         }
         for p in shared..passes {
+            let at = self.shadows.at(p);
             for k in slot.pass_start[p]..slot.pass_start[p + 1] {
                 let i = slot.by_pass[k];
                 if slot.need[i as usize] {
                     let (x, y) = coords(i);
-                    self.evaluate(slot, x, y, p);
+                    self.evaluate(slot, x, y, p, at, frame);
                 }
             }
         }

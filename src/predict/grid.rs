@@ -48,21 +48,19 @@ impl Grid {
 }
 
 /// The pass that evaluates frame pixel (x, y): 0 for the coarse grid, then 2l+1 (A) and
-/// 2l+2 (B) at level l (h = h0 >> l).
+/// 2l+2 (B) at level l (h = h0 >> l, s = h/2). The level is that of the largest power of two
+/// s < h0 dividing both coordinates; the square centres (A) are odd multiples of s in both.
 #[inline]
 pub fn pass_of(x: u32, y: u32, h0: u32) -> usize {
-    if x % h0 == 0 && y % h0 == 0 {
+    let top = h0.trailing_zeros();
+    // trailing_zeros(0) = 32: the origin row and column divide by everything.
+    let (tx, ty) = (x.trailing_zeros(), y.trailing_zeros());
+    let t = tx.min(ty);
+    if t >= top {
         return 0;
     }
-    let (mut h, mut p) = (h0, 1);
-    loop {
-        let s = h / 2;
-        if x % s == 0 && y % s == 0 {
-            return if x % h == s && y % h == s { p } else { p + 1 };
-        }
-        h = s;
-        p += 2;
-    }
+    let level = (top - 1 - t) as usize;
+    1 + 2 * level + usize::from(tx != ty)
 }
 
 /// The (up to four) frame pixels a pixel of pass `p` ≥ 1 reads, inside the frame: the
@@ -172,6 +170,37 @@ impl Order for Grid {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The definition: walk the levels down from h0 until s divides both coordinates.
+    fn pass_by_levels(x: u32, y: u32, h0: u32) -> usize {
+        if x % h0 == 0 && y % h0 == 0 {
+            return 0;
+        }
+        let (mut h, mut p) = (h0, 1);
+        loop {
+            let s = h / 2;
+            if x % s == 0 && y % s == 0 {
+                return if x % h == s && y % h == s { p } else { p + 1 };
+            }
+            h = s;
+            p += 2;
+        }
+    }
+
+    #[test]
+    fn pass_of_follows_the_levels() {
+        for h0 in [2, 4, 8, 16, 32, 64, 128, 256] {
+            for y in 0..300 {
+                for x in 0..300 {
+                    assert_eq!(
+                        pass_of(x, y, h0),
+                        pass_by_levels(x, y, h0),
+                        "({x}, {y}) h0 {h0}"
+                    );
+                }
+            }
+        }
+    }
 
     #[test]
     fn every_pixel_has_one_pass_and_reads_only_earlier_passes() {

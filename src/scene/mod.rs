@@ -161,6 +161,7 @@ impl Scene {
     }
 
     /// The three world-space corners of triangle `tri`.
+    #[inline]
     pub fn triangle(&self, tri: usize) -> [Vec3; 3] {
         self.triangles[tri].map(|i| self.positions[i as usize])
     }
