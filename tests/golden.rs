@@ -46,6 +46,8 @@ fn renders() -> Vec<Render> {
         ("bunny-grid-nowarp-boundary", "grid-nowarp-boundary"),
         ("bunny-grid-warp-uncertainty", "grid-warp-uncertainty"),
         ("bunny-grid-nowarp-uncertainty", "grid-nowarp-uncertainty"),
+        // Added after the restructure (its first method beyond the paper's).
+        ("bunny-scan-nowarp-uncertainty", "scan-nowarp-uncertainty"),
     ] {
         let flags = format!("{SMALL} --frames 0..2 --method {method}");
         v.push(render(name, BUNNY, &flags));
@@ -154,6 +156,12 @@ bunny-grid-nowarp-uncertainty frame_0001.exr 1a41059d2f695cc294e5919fe9b040dd9d2
 bunny-grid-nowarp-uncertainty frame_0001.png a588aa398b34dc9d68d376ec889ef0a0435728775bf7a5fab26dbe490fedb166
 bunny-grid-nowarp-uncertainty lights.json 9b3fc8976c763dca6ede3decd8aae22545e7b4663c1f239ade31cd5721afa7b4
 bunny-grid-nowarp-uncertainty stats.csv d63ace7478a6b8a9b472255cf438ea528260fbe92b523e4e91da28ae8154364a
+bunny-scan-nowarp-uncertainty frame_0000.exr 612c46461b5eaa0d4fcf942b87110741051c332b6aa875cd6b437b964b01c0a8
+bunny-scan-nowarp-uncertainty frame_0000.png 28fb254a8e4fbfffe510492e1bf99c5ded26fedf4c50c7feca3aafbce1163b01
+bunny-scan-nowarp-uncertainty frame_0001.exr 060061b180496afba8785f89fdb9484ebb46875c7cffc509960dc8b9bbf5e870
+bunny-scan-nowarp-uncertainty frame_0001.png 90a9a59b825273a92411c84b55a44f656b599b23263fb656aaed7034ef3b9f7b
+bunny-scan-nowarp-uncertainty lights.json 9b3fc8976c763dca6ede3decd8aae22545e7b4663c1f239ade31cd5721afa7b4
+bunny-scan-nowarp-uncertainty stats.csv 50580d78c06d00f6fddc5599b4db4d7de834f084586e8a828ed8ccdca4d5d1c7
 bunny-nowarp-all frame_0000.exr 57a0414040fc2eedbdc2bff3a7354daecb5b6169413c58f54ef3541f5701ac06
 bunny-nowarp-all frame_0000.png 687db2f08acc671d0aa42089f976a38419f4684190c3e1381fc9dc0449e26c86
 bunny-nowarp-all frame_0001.exr ddd850dcc2f3432185a504d26ae5b8fdda1cec4fbf7a9526ad762dad5f25cb63
@@ -262,7 +270,10 @@ fn hashes(dir: &Path, assets: &str) -> Vec<(String, String)> {
             let h = if n == "stats.csv" {
                 sha(stats_without_seconds(&String::from_utf8(bytes).unwrap()).as_bytes())
             } else if n == "lights.json" {
-                sha(String::from_utf8(bytes).unwrap().replace(assets, "ASSETS/").as_bytes())
+                sha(String::from_utf8(bytes)
+                    .unwrap()
+                    .replace(assets, "ASSETS/")
+                    .as_bytes())
             } else {
                 sha(&bytes)
             };

@@ -67,6 +67,10 @@ fn error_bound(v: Variant) -> f64 {
         ("grid-nowarp-uncertainty", FloodTo::Contrary) => 0.2,
         // Errors travel along the scan until a boundary trace catches them.
         ("scan-warp-boundary", _) => 2.5,
+        // Every voter lies above or to the left: a shadow entering from below or the right is
+        // predicted visible by all of them and never traced (BENCHMARKS.md, "A method the
+        // paper did not list").
+        ("scan-nowarp-uncertainty", _) => 1.5,
         _ => 0.5,
     }
 }
@@ -110,8 +114,9 @@ fn every_method_agrees_with_brute_force_within_its_stated_error() {
 
 #[test]
 fn flooding_to_contrary_lights_saves_rays_only_where_it_can() {
-    // Uncertainty methods: `contrary` < `contrary-finest` < `all` in rays; boundary methods
-    // trace the same under every rule.
+    // Uncertainty methods: `contrary` < `contrary-finest` < `all` in rays (the scanline has no
+    // levels: its `contrary-finest` is `all`); boundary methods trace the same under every
+    // rule.
     for (name, anim, inputs) in scenes(160, 120, 100) {
         for m in Method::all() {
             let all = Variant {
@@ -129,7 +134,7 @@ fn flooding_to_contrary_lights_saves_rays_only_where_it_can() {
             let (fa, ca) = render(&anim, &inputs, all, 64, 0);
             let (fc, cc) = render(&anim, &inputs, contrary, 64, 0);
             let (ff, cf) = render(&anim, &inputs, finest, 64, 0);
-            if m.reads("flood_to") {
+            if m.reads("flood_to") && m.parts().0 == "grid" {
                 // Contrary at the finest level only: between the two.
                 assert!(
                     cc.rays < cf.rays && cf.rays * 10 < ca.rays * 9,
@@ -263,6 +268,7 @@ fn a_region_render_equals_the_same_pixels_of_the_full_frame() {
             "grid-nowarp-uncertainty",
             "grid-warp-boundary",
             "scan-warp-boundary",
+            "scan-nowarp-uncertainty",
         ] {
             let mut a = anim.clone();
             a.method = m.parse().unwrap();

@@ -105,19 +105,22 @@ fn temporal_prediction_agrees_with_brute_force_within_its_stated_error() {
 #[test]
 fn temporal_chains_are_identical_whatever_the_tiles_and_threads() {
     let dir = tempfile::tempdir().unwrap();
-    for (kind, flood_to) in [
-        ("orbit", FloodTo::All),
-        ("spin", FloodTo::ContraryFinest),
-        ("orbit", FloodTo::Contrary),
+    for (kind, flood_to, method) in [
+        ("orbit", FloodTo::All, "grid-nowarp-uncertainty"),
+        ("spin", FloodTo::ContraryFinest, "grid-nowarp-uncertainty"),
+        ("orbit", FloodTo::Contrary, "grid-nowarp-uncertainty"),
+        ("spin", FloodTo::ContraryFinest, "scan-nowarp-uncertainty"),
     ] {
         let mut anim = bunny(kind, 96, 72, 48, dir.path());
         anim.params.flood_to = flood_to;
+        anim.method = method.parse().unwrap();
         let inputs = Inputs::load(&anim).unwrap();
         let reference = chain(&anim, &inputs, 3, 0, 1);
         for (tile, threads) in [(8, 2), (16, 1), (64, 2)] {
             let got = chain(&anim, &inputs, 3, tile, threads);
             for (f, ((film, c), (rf, rc))) in got.iter().zip(&reference).enumerate() {
-                let tag = format!("{kind} {flood_to} frame {f} tile {tile} threads {threads}");
+                let tag =
+                    format!("{method} {kind} {flood_to} frame {f} tile {tile} threads {threads}");
                 assert!(film.beauty == rf.beauty, "{tag}: beauty differs");
                 assert!(film.rays == rf.rays, "{tag}: rays differ");
                 assert!(film.wrong == rf.wrong, "{tag}: wrong pairs differ");

@@ -99,7 +99,7 @@ fn unshadowed(_: &Params) -> Box<dyn Rule> {
 }
 
 /// Every method, in the order `--help` lists them: an order and a rule each.
-pub static METHODS: [MethodDef; 7] = [
+pub static METHODS: [MethodDef; 8] = [
     method(
         "none",
         "no shadows (every light visible): the cost of a frame without them",
@@ -145,6 +145,14 @@ pub static METHODS: [MethodDef; 7] = [
          from four neighbours' visibility; traces lights the neighbours disagree on and floods \
          to adjacent lights until traces agree",
         grid,
+        predict::<NoWarp, Uncertainty>,
+    ),
+    // [ours] not in the paper: its best rule on its simplest order.
+    method(
+        "scan-nowarp-uncertainty",
+        "row-by-row order from the left, upper-left and upper neighbours' visibility; traces \
+         what they disagree on and floods",
+        scan,
         predict::<NoWarp, Uncertainty>,
     ),
 ];
