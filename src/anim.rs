@@ -54,9 +54,10 @@ use serde::Deserialize;
 use crate::bail_input;
 use crate::camera::Camera;
 use crate::error::{Result, input_error};
-use crate::lights::Sampler;
-use crate::predict::{FloodTo, Method, Params};
 use crate::scene::Scene;
+use crate::settings::{
+    Lights, LightsLayer, Output, OutputLayer, Render, RenderLayer, Source, check_applies,
+};
 
 /// Limits checked before any work starts (see [`crate::limits`]).
 pub use crate::limits;
@@ -70,15 +71,15 @@ struct Spec {
     #[serde(default)]
     environment: EnvSpec,
     #[serde(default)]
-    lights: LightsSpec,
+    lights: LightsLayer,
     #[serde(default)]
     camera: CameraSpec,
     #[serde(default)]
     motion: MotionSpec,
     #[serde(default)]
-    render: RenderSpec,
+    render: RenderLayer,
     #[serde(default)]
-    output: OutputSpec,
+    output: OutputLayer,
 }
 
 #[derive(Debug, Clone, Default, Deserialize)]
@@ -106,24 +107,6 @@ impl Default for EnvSpec {
             file: None,
             rotation: 0.0,
             intensity: 1.0,
-        }
-    }
-}
-
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct LightsSpec {
-    #[serde(default = "default_lights")]
-    count: usize,
-    #[serde(default = "default_sampler")]
-    sampler: String,
-}
-
-impl Default for LightsSpec {
-    fn default() -> Self {
-        LightsSpec {
-            count: default_lights(),
-            sampler: default_sampler(),
         }
     }
 }
@@ -185,77 +168,8 @@ impl Default for MotionSpec {
     }
 }
 
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RenderSpec {
-    #[serde(default = "default_width")]
-    width: u32,
-    #[serde(default = "default_height")]
-    height: u32,
-    #[serde(default = "default_method")]
-    method: String,
-    #[serde(default = "one")]
-    exposure: f32,
-    #[serde(default = "default_tile")]
-    tile: u32,
-    #[serde(default)]
-    threads: usize,
-    #[serde(default)]
-    validate: bool,
-    #[serde(default = "default_h0")]
-    h0: u32,
-    #[serde(default = "default_min_voters")]
-    min_voters: u32,
-    #[serde(default = "default_flood_to")]
-    flood_to: String,
-    #[serde(default = "default_scan_block")]
-    scan_block: u32,
-    #[serde(default)]
-    temporal: bool,
-    keyframe: Option<u32>,
-}
-
-impl Default for RenderSpec {
-    fn default() -> Self {
-        RenderSpec {
-            width: default_width(),
-            height: default_height(),
-            method: default_method(),
-            exposure: 1.0,
-            tile: default_tile(),
-            threads: 0,
-            validate: false,
-            h0: default_h0(),
-            min_voters: default_min_voters(),
-            flood_to: default_flood_to(),
-            scan_block: default_scan_block(),
-            temporal: false,
-            keyframe: None,
-        }
-    }
-}
-
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct OutputSpec {
-    #[serde(default = "default_out")]
-    dir: PathBuf,
-}
-
-impl Default for OutputSpec {
-    fn default() -> Self {
-        OutputSpec { dir: default_out() }
-    }
-}
-
 fn one() -> f32 {
     1.0
-}
-fn default_lights() -> usize {
-    200
-}
-fn default_sampler() -> String {
-    "sis".into()
 }
 fn default_elevation() -> f32 {
     25.0
@@ -275,34 +189,6 @@ fn default_kind() -> String {
 fn default_frames() -> usize {
     1
 }
-fn default_width() -> u32 {
-    640
-}
-fn default_height() -> u32 {
-    480
-}
-fn default_method() -> String {
-    Method::default().name().into()
-}
-fn default_tile() -> u32 {
-    64
-}
-fn default_h0() -> u32 {
-    Params::default().h0
-}
-fn default_min_voters() -> u32 {
-    Params::default().min_voters
-}
-fn default_flood_to() -> String {
-    Params::default().flood_to.name().into()
-}
-fn default_scan_block() -> u32 {
-    Params::default().scan_block
-}
-fn default_out() -> PathBuf {
-    PathBuf::from("out")
-}
-
 /// Where the scene comes from.
 #[derive(Clone, Debug, PartialEq)]
 pub enum SceneSource {
@@ -341,26 +227,41 @@ pub struct CameraRig {
     pub from_file: bool,
 }
 
-/// Flags that override the spec (`None` keeps the spec's value).
-#[derive(Clone, Debug, Default)]
-pub struct Overrides {
+/// The settings of a command line that renders an animation: each given one overrides the
+/// spec's (the binary flattens it into `render`, `plan`, `export`).
+#[derive(Clone, Debug, Default, clap::Args)]
+pub struct AnimFlags {
+    /// Frames to render: A..B (B excluded), A..=B, or A. Default: all of the animation.
+    #[arg(long, value_name = "RANGE")]
     pub frames: Option<FrameRange>,
-    pub lights: Option<usize>,
-    pub sampler: Option<Sampler>,
-    pub width: Option<u32>,
-    pub height: Option<u32>,
-    pub method: Option<Method>,
-    pub threads: Option<usize>,
-    pub tile: Option<u32>,
-    pub out: Option<PathBuf>,
-    pub exposure: Option<f32>,
-    pub validate: bool,
-    pub h0: Option<u32>,
-    pub min_voters: Option<u32>,
-    pub flood_to: Option<FloodTo>,
-    pub scan_block: Option<u32>,
-    pub temporal: bool,
-    pub keyframe: Option<u32>,
+    #[command(flatten)]
+    pub lights: LightsLayer,
+    #[command(flatten)]
+    pub render: RenderLayer,
+    #[command(flatten)]
+    pub output: OutputLayer,
+}
+
+impl AnimFlags {
+    /// Refuses the settings given here that `command` does not read (`reads`: spec keys):
+    /// they would change nothing it writes.
+    pub fn refuse_unread(&self, reads: &[&str], command: &str) -> Result<()> {
+        if self.frames.is_some() {
+            bail_input!("--frames", "does not apply to {command}");
+        }
+        let given = self
+            .lights
+            .given()
+            .into_iter()
+            .chain(self.render.given())
+            .chain(self.output.given());
+        for (key, flag, _) in given {
+            if !reads.contains(&key) {
+                bail_input!(format!("--{flag}"), "does not apply to {command}");
+            }
+        }
+        Ok(())
+    }
 }
 
 /// A frame selection from `--frames`: `A..B` (B excluded), `A..=B`, or `A`.
@@ -403,8 +304,6 @@ pub struct Animation {
     pub env: EnvSource,
     pub env_rotation_deg: f32,
     pub env_intensity: f32,
-    pub lights: usize,
-    pub sampler: Sampler,
     pub camera: CameraRig,
     pub motion: MotionKind,
     pub degrees_per_frame: f32,
@@ -413,37 +312,31 @@ pub struct Animation {
     pub frame_count: usize,
     /// Frames this run renders.
     pub frames: Range<usize>,
-    pub width: u32,
-    pub height: u32,
-    pub method: Method,
-    /// The methods' parameters (coarse grid spacing, voters, scan block).
-    pub params: Params,
-    /// Trace every query too and record the method's mistakes.
-    pub validate: bool,
-    pub exposure: f32,
-    pub tile: u32,
-    pub threads: usize,
-    pub out_dir: PathBuf,
-    /// Use the previous frame as voters (`--temporal`, [render] temporal).
-    pub temporal: bool,
-    /// With `temporal`: every `keyframe`-th frame (counted from frame 0) is predicted from
-    /// its own pixels only, and starts a new chain (`--keyframe`, [render] keyframe).
-    pub keyframe: u32,
+    /// `[lights]`: how many lights, by which sampler.
+    pub lights: Lights,
+    /// `[render]`: size, method and its parameters, validation, temporal prediction (its
+    /// `keyframe` resolved for the motion), tiles, threads.
+    pub render: Render,
+    /// `[output]`: the output folder.
+    pub output: Output,
 }
 
 impl Animation {
-    /// Reads and resolves a spec file, then applies `overrides`.
-    pub fn load(path: &Path, overrides: &Overrides) -> Result<Animation> {
+    /// Reads and resolves a spec file with the command line's `flags` over it.
+    pub fn load(path: &Path, flags: &AnimFlags) -> Result<Animation> {
         limits::check_file_size(path, "animation spec")?;
         let text = std::fs::read_to_string(path)
             .map_err(|e| input_error(path, format!("cannot read animation spec: {e}")))?;
-        Animation::parse(&text, path, overrides)
+        Animation::parse(&text, path, flags)
     }
 
-    /// Parses spec text; `path` names it in errors and anchors relative input paths.
-    pub fn parse(text: &str, path: &Path, overrides: &Overrides) -> Result<Animation> {
+    /// Parses spec text; `path` names it in errors and anchors relative input paths. The
+    /// settings given in `flags` win over the spec's, defaults fill the rest; every given
+    /// value is checked where it came from, and a setting the chosen method does not read is
+    /// refused.
+    pub fn parse(text: &str, path: &Path, flags: &AnimFlags) -> Result<Animation> {
         let spec: Spec =
-            toml::from_str(text).map_err(|e| input_error(path, one_line(&e.to_string())))?;
+            toml::from_str(text).map_err(|e| input_error(path, toml_message(text, &e)))?;
         let base = path.parent().unwrap_or(Path::new("")).to_path_buf();
         let rel = |p: &Path| {
             if p.is_absolute() {
@@ -474,18 +367,6 @@ impl Animation {
             }
             (None, None) => EnvSource::Sky,
         };
-        let sampler = parse_sampler(&spec.lights.sampler)
-            .map_err(|m| input_error(path, format!("[lights] sampler: {m}")))?;
-        let method: Method = spec
-            .render
-            .method
-            .parse()
-            .map_err(|m| input_error(path, format!("[render] method: {m}")))?;
-        let flood_to: FloodTo = spec
-            .render
-            .flood_to
-            .parse()
-            .map_err(|m| input_error(path, format!("[render] flood_to: {m}")))?;
         let motion = match spec.motion.kind.as_str() {
             "orbit" => MotionKind::Orbit,
             "spin" => MotionKind::Spin,
@@ -505,6 +386,29 @@ impl Animation {
             (None, Some(t)) => t / frame_count.max(1) as f32,
             (None, None) => 360.0 / frame_count.max(1) as f32,
         };
+        let (spec_source, flags_source) = (Source::Spec(path), Source::Flags);
+        spec.lights.check(spec_source)?;
+        spec.render.check(spec_source)?;
+        spec.output.check(spec_source)?;
+        flags.lights.check(flags_source)?;
+        flags.render.check(flags_source)?;
+        flags.output.check(flags_source)?;
+        let given = flags.render.clone().over(spec.render.clone());
+        let mut render = given.resolve();
+        check_applies(&flags.render, flags_source, &[render.method])?;
+        check_applies(&spec.render, spec_source, &[render.method])?;
+        if given.keyframe.is_some() && !render.temporal {
+            let message = "applies only with temporal prediction (--temporal)".to_string();
+            let source = if flags.render.keyframe.is_some() {
+                flags_source
+            } else {
+                spec_source
+            };
+            return Err(source.error(Render::TABLE, "keyframe", "keyframe", message));
+        }
+        if render.keyframe == 0 {
+            render.keyframe = default_keyframe(motion);
+        }
         let v3 = |a: [f32; 3]| Vec3::from_array(a);
         let camera = CameraRig {
             target: spec.camera.target.map(v3),
@@ -527,139 +431,84 @@ impl Animation {
             env,
             env_rotation_deg: spec.environment.rotation,
             env_intensity: spec.environment.intensity,
-            lights: spec.lights.count,
-            sampler,
             camera,
             motion,
             degrees_per_frame,
             pivot: spec.motion.pivot.map(v3),
             frame_count,
             frames: 0..frame_count,
-            width: spec.render.width,
-            height: spec.render.height,
-            method,
-            params: Params {
-                h0: spec.render.h0,
-                min_voters: spec.render.min_voters,
-                flood_to,
-                scan_block: spec.render.scan_block,
-            },
-            validate: spec.render.validate,
-            exposure: spec.render.exposure,
-            tile: spec.render.tile,
-            threads: spec.render.threads,
-            out_dir: spec.output.dir.clone(),
-            temporal: spec.render.temporal,
-            keyframe: spec
-                .render
-                .keyframe
-                .unwrap_or_else(|| default_keyframe(motion)),
+            lights: flags.lights.clone().over(spec.lights).resolve(),
+            render,
+            output: flags.output.clone().over(spec.output).resolve(),
         };
-        anim.apply(overrides, path)?;
-        Ok(anim)
-    }
-
-    /// Applies flag overrides and checks every limit.
-    pub fn apply(&mut self, o: &Overrides, path: &Path) -> Result<()> {
-        if let Some(r) = o.frames {
-            if r.end > self.frame_count {
+        if let Some(r) = flags.frames {
+            if r.end > anim.frame_count {
                 bail_input!(
                     "--frames",
                     "{}..{} is outside the animation's {} frames (0..{})",
                     r.start,
                     r.end,
-                    self.frame_count,
-                    self.frame_count
+                    anim.frame_count,
+                    anim.frame_count
                 );
             }
-            self.frames = r.start..r.end;
+            anim.frames = r.start..r.end;
         }
-        if let Some(v) = o.lights {
-            self.lights = v;
+        anim.validate(path)?;
+        Ok(anim)
+    }
+
+    /// This animation with the render settings of `layer` (one combination of a measuring
+    /// command's sweep) over its own: checked as flags, refused where the method does not read
+    /// them, the limits checked again.
+    pub fn with_render(&self, layer: &RenderLayer) -> Result<Animation> {
+        layer.check(Source::Flags)?;
+        let mut a = self.clone();
+        a.render = layer.clone().over(self.render.layer()).resolve();
+        check_applies(layer, Source::Flags, &[a.render.method])?;
+        if a.render.keyframe == 0 {
+            a.render.keyframe = default_keyframe(a.motion);
         }
-        if let Some(v) = o.sampler {
-            self.sampler = v;
-        }
-        if let Some(v) = o.width {
-            self.width = v;
-        }
-        if let Some(v) = o.height {
-            self.height = v;
-        }
-        if let Some(v) = o.method {
-            self.method = v;
-        }
-        if let Some(v) = o.threads {
-            self.threads = v;
-        }
-        if let Some(v) = o.tile {
-            self.tile = v;
-        }
-        if let Some(v) = &o.out {
-            self.out_dir = v.clone();
-        }
-        if let Some(v) = o.exposure {
-            self.exposure = v;
-        }
-        self.validate |= o.validate;
-        if let Some(v) = o.h0 {
-            self.params.h0 = v;
-        }
-        if let Some(v) = o.min_voters {
-            self.params.min_voters = v;
-        }
-        if let Some(v) = o.flood_to {
-            self.params.flood_to = v;
-        }
-        if let Some(v) = o.scan_block {
-            self.params.scan_block = v;
-        }
-        self.temporal |= o.temporal;
-        if let Some(v) = o.keyframe {
-            self.keyframe = v;
-        }
-        self.validate(path)
+        a.validate(&self.spec_path)?;
+        Ok(a)
     }
 
     fn validate(&self, path: &Path) -> Result<()> {
         use limits::*;
+        let (r, lights) = (&self.render, self.lights.count);
         let request = Request {
-            width: self.width,
-            height: self.height,
-            lights: self.lights,
-            tile: self.tile,
-            threads: self.threads,
-            validate: self.validate,
+            width: r.width,
+            height: r.height,
+            lights,
+            tile: r.tile,
+            threads: r.threads,
+            validate: r.validate,
         };
         let need = human_bytes_u128(estimate_bytes(&request));
-        if self.width == 0 || self.height == 0 || self.width > MAX_DIM || self.height > MAX_DIM {
+        if r.width == 0 || r.height == 0 || r.width > MAX_DIM || r.height > MAX_DIM {
             bail_input!(
                 path,
                 "resolution {}x{} is out of range: each side must be 1..={MAX_DIM} (it would need about {need} of memory)",
-                self.width,
-                self.height
+                r.width,
+                r.height
             );
         }
-        let px = self.width as u64 * self.height as u64;
+        let px = r.width as u64 * r.height as u64;
         if px > MAX_PIXELS {
             bail_input!(
                 path,
                 "resolution {}x{} is {px} pixels; at most {MAX_PIXELS} are allowed (it would need about {need} of memory)",
-                self.width,
-                self.height
+                r.width,
+                r.height
             );
         }
-        if self.lights == 0 {
+        if let Some(why) = lights_problem(lights) {
+            if lights == 0 {
+                bail_input!(path, "{why}");
+            }
             bail_input!(
                 path,
-                "zero lights: the environment must be sampled into at least 1 light"
-            );
-        }
-        if self.lights > MAX_LIGHTS {
-            bail_input!(
-                path,
-                "{} lights requested; at most {MAX_LIGHTS} are allowed (each pixel keeps a bit per light and traces up to one ray per light; it would need about {need} of memory)",
-                self.lights
+                "{why} (each pixel keeps a bit per light and traces up to one ray per light; it would need about {need} of memory)"
             );
         }
         check_memory(path, &request)?;
@@ -670,24 +519,10 @@ impl Animation {
                 self.frame_count
             );
         }
-        if let Err(m) = self.params.check() {
-            bail_input!(path, "{m}");
-        }
-        if let Err(m) = check_temporal(self) {
-            bail_input!(path, "{m}");
-        }
-        if self.tile != 0 && self.tile < 8 {
-            bail_input!(
-                path,
-                "tile size {} is too small: use 0 (whole frame) or at least 8",
-                self.tile
-            );
-        }
         let finite = [
             self.env_rotation_deg,
             self.env_intensity,
             self.degrees_per_frame,
-            self.exposure,
             self.camera.vfov_deg,
             self.camera.elevation_deg,
             self.camera.azimuth_deg,
@@ -736,8 +571,8 @@ impl Animation {
     /// whole animation would render it: with `temporal`, the key-frame interval (a job
     /// starting elsewhere first renders, without writing, the frames back to its key frame).
     pub fn frame_alignment(&self) -> usize {
-        if self.temporal {
-            self.keyframe as usize
+        if self.render.temporal {
+            self.render.keyframe as usize
         } else {
             1
         }
@@ -785,8 +620,8 @@ impl Animation {
             target,
             rig.up,
             vfov,
-            self.width,
-            self.height,
+            self.render.width,
+            self.render.height,
         ))
     }
 }
@@ -803,47 +638,35 @@ pub fn default_keyframe(motion: MotionKind) -> u32 {
     }
 }
 
-/// Longest allowed key-frame interval.
-pub const MAX_KEYFRAME: u32 = 10_000;
-
-/// Checks the temporal settings of an animation; the message names the setting.
-fn check_temporal(anim: &Animation) -> std::result::Result<(), String> {
-    if !(1..=MAX_KEYFRAME).contains(&anim.keyframe) {
-        return Err(format!(
-            "keyframe = {}: must be 1 to {MAX_KEYFRAME}",
-            anim.keyframe
-        ));
+/// A TOML error as one line, naming the table and key it is about where the position shows
+/// them: `line 6, column 12: [render] flood_to: unknown flood rule "some"; … (at `…`)`.
+fn toml_message(text: &str, e: &toml::de::Error) -> String {
+    let folded = one_line(&e.to_string());
+    let Some(span) = e.span() else {
+        return folded;
+    };
+    let start = span.start.min(text.len());
+    let line_start = text[..start].rfind('\n').map_or(0, |i| i + 1);
+    let line = text[line_start..].lines().next().unwrap_or("");
+    let Some((key, _)) = line.split_once('=') else {
+        return folded;
+    };
+    let key = key.trim();
+    if key.is_empty() || key.contains(['[', '"', ' ']) {
+        return folded;
     }
-    if anim.temporal && !anim.method.reads("temporal") {
-        let able: Vec<&str> = Method::all()
-            .filter(|m| m.reads("temporal"))
-            .map(Method::name)
-            .collect();
-        return Err(format!(
-            "temporal prediction needs a method with uncertainty flooding ({}), not {}",
-            able.join(", "),
-            anim.method
-        ));
-    }
-    Ok(())
-}
-
-/// `sis` or `median-cut`.
-pub fn parse_sampler(s: &str) -> std::result::Result<Sampler, String> {
-    match s {
-        "sis" => Ok(Sampler::Sis),
-        "median-cut" => Ok(Sampler::MedianCut),
-        _ => Err(format!(
-            "unknown sampler {s:?}; expected \"sis\" or \"median-cut\""
-        )),
-    }
-}
-
-/// The sampler's name as specs and the CLI spell it.
-pub fn sampler_name(s: Sampler) -> &'static str {
-    match s {
-        Sampler::Sis => "sis",
-        Sampler::MedianCut => "median-cut",
+    let table = text[..line_start]
+        .lines()
+        .rev()
+        .map(str::trim)
+        .find(|l| l.starts_with('[') && l.ends_with(']'));
+    let place = match table {
+        Some(t) => format!("{t} {key}"),
+        None => key.to_string(),
+    };
+    match folded.split_once(": ") {
+        Some((position, rest)) => format!("{position}: {place}: {rest}"),
+        None => format!("{place}: {folded}"),
     }
 }
 
@@ -890,17 +713,18 @@ mod tests {
         let err = Animation::parse(
             "[scene]\nbuiltin = \"shapes\"\n[render]\nwidth = \"wide\"\n",
             Path::new("a.toml"),
-            &Overrides::default(),
+            &AnimFlags::default(),
         )
         .unwrap_err()
         .to_string();
         assert!(!err.contains('\n'), "{err}");
         assert!(err.starts_with("a.toml: line 4, column 9: "), "{err}");
+        assert!(err.contains("[render] width: invalid type"), "{err}");
         assert!(err.contains("width = \"wide\""), "{err}");
         let err = Animation::parse(
             "[scene]\nbuiltin = \"shapes\"\n[render]\nwidht = 1\n",
             Path::new("b.toml"),
-            &Overrides::default(),
+            &AnimFlags::default(),
         )
         .unwrap_err()
         .to_string();
@@ -928,7 +752,7 @@ mod tests {
     #[test]
     fn orbit_turns_the_camera_and_spin_turns_the_scene() {
         let text = "[scene]\nbuiltin = \"shapes\"\n[camera]\ntarget = [0.0, 0.0, 0.0]\ndistance = 2.0\nelevation = 0.0\nazimuth = 0.0\n[motion]\nframes = 4\n";
-        let anim = Animation::parse(text, Path::new("o.toml"), &Overrides::default()).unwrap();
+        let anim = Animation::parse(text, Path::new("o.toml"), &AnimFlags::default()).unwrap();
         let scene = Scene::shapes();
         let c0 = anim.camera(&scene, 0).unwrap();
         assert!((c0.position - Vec3::new(0.0, 0.0, 2.0)).length() < 1e-5);
@@ -943,7 +767,7 @@ mod tests {
         let spin = Animation::parse(
             &text.replace("frames = 4", "frames = 4\nkind = \"spin\""),
             Path::new("s.toml"),
-            &Overrides::default(),
+            &AnimFlags::default(),
         )
         .unwrap();
         assert_eq!(spin.camera(&scene, 3).unwrap().position, c0.position);

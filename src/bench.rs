@@ -9,6 +9,7 @@
 //! (`none`) is primary rays and shading; what a method costs beyond `none` and its rays is its
 //! prediction overhead (voting, flooding, halo pixels, bitset work).
 
+use std::fmt;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -16,31 +17,34 @@ use clap::Args;
 use rayon::prelude::*;
 
 use crate::accel::{self, Accel, PACKET, ShadowRay};
-use crate::anim::{Animation, Overrides};
+use crate::anim::{AnimFlags, Animation};
 use crate::coordinator::{Inputs, Silent, render_frame, thread_pool};
 use crate::error::{Result, input_error};
-use crate::predict::{FloodTo, Method, Variant};
+use crate::film::Counts;
+use crate::predict::Method;
 use crate::raydump::{self, REPLAY_CHUNK};
+use crate::settings::{
+    LightsLayer, LightsSweep, RenderLayer, RenderSweep, Source, check_applies, method_specific,
+};
 
 #[derive(Args, Debug, Clone)]
 pub struct BenchArgs {
     /// `shapes`, `bunny` (anims/shapes-turntable.toml, anims/bunny-turntable.toml) or a spec file.
     #[arg(long, default_value = "bunny")]
     pub scene: String,
+    /// Which frame of the animation.
+    #[arg(long, default_value_t = 0)]
+    pub frame: usize,
+    /// Light counts and samplers, comma-separated (default: 50,100,200,400 lights).
     #[command(flatten)]
-    pub sweep: Sweep,
-    /// Thread counts, comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "1,2")]
-    pub threads: Vec<usize>,
-    /// Methods, comma-separated (`none` is the frame without shadows).
-    #[arg(long, value_delimiter = ',', default_value = "none,brute")]
-    pub methods: Vec<Method>,
+    pub lights: LightsSweep,
+    /// Render settings, each a comma-separated list: every combination is measured (default:
+    /// methods none,brute and threads 1,2; the rest as the spec says).
+    #[command(flatten)]
+    pub render: RenderSweep,
     /// Renders per configuration; the median time is reported.
     #[arg(long, default_value_t = 3)]
     pub repeat: usize,
-    /// Tile size.
-    #[arg(long, default_value_t = 64)]
-    pub tile: u32,
     /// Skip the split of frame time (BVH build, shadow rays, prediction overhead), which costs
     /// one extra render and a replay of the rays per configuration.
     #[arg(long)]
@@ -55,78 +59,135 @@ pub struct BenchArgs {
     pub replay: Option<PathBuf>,
 }
 
-/// The frames a measuring command renders: one frame of an animation at each light count.
-#[derive(Args, Debug, Clone)]
-pub struct Sweep {
-    /// Light counts, comma-separated.
-    #[arg(long, value_delimiter = ',', default_value = "50,100,200,400")]
-    pub lights: Vec<usize>,
-    /// Image width in pixels.
-    #[arg(long, default_value_t = 640)]
-    pub width: u32,
-    /// Image height in pixels.
-    #[arg(long, default_value_t = 480)]
-    pub height: u32,
-    /// Which frame of the animation.
-    #[arg(long, default_value_t = 0)]
-    pub frame: usize,
-    /// Coarse grid spacing of the grid methods (default: the spec's, else 16).
-    #[arg(long, value_name = "N")]
-    pub h0: Option<u32>,
-    /// Uncertainty methods' voter threshold, 1–4 (default: the spec's, else 3).
-    #[arg(long, value_name = "K")]
-    pub min_voters: Option<u32>,
-    /// Flood rules, comma-separated: each uncertainty method is measured with each (the
-    /// others trace the same under every rule).
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "contrary-finest",
-        value_name = "RULES"
-    )]
-    pub flood_to: Vec<FloodTo>,
+/// The light counts a measuring command renders when none are given.
+pub const DEFAULT_LIGHTS: [usize; 4] = [50, 100, 200, 400];
+
+/// Settings a one-frame measurement cannot use: it writes no files and reads no previous
+/// frame.
+const NOT_MEASURED: [&str; 3] = ["temporal", "keyframe", "exposure"];
+
+/// One combination of a sweep's render settings (beyond light counts and thread counts): the
+/// settings it gives, its method, and its name in a table's rows.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Variant {
+    pub layer: RenderLayer,
+    pub method: Method,
+    /// The method, then the flag of each swept setting that differs from the spec's:
+    /// `grid-nowarp-uncertainty --flood-to contrary`.
+    pub label: String,
 }
 
-impl Sweep {
-    /// The parameters the sweep sets beyond the spec's, for a table's heading
-    /// (", h0 8, min_voters 2"; empty when none).
-    pub fn tuning(&self) -> String {
-        let mut s = String::new();
-        if let Some(h0) = self.h0 {
-            s.push_str(&format!(", h0 {h0}"));
-        }
-        if let Some(k) = self.min_voters {
-            s.push_str(&format!(", min_voters {k}"));
-        }
-        s
+impl fmt::Display for Variant {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.label)
     }
+}
 
-    /// The animation `spec` at `lights` lights and the sweep's size, with its inputs loaded.
-    pub fn load(
-        &self,
-        spec: &Path,
-        lights: usize,
-        tile: Option<u32>,
-    ) -> Result<(Animation, Inputs)> {
-        let overrides = Overrides {
-            lights: Some(lights),
-            width: Some(self.width),
-            height: Some(self.height),
-            tile,
-            h0: self.h0,
-            min_voters: self.min_voters,
-            ..Default::default()
-        };
-        let anim = Animation::load(spec, &overrides)?;
-        let inputs = Inputs::load(&anim)?;
-        Ok((anim, inputs))
+/// The combinations of `sweep` (its thread counts apart) over the render settings of `base`,
+/// with `methods` when the sweep gives none. A method-specific setting is dropped from the
+/// combinations whose method does not read it (those render the same whatever its value),
+/// so each distinct render is measured once; a swept setting no swept method reads, or one a
+/// one-frame measurement cannot use, is refused.
+pub fn variants(base: &Animation, sweep: &RenderSweep, methods: &[Method]) -> Result<Vec<Variant>> {
+    sweep.check()?;
+    let mut sweep = sweep.clone();
+    sweep.threads.clear();
+    if sweep.method.is_empty() {
+        sweep.method = methods.to_vec();
     }
+    for (key, flag, _) in sweep.swept() {
+        if NOT_MEASURED.contains(&key) {
+            return Err(input_error(
+                format!("--{flag}"),
+                "does not apply to a measurement of one frame (no previous frame, no files)",
+            ));
+        }
+    }
+    let spec = base.render.layer();
+    let several: Vec<&str> = sweep
+        .swept()
+        .into_iter()
+        .filter(|&(_, _, n)| n > 1)
+        .map(|(key, _, _)| key)
+        .collect();
+    let mut out: Vec<Variant> = Vec::new();
+    for mut layer in sweep.layers() {
+        check_applies(&layer, Source::Flags, &sweep.method)?;
+        let method = layer.method.unwrap_or(base.render.method);
+        for (key, _, _) in layer.given() {
+            if method_specific(key) && !method.reads(key) {
+                layer.clear(key);
+            }
+        }
+        // The method, then each setting swept over several values that this combination
+        // gives otherwise than the spec (the settings swept over one value are the heading's).
+        let mut label = method.to_string();
+        let spec = spec.given();
+        for (key, flag, shown) in layer.given() {
+            let was = spec.iter().find(|g| g.0 == key).map(|g| &g.2);
+            if key != "method" && several.contains(&key) && was != Some(&shown) {
+                label.push_str(&format!(" --{flag} {shown}"));
+            }
+        }
+        let v = Variant {
+            layer,
+            method,
+            label,
+        };
+        if !out.contains(&v) {
+            out.push(v);
+        }
+    }
+    Ok(out)
+}
+
+/// The settings a sweep gives one value, for a table's heading (", h0 8, min_voters 2";
+/// empty when none): the rows do not name them.
+pub fn tuning(sweep: &RenderSweep) -> String {
+    let one = sweep
+        .layers()
+        .into_iter()
+        .next()
+        .unwrap_or_default()
+        .given();
+    let mut s = String::new();
+    for (key, _, n) in sweep.swept() {
+        if n == 1 && !["method", "threads", "width", "height"].contains(&key) {
+            let shown = one.iter().find(|g| g.0 == key).map(|g| g.2.as_str());
+            s.push_str(&format!(", {key} {}", shown.unwrap_or_default()));
+        }
+    }
+    s
+}
+
+/// The animation `spec` with the inputs of one light layer (count, sampler) loaded.
+pub fn load(spec: &Path, lights: &LightsLayer) -> Result<(Animation, Inputs)> {
+    let flags = AnimFlags {
+        lights: lights.clone(),
+        ..Default::default()
+    };
+    let anim = Animation::load(spec, &flags)?;
+    let inputs = Inputs::load(&anim)?;
+    Ok((anim, inputs))
+}
+
+/// The light layers of a sweep: its counts (default [`DEFAULT_LIGHTS`]) × its samplers.
+pub fn light_layers(sweep: &LightsSweep) -> Result<Vec<LightsLayer>> {
+    let mut sweep = sweep.clone();
+    if sweep.count.is_empty() {
+        sweep.count = DEFAULT_LIGHTS.to_vec();
+    }
+    sweep.check()?;
+    Ok(sweep.layers())
 }
 
 /// One measured configuration.
 #[derive(Clone, Debug)]
 pub struct BenchRow {
     pub lights: usize,
+    /// The frame's size.
+    pub width: u32,
+    pub height: u32,
     pub threads: usize,
     /// The method with its flood rule.
     pub variant: Variant,
@@ -220,89 +281,104 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
-fn spec_path(scene: &str) -> PathBuf {
+/// The spec a measuring command renders: `shapes`, `bunny` or a spec file.
+pub fn spec_path(scene: &str, shapes: &str, bunny: &str) -> PathBuf {
     match scene {
-        "shapes" => PathBuf::from("anims/shapes-turntable.toml"),
-        "bunny" => PathBuf::from("anims/bunny-turntable.toml"),
+        "shapes" => PathBuf::from(shapes),
+        "bunny" => PathBuf::from(bunny),
         other => PathBuf::from(other),
     }
 }
 
+/// What [`measure`] reports as it goes.
+pub enum Log<'a> {
+    /// A configuration was measured.
+    Row(&'a BenchRow),
+    /// A ray dump was written (`--dump-rays`): its path and ray count.
+    Dumped(&'a Path, usize),
+    /// What the scene loader skipped.
+    Warning(&'a str),
+}
+
 /// Measures every configuration and returns the rows.
-pub fn measure(args: &BenchArgs, mut log: impl FnMut(&BenchRow)) -> Result<Vec<BenchRow>> {
+pub fn measure(args: &BenchArgs, mut log: impl FnMut(Log)) -> Result<Vec<BenchRow>> {
     if args.repeat == 0 {
         return Err(input_error("--repeat", "must be at least 1"));
     }
-    let spec = spec_path(&args.scene);
-    let frame = args.sweep.frame;
+    let spec = spec_path(
+        &args.scene,
+        "anims/shapes-turntable.toml",
+        "anims/bunny-turntable.toml",
+    );
+    let frame = args.frame;
     let split = !args.no_split || args.dump_rays.is_some();
-    let variants = Variant::sweep(&args.methods, &args.sweep.flood_to);
+    let threads = if args.render.threads.is_empty() {
+        vec![1, 2]
+    } else {
+        args.render.threads.clone()
+    };
     let mut rows = Vec::new();
-    for &n in &args.sweep.lights {
-        let (mut anim, inputs) = args.sweep.load(&spec, n, Some(args.tile))?;
+    for lights in light_layers(&args.lights)? {
+        let (base, inputs) = load(&spec, &lights)?;
+        for w in &inputs.scene.warnings {
+            log(Log::Warning(w));
+        }
+        let variants = variants(&base, &args.render, &[Method::NONE, Method::BRUTE])?;
+        let anims = variants
+            .iter()
+            .map(|v| base.with_render(&v.layer))
+            .collect::<Result<Vec<_>>>()?;
         let accel = if split {
-            Some(frame_accel(&anim, &inputs, frame)?)
+            Some(frame_accel(&base, &inputs, frame)?)
         } else {
             None
         };
-        // Each method's rays, recorded once per light count (they do not depend on threads).
-        let base = anim.params;
-        let mut recorded: Vec<(Variant, Vec<ShadowRay>)> = Vec::new();
+        // Each variant's rays, recorded once per light count (they do not depend on threads).
+        let mut recorded: Vec<Vec<ShadowRay>> = Vec::new();
         if let Some(accel) = &accel {
-            for &v in &variants {
-                anim.method = v.method;
-                anim.params = v.params(base);
-                let rays = record_rays(&anim, &inputs, frame)?;
+            for (v, anim) in variants.iter().zip(&anims) {
+                let rays = record_rays(anim, &inputs, frame)?;
                 if let (Some(dir), false) = (&args.dump_rays, rays.is_empty()) {
-                    let name = if v.flood_to == FloodTo::default() {
-                        v.method.to_string()
-                    } else {
-                        format!("{}-{}", v.method, v.flood_to)
-                    };
+                    let name = v.label.replace(" --", "-").replace(' ', "-");
                     let path = dir.join(format!("rays-{}-{name}.bin", inputs.lights.len()));
                     raydump::write(&path, accel, &rays)?;
-                    eprintln!("wrote {} ({} rays)", path.display(), rays.len());
+                    log(Log::Dumped(&path, rays.len()));
                 }
-                recorded.push((v, rays));
+                recorded.push(rays);
             }
         }
         // Still geometry (an orbit turntable) has one BVH per run, built by its first frame:
         // build it before timing so every repeat measures a frame as the run's later frames
         // cost. The build itself is the split's `build s` column.
-        let still = still_geometry(&anim, &inputs, frame)?;
+        let still = still_geometry(&base, &inputs, frame)?;
         if still {
             inputs.still_accel();
         }
-        for &threads in &args.threads {
+        for &threads in &threads {
             let pool = thread_pool(threads)?;
-            // Round robin: each repeat renders every method once, so a slow spell of the
-            // shared machine falls on all methods alike instead of on one method's repeats.
+            // Round robin: each repeat renders every variant once, so a slow spell of the
+            // shared machine falls on all of them alike instead of on one variant's repeats.
             let mut times = vec![Vec::with_capacity(args.repeat); variants.len()];
-            let mut counts = vec![Default::default(); variants.len()];
+            let mut counts = vec![Counts::default(); variants.len()];
             for _ in 0..args.repeat {
-                for (k, &v) in variants.iter().enumerate() {
-                    anim.method = v.method;
-                    anim.params = v.params(base);
+                for (k, anim) in anims.iter().enumerate() {
                     let t = Instant::now();
                     let (film, _) =
-                        pool.install(|| render_frame(&anim, &inputs, frame, None, &Silent))?;
+                        pool.install(|| render_frame(anim, &inputs, frame, None, &Silent))?;
                     times[k].push(t.elapsed().as_secs_f64());
                     counts[k] = film.counts;
                 }
             }
-            for (k, &v) in variants.iter().enumerate() {
-                anim.method = v.method;
-                anim.params = v.params(base);
-                let counts: crate::film::Counts = counts[k];
+            for (k, v) in variants.iter().enumerate() {
                 let split = match &accel {
                     Some(accel) => {
-                        let rays = &recorded.iter().find(|(r, _)| *r == v).unwrap().1;
+                        let rays = &recorded[k];
                         let mut build = Vec::new();
                         let mut shadow = Vec::new();
                         let mut blocked = 0;
                         for _ in 0..args.repeat {
                             let t = Instant::now();
-                            pool.install(|| frame_accel(&anim, &inputs, frame))?;
+                            pool.install(|| frame_accel(&base, &inputs, frame))?;
                             build.push(t.elapsed().as_secs_f64());
                             let t = Instant::now();
                             blocked = pool.install(|| replay(accel, rays, true));
@@ -320,14 +396,16 @@ pub fn measure(args: &BenchArgs, mut log: impl FnMut(&BenchRow)) -> Result<Vec<B
                 let row = BenchRow {
                     build_in_frame: !still,
                     lights: inputs.lights.len(),
+                    width: anims[k].render.width,
+                    height: anims[k].render.height,
                     threads: pool.current_num_threads(),
-                    variant: v,
+                    variant: v.clone(),
                     seconds: median(std::mem::take(&mut times[k])),
-                    queries: counts.queries,
-                    rays: counts.rays,
+                    queries: counts[k].queries,
+                    rays: counts[k].rays,
                     split,
                 };
-                log(&row);
+                log(Log::Row(&row));
                 rows.push(row);
             }
         }
@@ -415,7 +493,12 @@ fn split_cells(r: &BenchRow, none: Option<&BenchRow>) -> String {
 }
 
 /// `envshadow bench --replay FILE`: our occlusion queries on a dump's rays, per thread count.
-fn run_replay(path: &Path, args: &BenchArgs) -> Result<()> {
+/// `envshadow bench --replay FILE`: our occlusion queries on a dump's rays, per thread count
+/// (default 1,2), as a heading and a markdown table.
+pub fn replay_table(path: &Path, args: &BenchArgs) -> Result<String> {
+    if args.repeat == 0 {
+        return Err(input_error("--repeat", "must be at least 1"));
+    }
     let dump = raydump::read(path)?;
     let positions: Vec<_> = dump.triangles.iter().flatten().copied().collect();
     let triangles: Vec<[u32; 3]> = (0..dump.triangles.len() as u32)
@@ -424,8 +507,8 @@ fn run_replay(path: &Path, args: &BenchArgs) -> Result<()> {
     let t = Instant::now();
     let accel = Accel::build(&positions, &triangles);
     let build = t.elapsed().as_secs_f64();
-    println!(
-        "{}: {} triangles (BVH built in {:.3} s), {} rays, chunks of {}, median of {}\n",
+    let mut out = format!(
+        "{}: {} triangles (BVH built in {:.3} s), {} rays, chunks of {}, median of {}\n\n",
         path.display(),
         dump.triangles.len(),
         build,
@@ -433,14 +516,19 @@ fn run_replay(path: &Path, args: &BenchArgs) -> Result<()> {
         REPLAY_CHUNK,
         args.repeat
     );
-    println!("| tracer | threads | s | M rays/s | occluded |\n|---|---:|---:|---:|---:|");
+    out.push_str("| tracer | threads | s | M rays/s | occluded |\n|---|---:|---:|---:|---:|\n");
     // One at a time: the work of another tracer's single-ray query. Packets: as a frame
     // traces them. Alternated, so both see the same machine load.
     let tracers = [
         ("envshadow (obvhs), one ray at a time", false),
         ("envshadow (obvhs), packets from one origin", true),
     ];
-    for &threads in &args.threads {
+    let threads = if args.render.threads.is_empty() {
+        vec![1, 2]
+    } else {
+        args.render.threads.clone()
+    };
+    for &threads in &threads {
         let pool = thread_pool(threads)?;
         let mut times = vec![Vec::new(); tracers.len()];
         let mut blocked = vec![0; tracers.len()];
@@ -453,33 +541,22 @@ fn run_replay(path: &Path, args: &BenchArgs) -> Result<()> {
         }
         for (k, &(name, _)) in tracers.iter().enumerate() {
             let s = median(std::mem::take(&mut times[k]));
-            println!(
-                "| {} | {} | {:.3} | {:.2} | {} |",
+            out.push_str(&format!(
+                "| {} | {} | {:.3} | {:.2} | {} |\n",
                 name,
                 pool.current_num_threads(),
                 s,
                 dump.rays.len() as f64 / s / 1e6,
                 blocked[k]
-            );
+            ));
         }
     }
-    Ok(())
+    Ok(out)
 }
 
-/// `envshadow bench`.
-pub fn run(args: &BenchArgs) -> Result<()> {
-    if args.repeat == 0 {
-        return Err(input_error("--repeat", "must be at least 1"));
-    }
-    if let Some(path) = &args.replay {
-        return run_replay(path, args);
-    }
-    let rows = measure(args, |r| {
-        eprintln!(
-            "{} lights, {} threads, {}: {:.3} s/frame",
-            r.lights, r.threads, r.variant, r.seconds
-        )
-    })?;
+/// The heading of a bench table: the scene, frame size, the settings every row shares, the
+/// repeats, and whether frames build their BVH.
+pub fn heading(args: &BenchArgs, rows: &[BenchRow]) -> String {
     let builds = match rows.first() {
         Some(r) if !r.build_in_frame => {
             "; still geometry: the BVH is built once per run, so s/frame excludes its build"
@@ -487,16 +564,16 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         Some(_) => "; moving geometry: every frame builds its BVH",
         None => "",
     };
-    println!(
-        "{} {}x{}, frame {}{}, median of {}{}:\n",
+    let size = rows
+        .first()
+        .map(|r| format!(" {}x{}", r.width, r.height))
+        .unwrap_or_default();
+    format!(
+        "{}{size}, frame {}{}, median of {}{}:",
         args.scene,
-        args.sweep.width,
-        args.sweep.height,
-        args.sweep.frame,
-        args.sweep.tuning(),
+        args.frame,
+        tuning(&args.render),
         args.repeat,
         builds
-    );
-    print!("{}", markdown(&rows));
-    Ok(())
+    )
 }

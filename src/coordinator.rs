@@ -41,6 +41,8 @@ pub trait Progress: Sync {
     fn frame_skipped(&self, _frame: usize) {}
     /// A one-line note for the user.
     fn note(&self, _msg: &str) {}
+    /// Something the input had that is not rendered (a loader skipped it).
+    fn warning(&self, _msg: &str) {}
     /// The run ended.
     fn finish(&self) {}
 }
@@ -72,11 +74,11 @@ pub struct FrameFiles {
 impl FrameFiles {
     /// The frame files of `anim`'s output folder (`stats.csv` rows already there are kept).
     pub fn new(anim: &Animation) -> FrameFiles {
-        let dir = anim.out_dir.clone();
+        let dir = anim.output.dir.clone();
         FrameFiles {
             stats: StatsFile::open(&dir.join("stats.csv")),
             dir,
-            exposure: anim.exposure,
+            exposure: anim.render.exposure,
         }
     }
 }
@@ -135,7 +137,7 @@ impl Inputs {
         let env = env
             .with_rotation(anim.env_rotation_deg)
             .with_intensity(anim.env_intensity)?;
-        let lights = LightSet::build(&env, anim.lights, anim.sampler)?;
+        let lights = LightSet::build(&env, anim.lights.count, anim.lights.sampler)?;
         Ok(Inputs::new(scene, env, lights))
     }
 }
@@ -214,7 +216,12 @@ pub fn render_frame_with(
     progress: &dyn Progress,
     temporal: &Temporal,
 ) -> Result<(Film, FrameStats, Option<Carried>)> {
-    let list = tiles(anim.width, anim.height, anim.tile, region);
+    let list = tiles(
+        anim.render.width,
+        anim.render.height,
+        anim.render.tile,
+        region,
+    );
     let never = Cancel::default();
     render_tile_list(
         anim, inputs, frame, &list, region, progress, temporal, &never,
@@ -228,11 +235,21 @@ pub fn render_frame_with(
 fn selection(anim: &Animation, opts: &RunOptions) -> (Vec<Tile>, Option<Rect>) {
     let Some(indices) = &opts.tiles else {
         return (
-            tiles(anim.width, anim.height, anim.tile, opts.region),
+            tiles(
+                anim.render.width,
+                anim.render.height,
+                anim.render.tile,
+                opts.region,
+            ),
             opts.region,
         );
     };
-    let all = tiles(anim.width, anim.height, anim.tile, None);
+    let all = tiles(
+        anim.render.width,
+        anim.render.height,
+        anim.render.tile,
+        None,
+    );
     let whole = indices.len() == all.len();
     let list: Vec<Tile> = all
         .into_iter()
@@ -286,18 +303,27 @@ fn render_tile_list(
         }
         None => None,
     };
-    let shadows = anim.method.build(anim.params, prev.as_ref());
+    let shadows = anim
+        .render
+        .method
+        .build(anim.render.params(), prev.as_ref());
     let work = FrameWork {
         ctx: &ctx,
         shadows: &shadows,
-        validate: anim.validate && !temporal.no_validate,
+        validate: anim.render.validate && !temporal.no_validate,
     };
     // A spinning object turns the lights relative to itself: keep the edges of each pixel's
     // shadow in light space, which the turn may carry across a light.
     let edges = anim.motion == MotionKind::Spin;
-    let mut carried = temporal
-        .carry
-        .then(|| Carried::new(frame, anim.width, anim.height, ctx.words(), edges));
+    let mut carried = temporal.carry.then(|| {
+        Carried::new(
+            frame,
+            anim.render.width,
+            anim.render.height,
+            ctx.words(),
+            edges,
+        )
+    });
     // Shared phases (the grid's coarse levels) run over every tile the rendered tiles' halos
     // reach, so a region render reads exactly what the whole frame would have computed.
     let phases = work.shared_phases();
@@ -305,7 +331,12 @@ fn render_tile_list(
     if phases > 0 {
         let reach = region.map(|r| {
             let grown = r.grow(work.shared_reach());
-            tiles(anim.width, anim.height, anim.tile, Some(grown))
+            tiles(
+                anim.render.width,
+                anim.render.height,
+                anim.render.tile,
+                Some(grown),
+            )
         });
         let shared_tiles = reach.as_deref().unwrap_or(list);
         for phase in 0..phases {
@@ -352,7 +383,7 @@ fn render_tile_list(
     let Some(results) = results else {
         return Err(Interrupted.into());
     };
-    let mut film = Film::new(anim.width, anim.height, work.validate);
+    let mut film = Film::new(anim.render.width, anim.render.height, work.validate);
     for (r, patch) in &results {
         film.add(r);
         if let (Some(c), Some(p)) = (&mut carried, patch) {
@@ -360,15 +391,15 @@ fn render_tile_list(
         }
     }
     drop(results);
-    let rendered = region.unwrap_or(Rect::frame(anim.width, anim.height));
+    let rendered = region.unwrap_or(Rect::frame(anim.render.width, anim.render.height));
     let stats = FrameStats {
         frame,
-        method: anim.method.name().to_string(),
+        method: anim.render.method.name().to_string(),
         lights: inputs.lights.len(),
-        width: anim.width,
-        height: anim.height,
+        width: anim.render.width,
+        height: anim.render.height,
         counts: film.counts,
-        image_error: film.image_error(rendered, anim.exposure),
+        image_error: film.image_error(rendered, anim.render.exposure),
         seconds: start.elapsed().as_secs_f64(),
         camera_position: camera.position,
         camera_target: camera.target,
@@ -395,8 +426,8 @@ pub fn render_animation(
     progress: &dyn Progress,
 ) -> Result<RunSummary> {
     let start = Instant::now();
-    let dir = &anim.out_dir;
-    if anim.temporal && opts.region.is_some() {
+    let dir = &anim.output.dir;
+    if anim.render.temporal && opts.region.is_some() {
         crate::bail_input!(
             "--region",
             "cannot be combined with temporal prediction: a frame's pixels depend on the \
@@ -405,6 +436,9 @@ pub fn render_animation(
     }
     // Inputs first: a bad input leaves nothing behind, not even an empty folder.
     let inputs = Inputs::load(anim)?;
+    for w in &inputs.scene.warnings {
+        progress.warning(w);
+    }
     opts.cancel.check()?;
     std::fs::create_dir_all(dir)
         .with_context(|| format!("creating output folder {}", dir.display()))?;
@@ -428,7 +462,7 @@ pub fn render_animation(
     };
     // With temporal prediction, frames come in chains from a key frame, each frame reading
     // its predecessor; a chain's frames outside this run are rendered, not written.
-    let work = chains(&todo, anim.temporal, anim.keyframe);
+    let work = chains(&todo, anim.render.temporal, anim.render.keyframe);
     let warmup: usize = work
         .iter()
         .map(|c| c.frames.iter().filter(|f| !f.1).count())
@@ -441,7 +475,7 @@ pub fn render_animation(
     }
     let (list, region) = selection(anim, opts);
     progress.begin(todo.len(), list.len());
-    let pool = thread_pool(anim.threads)?;
+    let pool = thread_pool(anim.render.threads)?;
 
     // Two chains in flight share the pool: while the last tiles of one frame finish, idle
     // workers take tiles of the other chain's frame. Each driver thread renders its chain's

@@ -13,7 +13,7 @@ use anyhow::Context;
 use clap::Args;
 use serde_json::json;
 
-use crate::anim::{Animation, Overrides};
+use crate::anim::{AnimFlags, Animation};
 use crate::context::shadow_epsilon;
 use crate::coordinator::Inputs;
 use crate::error::{Result, input_error};
@@ -26,29 +26,40 @@ pub struct ExportArgs {
     /// Which frame.
     #[arg(long, default_value_t = 0)]
     pub frame: usize,
-    /// Number of directional lights.
-    #[arg(long, value_name = "N")]
-    pub lights: Option<usize>,
-    /// Image width in pixels.
-    #[arg(long, value_name = "W")]
-    pub width: Option<u32>,
-    /// Image height in pixels.
-    #[arg(long, value_name = "H")]
-    pub height: Option<u32>,
-    /// Output folder (created): scene.ply, lights.json, primary.f32, frame.json.
-    #[arg(long, value_name = "DIR")]
-    pub out: PathBuf,
+    /// The spec's settings export reads — light count and sampler, width and height — and
+    /// the folder it writes (`--out DIR`, required): scene.ply, lights.json, primary.f32,
+    /// frame.json.
+    #[command(flatten)]
+    pub flags: AnimFlags,
 }
 
+/// What [`run`] wrote.
+#[derive(Clone, Debug)]
+pub struct Exported {
+    pub frame: usize,
+    pub triangles: usize,
+    pub lights: usize,
+    pub width: u32,
+    pub height: u32,
+    pub dir: PathBuf,
+    /// What the scene loader skipped.
+    pub warnings: Vec<String>,
+}
+
+/// The settings an export reads; the others would change nothing it writes.
+const READS: [&str; 5] = ["count", "sampler", "width", "height", "dir"];
+
 /// `envshadow export`.
-pub fn run(args: &ExportArgs) -> Result<()> {
-    let overrides = Overrides {
-        lights: args.lights,
-        width: args.width,
-        height: args.height,
-        ..Default::default()
+pub fn run(args: &ExportArgs) -> Result<Exported> {
+    let flags = &args.flags;
+    flags.refuse_unread(&READS, "export")?;
+    let Some(dir) = flags.output.dir.clone() else {
+        return Err(input_error(
+            "--out",
+            "export needs the folder to write: --out DIR",
+        ));
     };
-    let anim = Animation::load(&args.spec, &overrides)?;
+    let anim = Animation::load(&args.spec, flags)?;
     if !anim.frames.contains(&args.frame) {
         return Err(input_error(
             &args.spec,
@@ -78,7 +89,7 @@ pub fn run(args: &ExportArgs) -> Result<()> {
         None => &inputs.scene,
     };
     let camera = anim.camera(&inputs.scene, args.frame)?;
-    let dir = &args.out;
+    let dir = &dir;
     fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
 
     // scene.ply: float vertices and normals; faces with their material's linear albedo.
@@ -147,14 +158,13 @@ pub fn run(args: &ExportArgs) -> Result<()> {
         &dir.join("frame.json"),
         serde_json::to_string_pretty(&meta)?.as_bytes(),
     )?;
-    println!(
-        "exported frame {} ({} triangles, {} lights, {}x{}) to {}",
-        args.frame,
-        scene.triangles.len(),
-        inputs.lights.len(),
-        camera.width,
-        camera.height,
-        dir.display()
-    );
-    Ok(())
+    Ok(Exported {
+        frame: args.frame,
+        triangles: scene.triangles.len(),
+        lights: inputs.lights.len(),
+        width: camera.width,
+        height: camera.height,
+        dir: dir.clone(),
+        warnings: inputs.scene.warnings.clone(),
+    })
 }

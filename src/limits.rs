@@ -29,6 +29,19 @@ pub const MAX_TEXTURE_TEXELS: u64 = 1 << 26;
 /// The memory a render may be expected to need: 16 GB.
 pub const MAX_MEMORY_BYTES: u64 = 16_000_000_000;
 
+/// Why `n` lights cannot be asked for, if they cannot.
+pub fn lights_problem(n: usize) -> Option<String> {
+    if n == 0 {
+        Some("zero lights: the environment must be sampled into at least 1 light".into())
+    } else if n > MAX_LIGHTS {
+        Some(format!(
+            "{n} lights requested; at most {MAX_LIGHTS} are allowed"
+        ))
+    } else {
+        None
+    }
+}
+
 /// Refuses a file larger than [`MAX_FILE_BYTES`] before it is read. A missing file passes: the
 /// reader that follows reports it in its own words.
 pub fn check_file_size(path: &Path, what: &str) -> Result<()> {

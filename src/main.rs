@@ -1,13 +1,15 @@
 //! The `envshadow` binary: parse the command line, run it, report errors with their chain on
 //! one line and exit with a documented code (see `envshadow --help`).
 
+mod cli;
+
 use clap::Parser;
 use clap::error::ErrorKind;
 
 use envshadow::error::{exit, exit_code};
 
 fn main() {
-    let cli = match envshadow::cli::Cli::try_parse() {
+    let cli = match cli::Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) => {
             e.exit()
@@ -22,7 +24,7 @@ fn main() {
             std::process::exit(exit::BAD_INPUT);
         }
     };
-    if let Err(err) = envshadow::cli::run(cli) {
+    if let Err(err) = cli::run(cli) {
         let mut msg = format!("error: {err}");
         for cause in err.chain().skip(1) {
             msg.push_str(&format!(": {cause}"));

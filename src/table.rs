@@ -6,25 +6,28 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use crate::bench::Sweep;
+use crate::bench::{Variant, light_layers, load, tuning, variants};
 use crate::coordinator::{Silent, render_frame, thread_pool};
-use crate::error::Result;
+use crate::error::{Result, input_error};
 use crate::output::write_atomic;
-use crate::predict::{Method, Variant};
+use crate::predict::{FloodTo, Method};
+use crate::settings::{LightsSweep, RenderSweep};
 
 #[derive(Args, Debug, Clone)]
 pub struct TableArgs {
     /// `shapes` or `bunny` (anims/paper-shapes.toml, anims/paper-bunny.toml) or a spec file.
     #[arg(long, default_value = "shapes")]
     pub scene: String,
-    #[command(flatten)]
-    pub sweep: Sweep,
-    /// Methods, comma-separated (default: the paper's rows).
-    #[arg(long, value_delimiter = ',')]
-    pub methods: Vec<Method>,
-    /// Worker threads (0: one per core).
+    /// Which frame of the animation.
     #[arg(long, default_value_t = 0)]
-    pub threads: usize,
+    pub frame: usize,
+    /// Light counts and samplers, comma-separated (default: 50,100,200,400 lights).
+    #[command(flatten)]
+    pub lights: LightsSweep,
+    /// Render settings, each a comma-separated list: every combination is a row (default:
+    /// the paper's methods; one thread count at most).
+    #[command(flatten)]
+    pub render: RenderSweep,
     /// Also write the rows as CSV here.
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
@@ -33,9 +36,14 @@ pub struct TableArgs {
 /// One validated frame of one method at one light count.
 #[derive(Clone, Debug)]
 pub struct TableRow {
-    /// The method with its flood rule.
+    /// The method with the settings the row varies.
     pub variant: Variant,
+    /// The flood rule, for the methods it changes.
+    pub flood_to: Option<FloodTo>,
     pub lights: usize,
+    /// The frame's size.
+    pub width: u32,
+    pub height: u32,
     pub queries: u64,
     pub rays: u64,
     pub percent: f64,
@@ -124,31 +132,57 @@ fn spec_and_key(scene: &str) -> (PathBuf, String) {
 }
 
 /// Renders every (light count, method) frame with validation.
-pub fn measure(args: &TableArgs, mut log: impl FnMut(&TableRow)) -> Result<Vec<TableRow>> {
+/// What [`measure`] reports as it goes.
+pub enum Log<'a> {
+    /// A frame was measured.
+    Row(&'a TableRow),
+    /// What the scene loader skipped.
+    Warning(&'a str),
+}
+
+pub fn measure(args: &TableArgs, mut log: impl FnMut(Log)) -> Result<Vec<TableRow>> {
     let (spec, key) = spec_and_key(&args.scene);
-    let methods: Vec<Method> = if args.methods.is_empty() {
-        table1_methods()
-    } else {
-        args.methods.clone()
+    if !args.render.validate.is_empty() {
+        return Err(input_error(
+            "--validate",
+            "the table validates every method but brute force (its own reference)",
+        ));
+    }
+    let threads = match args.render.threads[..] {
+        [] => 0,
+        [n] => n,
+        _ => {
+            return Err(input_error(
+                "--threads",
+                "the table renders on one pool: give one thread count",
+            ));
+        }
     };
-    let variants = Variant::sweep(&methods, &args.sweep.flood_to);
-    let pool = thread_pool(args.threads)?;
+    let pool = thread_pool(threads)?;
     let mut rows = Vec::new();
-    for &n in &args.sweep.lights {
-        let (mut anim, inputs) = args.sweep.load(&spec, n, None)?;
-        let base = anim.params;
-        for &variant in &variants {
-            let method = variant.method;
-            anim.method = method;
-            anim.params = variant.params(base);
+    for lights in light_layers(&args.lights)? {
+        let (base, inputs) = load(&spec, &lights)?;
+        for w in &inputs.scene.warnings {
+            log(Log::Warning(w));
+        }
+        let n = base.lights.count;
+        for variant in variants(&base, &args.render, &table1_methods())? {
+            let mut anim = base.with_render(&variant.layer)?;
             // Brute force is its own reference: nothing to validate.
-            anim.validate = method != Method::BRUTE;
+            anim.render.validate = variant.method != Method::BRUTE;
             let (_, stats) =
-                pool.install(|| render_frame(&anim, &inputs, args.sweep.frame, None, &Silent))?;
+                pool.install(|| render_frame(&anim, &inputs, args.frame, None, &Silent))?;
             let c = stats.counts;
             let row = TableRow {
+                flood_to: variant
+                    .method
+                    .reads("flood_to")
+                    .then_some(anim.render.flood_to),
+                paper: paper_percent(variant.method, &key, n),
                 variant,
                 lights: n,
+                width: anim.render.width,
+                height: anim.render.height,
                 queries: c.queries,
                 rays: c.rays,
                 percent: c.percent_traced(),
@@ -156,25 +190,32 @@ pub fn measure(args: &TableArgs, mut log: impl FnMut(&TableRow)) -> Result<Vec<T
                 wrong_pixels: c.wrong_pixels,
                 rel_rmse: stats.image_error.map_or(0.0, |e| e.rel_rmse),
                 seconds: stats.seconds,
-                paper: paper_percent(method, &key, n),
                 rays_every_light: c.rays_every_light,
                 rays_unsure: c.rays_unsure(),
                 rays_flooded: c.rays_flooded,
                 flood_fixes: c.flood_fixes,
             };
-            log(&row);
+            log(Log::Row(&row));
             rows.push(row);
         }
     }
     Ok(rows)
 }
 
-/// Table 1 as markdown: % traced (the paper's figure in parentheses), then error rates.
-pub fn markdown(rows: &[TableRow], lights: &[usize]) -> String {
-    let mut variants: Vec<Variant> = Vec::new();
+/// Table 1 as markdown: % traced (the paper's figure in parentheses), then error rates; a
+/// column per light count.
+pub fn markdown(rows: &[TableRow]) -> String {
+    let mut lights: Vec<usize> = Vec::new();
     for r in rows {
-        if !variants.contains(&r.variant) {
-            variants.push(r.variant);
+        if !lights.contains(&r.lights) {
+            lights.push(r.lights);
+        }
+    }
+    let lights = &lights[..];
+    let mut variants: Vec<&Variant> = Vec::new();
+    for r in rows {
+        if !variants.contains(&&r.variant) {
+            variants.push(&r.variant);
         }
     }
     let head = |title: &str| {
@@ -189,7 +230,7 @@ pub fn markdown(rows: &[TableRow], lights: &[usize]) -> String {
         s.push('\n');
         s
     };
-    let cell = |m: Variant, n: usize| rows.iter().find(|r| r.variant == m && r.lights == n);
+    let cell = |m: &Variant, n: usize| rows.iter().find(|r| &r.variant == m && r.lights == n);
     let mut s = head("% of shadow queries traced: ours (paper)");
     for &m in &variants {
         let _ = write!(s, "| {m} |");
@@ -260,11 +301,7 @@ pub fn csv(rows: &[TableRow], scene: &str) -> String {
             "{scene},{},{},{},{},{},{:.4},{},{:.6},{},{:.6e},{:.3},{},{},{},{}",
             r.variant.method,
             // Empty for the methods every rule traces alike.
-            if r.variant.method.reads("flood_to") {
-                r.variant.flood_to.name()
-            } else {
-                ""
-            },
+            r.flood_to.map_or("", FloodTo::name),
             r.lights,
             r.queries,
             r.rays,
@@ -283,26 +320,21 @@ pub fn csv(rows: &[TableRow], scene: &str) -> String {
     s
 }
 
-/// `envshadow table`.
-pub fn run(args: &TableArgs) -> Result<()> {
-    let rows = measure(args, |r| {
-        eprintln!(
-            "{} lights, {}: {:.2} % traced, {:.4} % wrong, {:.2} s",
-            r.lights, r.variant, r.percent, r.error_percent, r.seconds
-        )
-    })?;
-    println!(
-        "Table 1, {} at {}x{}, frame {}{}:\n",
+/// The heading of Table 1: the scene, frame size and the settings every row shares.
+pub fn heading(args: &TableArgs, rows: &[TableRow]) -> String {
+    let size = rows
+        .first()
+        .map(|r| format!(" at {}x{}", r.width, r.height))
+        .unwrap_or_default();
+    format!(
+        "Table 1, {}{size}, frame {}{}:",
         args.scene,
-        args.sweep.width,
-        args.sweep.height,
-        args.sweep.frame,
-        args.sweep.tuning()
-    );
-    print!("{}", markdown(&rows, &args.sweep.lights));
-    if let Some(path) = &args.csv {
-        write_atomic(path, csv(&rows, &args.scene).as_bytes())?;
-        eprintln!("wrote {}", path.display());
-    }
-    Ok(())
+        args.frame,
+        tuning(&args.render)
+    )
+}
+
+/// Writes the rows as CSV to `path` (atomically).
+pub fn write_csv(path: &std::path::Path, rows: &[TableRow], scene: &str) -> Result<()> {
+    write_atomic(path, csv(rows, scene).as_bytes())
 }

@@ -401,7 +401,7 @@ fn json_round_trip_and_errors() {
     bad(
         "f.json",
         r#"{"sampler":"best","count":1,"lights":[]}"#,
-        "unknown light sampler",
+        "unknown sampler \"best\"",
     );
     bad(
         "g.json",

@@ -2,11 +2,34 @@
 
 mod common;
 
-use envshadow::anim::{Animation, Overrides};
+use envshadow::anim::{AnimFlags, Animation};
 use envshadow::coordinator::{Inputs, Silent, render_frame, thread_pool};
 use envshadow::film::Counts;
 use envshadow::film::Film;
-use envshadow::predict::{FloodTo, Method, Variant};
+use envshadow::predict::{FloodTo, Method};
+
+/// A method with a flood rule.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Variant {
+    method: Method,
+    flood_to: FloodTo,
+}
+
+impl From<Method> for Variant {
+    /// The method with the default flood rule.
+    fn from(method: Method) -> Variant {
+        Variant {
+            method,
+            flood_to: FloodTo::default(),
+        }
+    }
+}
+
+impl std::fmt::Display for Variant {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} --flood-to {}", self.method, self.flood_to)
+    }
+}
 
 /// A small shapes frame under the built-in sky and a small bunny frame under grace.hdr.
 fn scenes(width: u32, height: u32, lights: usize) -> Vec<(&'static str, Animation, Inputs)> {
@@ -24,7 +47,7 @@ fn scenes(width: u32, height: u32, lights: usize) -> Vec<(&'static str, Animatio
     let bunny = Animation::parse(
         &bunny_text,
         std::path::Path::new("bunny.toml"),
-        &Overrides::default(),
+        &AnimFlags::default(),
     )
     .unwrap();
     let si = Inputs::load(&shapes).unwrap();
@@ -32,9 +55,23 @@ fn scenes(width: u32, height: u32, lights: usize) -> Vec<(&'static str, Animatio
     vec![("shapes", shapes, si), ("bunny", bunny, bi)]
 }
 
-/// Every method, the uncertainty methods with each flood rule.
+/// Every method, those that read the flood rule with each.
 fn variants() -> Vec<Variant> {
-    Variant::sweep(&Method::all().collect::<Vec<_>>(), &FloodTo::ALL)
+    let mut v = Vec::new();
+    for method in Method::all() {
+        for flood_to in FloodTo::ALL {
+            let flood_to = if method.reads("flood_to") {
+                flood_to
+            } else {
+                FloodTo::default()
+            };
+            let variant = Variant { method, flood_to };
+            if !v.contains(&variant) {
+                v.push(variant);
+            }
+        }
+    }
+    v
 }
 
 fn render(
@@ -46,10 +83,10 @@ fn render(
 ) -> (Film, Counts) {
     let v = v.into();
     let mut a = anim.clone();
-    a.method = v.method;
-    a.params = v.params(a.params);
-    a.tile = tile;
-    a.validate = true;
+    a.render.method = v.method;
+    a.render.flood_to = v.flood_to;
+    a.render.tile = tile;
+    a.render.validate = true;
     let pool = thread_pool(threads).unwrap();
     let (film, stats) = pool
         .install(|| render_frame(&a, inputs, 1, None, &Silent))
@@ -185,7 +222,7 @@ fn flooding_to_contrary_lights_saves_rays_only_where_it_can() {
 #[test]
 fn where_the_rays_go_adds_up_for_every_method() {
     for (name, anim, inputs) in scenes(160, 120, 100) {
-        let h0 = anim.params.h0;
+        let h0 = anim.render.h0;
         let mut grid_every = None;
         for m in variants() {
             let (film, c) = render(&anim, &inputs, m, 64, 0);
@@ -271,8 +308,8 @@ fn a_region_render_equals_the_same_pixels_of_the_full_frame() {
             "scan-nowarp-uncertainty",
         ] {
             let mut a = anim.clone();
-            a.method = m.parse().unwrap();
-            a.tile = 16;
+            a.render.method = m.parse().unwrap();
+            a.render.tile = 16;
             let (full, _) = render_frame(&a, &inputs, 1, None, &Silent).unwrap();
             let region = Rect::new(37, 21, 101, 66);
             let (part, _) = render_frame(&a, &inputs, 1, Some(region), &Silent).unwrap();

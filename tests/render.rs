@@ -58,7 +58,7 @@ fn sphere_shadow_on_plane_matches_the_analytic_shadow() {
     }
     for method in [Method::BRUTE, Method::DEFAULT] {
         let mut anim = anim.clone();
-        anim.method = method;
+        anim.render.method = method;
         let (film, _) = render_frame(&anim, &inputs, 0, None, &Silent).unwrap();
         check_shadow_mask(&film.visible, &class, w, h, method);
     }
@@ -162,9 +162,9 @@ fn brute_force_equals_no_shadows_where_nothing_can_block() {
     let mut anim = common::animation(
         "[camera]\nposition = [0.0, 2.0, 3.0]\ntarget = [0.0, 0.0, 0.0]\n[motion]\nkind = \"none\"\n[render]\nwidth = 48\nheight = 32\n",
     );
-    anim.method = Method::BRUTE;
+    anim.render.method = Method::BRUTE;
     let (brute, bs) = render_frame(&anim, &inputs, 0, None, &Silent).unwrap();
-    anim.method = Method::NONE;
+    anim.render.method = Method::NONE;
     let (none, ns) = render_frame(&anim, &inputs, 0, None, &Silent).unwrap();
     assert_eq!(brute.beauty, none.beauty);
     assert_eq!(bs.counts.queries, ns.counts.queries);
@@ -182,7 +182,7 @@ fn shadows_remove_energy_and_never_add_it() {
     let inputs = Inputs::load(&anim0).unwrap();
     let mut anim = anim0.clone();
     let (brute, _) = render_frame(&anim, &inputs, 0, None, &Silent).unwrap();
-    anim.method = Method::NONE;
+    anim.render.method = Method::NONE;
     let (none, _) = render_frame(&anim, &inputs, 0, None, &Silent).unwrap();
     let (mut sb, mut sn) = (0.0f64, 0.0f64);
     for (b, n) in brute.beauty.iter().zip(&none.beauty) {

@@ -4,20 +4,27 @@
 mod common;
 
 use envshadow::accel::{self, Accel};
-use envshadow::anim::{Animation, Overrides};
+use envshadow::anim::{AnimFlags, Animation};
 use envshadow::bench::replay;
 use envshadow::coordinator::{Inputs, Silent, render_frame, thread_pool};
 use envshadow::predict::Method;
 use envshadow::raydump;
+use envshadow::settings::{LightsLayer, RenderLayer};
 
 fn shapes(lights: usize, method: Method) -> (Animation, Inputs) {
     let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let overrides = Overrides {
-        lights: Some(lights),
-        width: Some(64),
-        height: Some(48),
-        method: Some(method),
-        tile: Some(16),
+    let overrides = AnimFlags {
+        lights: LightsLayer {
+            count: Some(lights),
+            ..Default::default()
+        },
+        render: RenderLayer {
+            width: Some(64),
+            height: Some(48),
+            method: Some(method),
+            tile: Some(16),
+            ..Default::default()
+        },
         ..Default::default()
     };
     let anim = Animation::load(&root.join("anims/shapes-turntable.toml"), &overrides).unwrap();

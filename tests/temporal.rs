@@ -6,7 +6,7 @@ mod common;
 
 use std::path::Path;
 
-use envshadow::anim::{Animation, Overrides};
+use envshadow::anim::{AnimFlags, Animation};
 use envshadow::coordinator::{
     FrameFiles, Inputs, RunOptions, Silent, Temporal, render_animation, render_frame_with,
     thread_pool,
@@ -28,7 +28,7 @@ fn bunny(kind: &str, width: u32, height: u32, lights: usize, out: &Path) -> Anim
         common::asset("studio_small_03_1k.hdr").display(),
         out.display()
     );
-    Animation::parse(&text, Path::new("bunny.toml"), &Overrides::default()).unwrap()
+    Animation::parse(&text, Path::new("bunny.toml"), &AnimFlags::default()).unwrap()
 }
 
 /// Renders frames `0..n` as one chain (frame 0 spatial, each later frame reading the one
@@ -41,7 +41,7 @@ fn chain(
     threads: usize,
 ) -> Vec<(Film, Counts)> {
     let mut a = anim.clone();
-    a.tile = tile;
+    a.render.tile = tile;
     let pool = thread_pool(threads).unwrap();
     let mut prev: Option<Carried> = None;
     let mut out = Vec::new();
@@ -112,8 +112,8 @@ fn temporal_chains_are_identical_whatever_the_tiles_and_threads() {
         ("spin", FloodTo::ContraryFinest, "scan-nowarp-uncertainty"),
     ] {
         let mut anim = bunny(kind, 96, 72, 48, dir.path());
-        anim.params.flood_to = flood_to;
-        anim.method = method.parse().unwrap();
+        anim.render.flood_to = flood_to;
+        anim.render.method = method.parse().unwrap();
         let inputs = Inputs::load(&anim).unwrap();
         let reference = chain(&anim, &inputs, 3, 0, 1);
         for (tile, threads) in [(8, 2), (16, 1), (64, 2)] {
@@ -141,7 +141,7 @@ fn without_a_previous_frame_the_spatial_method_decides() {
     let anim = bunny("orbit", 96, 72, 48, dir.path());
     let inputs = Inputs::load(&anim).unwrap();
     let mut spatial = anim.clone();
-    spatial.temporal = false;
+    spatial.render.temporal = false;
     // Frame 2 with no previous frame given (a chain's first frame) is the spatial frame.
     let none = Temporal::default();
     let (t, ts, _) = render_frame_with(&anim, &inputs, 2, None, &Silent, &none).unwrap();
@@ -165,7 +165,7 @@ fn one_job_and_split_jobs_write_identical_frames() {
     let root = tempfile::tempdir().unwrap();
     let (one, split) = (root.path().join("one"), root.path().join("split"));
     let mut anim = bunny("spin", 64, 48, 32, &one);
-    anim.validate = false;
+    anim.render.validate = false;
     anim.frames = 0..7;
     render_animation(
         &anim,
@@ -176,7 +176,7 @@ fn one_job_and_split_jobs_write_identical_frames() {
     .unwrap();
     // Two jobs split in the middle of a chain (key frames 0 and 4): the second warms up from
     // frame 0 without writing frames 0 and 1.
-    anim.out_dir = split.clone();
+    anim.output.dir = split.clone();
     for range in [0..2, 2..7] {
         anim.frames = range;
         render_animation(
@@ -207,9 +207,16 @@ fn temporal_flags_are_checked() {
     for (args, needle) in [
         (
             vec!["--temporal", "--method", "brute"],
-            "uncertainty flooding",
+            "--temporal true does not apply to brute",
         ),
-        (vec!["--temporal", "--keyframe", "0"], "keyframe"),
+        (
+            vec!["--temporal", "--keyframe", "10001"],
+            "--keyframe 10001: must be",
+        ),
+        (
+            vec!["--keyframe", "8"],
+            "--keyframe applies only with temporal",
+        ),
         (vec!["--temporal", "--region", "0,0,8,8"], "--region"),
     ] {
         let o = common::bin()
@@ -233,7 +240,7 @@ fn savings_plot_compares_two_renders() {
     let root = tempfile::tempdir().unwrap();
     let (with, without) = (root.path().join("t"), root.path().join("s"));
     let mut anim = bunny("orbit", 64, 48, 32, &with);
-    anim.validate = false;
+    anim.render.validate = false;
     anim.frames = 0..3;
     render_animation(
         &anim,
@@ -242,8 +249,8 @@ fn savings_plot_compares_two_renders() {
         &Silent,
     )
     .unwrap();
-    anim.temporal = false;
-    anim.out_dir = without.clone();
+    anim.render.temporal = false;
+    anim.output.dir = without.clone();
     render_animation(
         &anim,
         &RunOptions::default(),

@@ -8,7 +8,7 @@
 use std::path::Path;
 
 use envshadow::accel::Accel;
-use envshadow::anim::{Animation, Overrides};
+use envshadow::anim::{AnimFlags, Animation};
 use envshadow::envmap::EnvMap;
 use envshadow::error::Result;
 use envshadow::lights::{LightSet, Sampler, parse_json};
@@ -17,7 +17,7 @@ use glam::Vec3;
 
 /// An animation spec, then the camera and scene motion at its first, middle and last frames.
 pub fn anim_spec(text: &str, path: &Path, scene: &Scene) -> Result<()> {
-    let anim = Animation::parse(text, path, &Overrides::default())?;
+    let anim = Animation::parse(text, path, &AnimFlags::default())?;
     for frame in [0, anim.frame_count / 2, anim.frame_count - 1] {
         if let Ok(camera) = anim.camera(scene, frame) {
             let _ = anim.scene_transform(frame, camera.target);

@@ -64,8 +64,8 @@ pub fn settings_fingerprint(anim: &Animation) -> Result<String> {
     let mut a = anim.clone();
     a.spec_path = Default::default();
     a.frames = 0..0;
-    a.threads = 0;
-    a.out_dir = Default::default();
+    a.render.threads = 0;
+    a.output.dir = Default::default();
     if let SceneSource::File(p) = &a.scene {
         a.scene = SceneSource::File(format!("sha256:{}", file_sha256(p)?).into());
     }

@@ -52,12 +52,18 @@ impl Settings {
     pub fn of(anim: &Animation) -> Result<Settings> {
         Ok(Settings {
             fingerprint: identity::settings_fingerprint(anim)?,
-            width: anim.width,
-            height: anim.height,
-            tile: anim.tile,
-            tiles: tiles(anim.width, anim.height, anim.tile, None).len(),
-            exposure: anim.exposure,
-            validate: anim.validate,
+            width: anim.render.width,
+            height: anim.render.height,
+            tile: anim.render.tile,
+            tiles: tiles(
+                anim.render.width,
+                anim.render.height,
+                anim.render.tile,
+                None,
+            )
+            .len(),
+            exposure: anim.render.exposure,
+            validate: anim.render.validate,
             frames: anim.frames.clone(),
             alignment: anim.frame_alignment(),
         })

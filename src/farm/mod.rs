@@ -47,7 +47,13 @@ pub fn request(anim: &Animation, jobs: usize, by: Option<By>) -> Result<PlanRequ
     let alignment = anim.frame_alignment();
     Ok(PlanRequest {
         frames: anim.frames.clone(),
-        tiles: crate::tile::tiles(anim.width, anim.height, anim.tile, None).len(),
+        tiles: crate::tile::tiles(
+            anim.render.width,
+            anim.render.height,
+            anim.render.tile,
+            None,
+        )
+        .len(),
         alignment,
         jobs,
         by: by.unwrap_or_else(|| plan::default_by(alignment)),
@@ -59,7 +65,7 @@ pub fn request(anim: &Animation, jobs: usize, by: Option<By>) -> Result<PlanRequ
 pub fn write_plan(anim: &Animation, spec: &Path, jobs: usize, by: Option<By>) -> Result<Vec<Job>> {
     let req = request(anim, jobs, by)?;
     let list = plan::plan(&req)?;
-    let dir = &anim.out_dir;
+    let dir = &anim.output.dir;
     std::fs::create_dir_all(dir)
         .with_context(|| format!("creating output folder {}", dir.display()))?;
     let file = PlanFile {
@@ -109,7 +115,12 @@ pub fn render_job(
     cancel: crate::cancel::Cancel,
     progress: &dyn Progress,
 ) -> Result<(Job, PathBuf, RunSummary)> {
-    let grid = crate::tile::tiles(anim.width, anim.height, anim.tile, None);
+    let grid = crate::tile::tiles(
+        anim.render.width,
+        anim.render.height,
+        anim.render.tile,
+        None,
+    );
     let (job, plan_ref) = match sel {
         JobSelection::Planned { index, of, by } => {
             let req = request(anim, *of, *by)?;
@@ -141,9 +152,9 @@ pub fn render_job(
                     "--tiles",
                     format!(
                         "tile {t} does not exist: a {}x{} frame in tiles of {} has tiles 0..{}",
-                        anim.width,
-                        anim.height,
-                        anim.tile,
+                        anim.render.width,
+                        anim.render.height,
+                        anim.render.tile,
                         grid.len()
                     ),
                 ));
@@ -163,7 +174,7 @@ pub fn render_job(
         }
     };
     let settings = Settings::of(anim)?;
-    let dir = anim.out_dir.join("jobs").join(job.folder());
+    let dir = anim.output.dir.join("jobs").join(job.folder());
     let manifest = Manifest {
         format: job::FORMAT.into(),
         build: identity::build_id()?,
@@ -188,7 +199,7 @@ pub fn render_job(
     // leaves no job folder; the writer publishes job.json first thing after that.
     let mut job_anim = anim.clone();
     job_anim.frames = job.frames.clone();
-    job_anim.out_dir = dir.clone();
+    job_anim.output.dir = dir.clone();
     let mut writer = JobWriter::new(dir.clone(), &job, &grid, manifest);
     let opts = RunOptions {
         resume,

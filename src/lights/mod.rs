@@ -59,9 +59,9 @@ impl std::str::FromStr for Sampler {
     fn from_str(s: &str) -> std::result::Result<Sampler, String> {
         match s {
             "sis" => Ok(Sampler::Sis),
-            "median-cut" | "mediancut" | "median_cut" => Ok(Sampler::MedianCut),
+            "median-cut" => Ok(Sampler::MedianCut),
             _ => Err(format!(
-                "unknown light sampler '{s}' (expected sis or median-cut)"
+                "unknown sampler {s:?}; expected \"sis\" or \"median-cut\""
             )),
         }
     }

@@ -298,64 +298,6 @@ impl Params {
     }
 }
 
-/// A method with its flood rule: what the measuring commands (`bench`, `table`) sweep.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Variant {
-    pub method: Method,
-    pub flood_to: FloodTo,
-}
-
-impl Variant {
-    /// Every method with every flood rule, in that order; methods the rule cannot change
-    /// (that do not read `flood_to`) once, with the default rule.
-    pub fn sweep(methods: &[Method], floods: &[FloodTo]) -> Vec<Variant> {
-        let mut v = Vec::new();
-        for &method in methods {
-            for &flood_to in floods {
-                let flood_to = if method.reads("flood_to") {
-                    flood_to
-                } else {
-                    FloodTo::default()
-                };
-                let variant = Variant { method, flood_to };
-                if !v.contains(&variant) {
-                    v.push(variant);
-                }
-            }
-        }
-        v
-    }
-
-    /// The variant's parameters: `params` with its flood rule.
-    pub fn params(self, params: Params) -> Params {
-        Params {
-            flood_to: self.flood_to,
-            ..params
-        }
-    }
-}
-
-impl From<Method> for Variant {
-    /// The method with the default flood rule.
-    fn from(method: Method) -> Variant {
-        Variant {
-            method,
-            flood_to: FloodTo::default(),
-        }
-    }
-}
-
-/// The method's name, followed by the flag that selects a flood rule other than the default.
-impl fmt::Display for Variant {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        if self.flood_to == FloodTo::default() {
-            write!(f, "{}", self.method)
-        } else {
-            write!(f, "{} --flood-to {}", self.method, self.flood_to)
-        }
-    }
-}
-
 impl fmt::Display for Method {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.name())

@@ -95,10 +95,6 @@ pub(super) fn load_bytes(bytes: &[u8], path: &Path) -> Result<Scene> {
             skipped.join("; ")
         );
     }
-    // Printed once the file is known to load, so a refused file gives one line, not several.
-    for w in &scene.warnings {
-        eprintln!("warning: {w}");
-    }
     Ok(scene)
 }
 

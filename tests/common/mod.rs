@@ -27,7 +27,7 @@ pub fn asset(name: &str) -> PathBuf {
     p
 }
 
-use envshadow::anim::{Animation, Overrides};
+use envshadow::anim::{AnimFlags, Animation};
 use envshadow::scene::{Material, Scene};
 use glam::{Vec2, Vec3};
 
@@ -107,7 +107,7 @@ pub fn animation(body: &str) -> Animation {
     Animation::parse(
         &text,
         std::path::Path::new("test.toml"),
-        &Overrides::default(),
+        &AnimFlags::default(),
     )
     .expect("test spec parses")
 }

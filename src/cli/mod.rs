@@ -1,25 +1,26 @@
-//! The command line: argument definitions (clap) and the progress display. The library does
-//! the work; this module turns flags into library calls and library reports into output.
+//! The command line: argument definitions (clap), and each command's run — a library call,
+//! then what it did printed (results on stdout, progress and notes on stderr). The library
+//! does the work and never prints; this is the only code that talks to the terminal.
+
+mod progress;
 
 use std::io::IsTerminal;
 use std::path::PathBuf;
-use std::sync::Mutex;
-use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
 use anyhow::Context;
 use clap::{Args, Parser, Subcommand};
-use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::anim::{Animation, FrameRange, Overrides, parse_sampler};
-use crate::bench;
-use crate::coordinator::{self, Progress, RunOptions};
-use crate::envmap::EnvMap;
-use crate::error::{Result, input_error};
-use crate::lights::{LightSet, Sampler};
-use crate::output::stats::FrameStats;
-use crate::predict::{FloodTo, Method};
-use crate::tile::Rect;
+use envshadow::anim::{AnimFlags, Animation};
+use envshadow::bench::{self, BenchArgs};
+use envshadow::coordinator::{self, Progress, RunOptions};
+use envshadow::envmap::EnvMap;
+use envshadow::error::{Result, input_error};
+use envshadow::lights::LightSet;
+use envshadow::settings::LightsLayer;
+use envshadow::table::{self, TableArgs};
+use envshadow::tile::Rect;
+use progress::Reporter;
 
 const AFTER_HELP: &str = "\
 Exit codes: 0 success; 1 internal failure (a bug, or the disk); 2 bad input (a file, a flag or
@@ -52,9 +53,9 @@ pub enum Command {
     /// Reduce an environment map to N directional lights; write them as JSON and a picture.
     Lights(LightsArgs),
     /// Measure seconds per frame and shadow rays per second (see BENCHMARKS.md).
-    Bench(bench::BenchArgs),
+    Bench(BenchArgs),
     /// Reproduce the paper's Table 1: % of shadow queries traced per method, validated.
-    Table(crate::table::TableArgs),
+    Table(TableArgs),
     /// Write DIR/report.html about a finished render: frames, savings plot, heat maps of the
     /// rays traced (and, validated, of wrong predictions), the lights, settings and totals.
     Report(ReportArgs),
@@ -70,7 +71,7 @@ pub enum Command {
     Version(VersionArgs),
     /// Write one frame's triangles, normals, albedos, lights, camera rays and shadow offset for
     /// another renderer (scripts/compare-mitsuba.sh).
-    Export(crate::export::ExportArgs),
+    Export(envshadow::export::ExportArgs),
     /// Plot percent traced per frame with and without --temporal (DIR/savings.png) from two
     /// renders of the same frames (scripts/temporal-savings.sh makes both).
     Savings(SavingsArgs),
@@ -88,7 +89,7 @@ pub struct PlanArgs {
     /// How to split: tiles (tile strips through the frame range; the default), frames
     /// (frame ranges; the default when frames depend on whole previous frames) or both.
     #[arg(long, value_enum)]
-    pub by: Option<crate::farm::plan::By>,
+    pub by: Option<envshadow::farm::plan::By>,
     /// Do not print the job lines.
     #[arg(long, short)]
     pub quiet: bool,
@@ -128,99 +129,6 @@ pub struct ReportArgs {
     pub dir: PathBuf,
 }
 
-/// Flags shared by every command that renders an animation: each overrides the spec.
-#[derive(Args, Debug, Clone, Default)]
-pub struct AnimFlags {
-    /// Frames to render: A..B (B excluded), A..=B, or A. Default: all of the animation.
-    #[arg(long, value_name = "RANGE")]
-    pub frames: Option<FrameRange>,
-    /// Number of directional lights the environment is reduced to.
-    #[arg(long, value_name = "N")]
-    pub lights: Option<usize>,
-    /// Light sampler: sis (structured importance sampling) or median-cut.
-    #[arg(long, value_parser = parse_sampler)]
-    pub sampler: Option<Sampler>,
-    /// Image width in pixels.
-    #[arg(long, value_name = "W")]
-    pub width: Option<u32>,
-    /// Image height in pixels.
-    #[arg(long, value_name = "H")]
-    pub height: Option<u32>,
-    /// Shadow method: grid-nowarp-uncertainty (the default), grid-warp-uncertainty,
-    /// grid-nowarp-boundary, grid-warp-boundary, scan-warp-boundary, brute (trace every shadow
-    /// ray) or none (no shadows).
-    #[arg(long, value_name = "METHOD")]
-    pub method: Option<Method>,
-    /// Also trace every shadow query and record the method's mistakes: stats.csv gains wrong
-    /// pairs, error rate and image error; the EXR gains a `wrong` layer.
-    #[arg(long)]
-    pub validate: bool,
-    /// Coarse grid spacing of the grid methods (a power of two; default 16).
-    #[arg(long, value_name = "N")]
-    pub h0: Option<u32>,
-    /// Uncertainty methods: trace a light when fewer voters than this have it above their
-    /// horizon (1–4; default 3).
-    #[arg(long, value_name = "K")]
-    pub min_voters: Option<u32>,
-    /// Uncertainty methods: which neighbour lights a flooding trace also traces — `all`
-    /// untraced ones; `contrary`: only those predicted opposite to the traced answer, about a
-    /// third fewer rays with more wrong pairs; `contrary-finest` (the default): `contrary` at
-    /// the grid's finest level, whose wrong pairs mislead no coarser pixel, and `all` above
-    /// it, about a fifth fewer rays than `all` for a few percent more wrong pairs
-    /// (docs/methods.md). Boundary methods trace the same under every rule.
-    #[arg(long, value_name = "RULE")]
-    pub flood_to: Option<FloodTo>,
-    /// Block size at which the scanline order restarts (default 64).
-    #[arg(long, value_name = "N")]
-    pub scan_block: Option<u32>,
-    /// Let every pixel whose surface point the previous frame saw use the previous frame's
-    /// pixels there as voters (camera orbit: reprojection; object spin: votes pulled through
-    /// the turn). Grid uncertainty methods only. See docs/temporal.md.
-    #[arg(long)]
-    pub temporal: bool,
-    /// With --temporal: frames 0, N, 2N, … are predicted from their own pixels and restart the
-    /// chain (default 16 for a camera orbit, 4 for a spinning object). A run starting between key frames first renders, without writing,
-    /// the frames back to the key frame before it.
-    #[arg(long, value_name = "N")]
-    pub keyframe: Option<u32>,
-    /// Worker threads (0: one per core).
-    #[arg(long, value_name = "N")]
-    pub threads: Option<usize>,
-    /// Tile size in pixels (0: the whole frame is one tile; otherwise at least 8).
-    #[arg(long, value_name = "N")]
-    pub tile: Option<u32>,
-    /// Output folder (default: the spec's [output] dir).
-    #[arg(long, value_name = "DIR")]
-    pub out: Option<PathBuf>,
-    /// Exposure of the PNG previews (the EXR keeps linear radiance).
-    #[arg(long, value_name = "X")]
-    pub exposure: Option<f32>,
-}
-
-impl AnimFlags {
-    pub fn overrides(&self) -> Overrides {
-        Overrides {
-            frames: self.frames,
-            lights: self.lights,
-            sampler: self.sampler,
-            width: self.width,
-            height: self.height,
-            method: self.method,
-            threads: self.threads,
-            tile: self.tile,
-            out: self.out.clone(),
-            exposure: self.exposure,
-            validate: self.validate,
-            h0: self.h0,
-            min_voters: self.min_voters,
-            flood_to: self.flood_to,
-            scan_block: self.scan_block,
-            temporal: self.temporal,
-            keyframe: self.keyframe,
-        }
-    }
-}
-
 #[derive(Args, Debug)]
 pub struct RenderArgs {
     /// The animation spec, e.g. anims/shapes-turntable.toml.
@@ -248,23 +156,20 @@ pub struct RenderArgs {
     pub of: Option<usize>,
     /// The plan's split for --job (as given to `envshadow plan`).
     #[arg(long, value_enum, requires = "job")]
-    pub by: Option<crate::farm::plan::By>,
+    pub by: Option<envshadow::farm::plan::By>,
     /// Farm job: render these tiles (e.g. 0-4,9; frame-anchored tile numbers) of the --frames
     /// into OUT/jobs/<folder>/, as `--job` does.
     #[arg(long, value_name = "LIST", conflicts_with = "region")]
-    pub tiles: Option<crate::farm::plan::TileSet>,
+    pub tiles: Option<envshadow::farm::plan::TileSet>,
 }
 
 #[derive(Args, Debug)]
 pub struct LightsArgs {
     /// Environment map: a lat-long .exr or .hdr file, or `builtin:sky`.
     pub map: String,
-    /// Number of lights.
-    #[arg(short = 'n', long = "count", default_value_t = 200)]
-    pub count: usize,
-    /// Light sampler: sis or median-cut.
-    #[arg(long, value_parser = parse_sampler, default_value = "sis")]
-    pub sampler: Sampler,
+    /// How many lights, by which sampler.
+    #[command(flatten)]
+    pub lights: LightsLayer,
     /// Rotate the map about the up axis, degrees.
     #[arg(long, default_value_t = 0.0)]
     pub rotation: f32,
@@ -299,8 +204,8 @@ pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Render(args) => render(args),
         Command::Lights(args) => lights(args),
-        Command::Bench(args) => bench::run(&args),
-        Command::Table(args) => crate::table::run(&args),
+        Command::Bench(args) => bench_command(args),
+        Command::Table(args) => table_command(args),
         Command::Plan(args) => plan(args),
         Command::Assemble(args) => assemble(args),
         Command::Version(args) => {
@@ -308,16 +213,30 @@ pub fn run(cli: Cli) -> Result<()> {
                 println!(
                     "envshadow {} build {}",
                     env!("CARGO_PKG_VERSION"),
-                    crate::farm::identity::build_id()?
+                    envshadow::farm::identity::build_id()?
                 );
             } else {
                 println!("envshadow {}", env!("CARGO_PKG_VERSION"));
             }
             Ok(())
         }
-        Command::Export(args) => crate::export::run(&args),
+        Command::Export(args) => {
+            let e = envshadow::export::run(&args)?;
+            warn(&e.warnings);
+            println!(
+                "exported frame {} ({} triangles, {} lights, {}x{}) to {}",
+                e.frame,
+                e.triangles,
+                e.lights,
+                e.width,
+                e.height,
+                e.dir.display()
+            );
+            Ok(())
+        }
         Command::Savings(args) => {
-            let s = crate::savings::write_savings(&args.dir, &args.without, args.out.as_deref())?;
+            let s =
+                envshadow::savings::write_savings(&args.dir, &args.without, args.out.as_deref())?;
             let n = s.frames.len() as f64;
             let (with, without) = s
                 .frames
@@ -336,7 +255,7 @@ pub fn run(cli: Cli) -> Result<()> {
         }
         Command::Report(args) => {
             let start = Instant::now();
-            let page = crate::report::write_report(&args.dir)?;
+            let page = envshadow::report::write_report(&args.dir)?;
             println!(
                 "wrote {} in {:.1} s",
                 page.display(),
@@ -347,11 +266,63 @@ pub fn run(cli: Cli) -> Result<()> {
     }
 }
 
+/// What a loader skipped, one line each on stderr.
+fn warn(warnings: &[String]) {
+    for w in warnings {
+        eprintln!("warning: {w}");
+    }
+}
+
+/// Progress on stderr unless `quiet` (warnings either way): a bar on a terminal, lines in a
+/// log.
+fn progress(quiet: bool) -> Box<dyn Progress> {
+    if quiet {
+        Box::new(progress::Quiet)
+    } else {
+        Box::new(Reporter::new(std::io::stderr().is_terminal()))
+    }
+}
+
+fn bench_command(args: BenchArgs) -> Result<()> {
+    if let Some(path) = &args.replay {
+        print!("{}", bench::replay_table(path, &args)?);
+        return Ok(());
+    }
+    let rows = bench::measure(&args, |log| match log {
+        bench::Log::Row(r) => eprintln!(
+            "{} lights, {} threads, {}: {:.3} s/frame",
+            r.lights, r.threads, r.variant, r.seconds
+        ),
+        bench::Log::Dumped(path, rays) => eprintln!("wrote {} ({rays} rays)", path.display()),
+        bench::Log::Warning(w) => warn(&[w.to_string()]),
+    })?;
+    println!("{}\n", bench::heading(&args, &rows));
+    print!("{}", bench::markdown(&rows));
+    Ok(())
+}
+
+fn table_command(args: TableArgs) -> Result<()> {
+    let rows = table::measure(&args, |log| match log {
+        table::Log::Row(r) => eprintln!(
+            "{} lights, {}: {:.2} % traced, {:.4} % wrong, {:.2} s",
+            r.lights, r.variant, r.percent, r.error_percent, r.seconds
+        ),
+        table::Log::Warning(w) => warn(&[w.to_string()]),
+    })?;
+    println!("{}\n", table::heading(&args, &rows));
+    print!("{}", table::markdown(&rows));
+    if let Some(path) = &args.csv {
+        table::write_csv(path, &rows, &args.scene)?;
+        eprintln!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
 fn plan(args: PlanArgs) -> Result<()> {
-    let anim = Animation::load(&args.spec, &args.flags.overrides())?;
-    let jobs = crate::farm::write_plan(&anim, &args.spec, args.jobs, args.by)?;
+    let anim = Animation::load(&args.spec, &args.flags)?;
+    let jobs = envshadow::farm::write_plan(&anim, &args.spec, args.jobs, args.by)?;
     if !args.quiet {
-        print!("{}", crate::farm::plan::job_lines(&jobs));
+        print!("{}", envshadow::farm::plan::job_lines(&jobs));
     }
     eprintln!(
         "{}: {} jobs for frames {}..{} ({} asked); plan in {}",
@@ -360,14 +331,14 @@ fn plan(args: PlanArgs) -> Result<()> {
         anim.frames.start,
         anim.frames.end,
         args.jobs,
-        anim.out_dir.join("plan.json").display()
+        anim.output.dir.join("plan.json").display()
     );
     Ok(())
 }
 
 fn assemble(args: AssembleArgs) -> Result<()> {
     let start = Instant::now();
-    let done = crate::farm::assemble::assemble(&args.dir)?;
+    let done = envshadow::farm::assemble::assemble(&args.dir)?;
     for p in &done.problems {
         eprintln!("{p}");
     }
@@ -389,33 +360,29 @@ fn assemble(args: AssembleArgs) -> Result<()> {
         ));
     }
     if !args.no_report && done.written > 0 {
-        crate::report::write_report(&args.dir)?;
+        envshadow::report::write_report(&args.dir)?;
     }
     Ok(())
 }
 
 fn render(args: RenderArgs) -> Result<()> {
-    let anim = Animation::load(&args.spec, &args.flags.overrides())?;
+    let anim = Animation::load(&args.spec, &args.flags)?;
     let selection = match (args.job, args.of, &args.tiles) {
-        (Some(index), Some(of), _) => Some(crate::farm::JobSelection::Planned {
+        (Some(index), Some(of), _) => Some(envshadow::farm::JobSelection::Planned {
             index,
             of,
             by: args.by,
         }),
-        (_, _, Some(t)) => Some(crate::farm::JobSelection::Tiles(t.clone())),
+        (_, _, Some(t)) => Some(envshadow::farm::JobSelection::Tiles(t.clone())),
         _ => None,
     };
+    let progress = progress(args.quiet);
     if let Some(sel) = selection {
-        let progress: Box<dyn Progress> = if args.quiet {
-            Box::new(coordinator::Silent)
-        } else {
-            Box::new(Reporter::new(std::io::stderr().is_terminal()))
-        };
-        let (job, dir, summary) = crate::farm::render_job(
+        let (job, dir, summary) = envshadow::farm::render_job(
             &anim,
             &sel,
             args.resume,
-            crate::cancel::Cancel::on_signals()?,
+            envshadow::cancel::Cancel::on_signals()?,
             progress.as_ref(),
         )?;
         if !args.quiet {
@@ -430,30 +397,24 @@ fn render(args: RenderArgs) -> Result<()> {
         }
         return Ok(());
     }
+    let (width, height) = (anim.render.width, anim.render.height);
     if let Some(r) = args.region
-        && (r.x1 > anim.width || r.y1 > anim.height)
+        && (r.x1 > width || r.y1 > height)
     {
         return Err(input_error(
             "--region",
-            format!(
-                "{r} reaches outside the {}x{} frame",
-                anim.width, anim.height
-            ),
+            format!("{r} reaches outside the {width}x{height} frame"),
         ));
     }
     let opts = RunOptions {
         resume: args.resume,
         region: args.region,
         tiles: None,
-        cancel: crate::cancel::Cancel::on_signals()?,
-    };
-    let progress: Box<dyn Progress> = if args.quiet {
-        Box::new(coordinator::Silent)
-    } else {
-        Box::new(Reporter::new(std::io::stderr().is_terminal()))
+        cancel: envshadow::cancel::Cancel::on_signals()?,
     };
     let mut files = coordinator::FrameFiles::new(&anim);
     let summary = coordinator::render_animation(&anim, &opts, &mut files, progress.as_ref())?;
+    let dir = &anim.output.dir;
     if !args.quiet {
         eprintln!(
             "{}: {} frames rendered, {} skipped in {:.1} s; {} shadow queries, {} rays traced ({:.2} %); output in {}",
@@ -464,15 +425,15 @@ fn render(args: RenderArgs) -> Result<()> {
             summary.counts.queries,
             summary.counts.rays,
             summary.counts.percent_traced(),
-            anim.out_dir.display()
+            dir.display()
         );
     }
     if !args.no_report {
         let start = Instant::now();
-        let page = crate::report::write_report(&anim.out_dir).with_context(|| {
+        let page = envshadow::report::write_report(dir).with_context(|| {
             format!(
                 "the frames are written, but not the report (retry with envshadow report {})",
-                anim.out_dir.display()
+                dir.display()
             )
         })?;
         if !args.quiet {
@@ -487,6 +448,11 @@ fn render(args: RenderArgs) -> Result<()> {
 }
 
 fn lights(args: LightsArgs) -> Result<()> {
+    args.lights.check(envshadow::settings::Source::Flags)?;
+    let l = args.lights.resolve();
+    if let Some(why) = envshadow::limits::lights_problem(l.count) {
+        return Err(input_error("--lights", why));
+    }
     let env = if args.map == "builtin:sky" {
         EnvMap::builtin_sky()
     } else {
@@ -495,20 +461,7 @@ fn lights(args: LightsArgs) -> Result<()> {
     let env = env
         .with_rotation(args.rotation)
         .with_intensity(args.intensity)?;
-    if args.count == 0 {
-        return Err(input_error("-n", "zero lights: ask for at least 1"));
-    }
-    if args.count > crate::anim::limits::MAX_LIGHTS {
-        return Err(input_error(
-            "-n",
-            format!(
-                "{} lights requested; at most {} are allowed",
-                args.count,
-                crate::anim::limits::MAX_LIGHTS
-            ),
-        ));
-    }
-    let set = LightSet::build(&env, args.count, args.sampler)?;
+    let set = LightSet::build(&env, l.count, l.sampler)?;
     let total: f64 = set
         .lights
         .iter()
@@ -518,7 +471,7 @@ fn lights(args: LightsArgs) -> Result<()> {
         "{}: {} lights ({}), total energy {:.6} (RGB sum)",
         env.source,
         set.len(),
-        crate::anim::sampler_name(args.sampler),
+        l.sampler.name(),
         total
     );
     if let Some(p) = &args.json {
@@ -526,105 +479,8 @@ fn lights(args: LightsArgs) -> Result<()> {
         println!("wrote {}", p.display());
     }
     if let Some(p) = &args.png {
-        crate::lights::picture::cells_png(&env, &set, p)?;
+        envshadow::lights::picture::cells_png(&env, &set, p)?;
         println!("wrote {}", p.display());
     }
     Ok(())
-}
-
-/// Progress as an indicatif bar on a terminal, plain lines (one per frame) otherwise.
-pub struct Reporter {
-    bar: Option<ProgressBar>,
-    start: Instant,
-    rays: AtomicU64,
-    frames: Mutex<(usize, usize)>,
-    tiles: AtomicU64,
-}
-
-impl Reporter {
-    pub fn new(terminal: bool) -> Reporter {
-        Reporter {
-            bar: terminal.then(ProgressBar::hidden),
-            start: Instant::now(),
-            rays: AtomicU64::new(0),
-            frames: Mutex::new((0, 0)),
-            tiles: AtomicU64::new(0),
-        }
-    }
-
-    fn rays_per_second(&self) -> f64 {
-        self.rays.load(Ordering::Relaxed) as f64 / self.start.elapsed().as_secs_f64().max(1e-9)
-    }
-}
-
-impl Progress for Reporter {
-    fn begin(&self, frames: usize, tiles: usize) {
-        *self.frames.lock().unwrap() = (0, frames);
-        if let Some(bar) = &self.bar {
-            bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
-            bar.set_length((frames * tiles) as u64);
-            bar.set_style(
-                ProgressStyle::with_template(
-                    "{spinner} [{elapsed_precise}] {bar:30} {msg} tiles {pos}/{len} ETA {eta}",
-                )
-                .unwrap_or_else(|_| ProgressStyle::default_bar()),
-            );
-            bar.set_message(format!("frame 0/{frames}"));
-        } else {
-            eprintln!("rendering {frames} frames of {tiles} tiles");
-        }
-    }
-
-    fn tile_done(&self, rays: u64) {
-        self.rays.fetch_add(rays, Ordering::Relaxed);
-        self.tiles.fetch_add(1, Ordering::Relaxed);
-        if let Some(bar) = &self.bar {
-            bar.inc(1);
-        }
-    }
-
-    fn frame_done(&self, s: &FrameStats) {
-        let (done, total) = {
-            let mut f = self.frames.lock().unwrap();
-            f.0 += 1;
-            *f
-        };
-        let line = format!(
-            "frame {} ({done}/{total}): {:.2} s, {:.2} % of {} queries traced, {:.1} M rays/s",
-            s.frame,
-            s.seconds,
-            s.counts.percent_traced(),
-            s.counts.queries,
-            self.rays_per_second() / 1e6
-        );
-        match &self.bar {
-            Some(bar) => {
-                bar.set_message(format!(
-                    "frame {done}/{total} {:.1} Mrays/s",
-                    self.rays_per_second() / 1e6
-                ));
-                bar.println(line);
-            }
-            None => eprintln!("{line}"),
-        }
-    }
-
-    fn frame_skipped(&self, frame: usize) {
-        self.note(&format!(
-            "frame {frame}: already rendered, skipped (--resume)"
-        ));
-    }
-
-    fn note(&self, msg: &str) {
-        match &self.bar {
-            Some(bar) => bar.println(msg),
-            None => eprintln!("{msg}"),
-        }
-    }
-
-    fn finish(&self) {
-        if let Some(bar) = &self.bar {
-            bar.finish_and_clear();
-        }
-    }
 }

@@ -1,0 +1,475 @@
+//! Render settings, each declared once: its name in a spec's table, its flag, its type, its
+//! default, what it means (the doc comment is the flag's `--help`) and its range check.
+//!
+//! [`settings!`] turns one declaration list into three structs: the resolved settings
+//! (`Render`), a *layer* of settings some of which are given (`RenderLayer`: a spec's
+//! `[render]` table through serde, the command line through clap), and a *sweep* of values
+//! per setting for the measuring commands (`RenderSweep`: `bench --lights 50,100 --h0 8,16`).
+//! Layers merge flags over spec ([`RenderLayer::over`]), then defaults fill the rest
+//! ([`RenderLayer::resolve`]). Each given value is checked once, where it enters, with an error
+//! that names it as the user wrote it (`--h0 3: …` or `spec.toml: [render] h0 = 3: …`).
+//!
+//! A new setting is one entry in a list below; the code that reads it uses the resolved
+//! struct's field.
+
+use std::fmt::Debug;
+use std::path::{Path, PathBuf};
+
+use crate::error::{Result, input_error};
+use crate::lights::Sampler;
+use crate::predict::{FloodTo, Method};
+
+/// A setting's value as flags, specs and messages spell it.
+pub trait Value: Clone + Debug + Send + Sync + 'static {
+    fn show(&self) -> String;
+}
+
+macro_rules! value_by_display {
+    ($($t:ty),*) => {$(
+        impl Value for $t {
+            fn show(&self) -> String {
+                self.to_string()
+            }
+        }
+    )*};
+}
+value_by_display!(u32, usize, bool, f32, Method, FloodTo);
+
+impl Value for Sampler {
+    fn show(&self) -> String {
+        self.name().to_string()
+    }
+}
+
+impl Value for PathBuf {
+    fn show(&self) -> String {
+        self.display().to_string()
+    }
+}
+
+/// Reads a value from a spec as its command-line spelling (one parser per type).
+macro_rules! deserialize_by_from_str {
+    ($($t:ty),*) => {$(
+        impl<'de> serde::Deserialize<'de> for $t {
+            fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+                let s = String::deserialize(d)?;
+                s.parse().map_err(serde::de::Error::custom)
+            }
+        }
+    )*};
+}
+deserialize_by_from_str!(Method, FloodTo, Sampler);
+
+/// Where a layer of settings came from, so a message names a value as the user wrote it.
+#[derive(Clone, Copy, Debug)]
+pub enum Source<'a> {
+    /// The spec file's table.
+    Spec(&'a Path),
+    /// The command line.
+    Flags,
+}
+
+impl Source<'_> {
+    /// An input error about setting `key` (spec) / `flag` (command line) of `table`.
+    pub fn error(self, table: &str, key: &str, flag: &str, message: String) -> anyhow::Error {
+        match self {
+            Source::Spec(path) => input_error(path, format!("[{table}] {key} {message}")),
+            Source::Flags => input_error("", format!("--{flag} {message}")),
+        }
+    }
+}
+
+/// A setting's check: `Err(why)` for a value out of range.
+pub type Check<T> = fn(&T) -> std::result::Result<(), String>;
+
+/// Declares a group of settings (one table of a spec) once; see the module doc.
+macro_rules! settings {
+    (
+        $(#[doc = $sdoc:literal])*
+        [$table:literal] $name:ident, $layer:ident, $sweep:ident {
+            $(
+                $(#[doc = $doc:literal])*
+                $field:ident: $ty:ty = $default:expr,
+                    flag $flag:literal [$($arg:tt)*], check $check:expr;
+            )*
+        }
+    ) => {
+        $(#[doc = $sdoc])*
+        #[derive(Clone, Debug, PartialEq)]
+        pub struct $name {
+            $( $(#[doc = $doc])* pub $field: $ty, )*
+        }
+
+        impl Default for $name {
+            fn default() -> Self {
+                $name { $( $field: $default, )* }
+            }
+        }
+
+        impl $name {
+            /// The spec table these settings come from.
+            pub const TABLE: &'static str = $table;
+
+            /// Every setting given: the base a later layer goes over.
+            pub fn layer(&self) -> $layer {
+                $layer { $( $field: Some(self.$field.clone()), )* }
+            }
+        }
+
+        $(#[doc = $sdoc])*
+        /// Some of them given (the spec's table, or the command line); see [`Self::resolve`].
+        #[derive(Clone, Debug, Default, PartialEq, clap::Args, serde::Deserialize)]
+        #[serde(deny_unknown_fields)]
+        pub struct $layer {
+            $(
+                $(#[doc = $doc])*
+                #[arg(long = $flag, $($arg)*)]
+                #[serde(default)]
+                pub $field: Option<$ty>,
+            )*
+        }
+
+        impl $layer {
+            /// The settings given here over those of `base`.
+            pub fn over(self, base: $layer) -> $layer {
+                $layer { $( $field: self.$field.or(base.$field), )* }
+            }
+
+            /// The settings, with defaults for those not given.
+            pub fn resolve(&self) -> $name {
+                let d = $name::default();
+                $name { $( $field: self.$field.clone().unwrap_or(d.$field), )* }
+            }
+
+            /// The given settings: (spec key, flag, value as spelled).
+            pub fn given(&self) -> Vec<(&'static str, &'static str, String)> {
+                let mut v = Vec::new();
+                $(
+                    if let Some(x) = &self.$field {
+                        v.push((stringify!($field), $flag, Value::show(x)));
+                    }
+                )*
+                v
+            }
+
+            /// Forgets the setting `key` (a spec key), if given.
+            pub fn clear(&mut self, key: &str) {
+                $( if key == stringify!($field) { self.$field = None; } )*
+            }
+
+            /// Checks every given value; the error names it as `source` spells it.
+            pub fn check(&self, source: Source) -> Result<()> {
+                $(
+                    if let Some(x) = &self.$field {
+                        let check: Check<$ty> = $check;
+                        if let Err(why) = check(x) {
+                            let shown = Value::show(x);
+                            let message = match source {
+                                Source::Spec(_) => format!("= {shown}: {why}"),
+                                Source::Flags => format!("{shown}: {why}"),
+                            };
+                            return Err(source.error($table, stringify!($field), $flag, message));
+                        }
+                    }
+                )*
+                Ok(())
+            }
+        }
+
+        $(#[doc = $sdoc])*
+        /// Several values per setting, comma-separated: the measuring commands render every
+        /// combination (see [`Self::layers`]).
+        #[derive(Clone, Debug, Default, clap::Args)]
+        pub struct $sweep {
+            $(
+                $(#[doc = $doc])*
+                #[arg(long = $flag, value_delimiter = ',', $($arg)*)]
+                pub $field: Vec<$ty>,
+            )*
+        }
+
+        impl $sweep {
+            /// Every combination of the values given, as layers (one empty layer when none
+            /// is given); the first setting varies slowest.
+            // A group of one setting updates no other field.
+            #[allow(clippy::needless_update)]
+            pub fn layers(&self) -> Vec<$layer> {
+                let mut out = vec![$layer::default()];
+                $(
+                    if !self.$field.is_empty() {
+                        out = out
+                            .into_iter()
+                            .flat_map(|l| {
+                                self.$field.iter().map(move |x| $layer {
+                                    $field: Some(x.clone()),
+                                    ..l.clone()
+                                })
+                            })
+                            .collect();
+                    }
+                )*
+                out
+            }
+
+            /// The settings given a value list: (spec key, flag, how many values).
+            pub fn swept(&self) -> Vec<(&'static str, &'static str, usize)> {
+                let mut v = Vec::new();
+                $(
+                    if !self.$field.is_empty() {
+                        v.push((stringify!($field), $flag, self.$field.len()));
+                    }
+                )*
+                v
+            }
+
+            /// Checks every given value; the error names the flag.
+            pub fn check(&self) -> Result<()> {
+                for layer in self.layers() {
+                    layer.check(Source::Flags)?;
+                }
+                Ok(())
+            }
+        }
+    };
+}
+
+fn any<T>(_: &T) -> std::result::Result<(), String> {
+    Ok(())
+}
+
+fn check_h0(v: &u32) -> std::result::Result<(), String> {
+    if (2..=256).contains(v) && v.is_power_of_two() {
+        Ok(())
+    } else {
+        Err("the coarse grid spacing must be a power of two from 2 to 256".into())
+    }
+}
+
+fn check_min_voters(v: &u32) -> std::result::Result<(), String> {
+    if (1..=4).contains(v) {
+        Ok(())
+    } else {
+        Err("must be 1 to 4 (a pixel has at most 4 voters)".into())
+    }
+}
+
+fn check_scan_block(v: &u32) -> std::result::Result<(), String> {
+    if *v >= 8 {
+        Ok(())
+    } else {
+        Err("must be at least 8".into())
+    }
+}
+
+/// Longest allowed key-frame interval.
+pub const MAX_KEYFRAME: u32 = 10_000;
+
+fn check_keyframe(v: &u32) -> std::result::Result<(), String> {
+    if *v <= MAX_KEYFRAME {
+        Ok(())
+    } else {
+        Err(format!(
+            "must be 0 (the motion's default) to {MAX_KEYFRAME}"
+        ))
+    }
+}
+
+fn check_tile(v: &u32) -> std::result::Result<(), String> {
+    if *v == 0 || *v >= 8 {
+        Ok(())
+    } else {
+        Err("the tile is too small: use 0 (whole frame) or at least 8".into())
+    }
+}
+
+fn check_finite(v: &f32) -> std::result::Result<(), String> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err("must be a finite number".into())
+    }
+}
+
+settings! {
+    /// How the environment becomes lights (`[lights]`).
+    ["lights"] Lights, LightsLayer, LightsSweep {
+        /// Number of directional lights the environment is reduced to (default 200).
+        count: usize = 200, flag "lights" [short = 'n', alias = "count", value_name = "N"],
+            check any;
+        /// Light sampler: sis (structured importance sampling, the default) or median-cut.
+        sampler: Sampler = Sampler::Sis, flag "sampler" [value_name = "NAME"], check any;
+    }
+}
+
+settings! {
+    /// How frames are rendered (`[render]`).
+    ["render"] Render, RenderLayer, RenderSweep {
+        /// Image width in pixels (default 640).
+        width: u32 = 640, flag "width" [value_name = "W"], check any;
+        /// Image height in pixels (default 480).
+        height: u32 = 480, flag "height" [value_name = "H"], check any;
+        /// Shadow method (default grid-nowarp-uncertainty; `envshadow methods` lists them).
+        method: Method = Method::DEFAULT,
+            flag "method" [value_name = "METHOD", alias = "methods"], check any;
+        /// Also trace every shadow query and record the method's mistakes: stats.csv gains
+        /// wrong pairs, error rate and image error; the EXR gains a `wrong` layer.
+        validate: bool = false,
+            flag "validate" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
+                default_missing_value = "true"], check any;
+        /// Grid methods: coarse grid spacing, a power of two from 2 to 256 (default 16).
+        h0: u32 = 16, flag "h0" [value_name = "N"], check check_h0;
+        /// Uncertainty methods: trace a light when fewer voters than this have it above their
+        /// horizon, 1–4 (default 3).
+        min_voters: u32 = 3, flag "min-voters" [value_name = "K"], check check_min_voters;
+        /// Uncertainty methods: which neighbour lights a flooding trace also traces — `all`
+        /// untraced ones; `contrary`: only those predicted opposite to the traced answer, about
+        /// a third fewer rays with more wrong pairs; `contrary-finest` (the default):
+        /// `contrary` at the grid's finest level, whose wrong pairs mislead no coarser pixel,
+        /// and `all` above it, about a fifth fewer rays than `all` for a few percent more wrong
+        /// pairs (docs/methods.md).
+        flood_to: FloodTo = FloodTo::ContraryFinest,
+            flag "flood-to" [value_name = "RULE"], check any;
+        /// Scanline methods: block size at which the scan restarts, at least 8 (default 64).
+        scan_block: u32 = 64, flag "scan-block" [value_name = "N"], check check_scan_block;
+        /// Uncertainty methods: let every pixel whose surface point the previous frame saw use
+        /// the previous frame's pixels there as voters (camera orbit: reprojection; object
+        /// spin: votes pulled through the turn). See docs/temporal.md.
+        temporal: bool = false,
+            flag "temporal" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
+                default_missing_value = "true"], check any;
+        /// With --temporal: frames 0, N, 2N, … are predicted from their own pixels and restart
+        /// the chain (0, the default: 16 for a camera orbit, 4 for a spinning object). A run
+        /// starting between key frames first renders, without writing, the frames back to the
+        /// key frame before it.
+        keyframe: u32 = 0, flag "keyframe" [value_name = "N"], check check_keyframe;
+        /// Exposure of the PNG previews (the EXR keeps linear radiance; default 1).
+        exposure: f32 = 1.0, flag "exposure" [value_name = "X"], check check_finite;
+        /// Tile size in pixels: 0 (the whole frame is one tile) or at least 8 (default 64).
+        tile: u32 = 64, flag "tile" [value_name = "N"], check check_tile;
+        /// Worker threads (0, the default: one per core).
+        threads: usize = 0, flag "threads" [value_name = "N"], check any;
+    }
+}
+
+settings! {
+    /// Where a render's files go (`[output]`).
+    ["output"] Output, OutputLayer, OutputSweep {
+        /// Output folder (default `out`; relative to the working directory).
+        dir: PathBuf = PathBuf::from("out"), flag "out" [value_name = "DIR"], check any;
+    }
+}
+
+impl Render {
+    /// The prediction methods' parameters.
+    pub fn params(&self) -> crate::predict::Params {
+        crate::predict::Params {
+            h0: self.h0,
+            min_voters: self.min_voters,
+            flood_to: self.flood_to,
+            scan_block: self.scan_block,
+        }
+    }
+}
+
+/// Settings some method reads: one that the chosen method does not read is refused.
+pub fn method_specific(key: &str) -> bool {
+    Method::all().any(|m| m.reads(key))
+}
+
+/// The methods that read `key`, for messages: `grid-warp-boundary, grid-nowarp-boundary, …`.
+pub fn readers(key: &str) -> String {
+    let v: Vec<&str> = Method::all()
+        .filter(|m| m.reads(key))
+        .map(Method::name)
+        .collect();
+    v.join(", ")
+}
+
+/// Refuses the method-specific settings of `layer` (from `source`) that none of `methods`
+/// reads: they would change nothing.
+pub fn check_applies(layer: &RenderLayer, source: Source, methods: &[Method]) -> Result<()> {
+    for (key, flag, shown) in layer.given() {
+        if method_specific(key) && !methods.iter().any(|m| m.reads(key)) {
+            let names: Vec<&str> = methods.iter().map(|m| m.name()).collect();
+            let message = format!(
+                "{}{shown} does not apply to {}: only {} read it",
+                if matches!(source, Source::Spec(_)) {
+                    "= "
+                } else {
+                    ""
+                },
+                names.join(", "),
+                readers(key)
+            );
+            return Err(source.error(Render::TABLE, key, flag, message));
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flags_override_the_spec_and_defaults_fill_the_rest() {
+        let spec = RenderLayer {
+            width: Some(320),
+            h0: Some(8),
+            ..Default::default()
+        };
+        let flags = RenderLayer {
+            width: Some(100),
+            ..Default::default()
+        };
+        let r = flags.over(spec).resolve();
+        assert_eq!((r.width, r.h0, r.height), (100, 8, 480));
+    }
+
+    #[test]
+    fn a_sweep_renders_every_combination() {
+        let sweep = RenderSweep {
+            h0: vec![8, 16],
+            flood_to: vec![FloodTo::All, FloodTo::Contrary],
+            ..Default::default()
+        };
+        let layers = sweep.layers();
+        assert_eq!(layers.len(), 4);
+        assert_eq!(
+            (layers[1].h0, layers[1].flood_to),
+            (Some(8), Some(FloodTo::Contrary))
+        );
+        assert_eq!(
+            RenderSweep::default().layers(),
+            vec![RenderLayer::default()]
+        );
+    }
+
+    #[test]
+    fn a_bad_value_is_named_as_the_user_wrote_it() {
+        let layer = RenderLayer {
+            h0: Some(3),
+            ..Default::default()
+        };
+        let flag = layer.check(Source::Flags).unwrap_err().to_string();
+        assert!(flag.starts_with("--h0 3: "), "{flag}");
+        let spec = layer
+            .check(Source::Spec(Path::new("a.toml")))
+            .unwrap_err()
+            .to_string();
+        assert!(spec.starts_with("a.toml: [render] h0 = 3: "), "{spec}");
+    }
+
+    #[test]
+    fn a_setting_no_chosen_method_reads_is_refused() {
+        let layer = RenderLayer {
+            h0: Some(8),
+            ..Default::default()
+        };
+        let err = check_applies(&layer, Source::Flags, &[Method::BRUTE])
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("--h0 8 does not apply to brute"), "{err}");
+        assert!(check_applies(&layer, Source::Flags, &[Method::BRUTE, Method::DEFAULT]).is_ok());
+    }
+}
