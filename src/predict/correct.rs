@@ -26,9 +26,30 @@ pub struct At {
 /// the scratch (`pred_vis`, `uncertain`, `queued`), flooding where `F` says, then records the
 /// pixel's blockers when `at.keep_blockers`. Sets the pixel's `vis`, `traced`, `rays` and
 /// `split`.
+pub fn correct<F: Flood>(
+    ctx: &FrameContext,
+    bufs: &mut TileBuffers,
+    sc: &mut Scratch,
+    i: usize,
+    at: At,
+) {
+    queue_predicted(sc);
+    trace_queue::<F>(ctx, bufs, sc, i, at);
+}
+
+/// The initial queue: the lights the prediction queued (`sc.queued`), ascending.
+#[inline]
+fn queue_predicted(sc: &mut Scratch) {
+    sc.queue.clear();
+    bits::for_each(&sc.queued, |j| sc.queue.push(j as u32));
+}
+
+/// [`correct`] from an initial queue already in `sc.queue`: the lights of `sc.queued`, in any
+/// order (the tests permute it; the traced set must not change).
 // Word loops index several parallel bitsets at once; iterator chains would hide that.
 #[allow(clippy::needless_range_loop)]
-pub fn correct<F: Flood>(
+#[inline]
+fn trace_queue<F: Flood>(
     ctx: &FrameContext,
     bufs: &mut TileBuffers,
     sc: &mut Scratch,
@@ -48,8 +69,6 @@ pub fn correct<F: Flood>(
     } = bufs;
     let mine = &above[i * w..(i + 1) * w];
     // 3. Correction: trace the queue, flooding where a trace was uncertain or disagreed.
-    sc.queue.clear();
-    bits::for_each(&sc.queued, |j| sc.queue.push(j as u32));
     let tr = &mut traced[i * w..(i + 1) * w];
     let out = &mut vis[i * w..(i + 1) * w];
     tr.fill(0);
