@@ -25,6 +25,8 @@ mod rule;
 mod scanline;
 mod scratch;
 pub mod temporal;
+#[cfg(test)]
+mod testkit;
 mod uncertainty;
 mod vote;
 mod warp;
