@@ -52,8 +52,18 @@ impl Flood for Boundary {
 #[cfg(test)]
 mod tests {
     use super::super::flood::table;
-    use super::super::testkit::{DOWN, Frame, R, UP, list, set_of, spiral, star};
+    use super::super::testkit::{DOWN, Frame, R, UP, and_not, list, set_of, spiral, star};
     use super::*;
+
+    /// A pixel's above-horizon and predicted-blocked lights, what was queued before
+    /// `queue_more` and what must be after.
+    struct Case<'a> {
+        name: &'a str,
+        mine: &'a [usize],
+        blocked: &'a [usize],
+        before: &'a [usize],
+        want: Vec<usize>,
+    }
 
     #[test]
     fn predicts_blocked_on_any_vote_and_traces_what_no_voter_sees() {
@@ -102,66 +112,66 @@ mod tests {
         let w = ctx.words();
         let up_and_ring: Vec<usize> = (0..DOWN).collect();
         let all_but_r2: Vec<usize> = up_and_ring.iter().copied().filter(|&j| j != R[2]).collect();
-        // (name, above-horizon lights, predicted blocked, queued before, queued after)
-        let cases: Vec<(&str, &[usize], &[usize], &[usize], Vec<usize>)> = vec![
-            (
-                // DOWN's prediction bit is clear (not above) but it has no say.
-                "all visible: no edge",
-                &up_and_ring,
-                &[],
-                &[],
-                vec![],
-            ),
-            (
-                "UP blocked: UP and every ring light",
-                &up_and_ring,
-                &[UP],
-                &[],
-                up_and_ring.clone(),
-            ),
-            (
-                "R0 blocked: R0, UP and R0's ring neighbours",
-                &up_and_ring,
-                &[R[0]],
-                &[],
-                vec![UP, R[0], R[1], R[5]],
-            ),
-            (
-                "R0, R1, R5 blocked: all but R3, whose neighbours are all visible",
-                &up_and_ring,
-                &[R[0], R[1], R[5]],
-                &[],
-                vec![UP, R[0], R[1], R[2], R[4], R[5]],
-            ),
-            (
-                "R2 below the horizon is no neighbour: R1 blocked queues R1, UP, R0",
-                &all_but_r2,
-                &[R[1]],
-                &[],
-                vec![UP, R[0], R[1]],
-            ),
-            (
-                "an already queued light stays queued",
-                &up_and_ring,
-                &[],
-                &[R[3]],
-                vec![R[3]],
-            ),
+        let cases = vec![
+            // DOWN's prediction bit is clear (not above) but it has no say.
+            Case {
+                name: "all visible: no edge",
+                mine: &up_and_ring,
+                blocked: &[],
+                before: &[],
+                want: vec![],
+            },
+            Case {
+                name: "UP blocked: UP and every ring light",
+                mine: &up_and_ring,
+                blocked: &[UP],
+                before: &[],
+                want: up_and_ring.clone(),
+            },
+            Case {
+                name: "R0 blocked: R0, UP and R0's ring neighbours",
+                mine: &up_and_ring,
+                blocked: &[R[0]],
+                before: &[],
+                want: vec![UP, R[0], R[1], R[5]],
+            },
+            Case {
+                name: "R0, R1, R5 blocked: all but R3, whose neighbours are all visible",
+                mine: &up_and_ring,
+                blocked: &[R[0], R[1], R[5]],
+                before: &[],
+                want: vec![UP, R[0], R[1], R[2], R[4], R[5]],
+            },
+            Case {
+                name: "R2 below the horizon is no neighbour: R1 blocked queues R1, UP, R0",
+                mine: &all_but_r2,
+                blocked: &[R[1]],
+                before: &[],
+                want: vec![UP, R[0], R[1]],
+            },
+            Case {
+                name: "an already queued light stays queued",
+                mine: &up_and_ring,
+                blocked: &[],
+                before: &[R[3]],
+                want: vec![R[3]],
+            },
         ];
         let mut failures = Vec::new();
         let mut sc = Scratch::default();
         sc.prepare(ctx.light_count());
-        for (name, mine, blocked, before, want) in cases {
-            let mine = set_of(w, mine);
-            let blocked = set_of(w, blocked);
-            for m in 0..w {
-                sc.pred_vis[m] = mine[m] & !blocked[m];
-            }
-            sc.queued.copy_from_slice(&set_of(w, before));
+        for case in cases {
+            let mine = set_of(w, case.mine);
+            sc.pred_vis
+                .copy_from_slice(&and_not(&mine, &set_of(w, case.blocked)));
+            sc.queued.copy_from_slice(&set_of(w, case.before));
             Boundary::queue_more(&ctx, &mine, &mut sc);
             let got = list(&sc.queued);
-            if got != want {
-                failures.push(format!("{name}: queued {got:?}, want {want:?}"));
+            if got != case.want {
+                failures.push(format!(
+                    "{}: queued {got:?}, want {:?}",
+                    case.name, case.want
+                ));
             }
         }
         assert!(failures.is_empty(), "{}", failures.join("\n"));
@@ -180,10 +190,9 @@ mod tests {
         let blocked: Vec<usize> = mine.iter().copied().filter(|&j| dirs[j].x > 0.3).collect();
         let mut sc = Scratch::default();
         sc.prepare(ctx.light_count());
-        let (mine, blocked_bits) = (set_of(w, &mine), set_of(w, &blocked));
-        for m in 0..w {
-            sc.pred_vis[m] = mine[m] & !blocked_bits[m];
-        }
+        let mine = set_of(w, &mine);
+        sc.pred_vis
+            .copy_from_slice(&and_not(&mine, &set_of(w, &blocked)));
         Boundary::queue_more(&ctx, &mine, &mut sc);
         let want: Vec<usize> = list(&mine)
             .into_iter()

@@ -169,7 +169,9 @@ fn trace_queue<F: Flood>(
 
 #[cfg(test)]
 mod tests {
-    use super::super::testkit::{DOWN, Frame, R, UP, buffers, list, origin, set_of, spiral, star};
+    use super::super::testkit::{
+        DOWN, Frame, R, UP, and_not, buffers, list, origin, set_of, spiral, star,
+    };
     use super::super::{Boundary, Uncertainty};
     use super::*;
 
@@ -305,9 +307,7 @@ mod tests {
                 let (mut bufs, mut sc) = buffers(&ctx, &[origin()]);
                 bufs.above.copy_from_slice(&set_of(w, &mine));
                 let blocked = set_of(w, case.predicted_blocked);
-                for m in 0..w {
-                    sc.pred_vis[m] = bufs.above[m] & !blocked[m];
-                }
+                sc.pred_vis.copy_from_slice(&and_not(&bufs.above, &blocked));
                 sc.uncertain.copy_from_slice(&set_of(w, case.uncertain));
                 sc.queued.copy_from_slice(&set_of(w, case.queued));
                 let at = At {
@@ -370,8 +370,8 @@ mod tests {
                 .copy_from_slice(&set_of(w, &(0..DOWN).collect::<Vec<_>>()));
             // Predicted: the truth. Traced: R[2], flooding (contrary) to R[1] alone, so R[0]
             // and R[5] stay predicted blocked; a warped blocker voted for R[0] only.
-            let blocked = set_of(w, &BLOCKED);
-            sc.pred_vis[0] = bufs.above[0] & !blocked[0];
+            sc.pred_vis
+                .copy_from_slice(&and_not(&bufs.above, &set_of(w, &BLOCKED)));
             sc.uncertain.copy_from_slice(&set_of(w, &[R[2]]));
             sc.queued.copy_from_slice(&set_of(w, &[R[2]]));
             sc.best_dot[R[0]] = 0.9;
@@ -433,12 +433,13 @@ mod tests {
             ("uncertainty", trace_queue::<Uncertainty>),
             ("boundary", trace_queue::<Boundary>),
         ];
-        let orders: [(&str, fn(&mut [u32])); 3] = [
+        type Reorder = fn(&mut [u32]);
+        let orders: [(&str, Reorder); 3] = [
             ("ascending", |_| {}),
             ("descending", |q| q.reverse()),
             ("shuffled", shuffle),
         ];
-        let run = |trace: Trace, at: At, order: fn(&mut [u32])| -> (Outcome, usize) {
+        let run = |trace: Trace, at: At, order: Reorder| -> (Outcome, usize) {
             let (mut bufs, mut sc) = buffers(&ctx, &[origin()]);
             crate::shade::above_horizon(&ctx.shade_lights, origin().n, &mut bufs.above);
             for (j, d) in dirs.iter().enumerate() {

@@ -119,6 +119,12 @@ pub fn set_of(words: usize, lights: &[usize]) -> Vec<u64> {
     b
 }
 
+/// The bits of `a` not in `b`: a pixel's predicted-visible lights, from its above-horizon and
+/// predicted-blocked ones.
+pub fn and_not(a: &[u64], b: &[u64]) -> Vec<u64> {
+    a.iter().zip(b).map(|(a, b)| a & !b).collect()
+}
+
 /// The set bits of `b`, ascending.
 pub fn list(b: &[u64]) -> Vec<usize> {
     let mut v = Vec::new();

@@ -138,24 +138,26 @@ mod tests {
         // (0, 1, 0), straight above the origin, so it votes for UP, not R[3]. Likewise a voter
         // at (−1, 0, 0) blocked towards R[0] at √2. A voter at (3, −2, 0) blocked towards
         // R[0] at √2 has its blocker at (4, −1, 0): below the origin's horizon.
-        let cases: Vec<(&str, Vec<Voter>, &[usize], &[usize])> = vec![
+        // (what, voters, lights with some vote, lights with every vote)
+        type Case = (&'static str, Vec<Voter>, Vec<usize>, Vec<usize>);
+        let cases: Vec<Case> = vec![
             (
                 "a blocker re-aimed into UP's cell votes for UP",
                 vec![voter(1.0, 0.0, &[(R[3], s2)])],
-                &[UP],
-                &[UP],
+                vec![UP],
+                vec![UP],
             ),
             (
                 "a blocker re-aimed below the current horizon does not vote",
                 vec![voter(3.0, -2.0, &[(R[0], s2)])],
-                &[],
-                &[],
+                vec![],
+                vec![],
             ),
             (
                 "one vote of two voters with the light above is not all",
                 vec![voter(1.0, 0.0, &[(R[3], s2)]), voter(-1.0, 0.0, &[])],
-                &[UP],
-                &[],
+                vec![UP],
+                vec![],
             ),
             (
                 "both voters' blockers land in UP: all",
@@ -163,8 +165,8 @@ mod tests {
                     voter(1.0, 0.0, &[(R[3], s2)]),
                     voter(-1.0, 0.0, &[(R[0], s2)]),
                 ],
-                &[UP],
-                &[UP],
+                vec![UP],
+                vec![UP],
             ),
             (
                 "a voter with the light below its horizon is not counted",
@@ -175,15 +177,15 @@ mod tests {
                         ..voter(-1.0, 0.0, &[])
                     },
                 ],
-                &[UP],
-                &[UP],
+                vec![UP],
+                vec![UP],
             ),
         ];
         let frame = Frame::new(&star());
         let mut failures = Vec::new();
         for (name, voters, any, all) in cases {
             let (got, _) = votes(&frame, &voters);
-            let want = (any.to_vec(), all.to_vec());
+            let want = (any, all);
             if got != want {
                 failures.push(format!("{name}: (any, all) {got:?}, want {want:?}"));
             }
