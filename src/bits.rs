@@ -76,6 +76,38 @@ mod tests {
         assert_eq!(at_least(&[], 1), 0);
     }
 
+    /// Every combination of up to four voters, one per bit position: bit b holds the voters
+    /// whose index is set in b. Each (n, k) is checked against a popcount, and every wrong
+    /// (n, k) is reported, not just the first.
+    #[test]
+    fn at_least_is_k_of_n_for_every_voter_combination() {
+        let mut failures = Vec::new();
+        for n in 0..=4usize {
+            let words: Vec<u64> = (0..n)
+                .map(|v| {
+                    (0..16u32)
+                        .filter(|b| b >> v & 1 == 1)
+                        .fold(0, |w, b| w | 1 << b)
+                })
+                .collect();
+            for k in 0..=4u32 {
+                let got = at_least(&words, k);
+                // Positions 16.. have no voter: at least k of them only for k = 0.
+                let mut want = if k == 0 { !0u64 << 16 } else { 0 };
+                for b in 0..16u32 {
+                    let voters = (b & ((1 << n) - 1)).count_ones();
+                    if voters >= k {
+                        want |= 1 << b;
+                    }
+                }
+                if got != want {
+                    failures.push(format!("n {n} k {k}: got {got:#x}, want {want:#x}"));
+                }
+            }
+        }
+        assert!(failures.is_empty(), "{}", failures.join("\n"));
+    }
+
     #[test]
     fn set_get_iterate() {
         let mut b = vec![0u64; 3];

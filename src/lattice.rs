@@ -167,3 +167,179 @@ impl LatticePatch {
         self.blk_len.push(n);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::*;
+    use crate::tile::Rect;
+
+    /// Empty buffers over `region`, `words` words per bitset (what `prepare` sizes).
+    fn buffers(region: Rect, words: usize) -> TileBuffers {
+        let n = region.area();
+        let mut b = TileBuffers {
+            tile: region,
+            region,
+            words,
+            surf: vec![Surface::default(); n],
+            needed: vec![false; n],
+            above: vec![0; n * words],
+            vis: vec![0; n * words],
+            traced: vec![0; n * words],
+            rays: vec![0; n],
+            split: vec![RaySplit::default(); n],
+            temporal: vec![false; n],
+            ..TileBuffers::default()
+        };
+        b.blockers.reset(n);
+        b
+    }
+
+    /// Everything a lattice pixel carries.
+    #[derive(Debug, PartialEq)]
+    struct Pixel {
+        surf: Surface,
+        bits: [Vec<u64>; 3],
+        rays: u32,
+        split: RaySplit,
+        temporal: bool,
+        blockers: Vec<(usize, f32)>,
+    }
+
+    fn read(b: &TileBuffers, i: usize) -> Pixel {
+        let row = |v: &[u64]| TileBuffers::row(v, i, b.words).to_vec();
+        Pixel {
+            surf: b.surf[i],
+            bits: [row(&b.above), row(&b.vis), row(&b.traced)],
+            rays: b.rays[i],
+            split: b.split[i],
+            temporal: b.temporal[i],
+            blockers: b.blockers.of(i).collect(),
+        }
+    }
+
+    fn write(b: &mut TileBuffers, i: usize, p: &Pixel) {
+        let w = b.words;
+        b.surf[i] = p.surf;
+        b.above[i * w..(i + 1) * w].copy_from_slice(&p.bits[0]);
+        b.vis[i * w..(i + 1) * w].copy_from_slice(&p.bits[1]);
+        b.traced[i * w..(i + 1) * w].copy_from_slice(&p.bits[2]);
+        b.rays[i] = p.rays;
+        b.split[i] = p.split;
+        b.temporal[i] = p.temporal;
+        b.blockers.begin(i);
+        for &(j, t) in &p.blockers {
+            b.blockers.push(i, j, t);
+        }
+    }
+
+    /// A pixel unlike any other `seed` gives, light bits in both words.
+    fn pixel(seed: u32, blockers: &[(usize, f32)]) -> Pixel {
+        let s = seed as f32;
+        let k = u64::from(seed);
+        Pixel {
+            surf: Surface {
+                p: Vec3::new(s, s + 0.5, -s),
+                n: Vec3::Y,
+                ng: Vec3::Z,
+                albedo: Vec3::splat(0.1 * s),
+                hit: true,
+            },
+            bits: [
+                vec![0xf0f0 ^ k, 0x3 << k],
+                vec![0x0ff0 ^ k, 0x1 << k],
+                vec![0xff00 ^ k, 0x2 << k],
+            ],
+            rays: 10 + seed,
+            split: RaySplit {
+                every: seed,
+                flooded: seed + 1,
+                fixes: seed + 2,
+            },
+            temporal: seed % 2 == 1,
+            blockers: blockers.to_vec(),
+        }
+    }
+
+    /// Three lattice pixels recorded from one tile's buffers (between them a pixel off the
+    /// lattice, whose blockers come first in the buffers), inserted, and copied into another
+    /// tile's buffers at other region indices: every field comes back, each pixel its own
+    /// blockers.
+    #[test]
+    fn a_recorded_pixel_comes_back_whole() {
+        let (width, height, step, words) = (41, 30, 8, 2);
+        let mut lattice = Lattice::new(width, height, step, words);
+        let src_region = Rect::new(8, 8, 20, 20);
+        let mut src = buffers(src_region, words);
+        let off = src_region.index(9, 8);
+        write(&mut src, off, &pixel(9, &[(1, 9.0)]));
+        // (x, y, pixel): blockers in both words, none, and one.
+        let pixels = [
+            (8, 8, pixel(1, &[(3, 1.5), (70, 2.25)])),
+            (16, 8, pixel(2, &[])),
+            (16, 16, pixel(3, &[(65, 0.5)])),
+        ];
+        let mut patch = LatticePatch::default();
+        for (x, y, p) in &pixels {
+            let i = src_region.index(*x, *y);
+            write(&mut src, i, p);
+            patch.record(&lattice, *x, *y, &src, i);
+        }
+        lattice.insert(&patch);
+
+        let dst_region = Rect::new(0, 0, 24, 24);
+        let mut dst = buffers(dst_region, words);
+        write(&mut dst, dst_region.index(1, 1), &pixel(7, &[(5, 5.0)]));
+        let mut failures = Vec::new();
+        for (x, y, want) in &pixels {
+            let i = dst_region.index(*x, *y);
+            if !lattice.copy_into(*x, *y, &mut dst, i) {
+                failures.push(format!("({x}, {y}) not copied"));
+                continue;
+            }
+            let got = read(&dst, i);
+            if got != *want {
+                failures.push(format!("({x}, {y}): got {got:?}\n  want {want:?}"));
+            }
+        }
+        // Lattice pixels never inserted, and pixels off the lattice, are not copied.
+        for (x, y) in [(0, 0), (8, 16), (9, 8), (12, 12)] {
+            if lattice.copy_into(x, y, &mut dst, dst_region.index(x, y)) {
+                failures.push(format!("({x}, {y}) copied but never inserted"));
+            }
+        }
+        assert!(failures.is_empty(), "{}", failures.join("\n"));
+    }
+
+    /// Frame pixels on the lattice (multiples of the step, inside the frame) have an index,
+    /// row-major over its columns; no other pixel does.
+    #[test]
+    fn only_lattice_pixels_have_an_index() {
+        // 41 × 30 at step 8: 6 columns (0..=40), 4 rows (0..=24).
+        let lattice = Lattice::new(41, 30, 8, 1);
+        let cases = [
+            ((0, 0), Some(0)),
+            ((8, 0), Some(1)),
+            ((40, 0), Some(5)),
+            ((0, 8), Some(6)),
+            ((16, 24), Some(20)),
+            ((40, 24), Some(23)),
+            ((48, 0), None),
+            ((0, 32), None),
+            ((9, 8), None),
+            ((8, 9), None),
+            ((4, 4), None),
+            ((1, 0), None),
+        ];
+        let mut failures: Vec<String> = cases
+            .iter()
+            .filter(|&&((x, y), want)| lattice.index(x, y) != want)
+            .map(|&((x, y), want)| format!("({x}, {y}): {:?}, want {want:?}", lattice.index(x, y)))
+            .collect();
+        if Lattice::new(41, 30, 0, 1).index(0, 0).is_some() {
+            failures.push("a lattice of step 0 holds (0, 0)".into());
+        }
+        assert!(failures.is_empty(), "{}", failures.join("\n"));
+    }
+}

@@ -26,9 +26,30 @@ pub struct At {
 /// the scratch (`pred_vis`, `uncertain`, `queued`), flooding where `F` says, then records the
 /// pixel's blockers when `at.keep_blockers`. Sets the pixel's `vis`, `traced`, `rays` and
 /// `split`.
+pub fn correct<F: Flood>(
+    ctx: &FrameContext,
+    bufs: &mut TileBuffers,
+    sc: &mut Scratch,
+    i: usize,
+    at: At,
+) {
+    queue_predicted(sc);
+    trace_queue::<F>(ctx, bufs, sc, i, at);
+}
+
+/// The initial queue: the lights the prediction queued (`sc.queued`), ascending.
+#[inline]
+fn queue_predicted(sc: &mut Scratch) {
+    sc.queue.clear();
+    bits::for_each(&sc.queued, |j| sc.queue.push(j as u32));
+}
+
+/// [`correct`] from an initial queue already in `sc.queue`: the lights of `sc.queued`, in any
+/// order (the tests permute it; the traced set must not change).
 // Word loops index several parallel bitsets at once; iterator chains would hide that.
 #[allow(clippy::needless_range_loop)]
-pub fn correct<F: Flood>(
+#[inline]
+fn trace_queue<F: Flood>(
     ctx: &FrameContext,
     bufs: &mut TileBuffers,
     sc: &mut Scratch,
@@ -48,8 +69,6 @@ pub fn correct<F: Flood>(
     } = bufs;
     let mine = &above[i * w..(i + 1) * w];
     // 3. Correction: trace the queue, flooding where a trace was uncertain or disagreed.
-    sc.queue.clear();
-    bits::for_each(&sc.queued, |j| sc.queue.push(j as u32));
     let tr = &mut traced[i * w..(i + 1) * w];
     let out = &mut vis[i * w..(i + 1) * w];
     tr.fill(0);
@@ -146,4 +165,343 @@ pub fn correct<F: Flood>(
         sc.votes[c as usize] = 0;
     }
     sc.touched.clear();
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::testkit::{
+        DOWN, Frame, R, UP, and_not, buffers, list, origin, set_of, spiral, star,
+    };
+    use super::super::{Boundary, Uncertainty};
+    use super::*;
+
+    type Solve = fn(&FrameContext, &mut TileBuffers, &mut Scratch, usize, At);
+
+    /// The star's lights the roof blocks from the origin (see the testkit).
+    const BLOCKED: [usize; 3] = [R[0], R[1], R[5]];
+
+    /// One pixel at the origin under the roof, every star light but DOWN above its horizon, a
+    /// hand-made prediction, and what correcting it must trace.
+    struct Case {
+        name: &'static str,
+        solve: Solve,
+        flood_to: FloodTo,
+        predicted_blocked: &'static [usize],
+        uncertain: &'static [usize],
+        queued: &'static [usize],
+        traced: &'static [usize],
+        flooded: u32,
+        fixes: u32,
+    }
+
+    fn flood_cases() -> Vec<Case> {
+        let (unc, bnd): (Solve, Solve) = (correct::<Uncertainty>, correct::<Boundary>);
+        vec![
+            Case {
+                name: "UP predicted blocked, traced visible: all floods to every ring light",
+                solve: unc,
+                flood_to: FloodTo::All,
+                predicted_blocked: &[UP, R[0], R[1], R[5]],
+                uncertain: &[],
+                queued: &[UP],
+                traced: &[UP, R[0], R[1], R[2], R[3], R[4], R[5]],
+                flooded: 6,
+                fixes: 0,
+            },
+            Case {
+                name: "UP predicted blocked, traced visible: contrary floods to those predicted \
+                       blocked",
+                solve: unc,
+                flood_to: FloodTo::Contrary,
+                predicted_blocked: &[UP, R[0], R[1], R[5]],
+                uncertain: &[],
+                queued: &[UP],
+                traced: &[UP, R[0], R[1], R[5]],
+                flooded: 3,
+                fixes: 0,
+            },
+            // R[0] and R[5] wrongly predicted visible: tracing R[0] finds R[5], whose trace
+            // floods on to R[4].
+            Case {
+                name: "R0 predicted visible, traced blocked: all floods and cascades",
+                solve: unc,
+                flood_to: FloodTo::All,
+                predicted_blocked: &[R[1]],
+                uncertain: &[],
+                queued: &[R[0]],
+                traced: &[UP, R[0], R[1], R[4], R[5]],
+                flooded: 4,
+                fixes: 1,
+            },
+            Case {
+                name: "R0 predicted visible, traced blocked: contrary floods to those predicted \
+                       visible only",
+                solve: unc,
+                flood_to: FloodTo::Contrary,
+                predicted_blocked: &[R[1]],
+                uncertain: &[],
+                queued: &[R[0]],
+                traced: &[UP, R[0], R[4], R[5]],
+                flooded: 3,
+                fixes: 1,
+            },
+            Case {
+                name: "boundary floods on disagreement like uncertainty",
+                solve: bnd,
+                flood_to: FloodTo::All,
+                predicted_blocked: &[R[1]],
+                uncertain: &[],
+                queued: &[R[0]],
+                traced: &[UP, R[0], R[1], R[4], R[5]],
+                flooded: 4,
+                fixes: 1,
+            },
+            Case {
+                name: "an uncertain light floods though its trace agrees (all)",
+                solve: unc,
+                flood_to: FloodTo::All,
+                predicted_blocked: &BLOCKED,
+                uncertain: &[R[2]],
+                queued: &[R[2]],
+                traced: &[UP, R[1], R[2], R[3]],
+                flooded: 3,
+                fixes: 0,
+            },
+            Case {
+                name: "an uncertain light floods though its trace agrees (contrary)",
+                solve: unc,
+                flood_to: FloodTo::Contrary,
+                predicted_blocked: &BLOCKED,
+                uncertain: &[R[2]],
+                queued: &[R[2]],
+                traced: &[R[1], R[2]],
+                flooded: 1,
+                fixes: 0,
+            },
+            Case {
+                name: "boundary: an uncertain light whose trace agrees does not flood",
+                solve: bnd,
+                flood_to: FloodTo::All,
+                predicted_blocked: &BLOCKED,
+                uncertain: &[R[2]],
+                queued: &[R[2]],
+                traced: &[R[2]],
+                flooded: 0,
+                fixes: 0,
+            },
+        ]
+    }
+
+    /// Every case, tracing in packets and one light at a time (keeping blockers): the traced
+    /// set, the rays and their split, and the visibility (traced lights as traced, the others
+    /// as predicted). DOWN borders every ring light but is below the horizon: never traced.
+    #[test]
+    fn flooding_queues_the_neighbours_its_rule_names() {
+        let frame = Frame::new(&star());
+        let ctx = frame.ctx();
+        let w = ctx.words();
+        let mine: Vec<usize> = (0..DOWN).collect();
+        let mut failures = Vec::new();
+        for case in flood_cases() {
+            for keep_blockers in [false, true] {
+                let (mut bufs, mut sc) = buffers(&ctx, &[origin()]);
+                bufs.above.copy_from_slice(&set_of(w, &mine));
+                let blocked = set_of(w, case.predicted_blocked);
+                sc.pred_vis.copy_from_slice(&and_not(&bufs.above, &blocked));
+                sc.uncertain.copy_from_slice(&set_of(w, case.uncertain));
+                sc.queued.copy_from_slice(&set_of(w, case.queued));
+                let at = At {
+                    flood_to: case.flood_to,
+                    keep_blockers,
+                    keep_predicted: false,
+                };
+                (case.solve)(&ctx, &mut bufs, &mut sc, 0, at);
+                let want_vis: Vec<usize> = mine
+                    .iter()
+                    .copied()
+                    .filter(|j| {
+                        if case.traced.contains(j) {
+                            !BLOCKED.contains(j)
+                        } else {
+                            !case.predicted_blocked.contains(j)
+                        }
+                    })
+                    .collect();
+                let want_split = RaySplit {
+                    every: 0,
+                    flooded: case.flooded,
+                    fixes: case.fixes,
+                };
+                let got = (
+                    list(&bufs.traced),
+                    bufs.rays[0],
+                    bufs.split[0],
+                    list(&bufs.vis),
+                );
+                let want = (
+                    case.traced.to_vec(),
+                    case.traced.len() as u32,
+                    want_split,
+                    want_vis,
+                );
+                if got != want {
+                    failures.push(format!(
+                        "{} (keep_blockers {keep_blockers}):\n  got  (traced, rays, split, \
+                         vis) {got:?}\n  want {want:?}",
+                        case.name
+                    ));
+                }
+            }
+        }
+        assert!(failures.is_empty(), "{}", failures.join("\n"));
+    }
+
+    /// A pixel keeping blockers records its traced hits at their distance and, with
+    /// `keep_predicted`, the warped blocker that voted for an untraced predicted-blocked light.
+    #[test]
+    fn kept_blockers_are_the_traced_hits_and_the_voting_ones() {
+        let frame = Frame::new(&star());
+        let ctx = frame.ctx();
+        let w = ctx.words();
+        let mut failures = Vec::new();
+        for keep_predicted in [false, true] {
+            let (mut bufs, mut sc) = buffers(&ctx, &[origin()]);
+            bufs.above
+                .copy_from_slice(&set_of(w, &(0..DOWN).collect::<Vec<_>>()));
+            // Predicted: the truth. Traced: R[2], flooding (contrary) to R[1] alone, so R[0]
+            // and R[5] stay predicted blocked; a warped blocker voted for R[0] only.
+            sc.pred_vis
+                .copy_from_slice(&and_not(&bufs.above, &set_of(w, &BLOCKED)));
+            sc.uncertain.copy_from_slice(&set_of(w, &[R[2]]));
+            sc.queued.copy_from_slice(&set_of(w, &[R[2]]));
+            sc.best_dot[R[0]] = 0.9;
+            sc.best_dist[R[0]] = 2.5;
+            let at = At {
+                flood_to: FloodTo::Contrary,
+                keep_blockers: true,
+                keep_predicted,
+            };
+            correct::<Uncertainty>(&ctx, &mut bufs, &mut sc, 0, at);
+            let got: Vec<(usize, f32)> = bufs.blockers.of(0).collect();
+            let mut want = vec![(R[1], f32::NAN)];
+            if keep_predicted {
+                want.insert(0, (R[0], 2.5));
+            }
+            // R[1] leaves the origin at 45° elevation towards +X+Z: the roof is √2 away.
+            let close = got.len() == want.len()
+                && got.iter().zip(&want).all(|(g, w)| {
+                    g.0 == w.0
+                        && if w.1.is_nan() {
+                            (g.1 - 2f32.sqrt()).abs() < 1e-3
+                        } else {
+                            g.1 == w.1
+                        }
+                });
+            if !close {
+                failures.push(format!(
+                    "keep_predicted {keep_predicted}: got {got:?}, want {want:?} (NaN: √2)"
+                ));
+            }
+        }
+        assert!(failures.is_empty(), "{}", failures.join("\n"));
+    }
+
+    /// A deterministic shuffle (Fisher–Yates on a fixed linear congruential sequence).
+    fn shuffle(q: &mut [u32]) {
+        let mut s = 0x2545_f491u32;
+        for k in (1..q.len()).rev() {
+            s = s.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            q.swap(k, (s >> 8) as usize % (k + 1));
+        }
+    }
+
+    /// What correcting a pixel leaves: visibility, traced set, rays, split, blockers.
+    type Outcome = (Vec<u64>, Vec<u64>, u32, RaySplit, Vec<(usize, f32)>);
+
+    /// ALGORITHM.md §6: the traced set does not depend on the queue's order. 300 lights (five
+    /// words) under the roof, a prediction whose shadow edge crosses the true one, more queued
+    /// lights than a packet holds: ascending (what `correct` builds), descending and shuffled
+    /// initial queues give the same outcome, for both flood rules, both neighbour rules, and
+    /// both ways of tracing.
+    #[test]
+    fn the_traced_set_does_not_depend_on_the_queue_order() {
+        type Trace = fn(&FrameContext, &mut TileBuffers, &mut Scratch, usize, At);
+        let dirs = spiral(300);
+        let frame = Frame::new(&dirs);
+        let ctx = frame.ctx();
+        let rules: [(&str, Trace); 2] = [
+            ("uncertainty", trace_queue::<Uncertainty>),
+            ("boundary", trace_queue::<Boundary>),
+        ];
+        type Reorder = fn(&mut [u32]);
+        let orders: [(&str, Reorder); 3] = [
+            ("ascending", |_| {}),
+            ("descending", |q| q.reverse()),
+            ("shuffled", shuffle),
+        ];
+        let run = |trace: Trace, at: At, order: Reorder| -> (Outcome, usize) {
+            let (mut bufs, mut sc) = buffers(&ctx, &[origin()]);
+            crate::shade::above_horizon(&ctx.shade_lights, origin().n, &mut bufs.above);
+            for (j, d) in dirs.iter().enumerate() {
+                if !bits::get(&bufs.above, j) {
+                    continue;
+                }
+                if d.z <= 0.3 {
+                    bits::set(&mut sc.pred_vis, j);
+                }
+                if j % 7 == 0 {
+                    bits::set(&mut sc.uncertain, j);
+                }
+                if j % 7 == 0 || j % 5 == 0 {
+                    bits::set(&mut sc.queued, j);
+                }
+            }
+            queue_predicted(&mut sc);
+            let queued = sc.queue.len();
+            order(&mut sc.queue);
+            trace(&ctx, &mut bufs, &mut sc, 0, at);
+            let outcome = (
+                bufs.vis.clone(),
+                bufs.traced.clone(),
+                bufs.rays[0],
+                bufs.split[0],
+                bufs.blockers.of(0).collect(),
+            );
+            (outcome, queued)
+        };
+        let mut failures = Vec::new();
+        for (rule, trace) in rules {
+            for flood_to in [FloodTo::All, FloodTo::Contrary] {
+                for keep_blockers in [false, true] {
+                    let at = At {
+                        flood_to,
+                        keep_blockers,
+                        keep_predicted: false,
+                    };
+                    let (want, queued) = run(trace, at, orders[0].1);
+                    // The case must exercise what it guards: several waves, and flooding.
+                    assert!(queued > PACKET, "{rule}: only {queued} queued");
+                    assert!(want.3.flooded > 0, "{rule} {flood_to}: nothing flooded");
+                    assert_eq!(want.2 as usize, bits::count(&want.1) as usize);
+                    for &(name, order) in &orders[1..] {
+                        let (got, _) = run(trace, at, order);
+                        if got != want {
+                            failures.push(format!(
+                                "{rule} {flood_to} keep_blockers {keep_blockers}: {name} \
+                                 queue gives {} rays, split {:?}, traced {:?}; ascending {} \
+                                 rays, split {:?}, traced {:?}",
+                                got.2,
+                                got.3,
+                                list(&got.1),
+                                want.2,
+                                want.3,
+                                list(&want.1)
+                            ));
+                        }
+                    }
+                }
+            }
+        }
+        assert!(failures.is_empty(), "{}", failures.join("\n"));
+    }
 }

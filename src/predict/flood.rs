@@ -98,3 +98,50 @@ impl std::str::FromStr for FloodTo {
             })
     }
 }
+
+/// Truth tables shared by the flood rules' tests.
+#[cfg(test)]
+pub(super) mod table {
+    /// One combination of `predict`'s inputs at one light, and the `(blocked, unsure)` the rule
+    /// must give: `(my, enough, any, all)`. `all` implies `any` (the votes guarantee it).
+    pub type Row = ((bool, bool, bool, bool), (bool, bool));
+
+    /// Calls `predict` once on words holding row r at bit r and lists every row it gets wrong.
+    pub fn predict_failures(
+        predict: fn(u64, u64, u64, u64) -> (u64, u64),
+        rows: &[Row],
+    ) -> Vec<String> {
+        let word = |f: fn(&Row) -> bool| {
+            rows.iter()
+                .enumerate()
+                .fold(0u64, |w, (r, row)| w | u64::from(f(row)) << r)
+        };
+        let (blocked, unsure) = predict(
+            word(|r| r.0.0),
+            word(|r| r.0.1),
+            word(|r| r.0.2),
+            word(|r| r.0.3),
+        );
+        let mut failures = Vec::new();
+        for (r, &(inputs, want)) in rows.iter().enumerate() {
+            let got = (blocked >> r & 1 == 1, unsure >> r & 1 == 1);
+            if got != want {
+                failures.push(format!(
+                    "(my, enough, any, all) = {inputs:?}: (blocked, unsure) {got:?}, want {want:?}"
+                ));
+            }
+        }
+        failures
+    }
+
+    /// Lists the `(uncertain, disagrees)` combinations where `floods` is not `want`.
+    pub fn floods_failures(
+        floods: fn(bool, bool) -> bool,
+        want: [((bool, bool), bool); 4],
+    ) -> Vec<String> {
+        want.iter()
+            .filter(|&&((u, d), w)| floods(u, d) != w)
+            .map(|((u, d), w)| format!("floods(uncertain {u}, disagrees {d}) should be {w}"))
+            .collect()
+    }
+}

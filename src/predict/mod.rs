@@ -25,6 +25,8 @@ mod rule;
 mod scanline;
 mod scratch;
 pub mod temporal;
+#[cfg(test)]
+mod testkit;
 mod uncertainty;
 mod vote;
 mod warp;
@@ -342,5 +344,67 @@ mod tests {
                 .unwrap_err()
                 .contains("grid-nowarp-uncertainty")
         );
+    }
+
+    /// What `Shadows::at` must give for every method, flood rule and pass at h0 = 16 (grid
+    /// passes 0..=8, the finest level being passes 7 and 8): `contrary-finest` is contrary
+    /// there and all elsewhere, and never contrary on the scanline (no levels); the other
+    /// rules stand at every level. Warping methods keep blockers on every pass something reads
+    /// later (not the grid's last); the grid keeps predicted blockers, the scanline does not.
+    #[test]
+    fn each_pass_gets_its_levels_flood_rule_and_blockers() {
+        let mut failures = Vec::new();
+        for m in Method::all() {
+            let (order, vote, _) = m.parts();
+            let warp = vote == "warp";
+            for flood_to in FloodTo::ALL {
+                let params = Params {
+                    flood_to,
+                    ..Params::default()
+                };
+                let shadows = m.build(params, None);
+                let passes = shadows.order.passes();
+                let want_passes = if order == "grid" { 9 } else { 1 };
+                if passes != want_passes {
+                    failures.push(format!("{m}: {passes} passes, want {want_passes}"));
+                }
+                for pass in 0..passes {
+                    let finest = order == "grid" && pass >= 7;
+                    let want = At {
+                        flood_to: match flood_to {
+                            FloodTo::ContraryFinest if finest => FloodTo::Contrary,
+                            FloodTo::ContraryFinest => FloodTo::All,
+                            f => f,
+                        },
+                        keep_blockers: warp && !(order == "grid" && pass == 8),
+                        keep_predicted: order == "grid",
+                    };
+                    let got = shadows.at(pass);
+                    if got != want {
+                        failures.push(format!(
+                            "{m} {flood_to} pass {pass}: {got:?}, want {want:?}"
+                        ));
+                    }
+                }
+            }
+        }
+        assert!(failures.is_empty(), "{}", failures.join("\n"));
+    }
+
+    /// `at_level` resolves `contrary-finest` alone.
+    #[test]
+    fn only_contrary_finest_depends_on_the_level() {
+        let want = [
+            (FloodTo::All, [FloodTo::All, FloodTo::All]),
+            (FloodTo::ContraryFinest, [FloodTo::All, FloodTo::Contrary]),
+            (FloodTo::Contrary, [FloodTo::Contrary, FloodTo::Contrary]),
+        ];
+        for (f, [coarse, finest]) in want {
+            assert_eq!(
+                (f.at_level(false), f.at_level(true)),
+                (coarse, finest),
+                "{f}"
+            );
+        }
     }
 }

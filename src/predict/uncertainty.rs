@@ -26,3 +26,47 @@ impl Flood for Uncertainty {
         uncertain || disagrees
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::flood::table;
+    use super::*;
+
+    #[test]
+    fn predicts_only_what_enough_voters_agree_on() {
+        let (t, f) = (true, false);
+        let rows = [
+            // Below this pixel's horizon: neither, whatever the votes.
+            ((f, f, f, f), (f, f)),
+            ((f, t, f, f), (f, f)),
+            ((f, t, t, f), (f, f)),
+            ((f, t, t, t), (f, f)),
+            ((f, f, t, t), (f, f)),
+            // Too few voters see it: traced, whatever they say.
+            ((t, f, f, f), (f, t)),
+            ((t, f, t, f), (f, t)),
+            ((t, f, t, t), (f, t)),
+            // Enough voters: none votes → visible, some → unsure, all → blocked.
+            ((t, t, f, f), (f, f)),
+            ((t, t, t, f), (f, t)),
+            ((t, t, t, t), (t, f)),
+        ];
+        let failures = table::predict_failures(Uncertainty::predict, &rows);
+        assert!(failures.is_empty(), "{}", failures.join("\n"));
+    }
+
+    #[test]
+    fn floods_when_uncertain_or_mistaken() {
+        let (t, f) = (true, false);
+        let want = [((f, f), f), ((f, t), t), ((t, f), t), ((t, t), t)];
+        let failures = table::floods_failures(Uncertainty::floods, want);
+        assert!(failures.is_empty(), "{}", failures.join("\n"));
+    }
+
+    #[test]
+    fn min_voters_is_the_setting() {
+        for s in 1..=4 {
+            assert_eq!(Uncertainty::min_voters(s), s);
+        }
+    }
+}

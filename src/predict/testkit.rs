@@ -1,0 +1,170 @@
+//! Hand-built frames for the prediction's unit tests: lights whose adjacency is known by
+//! construction, and a blocker whose shadow rays have known answers from a surface point
+//! under it.
+
+use glam::{Vec2, Vec3};
+
+use super::Scratch;
+use crate::accel::Accel;
+use crate::bits;
+use crate::buffers::TileBuffers;
+use crate::camera::Camera;
+use crate::context::{FrameContext, Surface};
+use crate::envmap::EnvMap;
+use crate::lights::{Light, LightSet};
+use crate::scene::{Material, Scene};
+use crate::tile::Rect;
+
+/// The star: light `UP` straight up, `R[k]` a ring of six at 45° elevation and azimuth 60k°
+/// (from +X towards +Z), `DOWN` straight down. UP borders every ring light, each ring light
+/// its two ring neighbours, UP and DOWN; DOWN borders every ring light.
+pub const UP: usize = 0;
+pub const R: [usize; 6] = [1, 2, 3, 4, 5, 6];
+pub const DOWN: usize = 7;
+
+/// The star's directions, in light order.
+pub fn star() -> Vec<Vec3> {
+    let mut d = vec![Vec3::Y];
+    for k in 0..6 {
+        let a = (60.0 * k as f32).to_radians();
+        d.push(Vec3::new(a.cos(), 1.0, a.sin()).normalize());
+    }
+    d.push(Vec3::NEG_Y);
+    d
+}
+
+/// `n` directions spread evenly over the sphere (a Fibonacci spiral).
+pub fn spiral(n: usize) -> Vec<Vec3> {
+    let golden = std::f32::consts::PI * (3.0 - 5f32.sqrt());
+    (0..n)
+        .map(|k| {
+            let y = 1.0 - 2.0 * (k as f32 + 0.5) / n as f32;
+            let r = (1.0 - y * y).sqrt();
+            let a = golden * k as f32;
+            Vec3::new(r * a.cos(), y, r * a.sin())
+        })
+        .collect()
+}
+
+/// The surface point the tests decide: the origin, facing +Y, under [`Frame::new`]'s roof.
+pub fn origin() -> Surface {
+    Surface {
+        p: Vec3::ZERO,
+        n: Vec3::Y,
+        ng: Vec3::Y,
+        albedo: Vec3::splat(0.5),
+        hit: true,
+    }
+}
+
+/// A surface point at `p` facing +Y.
+pub fn at(p: Vec3) -> Surface {
+    Surface { p, ..origin() }
+}
+
+/// A frame with its own scene, BVH, lights and map; [`Frame::ctx`] borrows them.
+pub struct Frame {
+    scene: Scene,
+    accel: Accel,
+    lights: LightSet,
+    env: EnvMap,
+}
+
+impl Frame {
+    /// Lights in `dirs` and a roof: the square y = 1, x in [0.2, 10], z in [-10, 10]. From the
+    /// origin it blocks the star's R[0], R[1] and R[5] and no other star light.
+    pub fn new(dirs: &[Vec3]) -> Frame {
+        let mut scene = Scene {
+            materials: vec![Material::default_grey()],
+            source: "test".into(),
+            ..Default::default()
+        };
+        for (x, z) in [(0.2, -10.0), (10.0, -10.0), (10.0, 10.0), (0.2, 10.0)] {
+            scene.positions.push(Vec3::new(x, 1.0, z));
+            scene.normals.push(Vec3::NEG_Y);
+            scene.uvs.push(Vec2::ZERO);
+        }
+        scene.triangles = vec![[0, 1, 2], [0, 2, 3]];
+        scene.tri_material = vec![0, 0];
+        let accel = Accel::build(&scene.positions, &scene.triangles);
+        let lights = LightSet::from_lights(
+            dirs.iter()
+                .map(|&dir| Light {
+                    dir,
+                    energy: Vec3::ONE,
+                    solid_angle: 1.0,
+                })
+                .collect(),
+        );
+        Frame {
+            scene,
+            accel,
+            lights,
+            env: EnvMap::builtin_sky(),
+        }
+    }
+
+    pub fn ctx(&self) -> FrameContext<'_> {
+        let camera = Camera::look_at(Vec3::new(0.0, 5.0, 5.0), Vec3::ZERO, Vec3::Y, 40.0, 8, 8);
+        FrameContext::new(&self.scene, &self.accel, camera, &self.lights, &self.env)
+    }
+}
+
+/// A bitset of `words` words with `lights` set.
+pub fn set_of(words: usize, lights: &[usize]) -> Vec<u64> {
+    let mut b = vec![0; words];
+    for &j in lights {
+        bits::set(&mut b, j);
+    }
+    b
+}
+
+/// The bits of `a` not in `b`: a pixel's predicted-visible lights, from its above-horizon and
+/// predicted-blocked ones.
+pub fn and_not(a: &[u64], b: &[u64]) -> Vec<u64> {
+    a.iter().zip(b).map(|(a, b)| a & !b).collect()
+}
+
+/// The set bits of `b`, ascending.
+pub fn list(b: &[u64]) -> Vec<usize> {
+    let mut v = Vec::new();
+    bits::for_each(b, |j| v.push(j));
+    v
+}
+
+/// Buffers for a one-row region holding `surfaces` (nothing above any horizon yet), and a
+/// scratch sized for the frame's lights.
+pub fn buffers(ctx: &FrameContext, surfaces: &[Surface]) -> (TileBuffers, Scratch) {
+    let region = Rect::frame(surfaces.len() as u32, 1);
+    let mut bufs = TileBuffers::default();
+    bufs.prepare(ctx, region, region);
+    bufs.surf.copy_from_slice(surfaces);
+    let mut sc = Scratch::default();
+    sc.prepare(ctx.light_count());
+    (bufs, sc)
+}
+
+/// The fixture is what the tests built on it assume.
+#[test]
+fn the_star_borders_as_drawn_and_the_roof_blocks_three_lights() {
+    let frame = Frame::new(&star());
+    let ctx = frame.ctx();
+    let ring = |k: usize| R[k % 6];
+    let mut want: Vec<Vec<u32>> = vec![R.iter().map(|&r| r as u32).collect()];
+    for k in 0..6 {
+        let mut n = vec![
+            UP as u32,
+            ring(k + 1) as u32,
+            ring(k + 5) as u32,
+            DOWN as u32,
+        ];
+        n.sort_unstable();
+        want.push(n);
+    }
+    want.push(R.iter().map(|&r| r as u32).collect());
+    for (j, n) in want.iter().enumerate() {
+        assert_eq!(ctx.lights.neighbors(j), &n[..], "neighbours of light {j}");
+    }
+    let visible: Vec<usize> = (0..DOWN).filter(|&j| ctx.trace(&origin(), j)).collect();
+    assert_eq!(visible, [UP, R[2], R[3], R[4]]);
+}
