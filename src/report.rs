@@ -65,115 +65,35 @@ impl Row {
 }
 
 fn read_stats(path: &Path) -> Result<Vec<Row>> {
-    let text = match std::fs::read_to_string(path) {
-        Ok(t) => t,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            return Err(input_error(
-                path,
-                "not found: not a render output folder (envshadow render writes stats.csv)",
-            ));
-        }
-        Err(e) => return Err(input_error(path, format!("cannot read: {e}"))),
-    };
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
-    let col = |name: &str| -> Result<usize> {
-        header
-            .iter()
-            .position(|h| *h == name)
-            .ok_or_else(|| input_error(path, format!("no column {name:?} in the header")))
-    };
-    let (frame, method, nlights, width, height) = (
-        col("frame")?,
-        col("method")?,
-        col("lights")?,
-        col("width")?,
-        col("height")?,
-    );
-    let (queries, rays, percent, seconds) = (
-        col("queries")?,
-        col("rays_traced")?,
-        col("percent_traced")?,
-        col("seconds")?,
-    );
-    let (wv, wb, err, wpix, psnr) = (
-        col("wrong_visible")?,
-        col("wrong_blocked")?,
-        col("error_percent")?,
-        col("wrong_pixels")?,
-        col("psnr_db")?,
-    );
-    let cam = [col("camera_x")?, col("camera_y")?, col("camera_z")?];
-    let tgt = [col("target_x")?, col("target_y")?, col("target_z")?];
-    let vfov = col("vfov_deg")?;
-    let mut rows = Vec::new();
-    for (i, line) in lines.enumerate() {
-        if line.trim().is_empty() {
-            continue;
-        }
-        let f: Vec<&str> = line.split(',').collect();
-        let line_no = i + 2;
-        let field = |k: usize| -> Result<&str> {
-            f.get(k).copied().ok_or_else(|| {
-                input_error(
-                    path,
-                    format!(
-                        "line {line_no}: {} fields, expected {}",
-                        f.len(),
-                        header.len()
-                    ),
-                )
-            })
-        };
-        fn num<T: std::str::FromStr>(path: &Path, line: usize, name: &str, s: &str) -> Result<T> {
-            s.trim().parse().map_err(|_| {
-                input_error(path, format!("line {line}: {name} {s:?} is not a number"))
-            })
-        }
-        let opt = |k: usize, name: &str| -> Result<Option<f64>> {
-            let s = field(k)?;
-            if s.trim().is_empty() {
-                Ok(None)
-            } else {
-                num(path, line_no, name, s).map(Some)
+    let rows: Vec<Row> = crate::output::stats::read_stats(path)?
+        .iter()
+        .map(|f| {
+            let c = &f.counts;
+            let validated = f.image_error.is_some();
+            let v3 = |v: glam::Vec3| v.to_array().map(f64::from);
+            Row {
+                frame: f.frame,
+                method: f.method.clone(),
+                lights: f.lights,
+                width: f.width,
+                height: f.height,
+                queries: c.queries,
+                rays: c.rays,
+                percent: c.percent_traced(),
+                seconds: f.seconds,
+                wrong: validated.then_some(c.wrong_visible + c.wrong_blocked),
+                error_percent: validated.then_some(c.error_percent()),
+                wrong_pixels: validated.then_some(c.wrong_pixels),
+                psnr_db: f.image_error.map(|e| e.psnr_db),
+                camera: v3(f.camera_position),
+                target: v3(f.camera_target),
+                vfov_deg: f64::from(f.vfov_deg),
             }
-        };
-        let get = |k: usize, name: &str| -> Result<f64> { num(path, line_no, name, field(k)?) };
-        let wrong = match (opt(wv, "wrong_visible")?, opt(wb, "wrong_blocked")?) {
-            (Some(a), Some(b)) => Some((a + b) as u64),
-            _ => None,
-        };
-        rows.push(Row {
-            frame: num(path, line_no, "frame", field(frame)?)?,
-            method: field(method)?.to_string(),
-            lights: num(path, line_no, "lights", field(nlights)?)?,
-            width: num(path, line_no, "width", field(width)?)?,
-            height: num(path, line_no, "height", field(height)?)?,
-            queries: num(path, line_no, "queries", field(queries)?)?,
-            rays: num(path, line_no, "rays_traced", field(rays)?)?,
-            percent: get(percent, "percent_traced")?,
-            seconds: get(seconds, "seconds")?,
-            wrong,
-            error_percent: opt(err, "error_percent")?,
-            wrong_pixels: opt(wpix, "wrong_pixels")?.map(|v| v as u64),
-            psnr_db: opt(psnr, "psnr_db")?,
-            camera: [
-                get(cam[0], "camera_x")?,
-                get(cam[1], "camera_y")?,
-                get(cam[2], "camera_z")?,
-            ],
-            target: [
-                get(tgt[0], "target_x")?,
-                get(tgt[1], "target_y")?,
-                get(tgt[2], "target_z")?,
-            ],
-            vfov_deg: get(vfov, "vfov_deg")?,
-        });
-    }
+        })
+        .collect();
     if rows.is_empty() {
         return Err(input_error(path, "no frames in it: nothing to report"));
     }
-    rows.sort_by_key(|r| r.frame);
     Ok(rows)
 }
 

@@ -15,28 +15,10 @@ use crate::error::{Result, input_error};
 /// Percent traced per frame from a render folder's `stats.csv`.
 pub fn percent_per_frame(dir: &Path) -> Result<BTreeMap<usize, f64>> {
     let path = dir.join("stats.csv");
-    let text = std::fs::read_to_string(&path)
-        .map_err(|e| input_error(&path, format!("cannot read: {e}")))?;
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
-    let col = |name: &str| {
-        header
-            .iter()
-            .position(|h| *h == name)
-            .ok_or_else(|| input_error(&path, format!("no column {name:?} in the header")))
-    };
-    let (fc, pc) = (col("frame")?, col("percent_traced")?);
-    let mut out = BTreeMap::new();
-    for (n, line) in lines.enumerate() {
-        if line.trim().is_empty() {
-            continue;
-        }
-        let f: Vec<&str> = line.split(',').collect();
-        let bad = || input_error(&path, format!("line {}: malformed row", n + 2));
-        let frame = f.get(fc).and_then(|s| s.parse().ok()).ok_or_else(bad)?;
-        let pct: f64 = f.get(pc).and_then(|s| s.parse().ok()).ok_or_else(bad)?;
-        out.insert(frame, pct);
-    }
+    let out: BTreeMap<usize, f64> = crate::output::stats::read_stats(&path)?
+        .iter()
+        .map(|r| (r.frame, r.counts.percent_traced()))
+        .collect();
     if out.is_empty() {
         return Err(input_error(&path, "no frames in it"));
     }

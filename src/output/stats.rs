@@ -6,7 +6,7 @@ use std::path::Path;
 
 use glam::Vec3;
 
-use crate::error::Result;
+use crate::error::{Result, input_error};
 use crate::film::{Counts, ImageError};
 
 /// One frame's row of `stats.csv`.
@@ -144,5 +144,208 @@ impl StatsFile {
             text.push('\n');
         }
         super::write_atomic(path, text.as_bytes())
+    }
+}
+
+/// The columns a `stats.csv` written before the ray split existed lacks; read as 0.
+const SPLIT_COLUMNS: [&str; 4] = [
+    "rays_every_light",
+    "rays_unsure",
+    "rays_flooded",
+    "flood_fixes",
+];
+
+/// Reads `stats.csv`: one [`FrameStats`] per row, sorted by frame, columns found by their
+/// header names (the derived ones — percent traced, error percent, spatial and unsure rays —
+/// are recomputed from the counts). Every reader of `stats.csv` reads it through this.
+/// A missing or malformed file is an input error naming it (and the line).
+pub fn read_stats(path: &Path) -> Result<Vec<FrameStats>> {
+    let text = match std::fs::read_to_string(path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return Err(input_error(
+                path,
+                "not found: not a render output folder (envshadow render writes stats.csv)",
+            ));
+        }
+        Err(e) => return Err(input_error(path, format!("cannot read: {e}"))),
+    };
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
+    for name in HEADER.split(',') {
+        if !header.contains(&name) && !SPLIT_COLUMNS.contains(&name) {
+            return Err(input_error(
+                path,
+                format!("no column {name:?} in the header"),
+            ));
+        }
+    }
+    let mut rows = Vec::new();
+    for (n, line) in lines.enumerate() {
+        if line.trim().is_empty() {
+            continue;
+        }
+        let line_no = n + 2;
+        let fields: Vec<&str> = line.split(',').collect();
+        if fields.len() != header.len() {
+            return Err(input_error(
+                path,
+                format!(
+                    "line {line_no}: {} fields, expected {}",
+                    fields.len(),
+                    header.len()
+                ),
+            ));
+        }
+        let cell = |name: &str| -> Option<&str> {
+            let k = header.iter().position(|h| *h == name)?;
+            Some(fields[k].trim()).filter(|s| !s.is_empty())
+        };
+        let bad = |name: &str, s: &str| {
+            input_error(
+                path,
+                format!("line {line_no}: {name} {s:?} is not a number"),
+            )
+        };
+        let need = |name: &str| -> Result<f64> {
+            let s = cell(name).unwrap_or("");
+            s.parse().map_err(|_| bad(name, s))
+        };
+        let count = |name: &str| -> Result<u64> {
+            match cell(name) {
+                None if SPLIT_COLUMNS.contains(&name) || !header.contains(&name) => Ok(0),
+                s => {
+                    let s = s.unwrap_or("");
+                    s.parse().map_err(|_| bad(name, s))
+                }
+            }
+        };
+        let optional = |name: &str| -> Result<Option<f64>> {
+            match cell(name) {
+                None => Ok(None),
+                Some(s) => s.parse().map(Some).map_err(|_| bad(name, s)),
+            }
+        };
+        let v3 = |x: &str, y: &str, z: &str| -> Result<Vec3> {
+            Ok(Vec3::new(need(x)? as f32, need(y)? as f32, need(z)? as f32))
+        };
+        let validated = cell("wrong_visible").is_some();
+        let counts = Counts {
+            queries: count("queries")?,
+            rays: count("rays_traced")?,
+            halo_pixels: count("halo_pixels")?,
+            halo_rays: count("halo_rays")?,
+            wrong_visible: if validated {
+                count("wrong_visible")?
+            } else {
+                0
+            },
+            wrong_blocked: if validated {
+                count("wrong_blocked")?
+            } else {
+                0
+            },
+            wrong_pixels: if validated { count("wrong_pixels")? } else { 0 },
+            wrong_traced: 0,
+            temporal_pixels: count("temporal_pixels")?,
+            temporal_rays: count("temporal_rays")?,
+            rays_every_light: count("rays_every_light")?,
+            rays_flooded: count("rays_flooded")?,
+            flood_fixes: count("flood_fixes")?,
+        };
+        let image_error = match (
+            optional("rmse")?,
+            optional("rel_rmse")?,
+            optional("psnr_db")?,
+        ) {
+            (Some(rmse), Some(rel_rmse), Some(psnr_db)) => Some(ImageError {
+                rmse,
+                rel_rmse,
+                psnr_db,
+            }),
+            _ => None,
+        };
+        rows.push(FrameStats {
+            frame: count("frame")? as usize,
+            method: cell("method").unwrap_or_default().to_string(),
+            lights: count("lights")? as usize,
+            width: count("width")? as u32,
+            height: count("height")? as u32,
+            counts,
+            image_error,
+            seconds: need("seconds")?,
+            camera_position: v3("camera_x", "camera_y", "camera_z")?,
+            camera_target: v3("target_x", "target_y", "target_z")?,
+            camera_up: v3("up_x", "up_y", "up_z")?,
+            vfov_deg: need("vfov_deg")? as f32,
+        });
+    }
+    rows.sort_by_key(|r| r.frame);
+    Ok(rows)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn stats(frame: usize, validated: bool) -> FrameStats {
+        FrameStats {
+            frame,
+            method: "grid-nowarp-uncertainty".into(),
+            lights: 200,
+            width: 64,
+            height: 48,
+            counts: Counts {
+                queries: 1000,
+                rays: 120,
+                halo_pixels: 7,
+                halo_rays: 30,
+                wrong_visible: u64::from(validated) * 3,
+                wrong_blocked: u64::from(validated) * 2,
+                wrong_pixels: u64::from(validated),
+                wrong_traced: 0,
+                temporal_pixels: 11,
+                temporal_rays: 40,
+                rays_every_light: 50,
+                rays_flooded: 20,
+                flood_fixes: 4,
+            },
+            image_error: validated.then_some(ImageError {
+                rmse: 0.5,
+                rel_rmse: 0.25,
+                psnr_db: 40.0,
+            }),
+            seconds: 1.5,
+            camera_position: Vec3::new(1.0, 2.5, -3.0),
+            camera_target: Vec3::new(0.0, 0.075, 0.0),
+            camera_up: Vec3::Y,
+            vfov_deg: 40.0,
+        }
+    }
+
+    #[test]
+    fn rows_written_are_read_back() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("stats.csv");
+        let mut file = StatsFile::open(&path);
+        let (a, b) = (stats(3, true), stats(1, false));
+        file.set(&a);
+        file.set(&b);
+        file.write(&path).unwrap();
+        assert_eq!(read_stats(&path).unwrap(), vec![b, a]);
+    }
+
+    #[test]
+    fn a_malformed_row_names_the_file_and_line() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("stats.csv");
+        let mut text = format!("{HEADER}\n{}\n", stats(0, false).csv_row());
+        text.push_str(&stats(1, false).csv_row().replacen("1,", "x,", 1));
+        std::fs::write(&path, text).unwrap();
+        let err = read_stats(&path).unwrap_err().to_string();
+        assert!(err.contains("stats.csv: line 3: frame \"x\""), "{err}");
+        std::fs::write(&path, "frame,method\n").unwrap();
+        let err = read_stats(&path).unwrap_err().to_string();
+        assert!(err.contains("no column \"lights\""), "{err}");
     }
 }
