@@ -35,13 +35,6 @@ pub struct BenchArgs {
     /// Which frame of the animation.
     #[arg(long, default_value_t = 0)]
     pub frame: usize,
-    /// Light counts and samplers, comma-separated (default: 50,100,200,400 lights).
-    #[command(flatten)]
-    pub lights: LightsSweep,
-    /// Render settings, each a comma-separated list: every combination is measured (default:
-    /// methods none,brute and threads 1,2; the rest as the spec says).
-    #[command(flatten)]
-    pub render: RenderSweep,
     /// Renders per configuration; the median time is reported.
     #[arg(long, default_value_t = 3)]
     pub repeat: usize,
@@ -57,6 +50,15 @@ pub struct BenchArgs {
     /// triangles at each --threads count and print rays/s (the same work as benches/embree).
     #[arg(long, value_name = "FILE")]
     pub replay: Option<PathBuf>,
+    /// Light counts and samplers.
+    #[command(
+        flatten,
+        next_help_heading = "Swept settings: comma-separated lists, every combination measured (bench's defaults: --lights 50,100,200,400 --method none,brute --threads 1,2; the rest the spec's)"
+    )]
+    pub lights: LightsSweep,
+    /// Render settings.
+    #[command(flatten)]
+    pub render: RenderSweep,
 }
 
 /// The light counts a measuring command renders when none are given.

@@ -308,7 +308,7 @@ settings! {
         width: u32 = 640, flag "width" [value_name = "W"], check any;
         /// Image height in pixels (default 480).
         height: u32 = 480, flag "height" [value_name = "H"], check any;
-        /// Shadow method (default grid-nowarp-uncertainty; `envshadow methods` lists them).
+        /// Shadow method (default grid-nowarp-uncertainty; `envshadow methods` lists them all).
         method: Method = Method::DEFAULT,
             flag "method" [value_name = "METHOD", alias = "methods"], check any;
         /// Also trace every shadow query and record the method's mistakes: stats.csv gains

@@ -21,16 +21,18 @@ pub struct TableArgs {
     /// Which frame of the animation.
     #[arg(long, default_value_t = 0)]
     pub frame: usize,
-    /// Light counts and samplers, comma-separated (default: 50,100,200,400 lights).
-    #[command(flatten)]
-    pub lights: LightsSweep,
-    /// Render settings, each a comma-separated list: every combination is a row (default:
-    /// the paper's methods; one thread count at most).
-    #[command(flatten)]
-    pub render: RenderSweep,
     /// Also write the rows as CSV here.
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
+    /// Light counts and samplers.
+    #[command(
+        flatten,
+        next_help_heading = "Swept settings: comma-separated lists, every combination a row (table's defaults: --lights 50,100,200,400 and the paper's methods; one --threads at most; every method but brute validated)"
+    )]
+    pub lights: LightsSweep,
+    /// Render settings.
+    #[command(flatten)]
+    pub render: RenderSweep,
 }
 
 /// One validated frame of one method at one light count.

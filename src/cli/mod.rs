@@ -66,6 +66,9 @@ pub enum Command {
     /// Stitch the jobs under DIR/jobs/ into DIR's frames, stats.csv and lights.json, exactly
     /// as a one-process render writes them; names every missing or corrupt job (exit 2).
     Assemble(AssembleArgs),
+    /// List the shadow methods: name, evaluation order, voting and flood rule, the settings
+    /// each reads, and what it does.
+    Methods,
     /// Print the version; with --build also the build identity (a hash of this executable),
     /// which every farm host must share.
     Version(VersionArgs),
@@ -208,6 +211,10 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Table(args) => table_command(args),
         Command::Plan(args) => plan(args),
         Command::Assemble(args) => assemble(args),
+        Command::Methods => {
+            methods();
+            Ok(())
+        }
         Command::Version(args) => {
             if args.build {
                 println!(
@@ -262,6 +269,35 @@ pub fn run(cli: Cli) -> Result<()> {
                 start.elapsed().as_secs_f64()
             );
             Ok(())
+        }
+    }
+}
+
+/// `envshadow methods`.
+fn methods() {
+    let keys = ["h0", "min_voters", "flood_to", "scan_block", "temporal"];
+    for m in envshadow::predict::Method::all() {
+        let (order, vote, flood) = m.parts();
+        let parts = [order, vote, flood]
+            .iter()
+            .filter(|p| !p.is_empty())
+            .copied()
+            .collect::<Vec<_>>()
+            .join(" + ");
+        let reads: Vec<String> = keys
+            .iter()
+            .filter(|k| m.reads(k))
+            .map(|k| format!("--{}", k.replace('_', "-")))
+            .collect();
+        let default = if m == envshadow::predict::Method::DEFAULT {
+            " (default)"
+        } else {
+            ""
+        };
+        println!("{}{default}: {parts}", m.name());
+        println!("    {}", m.about());
+        if !reads.is_empty() {
+            println!("    settings: {}", reads.join(" "));
         }
     }
 }
