@@ -25,17 +25,19 @@
 //! [render]
 //! width = 320
 //! height = 240
-//! method = "grid-nowarp-uncertainty"   # or brute, none, scan-warp-boundary, grid-warp-boundary,
-//!                               # grid-nowarp-boundary, grid-warp-uncertainty
+//! method = "grid-nowarp-uncertainty"   # `envshadow methods` lists them all
 //! validate = false              # also trace every query; record mistakes in stats.csv
-//! h0 = 16                       # coarse grid spacing (power of two)
-//! min_voters = 3                # fewer voters with the light above their horizon → trace it
-//! flood_to = "contrary-finest"  # or "all", or "contrary": flood only to lights predicted
-//!                               # opposite (contrary-finest: so at the finest grid level only)
-//! scan_block = 64               # scanline order restarts every scan_block pixels
-//! temporal = false              # the previous frame votes too (grid uncertainty methods)
-//! keyframe = 16                 # with temporal: frames 0, 16, 32, … restart the chain
-//!                               # (default 16 for orbit, 4 for spin: docs/temporal.md)
+//! # Settings only some methods read (a setting the method does not read is refused):
+//! h0 = 16                       # grid methods: coarse grid spacing (power of two)
+//! min_voters = 3                # uncertainty methods: fewer voters with the light above
+//!                               # their horizon → trace it
+//! flood_to = "contrary-finest"  # uncertainty methods: or "all", or "contrary": flood only to
+//!                               # lights predicted opposite (contrary-finest: so at the
+//!                               # finest grid level only)
+//! # scan_block = 64             # scanline methods: the scan restarts every scan_block pixels
+//! temporal = false              # uncertainty methods: the previous frame votes too
+//! # keyframe = 16               # with temporal: frames 0, 16, 32, … restart the chain
+//!                               # (0, the default: 16 for orbit, 4 for spin; docs/temporal.md)
 //! exposure = 1.0                # PNG preview exposure
 //! tile = 64
 //! threads = 0                   # 0: all cores
@@ -729,6 +731,23 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(err.contains("widht") && err.contains("line 4"), "{err}");
+    }
+
+    #[test]
+    fn the_spec_documented_above_parses() {
+        let doc: String = include_str!("anim.rs")
+            .lines()
+            .filter_map(|l| l.strip_prefix("//!"))
+            .map(|l| l.strip_prefix(' ').unwrap_or(l))
+            .collect::<Vec<_>>()
+            .join("\n");
+        let toml = doc
+            .split("```toml\n")
+            .nth(1)
+            .and_then(|t| t.split("```").next())
+            .expect("the module doc has a toml block");
+        let anim = Animation::parse(toml, Path::new("doc.toml"), &AnimFlags::default()).unwrap();
+        assert_eq!((anim.render.width, anim.lights.count), (320, 100));
     }
 
     #[test]
