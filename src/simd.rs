@@ -4,7 +4,7 @@
 //! AVX2 copy runs where the CPU has it.
 
 /// Whether the AVX2 kernels run on this CPU. `ENVSHADOW_NO_AVX2` (any value) forces the SSE2
-/// kernels, so one host can check that both write the same bits (tests/simd.rs).
+/// kernels, so one host can check that both write the same bits (tests/it/simd.rs).
 #[cfg(target_arch = "x86_64")]
 pub fn has_avx2() -> bool {
     use std::sync::OnceLock;

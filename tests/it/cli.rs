@@ -1,6 +1,6 @@
 //! The binary end to end: a small render, its files, determinism, resume, and bad inputs.
 
-mod common;
+use crate::common;
 
 use std::fs;
 use std::path::{Path, PathBuf};

@@ -1,7 +1,7 @@
 //! Scene loading: the shared bunny assets, glTF files generated here (hierarchies, textures,
 //! cameras, missing normals, non-triangle primitives, bad inputs), and the built-in shapes.
 
-mod common;
+use crate::common;
 
 use envshadow::error::{InputError, exit_code};
 use envshadow::scene::Scene;

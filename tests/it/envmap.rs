@@ -1,6 +1,6 @@
 //! Environment maps: the pinned lat-long convention, rotation, solid angles, integrals, errors.
 
-mod common;
+use crate::common;
 
 use envshadow::envmap::{EnvMap, dir_to_uv, uv_to_dir};
 use envshadow::error::InputError;

@@ -5,7 +5,7 @@
 //! fails. Skipped with a printed reason where Slurm is not installed; under CI it must run
 //! (.ci/run installs slurm-wlm and munge).
 
-mod common;
+use crate::common;
 
 use std::fs;
 use std::path::{Path, PathBuf};

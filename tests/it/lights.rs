@@ -1,6 +1,6 @@
 //! Lights: energy conservation, exact O(1) cell lookup, adjacency, determinism, JSON, errors.
 
-mod common;
+use crate::common;
 
 use envshadow::envmap::EnvMap;
 use envshadow::error::InputError;
@@ -428,7 +428,7 @@ fn cells_png_is_written() {
 
 /// Measures the SIS layer-threshold choice: RMS relative error of unshadowed diffuse
 /// irradiance from the lights against the map's exact irradiance. Run with
-/// `cargo test --release --test lights -- --ignored --nocapture sis_layer_thresholds`.
+/// `cargo test --release --test it -- --ignored --nocapture sis_layer_thresholds`.
 #[test]
 #[ignore]
 fn sis_layer_thresholds() {

@@ -1,6 +1,6 @@
 //! The prediction methods against brute force, and their independence from tiling and threads.
 
-mod common;
+use crate::common;
 
 use envshadow::anim::{AnimFlags, Animation};
 use envshadow::coordinator::{Inputs, Silent, render_frame, thread_pool};

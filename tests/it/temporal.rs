@@ -2,7 +2,7 @@
 //! threads and how the animation is split into jobs, and falling back to the spatial method
 //! where there is no previous frame.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 
@@ -61,7 +61,7 @@ fn chain(
 }
 
 /// Stated bound on wrong (pixel, light) pairs with temporal prediction at 160×120, in % of
-/// queries: as for the spatial method at this size (tests/predict.rs), with room for the
+/// queries: as for the spatial method at this size (predict.rs), with room for the
 /// errors a chain carries forward.
 const ERROR_BOUND: f64 = 0.25;
 

@@ -2,7 +2,7 @@
 //! `envshadow report DIR` rebuilds it; every picture the page references exists and decodes,
 //! and the page loads in headless Chromium with no console errors.
 
-mod common;
+use crate::common;
 
 use std::fs;
 use std::path::{Path, PathBuf};

@@ -1,6 +1,6 @@
 //! Rendering against analytic answers and invariants.
 
-mod common;
+use crate::common;
 
 use envshadow::coordinator::{Inputs, Silent, render_frame};
 use envshadow::envmap::EnvMap;

@@ -8,9 +8,9 @@ use std::path::{Path, PathBuf};
 use envshadow::error::InputError;
 use envshadow::scene::Scene;
 
-#[path = "../fuzz/src/exercise.rs"]
+#[path = "../../fuzz/src/exercise.rs"]
 mod exercise;
-#[path = "../fuzz/src/files.rs"]
+#[path = "../../fuzz/src/files.rs"]
 mod files;
 
 fn inputs(target: &str) -> Vec<PathBuf> {

@@ -1,7 +1,7 @@
 //! The measuring tools of issue 8: shadow-ray recording and dumps (what `envshadow bench`
 //! replays and benches/embree traces) and `envshadow export` (what compare-mitsuba renders).
 
-mod common;
+use crate::common;
 
 use envshadow::accel::{self, Accel};
 use envshadow::anim::{AnimFlags, Animation};

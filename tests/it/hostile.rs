@@ -1,7 +1,7 @@
 //! Hostile and broken inputs through the binary: every kind gives exit code 2, one line on
 //! stderr naming the file and the problem, no panic, and no output file.
 
-mod common;
+use crate::common;
 
 use std::ffi::OsString;
 use std::fs;

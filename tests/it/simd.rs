@@ -1,7 +1,7 @@
 //! Run-time SIMD dispatch must not change a bit: farm hosts with and without AVX2 render the
 //! same frames. `ENVSHADOW_NO_AVX2` forces the SSE2 kernels, so one host can compare both.
 
-mod common;
+use crate::common;
 
 use std::fs;
 use std::path::Path;

@@ -2,7 +2,7 @@
 //! leaves only complete frames (EXR and PNG both, no temporaries), and `--resume` finishes the
 //! animation with files byte-identical to an uninterrupted render.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 use std::fs;
