@@ -1,7 +1,8 @@
-//! Helpers shared by the integration tests.
-#![allow(dead_code)]
+//! Helpers shared by the integration tests: where the assets are, small scenes, the binary,
+//! tool-gated tests ([`require_tools`]) and tables of cases ([`Failures`]).
 
-use std::path::PathBuf;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
 
 /// The folder with the shared test assets (bunny glTF, HDR maps): `$ENVSHADOW_ASSETS`, else
 /// `assets/` in the repo (filled by scripts/fetch-assets.sh), else `../shared/assets`.
@@ -115,4 +116,125 @@ pub fn animation(body: &str) -> Animation {
 /// The envshadow binary built for these tests.
 pub fn bin() -> std::process::Command {
     std::process::Command::new(env!("CARGO_BIN_EXE_envshadow"))
+}
+
+/// Whether this is CI's run: `.ci/run` runs with `CI=true` and installs every tool the tests
+/// need, so there a missing tool is a failure, never a skip. The one spelling of that check.
+pub fn on_ci() -> bool {
+    std::env::var("CI").as_deref() == Ok("true")
+}
+
+/// One line on the process's real stderr. libtest captures only what the print macros write,
+/// so this line is seen even when the test passes: a skipped check must not look like a pass.
+pub fn notice(line: &str) {
+    let _ = writeln!(std::io::stderr(), "{line}");
+}
+
+/// The name of the test whose body this is in, as libtest prints it (`farm::farm_over_ssh_…`),
+/// for the notices of [`require_tools`] (a name typed by hand drifts when a test is renamed).
+macro_rules! this_test {
+    () => {{
+        fn here() {}
+        fn name_of<T>(_: T) -> &'static str {
+            std::any::type_name::<T>()
+        }
+        let path = name_of(here);
+        let path = path.strip_suffix("::here").unwrap_or(path);
+        // Without the crate's own name (`it::`).
+        path.split_once("::").map_or(path, |(_, rest)| rest)
+    }};
+}
+pub(crate) use this_test;
+
+/// Whether every tool is installed: a name is looked up on `PATH`, an absolute path taken as
+/// it is. Missing on CI: panics naming them. Missing elsewhere: says `SKIPPED test: …` with
+/// [`notice`] and returns false, and the caller returns.
+pub fn require_tools(test: &str, tools: &[&str], install: &str) -> bool {
+    let missing: Vec<&str> = tools.iter().copied().filter(|t| !installed(t)).collect();
+    if missing.is_empty() {
+        return true;
+    }
+    let missing = missing.join(", ");
+    assert!(
+        !on_ci(),
+        "{test}: {missing} not installed, but CI must run this test: .ci/run installs them ({install})"
+    );
+    notice(&format!(
+        "SKIPPED {test}: {missing} not installed (install: {install})"
+    ));
+    false
+}
+
+fn installed(tool: &str) -> bool {
+    use std::os::unix::fs::PermissionsExt;
+    let executable = |p: &Path| {
+        std::fs::metadata(p).is_ok_and(|m| m.is_file() && m.permissions().mode() & 0o111 != 0)
+    };
+    if Path::new(tool).is_absolute() {
+        return executable(Path::new(tool));
+    }
+    std::env::var_os("PATH")
+        .is_some_and(|path| std::env::split_paths(&path).any(|dir| executable(&dir.join(tool))))
+}
+
+/// The failures of a table of cases, collected so that one failing case does not hide the
+/// others: [`Failures::assert_none`] panics once at the end, listing every failing case by its
+/// label. It also fails when nothing was checked (an empty table would pass silently), and
+/// dropping it unasserted panics, so a forgotten `assert_none` cannot pass either.
+#[derive(Default)]
+pub struct Failures {
+    failed: Vec<String>,
+    checks: usize,
+    asserted: bool,
+}
+
+impl Failures {
+    pub fn new() -> Failures {
+        Failures::default()
+    }
+
+    /// Records `what()` unless `ok`; returns `ok` (a case can skip what depends on it).
+    pub fn check(&mut self, ok: bool, what: impl FnOnce() -> String) -> bool {
+        self.checks += 1;
+        if !ok {
+            self.failed.push(what());
+        }
+        ok
+    }
+
+    /// Runs one case written with plain assertions: its panic, if any, is recorded under
+    /// `label` and the table goes on with the next case.
+    pub fn case(&mut self, label: &str, case: impl FnOnce()) {
+        let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(case));
+        self.check(result.is_ok(), || {
+            let payload = result.err().unwrap();
+            let message = payload
+                .downcast_ref::<String>()
+                .map(String::as_str)
+                .or_else(|| payload.downcast_ref::<&str>().copied())
+                .unwrap_or("(a panic without a message)");
+            format!("{label}: {message}")
+        });
+    }
+
+    /// Panics listing every failure, or if nothing was checked.
+    pub fn assert_none(mut self) {
+        self.asserted = true;
+        assert!(self.checks > 0, "no case was checked");
+        assert!(
+            self.failed.is_empty(),
+            "{} of {} checks failed:\n  {}",
+            self.failed.len(),
+            self.checks,
+            self.failed.join("\n  ")
+        );
+    }
+}
+
+impl Drop for Failures {
+    fn drop(&mut self) {
+        if !self.asserted && !std::thread::panicking() {
+            panic!("Failures dropped without assert_none: its failures were never reported");
+        }
+    }
 }

@@ -8,6 +8,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
+use crate::common;
+
 const BIN: &str = env!("CARGO_BIN_EXE_envshadow");
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 const SPEC: &str = "anims/shapes-turntable.toml";
@@ -238,22 +240,16 @@ impl Drop for Hosts {
     }
 }
 
-/// Why the farm test cannot run here, if it cannot.
-fn missing_tools() -> Option<String> {
-    let have = |c: &str| {
-        Command::new("sh")
-            .args(["-c", &format!("command -v {c}")])
-            .stdout(Stdio::null())
-            .status()
-            .is_ok_and(|s| s.success())
-    };
-    let missing: Vec<&str> = ["parallel", "ssh", "ssh-keygen", "rsync", "pgrep"]
-        .into_iter()
-        .filter(|c| !have(c))
-        .chain((!Path::new("/usr/sbin/sshd").exists()).then_some("/usr/sbin/sshd"))
-        .collect();
-    (!missing.is_empty()).then(|| missing.join(", "))
-}
+/// What the ssh farm test runs: GNU parallel and rsync (scripts/farm.sh), ssh, ssh-keygen,
+/// pgrep and sshd (tests/farm-hosts.sh, which starts /usr/sbin/sshd by path).
+const FARM_TOOLS: &[&str] = &[
+    "parallel",
+    "ssh",
+    "ssh-keygen",
+    "rsync",
+    "pgrep",
+    "/usr/sbin/sshd",
+];
 
 /// `scripts/farm.sh SPEC --hosts … --out OUT EXTRA -- FLAGS`, not waited for.
 fn farm(hosts: &Hosts, out: &Path, extra: &[&str]) -> Child {
@@ -319,14 +315,11 @@ fn finish(child: Child) -> (Option<i32>, String) {
 
 #[test]
 fn farm_over_ssh_renders_the_same_frames_survives_a_crash_and_resumes() {
-    if let Some(missing) = missing_tools() {
-        assert!(
-            std::env::var("CI").as_deref() != Ok("true"),
-            "CI must run the farm test, but {missing} is not installed (.ci/run installs openssh-server parallel rsync)"
-        );
-        eprintln!(
-            "skipping the ssh farm test: {missing} not installed (apt-get install openssh-server parallel rsync)"
-        );
+    if !common::require_tools(
+        common::this_test!(),
+        FARM_TOOLS,
+        "apt-get install openssh-server openssh-client parallel rsync procps",
+    ) {
         return;
     }
     let tmp = tempfile::tempdir().unwrap();
