@@ -1,6 +1,6 @@
 //! The binary end to end: a small render, its files, determinism, resume, and bad inputs.
 
-use crate::common;
+use crate::common::{self, Failures};
 
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -170,9 +170,16 @@ fn bad_inputs_fail_with_one_clear_line_and_no_output() {
         v.extend(extra.iter().map(|s| os(s)));
         v
     };
-    let check = |args: Vec<std::ffi::OsString>, needles: &[&str]| {
+    // A table of cases: every bad input not refused properly is listed, not only the first.
+    let mut failures = Failures::new();
+    let mut check = |args: Vec<std::ffi::OsString>, needles: &[&str]| {
         let refs: Vec<&std::ffi::OsStr> = args.iter().map(|a| a.as_os_str()).collect();
-        expect_bad_input(&refs, needles, &out);
+        let label = args
+            .iter()
+            .map(|a| a.to_string_lossy())
+            .collect::<Vec<_>>()
+            .join(" ");
+        failures.case(&label, || expect_bad_input(&refs, needles, &out));
     };
 
     // The spec itself.
@@ -296,8 +303,13 @@ fn bad_inputs_fail_with_one_clear_line_and_no_output() {
         .arg(&lights_out)
         .output()
         .unwrap();
-    assert_eq!(o.status.code(), Some(2));
-    assert!(!lights_out.exists());
+    failures.check_eq(o.status.code(), Some(2), || {
+        "lights on garbage.exr: exit code".to_string()
+    });
+    failures.check(!lights_out.exists(), || {
+        "lights on garbage.exr wrote l.json".to_string()
+    });
+    failures.assert_none();
 }
 
 fn write_float_exr(path: &Path, w: usize, h: usize, f: impl Fn(usize, usize) -> f32 + Sync) {

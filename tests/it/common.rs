@@ -202,6 +202,17 @@ impl Failures {
         ok
     }
 
+    /// Records `what()` with both values unless `got == want`.
+    pub fn check_eq<T: PartialEq + std::fmt::Debug>(
+        &mut self,
+        got: T,
+        want: T,
+        what: impl FnOnce() -> String,
+    ) -> bool {
+        let ok = got == want;
+        self.check(ok, || format!("{}: got {got:?}, expected {want:?}", what()))
+    }
+
     /// Runs one case written with plain assertions: its panic, if any, is recorded under
     /// `label` and the table goes on with the next case.
     pub fn case(&mut self, label: &str, case: impl FnOnce()) {

@@ -1,6 +1,6 @@
 //! Lights: energy conservation, exact O(1) cell lookup, adjacency, determinism, JSON, errors.
 
-use crate::common;
+use crate::common::{self, Failures};
 
 use envshadow::envmap::EnvMap;
 use envshadow::error::InputError;
@@ -75,25 +75,30 @@ fn energy_is_conserved_for_every_map_and_sampler() {
         ("KernerEnvLatLong.exr", &[400]),
         ("sky", &[50, 200]),
     ];
+    let mut failures = Failures::new();
     for &(name, ns) in cases {
         let env = map(name);
         for &n in ns {
             for s in [Sampler::Sis, Sampler::MedianCut] {
-                let set = LightSet::build(env, n, s).unwrap();
-                assert_eq!(set.len(), n, "{name} {s:?}");
-                check_energy(env, &set, &format!("{name} {s:?} n={n}"));
-                // No two lights coincide.
-                let mut d: Vec<[u32; 3]> = set
-                    .lights
-                    .iter()
-                    .map(|l| l.dir.to_array().map(f32::to_bits))
-                    .collect();
-                d.sort_unstable();
-                d.dedup();
-                assert_eq!(d.len(), n, "{name} {s:?} n={n}: duplicate directions");
+                let what = format!("{name} {s:?} n={n}");
+                failures.case(&what, || {
+                    let set = LightSet::build(env, n, s).unwrap();
+                    assert_eq!(set.len(), n, "light count");
+                    check_energy(env, &set, &what);
+                    // No two lights coincide.
+                    let mut d: Vec<[u32; 3]> = set
+                        .lights
+                        .iter()
+                        .map(|l| l.dir.to_array().map(f32::to_bits))
+                        .collect();
+                    d.sort_unstable();
+                    d.dedup();
+                    assert_eq!(d.len(), n, "duplicate directions");
+                });
             }
         }
     }
+    failures.assert_none();
 }
 
 #[test]
@@ -121,6 +126,7 @@ fn rotated_map_conserves_energy_and_rotates_lights() {
 #[test]
 fn cell_of_matches_brute_force() {
     let mut rng = Rng(0x5EED);
+    let mut failures = Failures::new();
     for (name, n, s) in [
         ("rooitou_park_1k.hdr", 50, Sampler::Sis),
         ("rooitou_park_1k.hdr", 400, Sampler::MedianCut),
@@ -129,51 +135,54 @@ fn cell_of_matches_brute_force() {
         ("grace.hdr", 200, Sampler::MedianCut),
         ("sky", 50, Sampler::MedianCut),
     ] {
-        let set = LightSet::build(map(name), n, s).unwrap();
-        let mut wrong = 0;
-        for _ in 0..120_000 {
-            let d = rng.dir();
-            if set.cell_of(d) != set.cell_of_brute_force(d) {
-                wrong += 1;
-            }
-        }
-        // Directions right next to each light (inside tiny cells of clustered lights).
-        for l in &set.lights {
-            for _ in 0..50 {
-                let d = (l.dir + 0.002 * rng.dir()).normalize();
+        failures.case(&format!("{name} {s:?} n={n}"), || {
+            let set = LightSet::build(map(name), n, s).unwrap();
+            let mut wrong = 0;
+            for _ in 0..120_000 {
+                let d = rng.dir();
                 if set.cell_of(d) != set.cell_of_brute_force(d) {
                     wrong += 1;
                 }
             }
-        }
-        assert_eq!(wrong, 0, "{name} {s:?} n={n}");
-        // The shortcut for directions expected near light j: the same cell, whether the
-        // direction is in j's inner cap, near its border, or in a neighbour's cell.
-        for (j, l) in set.lights.iter().enumerate() {
-            for scale in [0.0, 0.002, 0.01, 0.03, 0.1, 0.3] {
-                for _ in 0..20 {
-                    let d = (l.dir + scale * rng.dir()).normalize();
-                    assert_eq!(
-                        set.cell_of_near(d, j),
-                        set.cell_of_brute_force(d),
-                        "{name} {s:?} n={n}: light {j}, {d}"
-                    );
+            // Directions right next to each light (inside tiny cells of clustered lights).
+            for l in &set.lights {
+                for _ in 0..50 {
+                    let d = (l.dir + 0.002 * rng.dir()).normalize();
+                    if set.cell_of(d) != set.cell_of_brute_force(d) {
+                        wrong += 1;
+                    }
                 }
             }
-        }
-        // Each light is in its own cell, unless another light is so close that the f32 dot
-        // products tie (median cut's several lights inside one sun texel).
-        for (j, l) in set.lights.iter().enumerate() {
-            let crowded = set
-                .lights
-                .iter()
-                .enumerate()
-                .any(|(k, o)| k != j && o.dir.dot(l.dir) > 1.0 - 1e-6);
-            if !crowded {
-                assert_eq!(set.cell_of(l.dir), j as u32, "{name} light {j}");
+            assert_eq!(wrong, 0, "{name} {s:?} n={n}");
+            // The shortcut for directions expected near light j: the same cell, whether the
+            // direction is in j's inner cap, near its border, or in a neighbour's cell.
+            for (j, l) in set.lights.iter().enumerate() {
+                for scale in [0.0, 0.002, 0.01, 0.03, 0.1, 0.3] {
+                    for _ in 0..20 {
+                        let d = (l.dir + scale * rng.dir()).normalize();
+                        assert_eq!(
+                            set.cell_of_near(d, j),
+                            set.cell_of_brute_force(d),
+                            "{name} {s:?} n={n}: light {j}, {d}"
+                        );
+                    }
+                }
             }
-        }
+            // Each light is in its own cell, unless another light is so close that the f32 dot
+            // products tie (median cut's several lights inside one sun texel).
+            for (j, l) in set.lights.iter().enumerate() {
+                let crowded = set
+                    .lights
+                    .iter()
+                    .enumerate()
+                    .any(|(k, o)| k != j && o.dir.dot(l.dir) > 1.0 - 1e-6);
+                if !crowded {
+                    assert_eq!(set.cell_of(l.dir), j as u32, "{name} light {j}");
+                }
+            }
+        });
     }
+    failures.assert_none();
 }
 
 #[test]
@@ -211,42 +220,45 @@ fn cell_of_on_the_cube_edges_and_ties() {
 
 #[test]
 fn adjacency_is_symmetric_and_plausible() {
+    let mut failures = Failures::new();
     for (name, s) in [
         ("studio_small_03_1k.hdr", Sampler::Sis),
         ("rooitou_park_1k.hdr", Sampler::MedianCut),
         ("grace.hdr", Sampler::Sis),
     ] {
-        let set = LightSet::build(map(name), 200, s).unwrap();
-        let mut total = 0;
-        for j in 0..set.len() {
-            let nb = set.neighbors(j);
-            assert!(!nb.is_empty(), "{name}: light {j} has no neighbour");
-            assert!(
-                nb.windows(2).all(|w| w[0] < w[1]),
-                "{name}: not sorted/deduped"
-            );
-            for &k in nb {
-                assert_ne!(k as usize, j, "{name}: self-loop at {j}");
+        failures.case(&format!("{name} {s:?}"), || {
+            let set = LightSet::build(map(name), 200, s).unwrap();
+            let mut total = 0;
+            for j in 0..set.len() {
+                let nb = set.neighbors(j);
+                assert!(!nb.is_empty(), "{name}: light {j} has no neighbour");
                 assert!(
-                    set.neighbors(k as usize).contains(&(j as u32)),
-                    "{name}: {j}→{k} not symmetric"
+                    nb.windows(2).all(|w| w[0] < w[1]),
+                    "{name}: not sorted/deduped"
                 );
+                for &k in nb {
+                    assert_ne!(k as usize, j, "{name}: self-loop at {j}");
+                    assert!(
+                        set.neighbors(k as usize).contains(&(j as u32)),
+                        "{name}: {j}→{k} not symmetric"
+                    );
+                }
+                // The bitset form lists the same lights.
+                let mut from_bits = Vec::new();
+                for (m, &word) in set.neighbor_bits(j).iter().enumerate() {
+                    (0..64)
+                        .filter(|b| word >> b & 1 == 1)
+                        .for_each(|b| from_bits.push((m * 64 + b) as u32));
+                }
+                assert_eq!(from_bits, nb, "{name}: neighbour bits of {j}");
+                total += nb.len();
             }
-            // The bitset form lists the same lights.
-            let mut from_bits = Vec::new();
-            for (m, &word) in set.neighbor_bits(j).iter().enumerate() {
-                (0..64)
-                    .filter(|b| word >> b & 1 == 1)
-                    .for_each(|b| from_bits.push((m * 64 + b) as u32));
-            }
-            assert_eq!(from_bits, nb, "{name}: neighbour bits of {j}");
-            total += nb.len();
-        }
-        let mean = total as f64 / set.len() as f64;
-        assert!(
-            (4.0..=8.0).contains(&mean),
-            "{name} {s:?}: mean degree {mean}"
-        );
+            let mean = total as f64 / set.len() as f64;
+            assert!(
+                (4.0..=8.0).contains(&mean),
+                "{name} {s:?}: mean degree {mean}"
+            );
+        });
     }
     // Two lights are neighbours; one light has none.
     let two = LightSet::from_lights(vec![
@@ -261,17 +273,22 @@ fn adjacency_is_symmetric_and_plausible() {
             solid_angle: 1.0,
         },
     ]);
-    assert_eq!(two.neighbors(0), &[1]);
-    assert_eq!(two.neighbors(1), &[0]);
-    assert_eq!(two.lights[1].dir, Vec3::Y);
+    failures.case("two lights", || {
+        assert_eq!(two.neighbors(0), &[1]);
+        assert_eq!(two.neighbors(1), &[0]);
+        assert_eq!(two.lights[1].dir, Vec3::Y);
+    });
     let one = LightSet::from_lights(vec![Light {
         dir: Vec3::Z,
         energy: Vec3::ONE,
         solid_angle: 1.0,
     }]);
-    assert!(one.neighbors(0).is_empty());
-    assert_eq!(one.cell_of(-Vec3::Z), 0);
-    assert_eq!(one.cell_of_near(-Vec3::Z, 0), 0);
+    failures.case("one light", || {
+        assert!(one.neighbors(0).is_empty());
+        assert_eq!(one.cell_of(-Vec3::Z), 0);
+        assert_eq!(one.cell_of_near(-Vec3::Z, 0), 0);
+    });
+    failures.assert_none();
 }
 
 #[test]
@@ -319,11 +336,15 @@ fn sis_puts_lights_on_the_sun() {
 #[test]
 fn tiny_and_uniform_maps_work() {
     let env = EnvMap::from_texels(4, 2, vec![Vec3::ONE; 8], "white").unwrap();
+    let mut failures = Failures::new();
     for s in [Sampler::Sis, Sampler::MedianCut] {
         for n in [1, 3, 50] {
-            let set = LightSet::build(&env, n, s).unwrap();
-            assert_eq!(set.len(), n);
-            check_energy(&env, &set, &format!("white {s:?} {n}"));
+            let what = format!("white {s:?} {n}");
+            failures.case(&what, || {
+                let set = LightSet::build(&env, n, s).unwrap();
+                assert_eq!(set.len(), n);
+                check_energy(&env, &set, &what);
+            });
         }
     }
     let black = EnvMap::from_texels(16, 8, vec![Vec3::ZERO; 128], "black").unwrap();
@@ -332,6 +353,7 @@ fn tiny_and_uniform_maps_work() {
     assert_eq!(set.total_energy(), [0.0; 3]);
     let set = LightSet::build(&black, 10, Sampler::MedianCut).unwrap();
     assert_eq!(set.len(), 10);
+    failures.assert_none();
 }
 
 #[test]
