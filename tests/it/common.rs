@@ -213,6 +213,11 @@ impl Failures {
         self.check(ok, || format!("{}: got {got:?}, expected {want:?}", what()))
     }
 
+    /// Whether every check so far passed.
+    pub fn passed(&self) -> bool {
+        self.failed.is_empty()
+    }
+
     /// Runs one case written with plain assertions: its panic, if any, is recorded under
     /// `label` and the table goes on with the next case.
     pub fn case(&mut self, label: &str, case: impl FnOnce()) {
@@ -229,6 +234,7 @@ impl Failures {
     }
 
     /// Panics listing every failure, or if nothing was checked.
+    #[track_caller]
     pub fn assert_none(mut self) {
         self.asserted = true;
         assert!(self.checks > 0, "no case was checked");
