@@ -185,6 +185,7 @@ fn shadows_remove_energy_and_never_add_it() {
     );
     let inputs = Inputs::load(&anim0).unwrap();
     let mut anim = anim0.clone();
+    anim.render.method = Method::BRUTE;
     let (brute, _) = render_frame(&anim, &inputs, 0, None, &Silent).unwrap();
     anim.render.method = Method::NONE;
     let (none, _) = render_frame(&anim, &inputs, 0, None, &Silent).unwrap();
