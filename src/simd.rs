@@ -18,3 +18,16 @@ pub fn has_avx2() -> bool {
 pub fn has_avx2() -> bool {
     false
 }
+
+/// Which copy of the hot kernels (shading, BVH nodes and leaves) this process runs: "avx2",
+/// "sse2", or "scalar" off x86-64. For `envshadow version --kernels`, so a test can see that
+/// `ENVSHADOW_NO_AVX2` switched the kernels instead of assuming it.
+pub fn kernels() -> &'static str {
+    if cfg!(not(target_arch = "x86_64")) {
+        "scalar"
+    } else if has_avx2() {
+        "avx2"
+    } else {
+        "sse2"
+    }
+}
