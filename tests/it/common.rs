@@ -255,3 +255,23 @@ impl Drop for Failures {
         }
     }
 }
+
+/// A CSV file with a header row, each row as (column name → value): tests read columns by
+/// name, so a column added or moved does not silently shift what they compare.
+pub fn csv_by_name(path: &Path) -> Vec<std::collections::BTreeMap<String, String>> {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
+    lines
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| {
+            let cells: Vec<&str> = l.split(',').collect();
+            assert_eq!(cells.len(), header.len(), "{}: {l}", path.display());
+            header
+                .iter()
+                .zip(cells)
+                .map(|(h, c)| (h.trim().to_string(), c.trim().to_string()))
+                .collect()
+        })
+        .collect()
+}

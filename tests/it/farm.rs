@@ -8,6 +8,8 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
+use envshadow::output::stats::{FrameStats, read_stats};
+
 use crate::common;
 
 const BIN: &str = env!("CARGO_BIN_EXE_envshadow");
@@ -82,17 +84,14 @@ fn assert_same_frames(reference: &Path, dir: &Path) {
     );
 }
 
-/// stats.csv without the seconds column (wall-clock time differs between runs).
-fn stats_without_seconds(dir: &Path) -> Vec<String> {
-    fs::read_to_string(dir.join("stats.csv"))
-        .unwrap()
-        .lines()
-        .map(|l| {
-            let mut c: Vec<&str> = l.split(',').collect();
-            c.remove(10);
-            c.join(",")
-        })
-        .collect()
+/// stats.csv's rows, read by the library's reader, with the seconds zeroed (wall-clock time
+/// differs between runs).
+fn stats_without_seconds(dir: &Path) -> Vec<FrameStats> {
+    let mut rows = read_stats(&dir.join("stats.csv")).unwrap();
+    for r in &mut rows {
+        r.seconds = 0.0;
+    }
+    rows
 }
 
 #[test]
@@ -274,21 +273,34 @@ fn farm(hosts: &Hosts, out: &Path, extra: &[&str]) -> Child {
     c.spawn().expect("starting scripts/farm.sh")
 }
 
-/// The job log's attempts: (seq, host, exit value, signal, start time in Unix seconds).
+/// The job log's attempts: (seq, host, exit value, signal, start time in Unix seconds),
+/// columns found by the names in GNU parallel's header line. A line still being written is
+/// skipped (the log is read while parallel runs).
 fn joblog(out: &Path) -> Vec<(usize, String, i32, i32, f64)> {
     let Ok(text) = fs::read_to_string(out.join("logs/joblog")) else {
         return Vec::new();
     };
-    text.lines()
-        .skip(1)
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap_or_default().split('\t').collect();
+    let col = |name: &str| header.iter().position(|h| h.trim() == name);
+    let (Some(seq), Some(host), Some(exit), Some(signal), Some(start)) = (
+        col("Seq"),
+        col("Host"),
+        col("Exitval"),
+        col("Signal"),
+        col("Starttime"),
+    ) else {
+        return Vec::new();
+    };
+    lines
         .filter_map(|l| {
             let c: Vec<&str> = l.split('\t').collect();
             Some((
-                c.first()?.trim().parse().ok()?,
-                c.get(1)?.trim().to_string(),
-                c.get(6)?.trim().parse().ok()?,
-                c.get(7)?.trim().parse().ok()?,
-                c.get(2)?.trim().parse().ok()?,
+                c.get(seq)?.trim().parse().ok()?,
+                c.get(host)?.trim().to_string(),
+                c.get(exit)?.trim().parse().ok()?,
+                c.get(signal)?.trim().parse().ok()?,
+                c.get(start)?.trim().parse().ok()?,
             ))
         })
         .collect()

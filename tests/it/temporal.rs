@@ -14,6 +14,7 @@ use envshadow::coordinator::{
 use envshadow::film::Counts;
 use envshadow::film::Film;
 use envshadow::history::Carried;
+use envshadow::output::stats::read_stats;
 use envshadow::predict::FloodTo;
 
 /// A small bunny animation: `kind` = orbit or spin, 3° per frame, validated, temporal.
@@ -199,8 +200,9 @@ fn one_job_and_split_jobs_write_identical_frames() {
     assert!(files(&one, 0..7) == files(&split, 0..7));
     assert_eq!(anim.frame_alignment(), 4);
     // The warm-up frames were not written by the second job: stats rows come from both.
-    let stats = std::fs::read_to_string(split.join("stats.csv")).unwrap();
-    assert_eq!(stats.lines().count(), 1 + 7);
+    let rows = read_stats(&split.join("stats.csv")).unwrap();
+    let frames: Vec<usize> = rows.iter().map(|r| r.frame).collect();
+    assert_eq!(frames, (0..7).collect::<Vec<_>>());
 }
 
 #[test]
