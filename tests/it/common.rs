@@ -237,13 +237,21 @@ impl Failures {
     #[track_caller]
     pub fn assert_none(mut self) {
         self.asserted = true;
-        assert!(self.checks > 0, "no case was checked");
+        assert!(
+            self.checks > 0,
+            "no case was checked: an empty table cannot fail"
+        );
         assert!(
             self.failed.is_empty(),
             "{} of {} checks failed:\n  {}",
             self.failed.len(),
             self.checks,
-            self.failed.join("\n  ")
+            // A multi-line message (assert_eq!'s) stays indented under its case.
+            self.failed
+                .iter()
+                .map(|f| f.replace('\n', "\n    "))
+                .collect::<Vec<_>>()
+                .join("\n  ")
         );
     }
 }
