@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A private three-node Slurm cluster on this machine, for tests (tests/slurm.rs) and for trying
+# A private three-node Slurm cluster on this machine, for tests (tests/it/slurm.rs) and for trying
 # scripts/slurm.sh without a real cluster.
 #
 #   scripts/test-slurm-cluster.sh up DIR      start munged, slurmctld and slurmd n1, n2, n3

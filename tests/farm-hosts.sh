@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Pretend ssh hosts on loopback for tests/farm.rs: one sshd per host on 127.0.0.(K+1), each
+# Pretend ssh hosts on loopback for tests/it/farm.rs: one sshd per host on 127.0.0.(K+1), each
 # with its own host key, port, config, pid file and log, all inside DIR. Touches nothing in
 # ~/.ssh or /etc/ssh. Processes are found and stopped by PID (checked against their command
 # line), never by name.

@@ -1,4 +1,4 @@
-//! What each fuzz target does with its input, shared with tests/fuzz_regressions.rs so that a
+//! What each fuzz target does with its input, shared with tests/it/fuzz_regressions.rs so that a
 //! kept crashing input is replayed through exactly the calls the fuzzer made. Each returns the
 //! loader's result; whatever loads is also used the way a render would use it.
 

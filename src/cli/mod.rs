@@ -112,6 +112,10 @@ pub struct VersionArgs {
     /// Also print the build identity: `envshadow 0.1.0 build 0123456789abcdef`.
     #[arg(long)]
     pub build: bool,
+    /// Also print, on a line of its own, the SIMD kernels this machine runs: `kernels avx2`,
+    /// `kernels sse2` (no AVX2, or ENVSHADOW_NO_AVX2 set) or `kernels scalar`.
+    #[arg(long)]
+    pub kernels: bool,
 }
 
 #[derive(Args, Debug)]
@@ -224,6 +228,11 @@ pub fn run(cli: Cli) -> Result<()> {
                 );
             } else {
                 println!("envshadow {}", env!("CARGO_PKG_VERSION"));
+            }
+            // A line of its own: farm hosts compare the `--build` line, and hosts with and
+            // without AVX2 write the same bits.
+            if args.kernels {
+                println!("kernels {}", envshadow::simd::kernels());
             }
             Ok(())
         }

@@ -6,7 +6,7 @@
 //! u = 0.5 − longitude / 2π, v = 0.5 − latitude / π. Texel (x, y) covers
 //! u ∈ [x/w, (x+1)/w), v ∈ [y/h, (y+1)/h); its centre is at ((x+0.5)/w, (y+0.5)/h).
 //!
-//! The convention is pinned by a test against `OrientationLatLong.exr` (tests/envmap.rs).
+//! The convention is pinned by a test against `OrientationLatLong.exr` (tests/it/envmap.rs).
 //!
 //! Rotation: a map rotated by θ degrees about +Y shows, along world direction d, what the
 //! unrotated map shows along R_y(−θ)·d, where R_y is the right-handed rotation about +Y

@@ -32,7 +32,8 @@ pub const LAYERS: usize = 5;
 
 /// Where layers 1..5 start.
 ///
-/// Measured with `sis_layer_thresholds` in tests/lights.rs: the RMS error of unshadowed diffuse
+/// Measured, and asserted, by `lights::sis_default_thresholds_are_accurate_and_the_better_rule`
+/// (tests/it/lights.rs): the RMS error of unshadowed diffuse
 /// irradiance E(n) = Σ_j E_j max(0, n·ω_j) against the map's exact irradiance over 300 normals,
 /// relative to the mean irradiance. On grace, rooitou_park and the built-in sky both rules give
 /// identical lights (σ ≫ μ there). Where they differ, μ + i·σ was better in 4 of 5 cases

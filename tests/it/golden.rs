@@ -4,7 +4,7 @@
 //! that means to alter the pixels updates the table below on purpose (the failure prints the
 //! whole new table).
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -1,7 +1,7 @@
 //! Hostile and broken inputs through the binary: every kind gives exit code 2, one line on
 //! stderr naming the file and the problem, no panic, and no output file.
 
-mod common;
+use crate::common::{self, Failures};
 
 use std::ffi::OsString;
 use std::fs;
@@ -162,10 +162,13 @@ fn write_hdr(path: &Path, w: usize, h: usize) {
     fs::write(path, bytes).unwrap();
 }
 
+/// The table of broken inputs: each kind is a case of `failures`, so every kind that is not
+/// refused properly is listed, not only the first.
 struct Case {
     dir: PathBuf,
     out: PathBuf,
     count: usize,
+    failures: Failures,
 }
 
 impl Case {
@@ -186,7 +189,9 @@ impl Case {
         let mut args = vec![OsString::from("render"), spec.as_os_str().to_owned()];
         args.extend(flags.iter().map(OsString::from));
         args.push("--no-report".into());
-        expect_refused(kind, &args, needles, &self.out);
+        let out = &self.out;
+        self.failures
+            .case(kind, || expect_refused(kind, &args, needles, out));
         self.count += 1;
     }
 
@@ -232,6 +237,7 @@ fn every_kind_of_broken_input_is_refused_with_one_located_line() {
         dir: tmp.path().to_path_buf(),
         out: tmp.path().join("out"),
         count: 0,
+        failures: Failures::new(),
     };
 
     // The control: the unedited file renders.
@@ -508,6 +514,7 @@ fn every_kind_of_broken_input_is_refused_with_one_located_line() {
     );
 
     assert!(c.count >= 20, "{} kinds", c.count);
+    c.failures.assert_none();
 }
 
 #[test]

@@ -1,6 +1,6 @@
 //! Environment maps: the pinned lat-long convention, rotation, solid angles, integrals, errors.
 
-mod common;
+use crate::common::{self, Failures};
 
 use envshadow::envmap::{EnvMap, dir_to_uv, uv_to_dir};
 use envshadow::error::InputError;
@@ -91,47 +91,57 @@ fn rotation_moves_plus_z_content_to_plus_x() {
             < 1e-4 * (1.0 + m.radiance(Vec3::Z).length())
     );
     // Any direction: rotated map at R_y(θ)·d equals the original at d.
+    let mut failures = Failures::new();
     for deg in [90.0f32, -30.0, 200.0] {
-        let r = m.clone().with_rotation(deg);
-        let (s, c) = deg.to_radians().sin_cos();
-        for i in 0..200 {
-            let d = uv_to_dir(Vec2::new(
-                (i as f32 * 0.618).fract(),
-                (i as f32 + 0.5) / 200.0,
-            ));
-            let rd = Vec3::new(c * d.x + s * d.z, d.y, -s * d.x + c * d.z);
-            let a = m.radiance(d);
-            let b = r.radiance(rd);
-            assert!(
-                (a - b).length() <= 1e-3 * (1.0 + a.length()),
-                "{deg}° {d}: {a} vs {b}"
-            );
-        }
-        // texel_dir carries the rotation too.
-        let t = r.texel_dir(17, 40);
-        let u = m.texel_dir(17, 40);
-        assert!((t - Vec3::new(c * u.x + s * u.z, u.y, -s * u.x + c * u.z)).length() < 1e-5);
-        // The integral does not change.
-        let (a, b) = (m.integral(), r.integral());
-        assert!((a[0] - b[0]).abs() < 1e-9 * a[0]);
+        failures.case(&format!("{deg}°"), || {
+            let r = m.clone().with_rotation(deg);
+            let (s, c) = deg.to_radians().sin_cos();
+            for i in 0..200 {
+                let d = uv_to_dir(Vec2::new(
+                    (i as f32 * 0.618).fract(),
+                    (i as f32 + 0.5) / 200.0,
+                ));
+                let rd = Vec3::new(c * d.x + s * d.z, d.y, -s * d.x + c * d.z);
+                let a = m.radiance(d);
+                let b = r.radiance(rd);
+                assert!(
+                    (a - b).length() <= 1e-3 * (1.0 + a.length()),
+                    "{deg}° {d}: {a} vs {b}"
+                );
+            }
+            // texel_dir carries the rotation too.
+            let t = r.texel_dir(17, 40);
+            let u = m.texel_dir(17, 40);
+            assert!((t - Vec3::new(c * u.x + s * u.z, u.y, -s * u.x + c * u.z)).length() < 1e-5);
+            // The integral does not change.
+            let (a, b) = (m.integral(), r.integral());
+            assert!((a[0] - b[0]).abs() < 1e-9 * a[0]);
+        });
     }
+    failures.assert_none();
 }
 
 #[test]
 fn solid_angles_sum_to_four_pi() {
+    let mut failures = Failures::new();
     for (w, h) in [(8, 4), (256, 128), (1024, 512), (100, 37)] {
         let m = EnvMap::from_texels(w, h, vec![Vec3::ZERO; w * h], "t").unwrap();
         let s: f64 = (0..h)
             .map(|y| m.texel_solid_angle(y) as f64 * w as f64)
             .sum();
-        assert!(
-            (s - 4.0 * std::f64::consts::PI).abs() < 1e-4,
-            "{w}×{h}: {s}"
-        );
+        failures.check((s - 4.0 * std::f64::consts::PI).abs() < 1e-4, || {
+            format!("{w}×{h}: Σ {s}")
+        });
         // Symmetric about the equator, largest there.
-        assert!((m.texel_solid_angle(0) - m.texel_solid_angle(h - 1)).abs() < 1e-7);
-        assert!(m.texel_solid_angle(h / 2) > m.texel_solid_angle(0));
+        failures.check(
+            (m.texel_solid_angle(0) - m.texel_solid_angle(h - 1)).abs() < 1e-7,
+            || format!("{w}×{h}: not symmetric about the equator"),
+        );
+        failures.check(m.texel_solid_angle(h / 2) > m.texel_solid_angle(0), || {
+            format!("{w}×{h}: not largest at the equator")
+        });
     }
+    failures.assert_none();
 }
 
 #[test]
@@ -159,15 +169,18 @@ fn known_radiance_integrates_exactly() {
 
 #[test]
 fn shared_maps_load() {
+    let mut failures = Failures::new();
     for (name, w, h) in [
         ("grace.hdr", 256, 128),
         ("studio_small_03_1k.hdr", 1024, 512),
         ("rooitou_park_1k.hdr", 1024, 512),
         ("KernerEnvLatLong.exr", 1024, 512),
     ] {
-        let m = EnvMap::load(&common::asset(name)).unwrap();
-        assert_eq!((m.width, m.height), (w, h), "{name}");
-        assert!(m.integral()[1] > 0.0, "{name}");
+        failures.case(name, || {
+            let m = EnvMap::load(&common::asset(name)).unwrap();
+            assert_eq!((m.width, m.height), (w, h), "size");
+            assert!(m.integral()[1] > 0.0, "black");
+        });
     }
     // Peak of rooitou_park is documented at px (614, 226), 6.5e4.
     let m = EnvMap::load(&common::asset("rooitou_park_1k.hdr")).unwrap();
@@ -175,7 +188,10 @@ fn shared_maps_load() {
         envshadow::envmap::luminance(m.texels[a])
             .total_cmp(&envshadow::envmap::luminance(m.texels[b]))
     });
-    assert_eq!(peak.map(|p| (p % 1024, p / 1024)), Some((614, 226)));
+    failures.check_eq(peak.map(|p| (p % 1024, p / 1024)), Some((614, 226)), || {
+        "rooitou_park_1k.hdr: the peak".to_string()
+    });
+    failures.assert_none();
 }
 
 #[test]
@@ -331,9 +347,13 @@ fn nan_texel_in_exr_file_is_named() {
 #[test]
 fn bad_intensity_is_refused() {
     let m = EnvMap::builtin_sky();
+    let mut failures = Failures::new();
     for s in [f32::NAN, -1.0, f32::INFINITY] {
-        let e = m.clone().with_intensity(s).expect_err("refused");
-        let t = format!("{e:#}");
-        assert!(t.starts_with("intensity:"), "{t}");
+        failures.case(&format!("intensity {s}"), || {
+            let e = m.clone().with_intensity(s).expect_err("refused");
+            let t = format!("{e:#}");
+            assert!(t.starts_with("intensity:"), "{t}");
+        });
     }
+    failures.assert_none();
 }

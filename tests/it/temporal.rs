@@ -2,7 +2,7 @@
 //! threads and how the animation is split into jobs, and falling back to the spatial method
 //! where there is no previous frame.
 
-mod common;
+use crate::common::{self, Failures};
 
 use std::path::Path;
 
@@ -14,6 +14,7 @@ use envshadow::coordinator::{
 use envshadow::film::Counts;
 use envshadow::film::Film;
 use envshadow::history::Carried;
+use envshadow::output::stats::read_stats;
 use envshadow::predict::FloodTo;
 
 /// A small bunny animation: `kind` = orbit or spin, 3° per frame, validated, temporal.
@@ -61,50 +62,54 @@ fn chain(
 }
 
 /// Stated bound on wrong (pixel, light) pairs with temporal prediction at 160×120, in % of
-/// queries: as for the spatial method at this size (tests/predict.rs), with room for the
+/// queries: as for the spatial method at this size (predict.rs), with room for the
 /// errors a chain carries forward.
 const ERROR_BOUND: f64 = 0.25;
 
 #[test]
 fn temporal_prediction_agrees_with_brute_force_within_its_stated_error() {
     let dir = tempfile::tempdir().unwrap();
+    let mut failures = Failures::new();
     for kind in ["orbit", "spin"] {
         let anim = bunny(kind, 160, 120, 100, dir.path());
         let inputs = Inputs::load(&anim).unwrap();
         let frames = chain(&anim, &inputs, 4, 32, 0);
         for (f, (film, c)) in frames.iter().enumerate() {
-            let tag = format!("{kind} frame {f}");
-            // Where it traced, it agrees with brute force exactly.
-            assert_eq!(c.wrong_traced, 0, "{tag}");
-            let err = c.error_percent();
-            assert!(err <= ERROR_BOUND, "{tag}: {err:.4} % wrong pairs");
-            if f == 0 {
-                assert_eq!(c.temporal_pixels, 0, "{tag}: the first frame is spatial");
-            } else {
-                // Almost every surface pixel was seen in the previous frame.
-                let hit = film.visible.iter().filter(|&&v| v > 0.0).count() as u64;
-                assert!(
-                    c.temporal_pixels * 10 >= hit * 8,
-                    "{tag}: only {} of ~{hit} pixels predicted temporally",
-                    c.temporal_pixels
-                );
-                assert!(c.temporal_rays <= c.rays);
-            }
-            // Pixels without a wrong pair equal the brute-force image exactly.
-            let wrong = film.wrong.as_ref().unwrap();
-            let reference = film.reference.as_ref().unwrap();
-            for (i, w) in wrong.iter().enumerate() {
-                if *w == 0.0 {
-                    assert_eq!(film.beauty[i], reference[i], "{tag} pixel {i}");
+            failures.case(&format!("{kind} frame {f}"), || {
+                // Where it traced, it agrees with brute force exactly.
+                assert_eq!(c.wrong_traced, 0, "wrong where traced");
+                let err = c.error_percent();
+                assert!(err <= ERROR_BOUND, "{err:.4} % wrong pairs");
+                if f == 0 {
+                    assert_eq!(c.temporal_pixels, 0, "the first frame is spatial");
+                } else {
+                    // Almost every surface pixel was seen in the previous frame.
+                    let hit = film.visible.iter().filter(|&&v| v > 0.0).count() as u64;
+                    assert!(
+                        c.temporal_pixels * 10 >= hit * 8,
+                        "only {} of ~{hit} pixels predicted temporally",
+                        c.temporal_pixels
+                    );
+                    assert!(c.temporal_rays <= c.rays, "more temporal rays than rays");
                 }
-            }
+                // Pixels without a wrong pair equal the brute-force image exactly.
+                let wrong = film.wrong.as_ref().unwrap();
+                let reference = film.reference.as_ref().unwrap();
+                for (i, w) in wrong.iter().enumerate() {
+                    if *w == 0.0 {
+                        assert_eq!(film.beauty[i], reference[i], "pixel {i}");
+                    }
+                }
+            });
         }
     }
+    failures.assert_none();
 }
 
 #[test]
 fn temporal_chains_are_identical_whatever_the_tiles_and_threads() {
     let dir = tempfile::tempdir().unwrap();
+    let mut failures = Failures::new();
     for (kind, flood_to, method) in [
         ("orbit", FloodTo::All, "grid-nowarp-uncertainty"),
         ("spin", FloodTo::ContraryFinest, "grid-nowarp-uncertainty"),
@@ -121,18 +126,23 @@ fn temporal_chains_are_identical_whatever_the_tiles_and_threads() {
             for (f, ((film, c), (rf, rc))) in got.iter().zip(&reference).enumerate() {
                 let tag =
                     format!("{method} {kind} {flood_to} frame {f} tile {tile} threads {threads}");
-                assert!(film.beauty == rf.beauty, "{tag}: beauty differs");
-                assert!(film.rays == rf.rays, "{tag}: rays differ");
-                assert!(film.wrong == rf.wrong, "{tag}: wrong pairs differ");
+                failures.check(film.beauty == rf.beauty, || {
+                    format!("{tag}: beauty differs")
+                });
+                failures.check(film.rays == rf.rays, || format!("{tag}: rays differ"));
+                failures.check(film.wrong == rf.wrong, || {
+                    format!("{tag}: wrong pairs differ")
+                });
                 let strip = |c: Counts| Counts {
                     halo_pixels: 0,
                     halo_rays: 0,
                     ..c
                 };
-                assert_eq!(strip(*c), strip(*rc), "{tag}: counts differ");
+                failures.check_eq(strip(*c), strip(*rc), || format!("{tag}: counts"));
             }
         }
     }
+    failures.assert_none();
 }
 
 #[test]
@@ -190,8 +200,9 @@ fn one_job_and_split_jobs_write_identical_frames() {
     assert!(files(&one, 0..7) == files(&split, 0..7));
     assert_eq!(anim.frame_alignment(), 4);
     // The warm-up frames were not written by the second job: stats rows come from both.
-    let stats = std::fs::read_to_string(split.join("stats.csv")).unwrap();
-    assert_eq!(stats.lines().count(), 1 + 7);
+    let rows = read_stats(&split.join("stats.csv")).unwrap();
+    let frames: Vec<usize> = rows.iter().map(|r| r.frame).collect();
+    assert_eq!(frames, (0..7).collect::<Vec<_>>());
 }
 
 #[test]
@@ -204,6 +215,7 @@ fn temporal_flags_are_checked() {
     )
     .unwrap();
     let out = dir.path().join("out");
+    let mut failures = Failures::new();
     for (args, needle) in [
         (
             vec!["--temporal", "--method", "brute"],
@@ -228,11 +240,16 @@ fn temporal_flags_are_checked() {
             .arg("-q")
             .output()
             .unwrap();
-        assert_eq!(o.status.code(), Some(2), "{args:?}");
         let err = String::from_utf8_lossy(&o.stderr);
-        assert!(err.contains(needle), "{args:?}: {err}");
-        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+        failures.check_eq(o.status.code(), Some(2), || format!("{args:?}: exit code"));
+        failures.check(err.contains(needle), || {
+            format!("{args:?}: {needle:?} not in {err}")
+        });
+        failures.check_eq(err.trim().lines().count(), 1, || {
+            format!("{args:?}: lines of {err}")
+        });
     }
+    failures.assert_none();
 }
 
 #[test]

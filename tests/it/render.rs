@@ -1,6 +1,6 @@
 //! Rendering against analytic answers and invariants.
 
-mod common;
+use crate::common::{self, Failures};
 
 use envshadow::coordinator::{Inputs, Silent, render_frame};
 use envshadow::envmap::EnvMap;
@@ -56,12 +56,16 @@ fn sphere_shadow_on_plane_matches_the_analytic_shadow() {
             };
         }
     }
+    let mut failures = Failures::new();
     for method in [Method::BRUTE, Method::DEFAULT] {
-        let mut anim = anim.clone();
-        anim.render.method = method;
-        let (film, _) = render_frame(&anim, &inputs, 0, None, &Silent).unwrap();
-        check_shadow_mask(&film.visible, &class, w, h, method);
+        failures.case(&method.to_string(), || {
+            let mut anim = anim.clone();
+            anim.render.method = method;
+            let (film, _) = render_frame(&anim, &inputs, 0, None, &Silent).unwrap();
+            check_shadow_mask(&film.visible, &class, w, h, method);
+        });
     }
+    failures.assert_none();
 }
 
 fn check_shadow_mask(visible: &[f32], class: &[u8], w: usize, h: usize, method: Method) {
@@ -181,6 +185,7 @@ fn shadows_remove_energy_and_never_add_it() {
     );
     let inputs = Inputs::load(&anim0).unwrap();
     let mut anim = anim0.clone();
+    anim.render.method = Method::BRUTE;
     let (brute, _) = render_frame(&anim, &inputs, 0, None, &Silent).unwrap();
     anim.render.method = Method::NONE;
     let (none, _) = render_frame(&anim, &inputs, 0, None, &Silent).unwrap();

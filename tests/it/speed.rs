@@ -1,7 +1,7 @@
 //! The measuring tools of issue 8: shadow-ray recording and dumps (what `envshadow bench`
 //! replays and benches/embree traces) and `envshadow export` (what compare-mitsuba renders).
 
-mod common;
+use crate::common::{self, Failures};
 
 use envshadow::accel::{self, Accel};
 use envshadow::anim::{AnimFlags, Animation};
@@ -44,56 +44,60 @@ fn recorded(anim: &Animation, inputs: &Inputs) -> (envshadow::film::Film, Vec<ac
 
 #[test]
 fn recorded_rays_are_the_frames_rays_and_a_dump_replays_them_identically() {
+    let mut failures = Failures::new();
     for method in [Method::BRUTE, Method::DEFAULT] {
-        let (anim, inputs) = shapes(50, method);
-        let (film, rays) = recorded(&anim, &inputs);
-        let c = film.counts;
-        assert!(c.rays > 0);
-        // Every traced ray is recorded once: the tiles' own and their halos'.
-        assert_eq!(rays.len() as u64, c.rays + c.halo_rays, "{method}");
-        if method == Method::BRUTE {
-            assert_eq!(c.rays, c.queries);
-        }
-        // Not recording: nothing is kept.
-        let pool = thread_pool(1).unwrap();
-        pool.install(|| render_frame(&anim, &inputs, 0, None, &Silent))
-            .unwrap();
-        assert!(pool.install(accel::take_recorded).is_empty());
-
-        // The dump holds the frame's triangles and the same rays; tracing them against a BVH
-        // rebuilt from the dump finds the same occluded rays, on 1 and 2 threads.
-        let scene = &inputs.scene;
-        let frame_accel = Accel::build(&scene.positions, &scene.triangles);
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("rays.bin");
-        raydump::write(&path, &frame_accel, &rays).unwrap();
-        let dump = raydump::read(&path).unwrap();
-        assert_eq!(dump.rays, rays);
-        assert_eq!(dump.triangles.len(), scene.triangles.len());
-        let positions: Vec<_> = dump.triangles.iter().flatten().copied().collect();
-        let tris: Vec<[u32; 3]> = (0..dump.triangles.len() as u32)
-            .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
-            .collect();
-        let rebuilt = Accel::build(&positions, &tris);
-        let blocked = thread_pool(1)
-            .unwrap()
-            .install(|| replay(&frame_accel, &rays, false));
-        assert!(
-            blocked > 0 && blocked < rays.len() as u64,
-            "{method}: {blocked}"
-        );
-        // Packets from one origin answer exactly as single rays do.
-        for threads in [1, 2] {
-            let pool = thread_pool(threads).unwrap();
-            for packets in [false, true] {
-                assert_eq!(
-                    pool.install(|| replay(&rebuilt, &dump.rays, packets)),
-                    blocked,
-                    "{method}: {threads} threads, packets {packets}"
-                );
+        failures.case(&method.to_string(), || {
+            let (anim, inputs) = shapes(50, method);
+            let (film, rays) = recorded(&anim, &inputs);
+            let c = film.counts;
+            assert!(c.rays > 0);
+            // Every traced ray is recorded once: the tiles' own and their halos'.
+            assert_eq!(rays.len() as u64, c.rays + c.halo_rays, "{method}");
+            if method == Method::BRUTE {
+                assert_eq!(c.rays, c.queries);
             }
-        }
+            // Not recording: nothing is kept.
+            let pool = thread_pool(1).unwrap();
+            pool.install(|| render_frame(&anim, &inputs, 0, None, &Silent))
+                .unwrap();
+            assert!(pool.install(accel::take_recorded).is_empty());
+
+            // The dump holds the frame's triangles and the same rays; tracing them against a BVH
+            // rebuilt from the dump finds the same occluded rays, on 1 and 2 threads.
+            let scene = &inputs.scene;
+            let frame_accel = Accel::build(&scene.positions, &scene.triangles);
+            let dir = tempfile::tempdir().unwrap();
+            let path = dir.path().join("rays.bin");
+            raydump::write(&path, &frame_accel, &rays).unwrap();
+            let dump = raydump::read(&path).unwrap();
+            assert_eq!(dump.rays, rays);
+            assert_eq!(dump.triangles.len(), scene.triangles.len());
+            let positions: Vec<_> = dump.triangles.iter().flatten().copied().collect();
+            let tris: Vec<[u32; 3]> = (0..dump.triangles.len() as u32)
+                .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
+                .collect();
+            let rebuilt = Accel::build(&positions, &tris);
+            let blocked = thread_pool(1)
+                .unwrap()
+                .install(|| replay(&frame_accel, &rays, false));
+            assert!(
+                blocked > 0 && blocked < rays.len() as u64,
+                "{method}: {blocked}"
+            );
+            // Packets from one origin answer exactly as single rays do.
+            for threads in [1, 2] {
+                let pool = thread_pool(threads).unwrap();
+                for packets in [false, true] {
+                    assert_eq!(
+                        pool.install(|| replay(&rebuilt, &dump.rays, packets)),
+                        blocked,
+                        "{method}: {threads} threads, packets {packets}"
+                    );
+                }
+            }
+        });
     }
+    failures.assert_none();
 }
 
 #[test]

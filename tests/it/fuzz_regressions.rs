@@ -6,11 +6,13 @@
 use std::path::{Path, PathBuf};
 
 use envshadow::error::InputError;
+
+use crate::common::Failures;
 use envshadow::scene::Scene;
 
-#[path = "../fuzz/src/exercise.rs"]
+#[path = "../../fuzz/src/exercise.rs"]
 mod exercise;
-#[path = "../fuzz/src/files.rs"]
+#[path = "../../fuzz/src/files.rs"]
 mod files;
 
 fn inputs(target: &str) -> Vec<PathBuf> {
@@ -57,21 +59,32 @@ fn check_error(result: anyhow::Result<()>, name: &str, input: &Path) {
     }
 }
 
+/// Replays every kept input of `target` through `run`, each a case of one table: every input
+/// that panics or fails wrongly is listed, and a target with no inputs at all (a moved folder)
+/// fails instead of passing.
+fn replay(target: &str, mut run: impl FnMut(&Path)) {
+    let mut failures = Failures::new();
+    for input in inputs(target) {
+        failures.case(&input.display().to_string(), || run(&input));
+    }
+    failures.assert_none();
+}
+
 #[test]
 fn anim_spec_inputs() {
     let scene = Scene::shapes();
     let path = Path::new("fuzz/spec.toml");
-    for input in inputs("anim_spec") {
-        let bytes = std::fs::read(&input).unwrap();
+    replay("anim_spec", |input| {
+        let bytes = std::fs::read(input).unwrap();
         let Ok(text) = std::str::from_utf8(&bytes) else {
-            continue;
+            return;
         };
         check_error(
             exercise::anim_spec(text, path, &scene),
             "fuzz/spec.toml",
-            &input,
+            input,
         );
-    }
+    });
 }
 
 #[test]
@@ -80,17 +93,17 @@ fn gltf_inputs() {
     std::fs::write(dir.path().join("buffer.bin"), files::triangle_buffer()).unwrap();
     std::fs::write(dir.path().join("texture.png"), files::texture_png()).unwrap();
     let path = dir.path().join("fuzz.gltf");
-    for input in inputs("gltf") {
-        let bytes = std::fs::read(&input).unwrap();
-        check_error(exercise::gltf(&bytes, &path), "fuzz.gltf", &input);
-    }
+    replay("gltf", |input| {
+        let bytes = std::fs::read(input).unwrap();
+        check_error(exercise::gltf(&bytes, &path), "fuzz.gltf", input);
+    });
 }
 
 fn map_inputs(target: &str, name: &str) {
-    for input in inputs(target) {
-        let bytes = std::fs::read(&input).unwrap();
-        check_error(exercise::envmap(&bytes, Path::new(name)), name, &input);
-    }
+    replay(target, |input| {
+        let bytes = std::fs::read(input).unwrap();
+        check_error(exercise::envmap(&bytes, Path::new(name)), name, input);
+    });
 }
 
 #[test]
@@ -105,9 +118,9 @@ fn envmap_hdr_inputs() {
 
 #[test]
 fn lights_json_inputs() {
-    for input in inputs("lights_json") {
-        let bytes = std::fs::read(&input).unwrap();
+    replay("lights_json", |input| {
+        let bytes = std::fs::read(input).unwrap();
         let r = exercise::lights_json(&bytes, Path::new("fuzz/lights.json"));
-        check_error(r, "fuzz/lights.json", &input);
-    }
+        check_error(r, "fuzz/lights.json", input);
+    });
 }

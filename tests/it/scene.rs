@@ -1,7 +1,7 @@
 //! Scene loading: the shared bunny assets, glTF files generated here (hierarchies, textures,
 //! cameras, missing normals, non-triangle primitives, bad inputs), and the built-in shapes.
 
-mod common;
+use crate::common::{self, Failures};
 
 use envshadow::error::{InputError, exit_code};
 use envshadow::scene::Scene;
@@ -220,27 +220,33 @@ fn bunny_assets_load_with_documented_counts_and_bounds() {
             [0.07565, 0.14828, 0.05722],
         ),
     ];
+    let mut failures = Failures::new();
     for (name, tris, lo, hi) in cases {
-        let scene = Scene::load(&common::asset(name)).unwrap();
-        assert_eq!(scene.triangle_count(), tris, "{name}");
-        let (min, max) = scene.bounds();
-        // SOURCES.md gives 5 decimals: within half a unit of the last place, plus 1e-4.
-        assert_close(min, Vec3::from_array(lo), 1e-4, name);
-        assert_close(max, Vec3::from_array(hi), 1e-4, name);
-        assert!(
-            scene
-                .normals
-                .iter()
-                .all(|n| (n.length() - 1.0).abs() < 1e-4)
-        );
-        assert!(scene.camera.is_none());
-        assert!(scene.warnings.is_empty());
-        assert_eq!(scene.tri_material.len(), tris);
-        assert!(scene.source.ends_with(name));
+        failures.case(name, || {
+            let scene = Scene::load(&common::asset(name)).unwrap();
+            assert_eq!(scene.triangle_count(), tris, "{name}");
+            let (min, max) = scene.bounds();
+            // SOURCES.md gives 5 decimals: within half a unit of the last place, plus 1e-4.
+            assert_close(min, Vec3::from_array(lo), 1e-4, name);
+            assert_close(max, Vec3::from_array(hi), 1e-4, name);
+            assert!(
+                scene
+                    .normals
+                    .iter()
+                    .all(|n| (n.length() - 1.0).abs() < 1e-4)
+            );
+            assert!(scene.camera.is_none());
+            assert!(scene.warnings.is_empty());
+            assert_eq!(scene.tri_material.len(), tris);
+            assert!(scene.source.ends_with(name));
+        });
     }
     let plane = Scene::load(&common::asset("bunny_on_plane.glb")).unwrap();
     let greys: Vec<f32> = plane.materials.iter().map(|m| m.base_color.x).collect();
-    assert!(greys.contains(&0.8) && greys.contains(&0.5), "{greys:?}");
+    failures.check(greys.contains(&0.8) && greys.contains(&0.5), || {
+        format!("bunny_on_plane.glb: greys {greys:?}")
+    });
+    failures.assert_none();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -324,9 +330,18 @@ fn nested_rotated_scaled_and_mirrored_nodes_gltf_and_glb() {
     let dir = tempfile::tempdir().unwrap();
     let mut g = Gltf::default();
     let doc = hierarchy_file(&mut g);
-    check_hierarchy(&Scene::load(&g.write_gltf(dir.path(), "h", doc.clone())).unwrap());
-    check_hierarchy(&Scene::load(&g.write_glb(dir.path(), "h", doc.clone())).unwrap());
-    check_hierarchy(&Scene::load(&g.write_gltf_data_uri(dir.path(), "h64", doc)).unwrap());
+    let mut failures = Failures::new();
+    for (form, path) in [
+        (".gltf + .bin", g.write_gltf(dir.path(), "h", doc.clone())),
+        (".glb", g.write_glb(dir.path(), "h", doc.clone())),
+        (
+            ".gltf with a data: URI",
+            g.write_gltf_data_uri(dir.path(), "h64", doc),
+        ),
+    ] {
+        failures.case(form, || check_hierarchy(&Scene::load(&path).unwrap()));
+    }
+    failures.assert_none();
 }
 
 #[test]
@@ -800,11 +815,14 @@ fn byte_stride_smaller_than_element_is_refused_not_a_panic() {
     );
 }
 
-/// Loading must give a scene or an input error, never a panic or an internal error.
-fn load_survives(path: &Path, what: &str) {
-    if let Err(e) = Scene::load(path) {
-        assert_eq!(exit_code(&e), 2, "{what}: not an input error: {e:#}");
-    }
+/// Loading must give a scene or an input error, never a panic or an internal error: a case
+/// of `failures`, so every input that breaks the rule is listed.
+fn load_survives(failures: &mut Failures, path: &Path, what: &str) {
+    failures.case(what, || {
+        if let Err(e) = Scene::load(path) {
+            assert_eq!(exit_code(&e), 2, "not an input error: {e:#}");
+        }
+    });
 }
 
 #[test]
@@ -814,11 +832,12 @@ fn hostile_field_values_never_panic() {
     let png = png_2x2();
     let doc = textured_file(&mut base, json!({"mimeType": "image/png"}), Some(&png));
     let numbers: [u64; 12] = [0, 1, 2, 3, 4, 7, 12, 255, 4096, 65_535, 1 << 32, 1 << 62];
+    let mut failures = Failures::new();
     let mut case = 0;
     let mut run = |g: &Gltf, what: String| {
         case += 1;
         let path = g.write_glb(dir.path(), &format!("case{case}"), doc.clone());
-        load_survives(&path, &what);
+        load_survives(&mut failures, &path, &what);
     };
     for a in 0..base.accessors.len() {
         for field in ["count", "byteOffset"] {
@@ -864,6 +883,7 @@ fn hostile_field_values_never_panic() {
             }
         }
     }
+    failures.assert_none();
 }
 
 #[test]
@@ -879,6 +899,7 @@ fn flipped_bytes_never_panic() {
         (state >> 33) as usize
     };
     let path = dir.path().join("flipped.glb");
+    let mut failures = Failures::new();
     for round in 0..150 {
         let mut bytes = original.clone();
         for _ in 0..1 + round % 4 {
@@ -889,7 +910,7 @@ fn flipped_bytes_never_panic() {
             bytes.truncate(next() % bytes.len());
         }
         std::fs::write(&path, &bytes).unwrap();
-        load_survives(&path, &format!("round {round}"));
+        load_survives(&mut failures, &path, &format!("round {round}"));
     }
 
     // Digits changed in the JSON of a small file keep it parseable and reach deeper checks.
@@ -906,8 +927,9 @@ fn flipped_bytes_never_panic() {
             bytes[digits[next() % digits.len()]] = b'0' + (next() % 10) as u8;
         }
         std::fs::write(&gltf_path, &bytes).unwrap();
-        load_survives(&gltf_path, &format!("digit round {round}"));
+        load_survives(&mut failures, &gltf_path, &format!("digit round {round}"));
     }
+    failures.assert_none();
 }
 
 const DIGIT_ROUNDS: usize = 300;

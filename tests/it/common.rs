@@ -1,0 +1,285 @@
+//! Helpers shared by the integration tests: where the assets are, small scenes, the binary,
+//! tool-gated tests ([`require_tools`]) and tables of cases ([`Failures`]).
+
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+/// The folder with the shared test assets (bunny glTF, HDR maps): `$ENVSHADOW_ASSETS`, else
+/// `assets/` in the repo (filled by scripts/fetch-assets.sh), else `../shared/assets`.
+pub fn assets_dir() -> PathBuf {
+    if let Ok(dir) = std::env::var("ENVSHADOW_ASSETS") {
+        return PathBuf::from(dir);
+    }
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    for candidate in [root.join("assets"), root.join("../shared/assets")] {
+        if candidate.join("bunny_on_plane.glb").exists() {
+            return candidate;
+        }
+    }
+    panic!(
+        "test assets not found: set ENVSHADOW_ASSETS, run scripts/fetch-assets.sh, or keep ../shared/assets beside the repo"
+    );
+}
+
+/// One asset by file name.
+pub fn asset(name: &str) -> PathBuf {
+    let p = assets_dir().join(name);
+    assert!(p.exists(), "missing test asset {}", p.display());
+    p
+}
+
+use envshadow::anim::{AnimFlags, Animation};
+use envshadow::scene::{Material, Scene};
+use glam::{Vec2, Vec3};
+
+/// Appends a square of side `size` in the plane y = `y`, facing +Y, to `scene`.
+pub fn add_plane(scene: &mut Scene, size: f32, y: f32, material: u32) {
+    let h = size / 2.0;
+    let base = scene.positions.len() as u32;
+    for (x, z) in [(-h, -h), (h, -h), (h, h), (-h, h)] {
+        scene.positions.push(Vec3::new(x, y, z));
+        scene.normals.push(Vec3::Y);
+        scene.uvs.push(Vec2::ZERO);
+    }
+    // Counter-clockwise seen from +Y.
+    scene.triangles.push([base, base + 3, base + 2]);
+    scene.triangles.push([base, base + 2, base + 1]);
+    scene.tri_material.extend([material; 2]);
+}
+
+/// Appends a finely tessellated UV sphere with smooth normals.
+pub fn add_sphere(
+    scene: &mut Scene,
+    centre: Vec3,
+    r: f32,
+    rings: u32,
+    segments: u32,
+    material: u32,
+) {
+    let base = scene.positions.len() as u32;
+    for i in 0..=rings {
+        let theta = std::f32::consts::PI * i as f32 / rings as f32;
+        for j in 0..=segments {
+            let phi = std::f32::consts::TAU * j as f32 / segments as f32;
+            let n = Vec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                theta.sin() * phi.sin(),
+            );
+            scene.positions.push(centre + n * r);
+            scene.normals.push(n);
+            scene.uvs.push(Vec2::ZERO);
+        }
+    }
+    let row = segments + 1;
+    for i in 0..rings {
+        for j in 0..segments {
+            let a = base + i * row + j;
+            let b = a + row;
+            // Outward-facing winding.
+            scene.triangles.push([a, a + 1, b]);
+            scene.triangles.push([a + 1, b + 1, b]);
+            scene.tri_material.extend([material; 2]);
+        }
+    }
+}
+
+/// A scene with the given grey albedos as materials 0, 1, ….
+pub fn scene_with_materials(albedos: &[f32]) -> Scene {
+    Scene {
+        materials: albedos
+            .iter()
+            .enumerate()
+            .map(|(i, &a)| Material {
+                name: format!("m{i}"),
+                base_color: Vec3::splat(a),
+                texture: None,
+            })
+            .collect(),
+        source: "test".into(),
+        ..Default::default()
+    }
+}
+
+/// An animation from spec text (with `[scene] builtin = "shapes"` prepended) for tests that
+/// supply their own inputs.
+pub fn animation(body: &str) -> Animation {
+    let text = format!("[scene]\nbuiltin = \"shapes\"\n{body}");
+    Animation::parse(
+        &text,
+        std::path::Path::new("test.toml"),
+        &AnimFlags::default(),
+    )
+    .expect("test spec parses")
+}
+
+/// The envshadow binary built for these tests.
+pub fn bin() -> std::process::Command {
+    std::process::Command::new(env!("CARGO_BIN_EXE_envshadow"))
+}
+
+/// Whether this is CI's run: `.ci/run` runs with `CI=true` and installs every tool the tests
+/// need, so there a missing tool is a failure, never a skip. The one spelling of that check.
+pub fn on_ci() -> bool {
+    std::env::var("CI").as_deref() == Ok("true")
+}
+
+/// One line on the process's real stderr. libtest captures only what the print macros write,
+/// so this line is seen even when the test passes: a skipped check must not look like a pass.
+pub fn notice(line: &str) {
+    let _ = writeln!(std::io::stderr(), "{line}");
+}
+
+/// The name of the test whose body this is in, as libtest prints it (`farm::farm_over_ssh_…`),
+/// for the notices of [`require_tools`] (a name typed by hand drifts when a test is renamed).
+macro_rules! this_test {
+    () => {{
+        fn here() {}
+        fn name_of<T>(_: T) -> &'static str {
+            std::any::type_name::<T>()
+        }
+        let path = name_of(here);
+        let path = path.strip_suffix("::here").unwrap_or(path);
+        // Without the crate's own name (`it::`).
+        path.split_once("::").map_or(path, |(_, rest)| rest)
+    }};
+}
+pub(crate) use this_test;
+
+/// Whether every tool is installed: a name is looked up on `PATH`, an absolute path taken as
+/// it is. Missing on CI: panics naming them. Missing elsewhere: says `SKIPPED test: …` with
+/// [`notice`] and returns false, and the caller returns.
+pub fn require_tools(test: &str, tools: &[&str], install: &str) -> bool {
+    let missing: Vec<&str> = tools.iter().copied().filter(|t| !installed(t)).collect();
+    if missing.is_empty() {
+        return true;
+    }
+    let missing = missing.join(", ");
+    assert!(
+        !on_ci(),
+        "{test}: {missing} not installed, but CI must run this test: .ci/run installs them ({install})"
+    );
+    notice(&format!(
+        "SKIPPED {test}: {missing} not installed (install: {install})"
+    ));
+    false
+}
+
+fn installed(tool: &str) -> bool {
+    use std::os::unix::fs::PermissionsExt;
+    let executable = |p: &Path| {
+        std::fs::metadata(p).is_ok_and(|m| m.is_file() && m.permissions().mode() & 0o111 != 0)
+    };
+    if Path::new(tool).is_absolute() {
+        return executable(Path::new(tool));
+    }
+    std::env::var_os("PATH")
+        .is_some_and(|path| std::env::split_paths(&path).any(|dir| executable(&dir.join(tool))))
+}
+
+/// The failures of a table of cases, collected so that one failing case does not hide the
+/// others: [`Failures::assert_none`] panics once at the end, listing every failing case by its
+/// label. It also fails when nothing was checked (an empty table would pass silently), and
+/// dropping it unasserted panics, so a forgotten `assert_none` cannot pass either.
+#[derive(Default)]
+pub struct Failures {
+    failed: Vec<String>,
+    checks: usize,
+    asserted: bool,
+}
+
+impl Failures {
+    pub fn new() -> Failures {
+        Failures::default()
+    }
+
+    /// Records `what()` unless `ok`; returns `ok` (a case can skip what depends on it).
+    pub fn check(&mut self, ok: bool, what: impl FnOnce() -> String) -> bool {
+        self.checks += 1;
+        if !ok {
+            self.failed.push(what());
+        }
+        ok
+    }
+
+    /// Records `what()` with both values unless `got == want`.
+    pub fn check_eq<T: PartialEq + std::fmt::Debug>(
+        &mut self,
+        got: T,
+        want: T,
+        what: impl FnOnce() -> String,
+    ) -> bool {
+        let ok = got == want;
+        self.check(ok, || format!("{}: got {got:?}, expected {want:?}", what()))
+    }
+
+    /// Whether every check so far passed.
+    pub fn passed(&self) -> bool {
+        self.failed.is_empty()
+    }
+
+    /// Runs one case written with plain assertions: its panic, if any, is recorded under
+    /// `label` and the table goes on with the next case.
+    pub fn case(&mut self, label: &str, case: impl FnOnce()) {
+        let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(case));
+        self.check(result.is_ok(), || {
+            let payload = result.err().unwrap();
+            let message = payload
+                .downcast_ref::<String>()
+                .map(String::as_str)
+                .or_else(|| payload.downcast_ref::<&str>().copied())
+                .unwrap_or("(a panic without a message)");
+            format!("{label}: {message}")
+        });
+    }
+
+    /// Panics listing every failure, or if nothing was checked.
+    #[track_caller]
+    pub fn assert_none(mut self) {
+        self.asserted = true;
+        assert!(
+            self.checks > 0,
+            "no case was checked: an empty table cannot fail"
+        );
+        assert!(
+            self.failed.is_empty(),
+            "{} of {} checks failed:\n  {}",
+            self.failed.len(),
+            self.checks,
+            // A multi-line message (assert_eq!'s) stays indented under its case.
+            self.failed
+                .iter()
+                .map(|f| f.replace('\n', "\n    "))
+                .collect::<Vec<_>>()
+                .join("\n  ")
+        );
+    }
+}
+
+impl Drop for Failures {
+    fn drop(&mut self) {
+        if !self.asserted && !std::thread::panicking() {
+            panic!("Failures dropped without assert_none: its failures were never reported");
+        }
+    }
+}
+
+/// A CSV file with a header row, each row as (column name → value): tests read columns by
+/// name, so a column added or moved does not silently shift what they compare.
+pub fn csv_by_name(path: &Path) -> Vec<std::collections::BTreeMap<String, String>> {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
+    lines
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| {
+            let cells: Vec<&str> = l.split(',').collect();
+            assert_eq!(cells.len(), header.len(), "{}: {l}", path.display());
+            header
+                .iter()
+                .zip(cells)
+                .map(|(h, c)| (h.trim().to_string(), c.trim().to_string()))
+                .collect()
+        })
+        .collect()
+}

@@ -1,0 +1,24 @@
+//! The integration tests, as one test binary: cargo links one executable for all of them
+//! instead of one per file (each linking the whole library again), and a module path names
+//! each test (`cargo test --release --test it lights::`).
+//!
+//! Shared test data stays beside this folder: `tests/data/` and `tests/farm-hosts.sh`, found
+//! from `CARGO_MANIFEST_DIR`.
+
+mod cli;
+mod common;
+mod envmap;
+mod farm;
+mod fuzz_regressions;
+mod golden;
+mod hostile;
+mod interrupt;
+mod lights;
+mod predict;
+mod render;
+mod report;
+mod scene;
+mod simd;
+mod slurm;
+mod speed;
+mod temporal;
