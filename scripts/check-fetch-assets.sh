@@ -50,6 +50,10 @@ if "$SCRIPT_DIR/fetch-assets.sh" --dest "$D" --source "$SHARED" >"$WORK/copy1.lo
   sed 's/^/      /' "$WORK/copy1.log" | head -20
   for f in "$SHARED"/*; do
     n="$(basename "$f")"
+    if [[ -d "$f" ]]; then
+      if diff -rq "$f" "$D/$n" >/dev/null 2>&1; then ok "copied $n/ ($(ls "$f" | wc -l) files)"; else bad "copy mode: $n/ missing or different"; fi
+      continue
+    fi
     if cmp -s "$f" "$D/$n"; then ok "copied $n"; else bad "copy mode: $n missing or different"; fi
   done
   if ls -A "$D" | grep -q '\.tmp\.'; then bad "copy mode left temp files"; fi
@@ -98,6 +102,15 @@ if PATH="$WORK/bin:$PATH" "$SCRIPT_DIR/fetch-assets.sh" --download --dest "$D" >
   for f in "$SHARED"/*; do
     n="$(basename "$f")"
     [[ "$n" == SOURCES.md ]] && continue
+    if [[ "$n" == corpus ]]; then
+      # Not downloadable (derived files): the script must say so and write none of it.
+      if [[ ! -e "$D/corpus" ]] && grep -q 'corpus/ (the benchmark scenes) is not downloadable' "$WORK/dl.log"; then
+        ok "download mode: corpus/ not downloadable, said so"
+      else
+        bad "download mode: corpus/ written, or its absence not explained"
+      fi
+      continue
+    fi
     if cmp -s "$f" "$D/$n"; then ok "download mode: $n"; else bad "download mode: $n missing or different"; fi
   done
   if ls -A "$D" | grep -q '\.tmp\.'; then bad "download mode left temp files"; fi

@@ -45,6 +45,28 @@ MANIFEST=(
 # not downloadable: it only exists in the shared folder).
 DOC_FILES=(SOURCES.md)
 
+# The benchmark corpus (corpus/, see corpus/SOURCES.md): ten glTF scenes built by
+# corpus/build_corpus.py from files of two public repositories, with their sources,
+# licences and the build script. Copied (hash-checked) in copy mode; not downloadable:
+# the .glb files are derived, and rebuilding them needs the source repositories and
+# Python's trimesh (corpus/SOURCES.md says how).
+CORPUS=(
+  "ATTRIBUTION.txt|42623c020e318a9160036eb73783794de8526496a8f104ee59858feccc2bcca4"
+  "LICENSE-bevy-MIT.txt|508a77d2e7b51d98adeed32648ad124b7b30241a8e70b2e72c99f92d8e5874d1"
+  "SOURCES.md|09a3326033a82ef1c9661119743dc1b92a66c8ce823c18549a8010e78045546e"
+  "alpha_mask_panels.glb|06565e2255df9a8b8c13de85e3da4ce7a85f29fd4bb8cf90d41a924a1db17e7c"
+  "build_corpus.py|a00ae6c7fb9a7450f32ee45cdec835c91aecde9a128c9dcea6855a7a010adc81"
+  "golf_ball.glb|c1d9002a245947ac01d660380327cd3765654f08a0c4520bd4cb165494354a40"
+  "lion_statue.glb|6bb1a3d5edc2966d15c11ca8d4dcfc230f3a1323312503c29a77c57f29ed4764"
+  "metal_rough_spheres.glb|63d1171c71c1e82bec8f04a2dc832e38a4a8ac3f2842df72363eae84b4de7eb3"
+  "objects_on_circuit_board.glb|f1d6ff05ce69201b2a8cb5e03d9cdcc94f1100bc560e7462be59e00b8c0bb496"
+  "palm_tree.glb|39c2110fdea29e68fc40e9d3672b754d0140d646ab5dc3e822401af57637015e"
+  "sheen_chair_scene.glb|333609686ee793ba8be33f6a4edcc1c52a1dc0579edc1c6d804ac94b6b6b8ba5"
+  "skull.glb|50b835117fe0233cacd2f1964ce406adaba6c8118bf989acdf2c6d33a34925da"
+  "spot.glb|35c6cdecf4d01ad878ea4b6959c8212281ad9a4ff037b094c77a29a26dac169d"
+  "toy_plane.glb|623899606144b8c6fb8fee14c652df713c925c76a34deb302b764059083dad37"
+)
+
 usage() {
   cat <<EOF
 Usage: scripts/fetch-assets.sh [--dest DIR] [--source DIR] [--download] [--no-verify] [--help]
@@ -59,7 +81,8 @@ Two modes:
             folder given with --source -- the files are copied from it with cp,
             keeping their names.  Files already in the destination with identical
             content are skipped; differing ones are replaced.  SOURCES.md is copied
-            too.  A .glb missing from the source folder is generated from the PLY.
+            too, and corpus/ (the benchmark scenes) when the source has it.  A .glb
+            missing from the source folder is generated from the PLY.
 
   download  Otherwise (or with --download) every file is fetched from its public
             origin with 'curl -fL --retry 3', from raw.githubusercontent.com at a
@@ -78,7 +101,9 @@ Two modes:
               bunny_res4.glb      <- bun_zipper_res4.ply
             The conversion is byte-reproducible, so generated files are checked
             against the same SHA-256 as the shared copies.  SOURCES.md is not
-            downloadable and is skipped in this mode.
+            downloadable and is skipped in this mode, and so is corpus/ (the
+            benchmark scenes): its .glb files are built from two public
+            repositories by corpus/build_corpus.py (see corpus/SOURCES.md).
 
 Every file (downloaded, generated or copied) is checked against a SHA-256 embedded
 in this script; a file that is already present and matches is left alone.  Files
@@ -152,8 +177,9 @@ trap cleanup EXIT
 trap 'echo "fetch-assets: interrupted" >&2; exit 130' INT TERM
 
 new_tmp() {  # new_tmp NAME -> sets $tmp to a fresh temp path for NAME in DEST
-  # (not via $(...): the subshell would lose the TMPFILES registration)
-  tmp="$DEST/.$1.tmp.$$"
+  # (not via $(...): the subshell would lose the TMPFILES registration; a NAME in a
+  # subfolder gets its temp file in DEST itself, the same filesystem)
+  tmp="$DEST/.${1//\//_}.tmp.$$"
   rm -f -- "$tmp"
   TMPFILES+=("$tmp")
 }
@@ -228,6 +254,28 @@ if [[ "$MODE" == "copy" ]]; then
     echo "copied     $name"
     n_done=$((n_done + 1))
   done
+  if [[ -d "$SOURCE/corpus" ]]; then
+    mkdir -p "$DEST/corpus" || die "cannot create $DEST/corpus"
+    for entry in "${CORPUS[@]}"; do
+      IFS='|' read -r file want <<<"$entry"
+      name="corpus/$file"; src="$SOURCE/$name"
+      [[ -f "$src" ]] || die "$name: missing from source folder $SOURCE"
+      if [[ $VERIFY -eq 1 ]]; then check_hash "$src" "$name (in $SOURCE)" "$want"; fi
+      if [[ -f "$DEST/$name" ]] && cmp -s -- "$src" "$DEST/$name"; then
+        echo "skipped    $name  (identical copy already present)"; n_skip=$((n_skip + 1))
+        continue
+      fi
+      new_tmp "$name"
+      cp -- "$src" "$tmp" || die "$name: copy from $SOURCE failed"
+      chmod u+w -- "$tmp" 2>/dev/null || true
+      cmp -s -- "$src" "$tmp" || die "$name: copy differs from source (disk full?)"
+      mv -f -- "$tmp" "$DEST/$name" || die "$name: cannot rename into $DEST"
+      echo "copied     $name"
+      n_done=$((n_done + 1))
+    done
+  else
+    echo "note       corpus/ not in source folder, not copied"
+  fi
 else
   if [[ -d "$SOURCE" ]]; then
     echo "fetch-assets: --download given; ignoring shared folder $SOURCE"
@@ -256,6 +304,9 @@ else
     n_done=$((n_done + 1))
   done
   echo "note       SOURCES.md (provenance notes) exists only in the shared folder; not downloaded"
+  echo "note       corpus/ (the benchmark scenes) is not downloadable: its .glb files are built by"
+  echo "           corpus/build_corpus.py from two public repositories (corpus/SOURCES.md); copy it"
+  echo "           from a shared folder with --source DIR"
 fi
 
 echo "fetch-assets: done: $n_done written, $n_skip already up to date, in $DEST"
