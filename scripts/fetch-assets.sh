@@ -209,6 +209,22 @@ generate_glb() {  # generate_glb NAME EXPECTED_SHA "PLY [FLAGS]"
   n_done=$((n_done + 1))
 }
 
+copy_file() {  # copy_file NAME: SOURCE/NAME to DEST/NAME, unless an identical copy is there
+  local name="$1" src="$SOURCE/$1" action="copied    " tmp
+  if [[ -f "$DEST/$name" ]] && cmp -s -- "$src" "$DEST/$name"; then
+    echo "skipped    $name  (identical copy already present)"; n_skip=$((n_skip + 1))
+    return
+  fi
+  [[ -e "$DEST/$name" ]] && action="replaced  "
+  new_tmp "$name"
+  cp -- "$src" "$tmp" || die "$name: copy from $SOURCE failed"
+  chmod u+w -- "$tmp" 2>/dev/null || true
+  cmp -s -- "$src" "$tmp" || die "$name: copy differs from source (disk full?)"
+  mv -f -- "$tmp" "$DEST/$name" || die "$name: cannot rename into $DEST"
+  echo "$action $name"
+  n_done=$((n_done + 1))
+}
+
 if [[ "$MODE" == "copy" ]]; then
   SOURCE="$(cd "$SOURCE" && pwd)"
   echo "fetch-assets: copying from $SOURCE to $DEST"
@@ -227,32 +243,11 @@ if [[ "$MODE" == "copy" ]]; then
       die "$name: missing from source folder $SOURCE"
     fi
     if [[ $VERIFY -eq 1 ]]; then check_hash "$src" "$name (in $SOURCE)" "$want"; fi
-    if [[ -f "$DEST/$name" ]] && cmp -s -- "$src" "$DEST/$name"; then
-      echo "skipped    $name  (identical copy already present)"; n_skip=$((n_skip + 1))
-      continue
-    fi
-    action="copied    "; [[ -e "$DEST/$name" ]] && action="replaced  "
-    new_tmp "$name"
-    cp -- "$src" "$tmp" || die "$name: copy from $SOURCE failed"
-    chmod u+w -- "$tmp" 2>/dev/null || true
-    cmp -s -- "$src" "$tmp" || die "$name: copy differs from source (disk full?)"
-    mv -f -- "$tmp" "$DEST/$name" || die "$name: cannot rename into $DEST"
-    echo "$action $name"
-    n_done=$((n_done + 1))
+    copy_file "$name"
   done
   for name in "${DOC_FILES[@]}"; do
-    src="$SOURCE/$name"
-    [[ -f "$src" ]] || { echo "note       $name not in source folder, not copied"; continue; }
-    if [[ -f "$DEST/$name" ]] && cmp -s -- "$src" "$DEST/$name"; then
-      echo "skipped    $name  (identical copy already present)"; n_skip=$((n_skip + 1))
-      continue
-    fi
-    new_tmp "$name"
-    cp -- "$src" "$tmp" || die "$name: copy from $SOURCE failed"
-    chmod u+w -- "$tmp" 2>/dev/null || true
-    mv -f -- "$tmp" "$DEST/$name" || die "$name: cannot rename into $DEST"
-    echo "copied     $name"
-    n_done=$((n_done + 1))
+    [[ -f "$SOURCE/$name" ]] || { echo "note       $name not in source folder, not copied"; continue; }
+    copy_file "$name"
   done
   if [[ -d "$SOURCE/corpus" ]]; then
     mkdir -p "$DEST/corpus" || die "cannot create $DEST/corpus"
@@ -261,17 +256,7 @@ if [[ "$MODE" == "copy" ]]; then
       name="corpus/$file"; src="$SOURCE/$name"
       [[ -f "$src" ]] || die "$name: missing from source folder $SOURCE"
       if [[ $VERIFY -eq 1 ]]; then check_hash "$src" "$name (in $SOURCE)" "$want"; fi
-      if [[ -f "$DEST/$name" ]] && cmp -s -- "$src" "$DEST/$name"; then
-        echo "skipped    $name  (identical copy already present)"; n_skip=$((n_skip + 1))
-        continue
-      fi
-      new_tmp "$name"
-      cp -- "$src" "$tmp" || die "$name: copy from $SOURCE failed"
-      chmod u+w -- "$tmp" 2>/dev/null || true
-      cmp -s -- "$src" "$tmp" || die "$name: copy differs from source (disk full?)"
-      mv -f -- "$tmp" "$DEST/$name" || die "$name: cannot rename into $DEST"
-      echo "copied     $name"
-      n_done=$((n_done + 1))
+      copy_file "$name"
     done
   else
     echo "note       corpus/ not in source folder, not copied"
