@@ -59,8 +59,17 @@ impl Camera {
     /// Unit direction of the primary ray through the centre of pixel (x, y); y = 0 is the top row.
     #[inline]
     pub fn ray_dir(&self, x: u32, y: u32) -> Vec3 {
-        let sx = ((x as f32 + 0.5) / self.width as f32 * 2.0 - 1.0) * self.tan_half * self.aspect;
-        let sy = (1.0 - (y as f32 + 0.5) / self.height as f32 * 2.0) * self.tan_half;
+        self.ray_dir_at(x, y, 0.0, 0.0)
+    }
+
+    /// Unit direction of the primary ray through the point `(dx, dy)` pixels from the centre of
+    /// pixel (x, y) (x to the right, y down). With a zero offset, the very bits of
+    /// [`ray_dir`](Self::ray_dir): adding +0.0 to the centre changes nothing.
+    #[inline]
+    pub fn ray_dir_at(&self, x: u32, y: u32, dx: f32, dy: f32) -> Vec3 {
+        let sx =
+            ((x as f32 + 0.5 + dx) / self.width as f32 * 2.0 - 1.0) * self.tan_half * self.aspect;
+        let sy = (1.0 - (y as f32 + 0.5 + dy) / self.height as f32 * 2.0) * self.tan_half;
         (self.forward + self.right * sx + self.true_up * sy).normalize()
     }
 

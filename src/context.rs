@@ -8,6 +8,7 @@ use crate::accel::{Accel, PACKET};
 use crate::camera::Camera;
 use crate::envmap::EnvMap;
 use crate::lights::LightSet;
+use crate::samples::Samples;
 use crate::scene::Scene;
 use crate::shade::ShadeLights;
 
@@ -40,6 +41,10 @@ pub struct FrameContext<'a> {
     pub shade_lights: ShadeLights,
     /// Shadow-ray origin offset along the geometric normal (scene units).
     pub shadow_eps: f32,
+    /// Where the pixels' samples lie. The tiles and the methods address samples: sample
+    /// (x, y) is stratum (x mod k, y mod k) of pixel (x div k, y div k); with one sample per
+    /// pixel, samples are pixels.
+    pub samples: Samples,
 }
 
 impl<'a> FrameContext<'a> {
@@ -59,7 +64,22 @@ impl<'a> FrameContext<'a> {
             light_dir: lights.lights.iter().map(|l| l.dir).collect(),
             shade_lights: ShadeLights::new(lights),
             shadow_eps: shadow_epsilon(scene),
+            samples: Samples::one(),
         }
+    }
+
+    /// This context with the pixels' samples at `samples`.
+    pub fn with_samples(self, samples: Samples) -> FrameContext<'a> {
+        FrameContext { samples, ..self }
+    }
+
+    /// The unit direction of the primary ray of sample (x, y).
+    #[inline]
+    pub fn sample_dir(&self, x: u32, y: u32) -> Vec3 {
+        let k = self.samples.k;
+        let (px, py) = (x / k, y / k);
+        let (dx, dy) = self.samples.offset(px, py, x % k, y % k);
+        self.camera.ray_dir_at(px, py, dx, dy)
     }
 
     /// Number of lights.
@@ -72,10 +92,11 @@ impl<'a> FrameContext<'a> {
         self.light_count().div_ceil(64)
     }
 
-    /// The surface seen through the centre of pixel (x, y).
+    /// The surface seen by sample (x, y) (with one sample per pixel: through the centre of
+    /// pixel (x, y)).
     #[inline]
     pub fn surface(&self, x: u32, y: u32) -> Surface {
-        let dir = self.camera.ray_dir(x, y);
+        let dir = self.sample_dir(x, y);
         let Some(hit) = self.accel.intersect(self.camera.position, dir) else {
             return Surface::default();
         };

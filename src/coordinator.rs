@@ -287,7 +287,10 @@ fn render_tile_list(
         None => (&inputs.scene, inputs.still_accel()),
     };
     let camera = anim.camera(&inputs.scene, frame)?;
-    let ctx = FrameContext::new(scene, accel, camera, &inputs.lights, &inputs.env);
+    let samples = anim.render.samples();
+    let side = samples.k;
+    let ctx =
+        FrameContext::new(scene, accel, camera, &inputs.lights, &inputs.env).with_samples(samples);
     let prev = match temporal.prev {
         Some(carried) => {
             let prev_camera = anim.camera(&inputs.scene, carried.frame)?;
@@ -303,10 +306,11 @@ fn render_tile_list(
         }
         None => None,
     };
+    // The methods run on the samples: their spacings grow with the samples per pixel side.
     let shadows = anim
         .render
         .method
-        .build(anim.render.params(), prev.as_ref());
+        .build(anim.render.params().for_samples(side), prev.as_ref());
     let work = FrameWork {
         ctx: &ctx,
         shadows: &shadows,
@@ -356,7 +360,7 @@ fn render_tile_list(
     // splitting the list by position left one thread finishing the frame alone. Results keep
     // the list's order, so the frame does not depend on the schedule.
     let mut order: Vec<usize> = (0..list.len()).collect();
-    order.sort_by_cached_key(|&k| (std::cmp::Reverse(lattice.rays_in(list[k].rect)), k));
+    order.sort_by_cached_key(|&t| (std::cmp::Reverse(work.rays_in(&lattice, list[t].rect)), t));
     let slots: Vec<Mutex<Option<_>>> = (0..list.len()).map(|_| Mutex::new(None)).collect();
     let next = AtomicUsize::new(0);
     (0..rayon::current_num_threads())
@@ -372,7 +376,7 @@ fn render_tile_list(
                 let r = with_slot(|slot| {
                     let r = work.tile(t.rect, slot, &lattice);
                     let patch =
-                        carry.then(|| CarryPatch::record(&slot.bufs, &inputs.lights, edges));
+                        carry.then(|| CarryPatch::record(&slot.bufs, &inputs.lights, edges, side));
                     (r, patch)
                 });
                 progress.tile_done(r.0.counts.rays);
@@ -383,7 +387,12 @@ fn render_tile_list(
     let Some(results) = results else {
         return Err(Interrupted.into());
     };
-    let mut film = Film::new(anim.render.width, anim.render.height, work.validate);
+    let mut film = Film::new(
+        anim.render.width,
+        anim.render.height,
+        work.validate,
+        side > 1,
+    );
     for (r, patch) in &results {
         film.add(r);
         if let (Some(c), Some(p)) = (&mut carried, patch) {

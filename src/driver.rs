@@ -9,6 +9,13 @@
 //! [`Lattice`] ([`FrameWork::shared_phase`]); each tile then copies what it reads from it and
 //! evaluates the remaining passes ([`FrameWork::tile`]), so a tile's pixels are bit for bit
 //! those of the whole frame.
+//!
+//! With several samples per pixel (`--spp`) the methods run on the samples: a tile of pixels
+//! is a tile of k × k times as many samples, and everything below — orders, voters, halos,
+//! the lattice, the buffers — addresses samples (sample (x, y) is stratum (x mod k, y mod k)
+//! of pixel (x div k, y div k)). Only the last step, shading, gathers each pixel's own samples
+//! into its value; the filter is importance-sampled into the sample positions
+//! (`crate::samples`), so no pixel reads another's samples.
 
 use crate::bits;
 use crate::buffers::TileBuffers;
@@ -19,6 +26,7 @@ use crate::predict::temporal::solve_temporal;
 use crate::predict::{At, Order, Scratch, Shadows};
 use crate::shade::radiance;
 use crate::tile::Rect;
+use glam::Vec3;
 
 /// One thread's reusable buffers: the tile's pixels and the method's per-pixel scratch side by
 /// side, allocated once and reused across tiles and frames.
@@ -47,8 +55,21 @@ impl FrameWork<'_> {
         self.shadows.order.as_ref()
     }
 
+    /// Samples per pixel side.
+    fn k(&self) -> u32 {
+        self.ctx.samples.k
+    }
+
+    /// The frame's samples.
     fn frame(&self) -> Rect {
-        Rect::frame(self.ctx.camera.width, self.ctx.camera.height)
+        let k = self.k();
+        Rect::frame(self.ctx.camera.width * k, self.ctx.camera.height * k)
+    }
+
+    /// The samples of the pixels of `r`.
+    fn samples_of(&self, r: Rect) -> Rect {
+        let k = self.k();
+        Rect::new(r.x0 * k, r.y0 * k, r.x1 * k, r.y1 * k)
     }
 
     /// Phases shared through the lattice (0: none).
@@ -56,20 +77,21 @@ impl FrameWork<'_> {
         self.order().shared_passes()
     }
 
-    /// How far beyond a tile the shared phases' pixels it depends on reach.
+    /// How far beyond a tile, in pixels, the shared phases' samples it depends on reach.
     pub fn shared_reach(&self) -> u32 {
-        self.order().shared_reach()
+        self.order().shared_reach().div_ceil(self.k())
     }
 
     /// An empty lattice for this frame's shared phases.
     pub fn lattice(&self) -> Lattice {
-        let c = &self.ctx.camera;
-        Lattice::new(
-            c.width,
-            c.height,
-            self.order().lattice_step(),
-            self.ctx.words(),
-        )
+        let f = self.frame();
+        Lattice::new(f.x1, f.y1, self.order().lattice_step(), self.ctx.words())
+    }
+
+    /// Rays the lattice traced inside the pixels of `tile`: ranks tiles by the work they will
+    /// do (where the coarse levels were unsure, the finer ones trace most).
+    pub fn rays_in(&self, lattice: &Lattice, tile: Rect) -> u64 {
+        lattice.rays_in(self.samples_of(tile))
     }
 
     /// Sizes `slot` for `tile` and the region `phase` reads, and copies in the lattice pixels
@@ -127,8 +149,8 @@ impl FrameWork<'_> {
         i
     }
 
-    /// Runs shared phase `phase` (a pass evaluated once per frame) on `tile`: evaluates the
-    /// pass's pixels inside the tile and returns them for the frame's lattice.
+    /// Runs shared phase `phase` (a pass evaluated once per frame) on the pixels of `tile`:
+    /// evaluates the pass's samples inside the tile and returns them for the frame's lattice.
     pub fn shared_phase(
         &self,
         tile: Rect,
@@ -136,6 +158,7 @@ impl FrameWork<'_> {
         phase: usize,
         lattice: &Lattice,
     ) -> LatticePatch {
+        let tile = self.samples_of(tile);
         self.prepare(slot, tile, phase, lattice);
         let mut patch = LatticePatch::default();
         let (at, frame) = (self.shadows.at(phase), self.frame());
@@ -153,10 +176,12 @@ impl FrameWork<'_> {
         patch
     }
 
-    /// Renders `tile` (the final phase): evaluates the remaining passes at the pixels the tile
-    /// depends on — marked walking the passes backwards from the tile — then counts, validates
-    /// and shades. `slot` keeps the tile's buffers afterwards (for the frame's carried data).
-    pub fn tile(&self, tile: Rect, slot: &mut Slot, lattice: &Lattice) -> TileResult {
+    /// Renders the pixels of `pixels` (the final phase): evaluates the remaining passes at the
+    /// samples the tile depends on — marked walking the passes backwards from the tile — then
+    /// counts, validates and shades. `slot` keeps the tile's buffers afterwards (for the
+    /// frame's carried data).
+    pub fn tile(&self, pixels: Rect, slot: &mut Slot, lattice: &Lattice) -> TileResult {
+        let tile = self.samples_of(pixels);
         let order = self.order();
         let (shared, passes) = (order.shared_passes(), order.passes());
         self.prepare(slot, tile, shared, lattice);
@@ -233,7 +258,7 @@ impl FrameWork<'_> {
             }
         }
         let counts = count_work(&slot.bufs);
-        shade(self.ctx, &slot.bufs, self.validate, counts)
+        shade(self.ctx, &slot.bufs, pixels, self.validate, counts)
     }
 }
 
@@ -265,82 +290,109 @@ fn count_work(bufs: &TileBuffers) -> Counts {
     c
 }
 
-/// Shades the tile's pixels and, with `validate`, traces every query again to count the
-/// method's mistakes and shade the brute-force reference.
-fn shade(ctx: &FrameContext, bufs: &TileBuffers, validate: bool, mut counts: Counts) -> TileResult {
-    let tile = bufs.tile;
+/// Shades the samples of the tile's `pixels` and gathers each pixel's own — the mean of their
+/// radiance (in stratum order, so the sum does not depend on the tile), the sum of their rays
+/// and wrong pairs, the mean of their visible fractions and, with several samples, the
+/// fraction that hit. With `validate`, every query is traced again to count the method's
+/// mistakes and shade the brute-force reference. With one sample per pixel this is the pixel
+/// as it always was: adding to zero and dividing by one change no bit.
+fn shade(
+    ctx: &FrameContext,
+    bufs: &TileBuffers,
+    pixels: Rect,
+    validate: bool,
+    mut counts: Counts,
+) -> TileResult {
+    let k = ctx.samples.k;
+    let spp = (k * k) as f32;
     let w = bufs.words;
-    let n = tile.area();
+    let n = pixels.area();
     let mut beauty = Vec::with_capacity(n);
     let mut rays = Vec::with_capacity(n);
     let mut visible = Vec::with_capacity(n);
     let mut wrong = validate.then(|| Vec::with_capacity(n));
     let mut reference = validate.then(|| Vec::with_capacity(n));
+    let mut coverage = (k > 1).then(|| Vec::with_capacity(n));
     let mut truth = vec![0u64; w];
-    for y in tile.y0..tile.y1 {
-        for x in tile.x0..tile.x1 {
-            let i = bufs.region.index(x, y);
-            let s = bufs.surf[i];
-            rays.push(bufs.rays[i] as f32);
-            if !s.hit {
-                let r = ctx.env.radiance(ctx.camera.ray_dir(x, y)).to_array();
-                beauty.push(r);
-                visible.push(0.0);
-                if let (Some(wr), Some(rf)) = (&mut wrong, &mut reference) {
-                    wr.push(0.0);
-                    rf.push(r);
-                }
-                continue;
-            }
-            let vis = TileBuffers::row(&bufs.vis, i, w);
-            let above = TileBuffers::row(&bufs.above, i, w);
-            let lit = radiance(&ctx.shade_lights, s.n, s.albedo, vis);
-            beauty.push(lit.to_array());
-            let n_above = bits::count(above);
-            visible.push(if n_above > 0 {
-                bits::count(vis) as f32 / n_above as f32
-            } else {
-                0.0
-            });
-            if let (Some(wr), Some(rf)) = (&mut wrong, &mut reference) {
-                // The truth: every query traced again, those the method traced included,
-                // so a method that mis-records a trace shows up as `wrong_traced`.
-                for k in 0..w {
-                    truth[k] = 0;
-                    let mut m = above[k];
-                    while m != 0 {
-                        let j = k * 64 + m.trailing_zeros() as usize;
-                        m &= m - 1;
-                        if ctx.trace(&s, j) {
-                            truth[k] |= 1 << (j & 63);
+    for py in pixels.y0..pixels.y1 {
+        for px in pixels.x0..pixels.x1 {
+            let mut lit = Vec3::ZERO;
+            let mut traced = 0.0f32;
+            let mut seen = 0.0f32;
+            let mut mistakes = 0.0f32;
+            let mut exact = Vec3::ZERO;
+            let mut hits = 0u32;
+            for j in 0..k {
+                for i in 0..k {
+                    let (x, y) = (px * k + i, py * k + j);
+                    let q = bufs.region.index(x, y);
+                    let s = bufs.surf[q];
+                    traced += bufs.rays[q] as f32;
+                    if !s.hit {
+                        let r = ctx.env.radiance(ctx.sample_dir(x, y));
+                        lit += r;
+                        exact += r;
+                        continue;
+                    }
+                    hits += 1;
+                    let vis = TileBuffers::row(&bufs.vis, q, w);
+                    let above = TileBuffers::row(&bufs.above, q, w);
+                    lit += radiance(&ctx.shade_lights, s.n, s.albedo, vis);
+                    let n_above = bits::count(above);
+                    if n_above > 0 {
+                        seen += bits::count(vis) as f32 / n_above as f32;
+                    }
+                    if !validate {
+                        continue;
+                    }
+                    // The truth: every query traced again, those the method traced included,
+                    // so a method that mis-records a trace shows up as `wrong_traced`.
+                    for m in 0..w {
+                        truth[m] = 0;
+                        let mut word = above[m];
+                        while word != 0 {
+                            let j = m * 64 + word.trailing_zeros() as usize;
+                            word &= word - 1;
+                            if ctx.trace(&s, j) {
+                                truth[m] |= 1 << (j & 63);
+                            }
                         }
                     }
+                    let traced_bits = TileBuffers::row(&bufs.traced, q, w);
+                    let (mut wv, mut wb) = (0u64, 0u64);
+                    for m in 0..w {
+                        counts.wrong_traced +=
+                            ((vis[m] ^ truth[m]) & above[m] & traced_bits[m]).count_ones() as u64;
+                        wv += (vis[m] & !truth[m] & above[m]).count_ones() as u64;
+                        wb += (!vis[m] & truth[m] & above[m]).count_ones() as u64;
+                    }
+                    counts.wrong_visible += wv;
+                    counts.wrong_blocked += wb;
+                    counts.wrong_pixels += u64::from(wv + wb > 0);
+                    mistakes += (wv + wb) as f32;
+                    exact += radiance(&ctx.shade_lights, s.n, s.albedo, &truth);
                 }
-                let traced = TileBuffers::row(&bufs.traced, i, w);
-                for k in 0..w {
-                    counts.wrong_traced +=
-                        ((vis[k] ^ truth[k]) & above[k] & traced[k]).count_ones() as u64;
-                }
-                let (mut wv, mut wb) = (0u64, 0u64);
-                for k in 0..w {
-                    wv += (vis[k] & !truth[k] & above[k]).count_ones() as u64;
-                    wb += (!vis[k] & truth[k] & above[k]).count_ones() as u64;
-                }
-                counts.wrong_visible += wv;
-                counts.wrong_blocked += wb;
-                counts.wrong_pixels += u64::from(wv + wb > 0);
-                wr.push((wv + wb) as f32);
-                rf.push(radiance(&ctx.shade_lights, s.n, s.albedo, &truth).to_array());
+            }
+            beauty.push((lit / spp).to_array());
+            rays.push(traced);
+            visible.push(seen / spp);
+            if let (Some(wr), Some(rf)) = (&mut wrong, &mut reference) {
+                wr.push(mistakes);
+                rf.push((exact / spp).to_array());
+            }
+            if let Some(c) = &mut coverage {
+                c.push(hits as f32 / spp);
             }
         }
     }
     TileResult {
-        rect: tile,
+        rect: pixels,
         beauty,
         rays,
         visible,
         wrong,
         reference,
+        coverage,
         counts,
     }
 }

@@ -9,15 +9,18 @@ use crate::tile::Rect;
 #[derive(Clone, Debug)]
 pub struct TileResult {
     pub rect: Rect,
-    /// Linear RGB radiance.
+    /// Linear RGB radiance: the mean of the pixel's samples.
     pub beauty: Vec<[f32; 3]>,
-    /// Shadow rays traced per pixel.
+    /// Shadow rays traced per pixel (all its samples).
     pub rays: Vec<f32>,
-    /// Fraction of the above-horizon lights that are visible (0 for background pixels).
+    /// Fraction of the above-horizon lights that are visible, the mean over the pixel's
+    /// samples (a background sample counts 0).
     pub visible: Vec<f32>,
-    /// With validation: wrong (pixel, light) pairs per pixel, and the brute-force beauty.
+    /// With validation: wrong (sample, light) pairs per pixel, and the brute-force beauty.
     pub wrong: Option<Vec<f32>>,
     pub reference: Option<Vec<[f32; 3]>>,
+    /// With several samples per pixel: the fraction of them that hit the scene.
+    pub coverage: Option<Vec<f32>>,
     pub counts: Counts,
 }
 
@@ -129,15 +132,20 @@ pub struct Film {
     pub rays: Vec<f32>,
     /// Fraction of above-horizon lights visible.
     pub visible: Vec<f32>,
-    /// With validation: wrong (pixel, light) pairs per pixel, and the brute-force image.
+    /// With validation: wrong (sample, light) pairs per pixel, and the brute-force image.
     pub wrong: Option<Vec<f32>>,
     pub reference: Option<Vec<[f32; 3]>>,
+    /// With several samples per pixel: the fraction of each pixel's samples that hit the
+    /// scene (at one sample it would be the hit mask, and is not kept).
+    pub coverage: Option<Vec<f32>>,
     /// Sum of the tiles' counts.
     pub counts: Counts,
 }
 
 impl Film {
-    pub fn new(width: u32, height: u32, validated: bool) -> Film {
+    /// An empty film; `validated` keeps the wrong pairs and the reference image, `coverage`
+    /// the fraction of samples that hit.
+    pub fn new(width: u32, height: u32, validated: bool, coverage: bool) -> Film {
         let n = width as usize * height as usize;
         Film {
             width,
@@ -147,6 +155,7 @@ impl Film {
             visible: vec![0.0; n],
             wrong: validated.then(|| vec![0.0; n]),
             reference: validated.then(|| vec![[0.0; 3]; n]),
+            coverage: coverage.then(|| vec![0.0; n]),
             counts: Counts::default(),
         }
     }
@@ -165,6 +174,9 @@ impl Film {
                 d[dst..dst + w].copy_from_slice(&s[src..src + w]);
             }
             if let (Some(d), Some(s)) = (&mut self.reference, &tile.reference) {
+                d[dst..dst + w].copy_from_slice(&s[src..src + w]);
+            }
+            if let (Some(d), Some(s)) = (&mut self.coverage, &tile.coverage) {
                 d[dst..dst + w].copy_from_slice(&s[src..src + w]);
             }
         }

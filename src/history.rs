@@ -94,11 +94,14 @@ impl Carried {
 }
 
 impl CarryPatch {
-    /// Records the tile's own pixels from `bufs` after the tile was rendered. With `edges`
-    /// (a spinning object), also the edge lights: those whose visibility differs from an
-    /// adjacent above-horizon light's.
-    pub fn record(bufs: &TileBuffers, lights: &LightSet, edges: bool) -> CarryPatch {
-        let t = bufs.tile;
+    /// Records the tile's own pixels from `bufs` after the tile was rendered, each by one of
+    /// its k × k samples (`bufs` addresses samples): the one in stratum (k/2, k/2), nearest the
+    /// centre, so the carried frame keeps the memory of one sample per pixel whatever the
+    /// samples per pixel. With `edges` (a spinning object), also the edge lights: those whose
+    /// visibility differs from an adjacent above-horizon light's.
+    pub fn record(bufs: &TileBuffers, lights: &LightSet, edges: bool, k: u32) -> CarryPatch {
+        let st = bufs.tile;
+        let t = Rect::new(st.x0 / k, st.y0 / k, st.x1 / k, st.y1 / k);
         let w = bufs.words;
         let rows = if edges { 3 } else { 2 };
         let n = t.area();
@@ -109,17 +112,17 @@ impl CarryPatch {
             n: Vec::with_capacity(n),
             bits: vec![0; n * rows * w],
         };
-        let mut k = 0;
+        let mut c = 0;
         for y in t.y0..t.y1 {
             for x in t.x0..t.x1 {
-                let i = bufs.region.index(x, y);
+                let i = bufs.region.index(x * k + k / 2, y * k + k / 2);
                 let s = bufs.surf[i];
                 patch.hit.push(s.hit);
                 patch.p.push(s.p);
                 patch.n.push(s.n);
                 let above = TileBuffers::row(&bufs.above, i, w);
                 let vis = TileBuffers::row(&bufs.vis, i, w);
-                let out = &mut patch.bits[k * rows * w..(k + 1) * rows * w];
+                let out = &mut patch.bits[c * rows * w..(c + 1) * rows * w];
                 out[..w].copy_from_slice(above);
                 out[w..2 * w].copy_from_slice(vis);
                 if edges {
@@ -143,7 +146,7 @@ impl CarryPatch {
                         }
                     }
                 }
-                k += 1;
+                c += 1;
             }
         }
         patch

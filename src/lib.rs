@@ -39,6 +39,7 @@ pub mod output;
 pub mod predict;
 pub mod raydump;
 pub mod report;
+pub mod samples;
 pub mod savings;
 pub mod scene;
 pub mod settings;

@@ -235,7 +235,7 @@ pub fn assemble(dir: &Path) -> Result<Assembled> {
         write_atomic(&dir.join("lights.json"), l)?;
     }
     for &f in &frames {
-        let mut film = Film::new(settings.width, settings.height, settings.validate);
+        let mut film = Film::new(settings.width, settings.height, settings.validate, false);
         let mut covered = vec![false; grid.len()];
         let mut counts = Counts::default();
         let mut seconds = 0.0;

@@ -20,6 +20,9 @@ pub struct At {
     /// Also keep, for each light predicted blocked, the warped blocker that voted for it
     /// ([ours]; the order says).
     pub keep_predicted: bool,
+    /// Inside a pixel (the voters closer than a pixel apart): a light on which three of four
+    /// voters agree is taken from them rather than traced.
+    pub majority: bool,
 }
 
 /// Traces the queued lights of region pixel `i` (begun, hit) starting from the prediction in
@@ -314,6 +317,7 @@ mod tests {
                     flood_to: case.flood_to,
                     keep_blockers,
                     keep_predicted: false,
+                    majority: false,
                 };
                 (case.solve)(&ctx, &mut bufs, &mut sc, 0, at);
                 let want_vis: Vec<usize> = mine
@@ -380,6 +384,7 @@ mod tests {
                 flood_to: FloodTo::Contrary,
                 keep_blockers: true,
                 keep_predicted,
+                majority: false,
             };
             correct::<Uncertainty>(&ctx, &mut bufs, &mut sc, 0, at);
             let got: Vec<(usize, f32)> = bufs.blockers.of(0).collect();
@@ -477,6 +482,7 @@ mod tests {
                         flood_to,
                         keep_blockers,
                         keep_predicted: false,
+                        majority: false,
                     };
                     let (want, queued) = run(trace, at, orders[0].1);
                     // The case must exercise what it guards: several waves, and flooding.

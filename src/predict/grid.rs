@@ -132,6 +132,10 @@ impl Order for Grid {
         pass + 2 >= self.passes()
     }
 
+    fn spacing(&self, pass: usize) -> Option<u32> {
+        (pass > 0).then(|| Grid::spacing(self, pass))
+    }
+
     /// [ours]: a grid voter is s pixels away and every light it predicted blocked should still
     /// vote (docs/methods.md).
     fn keeps_predicted(&self) -> bool {
@@ -163,7 +167,7 @@ impl Order for Grid {
     }
 
     fn reads(&self) -> &'static [&'static str] {
-        &["h0"]
+        &["h0", "pixel_majority"]
     }
 }
 

@@ -47,6 +47,13 @@ pub trait Order: Send + Sync {
         false
     }
 
+    /// How far (in lattice steps) the voters of `pass` lie along each axis, for orders whose
+    /// passes have levels (`None`: the order has none).
+    fn spacing(&self, pass: usize) -> Option<u32> {
+        let _ = pass;
+        None
+    }
+
     /// Whether a pixel keeps, besides its traced blockers, the warped blocker that voted for
     /// each light it predicted blocked ([ours]; docs/methods.md).
     fn keeps_predicted(&self) -> bool {

@@ -96,7 +96,12 @@ impl<V: Vote, F: Flood> Rule for Predict<V, F> {
             let (any, all) = V::word(bufs, sc, voters, m, &above[..nv]);
             let enough = bits::at_least(&above[..nv], self.min_voters);
             let my = bufs.above[i * w + m];
-            let (blocked, unsure) = F::predict(my, enough, any, all);
+            let (mut blocked, mut unsure) = F::predict(my, enough, any, all);
+            if at.majority && nv == 4 && unsure != 0 {
+                let (b, v) = majority(bufs, voters, m, &above);
+                blocked |= unsure & b;
+                unsure &= !(b | v);
+            }
             sc.pred_vis[m] = my & !blocked;
             sc.uncertain[m] = unsure;
             sc.queued[m] = unsure;
@@ -105,4 +110,22 @@ impl<V: Vote, F: Flood> Rule for Predict<V, F> {
         // 3–4. Trace the queue, flooding; keep the blockers.
         correct::<F>(ctx, bufs, sc, i, at);
     }
+}
+
+/// Word `m` of the lights every one of the four `voters` has above its horizon and at least
+/// three of them found blocked (`.0`) or visible (`.1`), from their own visibility.
+#[inline]
+fn majority(bufs: &TileBuffers, voters: &[usize], m: usize, above: &[u64; 4]) -> (u64, u64) {
+    let w = bufs.words;
+    let all_above = above[0] & above[1] & above[2] & above[3];
+    let mut vis = [0u64; 4];
+    let mut blocked = [0u64; 4];
+    for (k, &q) in voters.iter().enumerate() {
+        vis[k] = bufs.vis[q * w + m];
+        blocked[k] = !vis[k];
+    }
+    (
+        all_above & bits::at_least(&blocked, 3),
+        all_above & bits::at_least(&vis, 3),
+    )
 }

@@ -137,6 +137,7 @@ pub fn solve_temporal(
     // ([ours], docs/methods.md) whatever the spatial order does.
     let at = At {
         keep_predicted: true,
+        majority: false,
         ..at
     };
     correct::<Uncertainty>(ctx, bufs, sc, i, at);
