@@ -485,6 +485,7 @@ impl Animation {
             tile: r.tile,
             threads: r.threads,
             validate: r.validate,
+            spp: r.spp,
         };
         let need = human_bytes_u128(estimate_bytes(&request));
         if r.width == 0 || r.height == 0 || r.width > MAX_DIM || r.height > MAX_DIM {

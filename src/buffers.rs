@@ -50,6 +50,9 @@ pub struct TileBuffers {
     pub temporal: Vec<bool>,
     /// Blockers, for the warping methods.
     pub blockers: Blockers,
+    /// The last pixel begun on a surface: one with the same normal has the same lights above
+    /// its horizon (samples of one pixel on a flat surface nearly always).
+    pub(crate) last_begun: Option<usize>,
 }
 
 impl TileBuffers {
@@ -75,6 +78,7 @@ impl TileBuffers {
         self.temporal.clear();
         self.temporal.resize(n, false);
         self.blockers.reset(n);
+        self.last_begun = None;
     }
 
     /// Evaluates pixel (x, y) of the region: its surface and above-horizon lights. Marks it
@@ -87,11 +91,17 @@ impl TileBuffers {
         self.needed[i] = true;
         if s.hit {
             let w = self.words;
-            crate::shade::above_horizon(
-                &ctx.shade_lights,
-                s.n,
-                &mut self.above[i * w..(i + 1) * w],
-            );
+            match self.last_begun {
+                Some(l) if crate::shade::same(self.surf[l].n, s.n) => {
+                    self.above.copy_within(l * w..(l + 1) * w, i * w);
+                }
+                _ => crate::shade::above_horizon(
+                    &ctx.shade_lights,
+                    s.n,
+                    &mut self.above[i * w..(i + 1) * w],
+                ),
+            }
+            self.last_begun = Some(i);
         }
         i
     }

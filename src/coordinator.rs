@@ -407,6 +407,7 @@ fn render_tile_list(
         lights: inputs.lights.len(),
         width: anim.render.width,
         height: anim.render.height,
+        spp: anim.render.spp,
         counts: film.counts,
         image_error: film.image_error(rendered, anim.render.exposure),
         seconds: start.elapsed().as_secs_f64(),

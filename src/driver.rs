@@ -24,7 +24,7 @@ use crate::film::{Counts, TileResult};
 use crate::lattice::{Lattice, LatticePatch};
 use crate::predict::temporal::solve_temporal;
 use crate::predict::{At, Order, Scratch, Shadows};
-use crate::shade::radiance;
+use crate::shade::{light_sum, radiance, reflect, same};
 use crate::tile::Rect;
 use glam::Vec3;
 
@@ -314,6 +314,10 @@ fn shade(
     let mut reference = validate.then(|| Vec::with_capacity(n));
     let mut coverage = (k > 1).then(|| Vec::with_capacity(n));
     let mut truth = vec![0u64; w];
+    // The last light sum shaded: (normal, sample, sum). A sample with the same normal and the
+    // same visible lights has the same sum, bit for bit — neighbouring samples of a flat or
+    // finely tessellated surface mostly do — and is shaded without the per-light loop.
+    let mut last: Option<(Vec3, usize, Vec3)> = None;
     for py in pixels.y0..pixels.y1 {
         for px in pixels.x0..pixels.x1 {
             let mut lit = Vec3::ZERO;
@@ -337,7 +341,16 @@ fn shade(
                     hits += 1;
                     let vis = TileBuffers::row(&bufs.vis, q, w);
                     let above = TileBuffers::row(&bufs.above, q, w);
-                    lit += radiance(&ctx.shade_lights, s.n, s.albedo, vis);
+                    let sum = match last {
+                        Some((n, l, sum))
+                            if same(n, s.n) && TileBuffers::row(&bufs.vis, l, w) == vis =>
+                        {
+                            sum
+                        }
+                        _ => light_sum(&ctx.shade_lights, s.n, vis),
+                    };
+                    last = Some((s.n, q, sum));
+                    lit += reflect(s.albedo, sum);
                     let n_above = bits::count(above);
                     if n_above > 0 {
                         seen += bits::count(vis) as f32 / n_above as f32;

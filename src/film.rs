@@ -24,7 +24,8 @@ pub struct TileResult {
     pub counts: Counts,
 }
 
-/// Work counted while deciding visibility.
+/// Work counted while deciding visibility. With samples per pixel every count is per sample:
+/// a "pixel" below is one sample of the lattice the method works on (a pixel at `--spp 1`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Counts {
     /// Shadow queries: (pixel, light) pairs with N·ω > 0 [paper].
@@ -37,7 +38,7 @@ pub struct Counts {
     /// With validation: pairs predicted visible that are blocked, and the reverse.
     pub wrong_visible: u64,
     pub wrong_blocked: u64,
-    /// With validation: pixels with any wrong pair.
+    /// With validation: samples with any wrong pair.
     pub wrong_pixels: u64,
     /// With validation: wrong pairs among those the method traced (always 0 unless a method
     /// mis-records its own traces; checked by the tests).

@@ -70,6 +70,8 @@ pub struct Request {
     /// Worker threads (0: one per core).
     pub threads: usize,
     pub validate: bool,
+    /// Samples per pixel (a square): the tile state is per sample.
+    pub spp: u32,
 }
 
 /// Frames alive at once: two rendering, two waiting in the writer's channel, one being written.
@@ -78,13 +80,15 @@ const FRAMES_ALIVE: u64 = 5;
 const HALO: u64 = 64;
 
 /// An upper estimate of the bytes a render needs beyond its inputs: the films of the frames
-/// alive, each worker's per-pixel tile state over the tile and its halo (surface, counts and four
-/// light bitsets: above, visible, traced, and the shared lattice or blockers), and the per-light
-/// tables. Computed in u128 so absurd requests do not overflow.
+/// alive, each worker's per-sample tile state over the tile and its halo (surface, counts and
+/// four light bitsets: above, visible, traced, and the shared lattice or blockers; the tile and
+/// the halo are k times wider in samples at k × k samples per pixel), and the per-light tables. Computed in u128 so absurd requests do not overflow.
 pub fn estimate_bytes(r: &Request) -> u128 {
     let (w, h) = (u128::from(r.width), u128::from(r.height));
     let pixels = w * h;
-    let film_per_pixel: u128 = if r.validate { 36 } else { 20 };
+    let film_per_pixel: u128 = if r.validate { 36 } else { 20 } + if r.spp > 1 { 4 } else { 0 };
+    let k = u128::from(r.spp.max(1)).isqrt();
+    let samples = pixels * k * k;
     let films = pixels * film_per_pixel * u128::from(FRAMES_ALIVE);
     let words = (r.lights as u128).div_ceil(64);
     let state_per_pixel = 64 + 4 * words * 8;
@@ -93,15 +97,15 @@ pub fn estimate_bytes(r: &Request) -> u128 {
     } else {
         r.threads as u128
     };
-    let tile_pixels = if r.tile == 0 {
+    let tile_samples = if r.tile == 0 {
         // One tile: the whole frame on one thread.
-        pixels
+        samples
     } else {
-        let side = u128::from(r.tile) + 2 * u128::from(HALO);
-        (side * side).min(pixels) * threads
+        let side = (u128::from(r.tile) + 2 * u128::from(HALO)) * k;
+        (side * side).min(samples) * threads
     };
     let per_light = r.lights as u128 * 256;
-    films + tile_pixels * state_per_pixel + per_light
+    films + tile_samples * state_per_pixel + per_light
 }
 
 /// Refuses a request whose memory estimate exceeds [`MAX_MEMORY_BYTES`]; the message gives the
@@ -111,9 +115,10 @@ pub fn check_memory(source: impl AsRef<Path>, r: &Request) -> Result<()> {
     if need > u128::from(MAX_MEMORY_BYTES) {
         bail_input!(
             source,
-            "{}x{} at {} lights would need about {} of memory (more than the {} allowed); use fewer pixels, fewer lights or smaller tiles",
+            "{}x{} at {} spp and {} lights would need about {} of memory (more than the {} allowed); use fewer pixels, samples or lights, or smaller tiles",
             r.width,
             r.height,
+            r.spp,
             r.lights,
             human_bytes_u128(need),
             human_bytes(MAX_MEMORY_BYTES)
@@ -154,6 +159,7 @@ mod tests {
             tile: 64,
             threads: 2,
             validate: false,
+            spp: 1,
         }
     }
 
@@ -168,6 +174,34 @@ mod tests {
         whole.tile = 0;
         let e = check_memory("a.toml", &whole).unwrap_err().to_string();
         assert!(e.contains("would need about") && e.contains("GB"), "{e}");
+    }
+
+    #[test]
+    fn samples_per_pixel_grow_the_tile_state_not_the_film() {
+        let one = req(1920, 1080, 400);
+        let sixteen = Request { spp: 16, ..one };
+        let (a, b) = (estimate_bytes(&one), estimate_bytes(&sixteen));
+        // Tiles and halos 4× wider in samples: the per-sample state grows 16×; the films
+        // (five frames alive) only by the coverage channel.
+        let (films, per_light) = (1920 * 1080 * 20 * 5, 400 * 256);
+        let coverage = 1920 * 1080 * 4 * 5;
+        assert_eq!(
+            b - films - coverage - per_light,
+            16 * (a - films - per_light),
+            "{a} → {b}"
+        );
+        // 1920×1080 at 16 spp and 400 lights fits well within the 2 GB the issue allows.
+        assert!(b < 2_000_000_000, "{b}");
+        // A whole-frame tile at 64 spp of a large frame is refused, naming the samples.
+        let whole = Request {
+            width: 8192,
+            height: 8192,
+            spp: 64,
+            tile: 0,
+            ..one
+        };
+        let e = check_memory("a.toml", &whole).unwrap_err().to_string();
+        assert!(e.contains("64 spp"), "{e}");
     }
 
     #[test]

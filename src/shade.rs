@@ -59,6 +59,26 @@ const BYTE_MASK: [[f32; 8]; 256] = {
 /// whatever the thread or tile, and several times faster than one light at a time.
 #[inline]
 pub fn radiance(sl: &ShadeLights, n: Vec3, albedo: Vec3, bits: &[u64]) -> Vec3 {
+    reflect(albedo, light_sum(sl, n, bits))
+}
+
+/// The radiance a Lambertian surface of `albedo` reflects from the cosine-weighted light
+/// [`light_sum`]: [`radiance`] in two steps, so a sum can be shared by surfaces with the same
+/// normal and visible lights (the samples of a pixel) for the very same bits.
+#[inline]
+pub fn reflect(albedo: Vec3, sum: Vec3) -> Vec3 {
+    albedo * std::f32::consts::FRAC_1_PI * sum
+}
+
+/// Whether two normals are the same bits (so every kernel gives them the same answer).
+#[inline]
+pub fn same(a: Vec3, b: Vec3) -> bool {
+    a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits)
+}
+
+/// The cosine-weighted radiance of the lights in `bits` on a surface with normal `n`.
+#[inline]
+pub fn light_sum(sl: &ShadeLights, n: Vec3, bits: &[u64]) -> Vec3 {
     assert!(bits.len() * 64 <= sl.x.len());
     #[cfg(target_arch = "x86_64")]
     // SAFETY: the light planes hold every light of `bits` (asserted); AVX2 where detected.
@@ -72,8 +92,7 @@ pub fn radiance(sl: &ShadeLights, n: Vec3, albedo: Vec3, bits: &[u64]) -> Vec3 {
     #[cfg(not(target_arch = "x86_64"))]
     let lanes = radiance_lanes(sl, n, bits);
     let sum = |a: [f32; 8]| ((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]));
-    let e = Vec3::new(sum(lanes[0]), sum(lanes[1]), sum(lanes[2]));
-    albedo * std::f32::consts::FRAC_1_PI * e
+    Vec3::new(sum(lanes[0]), sum(lanes[1]), sum(lanes[2]))
 }
 
 /// The eight per-lane partial sums (r, g, b) of [`radiance`], one light at a time: the

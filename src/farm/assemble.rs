@@ -235,7 +235,12 @@ pub fn assemble(dir: &Path) -> Result<Assembled> {
         write_atomic(&dir.join("lights.json"), l)?;
     }
     for &f in &frames {
-        let mut film = Film::new(settings.width, settings.height, settings.validate, false);
+        let mut film = Film::new(
+            settings.width,
+            settings.height,
+            settings.validate,
+            settings.spp > 1,
+        );
         let mut covered = vec![false; grid.len()];
         let mut counts = Counts::default();
         let mut seconds = 0.0;
@@ -274,6 +279,7 @@ pub fn assemble(dir: &Path) -> Result<Assembled> {
                 lights: tf.lights,
                 width: settings.width,
                 height: settings.height,
+                spp: settings.spp,
                 counts,
                 image_error: film.image_error(full, settings.exposure),
                 seconds,
@@ -395,6 +401,11 @@ fn read_piece(
     } else {
         None
     };
+    let coverage = if settings.spp > 1 {
+        Some(ch("coverage")?)
+    } else {
+        None
+    };
     let fw = film.width as usize;
     let bw = bbox.width() as usize;
     for t in &s.tiles {
@@ -410,6 +421,9 @@ fn read_piece(
                 {
                     fwrong[d] = w[i];
                     fref[d] = [rr[i], rg[i], rb[i]];
+                }
+                if let (Some(c), Some(fc)) = (coverage, film.coverage.as_mut()) {
+                    fc[d] = c[i];
                 }
             }
         }

@@ -4,7 +4,7 @@
 //! |---|---|
 //! | `job.json` | the manifest: format, build identity, host, settings fingerprint, frame and tile grid, the plan it belongs to, the job's frames and tiles |
 //! | `lights.json` | the lights, as a one-process render writes them |
-//! | `tiles_0003.exr` | frame 3's pixels of the job's tiles, over the tiles' bounding rectangle (float channels `R G B rays visible`, with validation also `wrong ref.R ref.G ref.B`) |
+//! | `tiles_0003.exr` | frame 3's pixels of the job's tiles, over the tiles' bounding rectangle (float channels `R G B rays visible`, with validation also `wrong ref.R ref.G ref.B`, with samples per pixel `coverage`) |
 //! | `tiles_0003.json` | frame 3's statistics for those tiles (counts, seconds, camera) and the EXR's size and SHA-256; written after the EXR, so it marks the frame done |
 //!
 //! Every file is published atomically (`crate::output`), so a crashed or duplicated attempt
@@ -43,6 +43,10 @@ pub struct Settings {
     pub tiles: usize,
     pub exposure: f32,
     pub validate: bool,
+    /// Samples per pixel: above 1, tile images carry `coverage` (absent in manifests written
+    /// before samples per pixel: 1).
+    #[serde(default = "one")]
+    pub spp: u32,
     /// The run's frames (for an explicit job: its own).
     pub frames: Range<usize>,
     pub alignment: usize,
@@ -64,6 +68,7 @@ impl Settings {
             .len(),
             exposure: anim.render.exposure,
             validate: anim.render.validate,
+            spp: anim.render.spp,
             frames: anim.frames.clone(),
             alignment: anim.frame_alignment(),
         })
@@ -123,11 +128,18 @@ pub fn tiles_path(dir: &Path, frame: usize, ext: &str) -> PathBuf {
     dir.join(format!("tiles_{frame:04}.{ext}"))
 }
 
-/// Channel names of a job's tile image, in the order they are stored (EXR sorts them).
-pub fn channel_names(validate: bool) -> Vec<&'static str> {
+fn one() -> u32 {
+    1
+}
+
+/// Channel names of a job's tile image (EXR stores them sorted).
+pub fn channel_names(validate: bool, spp: u32) -> Vec<&'static str> {
     let mut v = vec!["R", "G", "B", "rays", "visible"];
     if validate {
         v.extend(["wrong", "ref.R", "ref.G", "ref.B"]);
+    }
+    if spp > 1 {
+        v.push("coverage");
     }
     v
 }
@@ -236,6 +248,9 @@ fn write_tile_image(path: &Path, film: &Film, bbox: Rect) -> Result<()> {
         for (c, name) in ["ref.R", "ref.G", "ref.B"].iter().enumerate() {
             add(name, pick(&|i| reference[i][c]));
         }
+    }
+    if let Some(coverage) = &film.coverage {
+        add("coverage", pick(&|i| coverage[i]));
     }
     crate::output::exr::write_channels(path, (w, h), channels)
 }

@@ -1,7 +1,9 @@
 //! EXR frames: float RGB beauty plus AOV channels.
 //!
 //! Channels: `R`, `G`, `B` (linear radiance), `rays` (shadow rays traced at the pixel),
-//! `visible` (fraction of above-horizon lights visible). ZIP compression in increasing scanline
+//! `visible` (fraction of above-horizon lights visible), with samples per pixel `coverage`
+//! (the filter-weighted fraction of the pixel's samples that hit the scene), with validation
+//! `wrong` (wrong pairs, summed over the samples). ZIP compression in increasing scanline
 //! order, written on one thread, so the same film always gives the same bytes.
 
 use std::path::Path;

@@ -59,6 +59,12 @@ pub fn write_frame_files(dir: &Path, frame: usize, film: &Film, exposure: f32) -
             values: wrong,
         });
     }
+    if let Some(coverage) = &film.coverage {
+        aovs.push(exr::Aov {
+            name: "coverage",
+            values: coverage,
+        });
+    }
     exr::write_frame(&frame_path(dir, frame, "exr"), film, &aovs)?;
     png::write_preview(
         &frame_path(dir, frame, "png"),

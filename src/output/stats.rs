@@ -17,6 +17,8 @@ pub struct FrameStats {
     pub lights: usize,
     pub width: u32,
     pub height: u32,
+    /// Samples per pixel: the counts are per (sample, light) query.
+    pub spp: u32,
     pub counts: Counts,
     /// With validation: the image against brute force.
     pub image_error: Option<ImageError>,
@@ -33,7 +35,7 @@ pub struct FrameStats {
 pub const HEADER: &str = "frame,method,lights,width,height,queries,rays_traced,percent_traced,\
 halo_pixels,halo_rays,seconds,wrong_visible,wrong_blocked,error_percent,wrong_pixels,rmse,rel_rmse,\
 psnr_db,camera_x,camera_y,camera_z,target_x,target_y,target_z,up_x,up_y,up_z,vfov_deg,\
-temporal_pixels,temporal_rays,spatial_rays,rays_every_light,rays_unsure,rays_flooded,flood_fixes";
+temporal_pixels,temporal_rays,spatial_rays,rays_every_light,rays_unsure,rays_flooded,flood_fixes,spp";
 
 impl FrameStats {
     /// The CSV row (no newline), columns as in [`HEADER`]. Validation columns are empty for
@@ -75,7 +77,7 @@ impl FrameStats {
         }
         let _ = write!(
             s,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             p.x,
             p.y,
             p.z,
@@ -92,7 +94,8 @@ impl FrameStats {
             c.rays_every_light,
             c.rays_unsure(),
             c.rays_flooded,
-            c.flood_fixes
+            c.flood_fixes,
+            self.spp
         );
         s
     }
@@ -155,6 +158,9 @@ const SPLIT_COLUMNS: [&str; 4] = [
     "flood_fixes",
 ];
 
+/// The column a `stats.csv` written before samples per pixel lacks; read as 1.
+const SPP_COLUMN: &str = "spp";
+
 /// Reads `stats.csv`: one [`FrameStats`] per row, sorted by frame, columns found by their
 /// header names (the derived ones — percent traced, error percent, spatial and unsure rays —
 /// are recomputed from the counts). Every reader of `stats.csv` reads it through this.
@@ -173,7 +179,7 @@ pub fn read_stats(path: &Path) -> Result<Vec<FrameStats>> {
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
     for name in HEADER.split(',') {
-        if !header.contains(&name) && !SPLIT_COLUMNS.contains(&name) {
+        if !header.contains(&name) && !SPLIT_COLUMNS.contains(&name) && name != SPP_COLUMN {
             return Err(input_error(
                 path,
                 format!("no column {name:?} in the header"),
@@ -271,6 +277,11 @@ pub fn read_stats(path: &Path) -> Result<Vec<FrameStats>> {
             lights: count("lights")? as usize,
             width: count("width")? as u32,
             height: count("height")? as u32,
+            spp: if header.contains(&SPP_COLUMN) {
+                count(SPP_COLUMN)? as u32
+            } else {
+                1
+            },
             counts,
             image_error,
             seconds: need("seconds")?,
@@ -295,6 +306,7 @@ mod tests {
             lights: 200,
             width: 64,
             height: 48,
+            spp: 4,
             counts: Counts {
                 queries: 1000,
                 rays: 120,
