@@ -20,17 +20,17 @@ use crate::error::Result;
 
 pub use texture::srgb_to_linear;
 
-/// An sRGB-decoded (linear) RGB texture, row-major, row 0 at the top (glTF's UV origin).
+/// An sRGB-decoded (linear) RGB texture, row-major, row 0 at the top (glTF's UV origin), with
+/// its mip pyramid.
 ///
-/// Sampling ([`Texture::sample`]) is bilinear with repeat wrap.
+/// Sampling is bilinear with repeat wrap ([`Texture::sample`]), or trilinear over a footprint
+/// ([`Texture::sample_footprint`]). The fields are private because the pyramid is made from the
+/// texels once, by the constructors: texels changed afterwards would disagree with it.
 #[derive(Clone, Debug)]
 pub struct Texture {
-    /// Width in texels.
-    pub width: usize,
-    /// Height in texels.
-    pub height: usize,
-    /// `width × height` linear RGB texels, row 0 first.
-    pub texels: Vec<Vec3>,
+    /// Level 0 (the texels as decoded), then each level half the size of the one before, down
+    /// to 1 × 1; only level 0 when the texture is empty.
+    levels: Vec<texture::Level>,
 }
 
 /// A Lambertian material: albedo = base_color × texture(uv).

@@ -477,10 +477,13 @@ fn locate(scene: &Scene, uv: Vec2) -> (usize, (f32, f32)) {
 
 fn check_textured(scene: &Scene) {
     assert_eq!(scene.textures.len(), 1);
-    assert_eq!((scene.textures[0].width, scene.textures[0].height), (2, 2));
+    assert_eq!(
+        (scene.textures[0].width(), scene.textures[0].height()),
+        (2, 2)
+    );
     let raw: Vec<u8> = TEXELS.iter().flatten().copied().collect();
     let direct = envshadow::scene::Texture::from_srgb8(2, 2, &raw).unwrap();
-    assert_eq!(direct.texels, scene.textures[0].texels);
+    assert_eq!(direct.texels(), scene.textures[0].texels());
     let base = Vec3::new(0.5, 1.0, 0.8);
     for (k, c) in TEXELS.iter().enumerate() {
         let expected = base * Vec3::new(decode(c[0]), decode(c[1]), decode(c[2]));
