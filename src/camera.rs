@@ -73,6 +73,16 @@ impl Camera {
         (self.forward + self.right * sx + self.true_up * sy).normalize()
     }
 
+    /// The angle, radians, one pixel spans at the eye around the unit ray direction `dir`:
+    /// the pixel spacing on the image plane at distance 1 (`2·tan(vfov/2) / height`; pixels
+    /// are square) times `cos α`, α the angle between `dir` and the view direction. Off-centre
+    /// a pixel spans that across the line to the image centre and `cos² α` along it; this is
+    /// the larger of the two, for an isotropic texture filter that must not alias.
+    #[inline]
+    pub fn pixel_angle(&self, dir: Vec3) -> f32 {
+        2.0 * self.tan_half / self.height.max(1) as f32 * dir.dot(self.forward)
+    }
+
     /// Continuous pixel coordinates (x, y) at which world point `p` appears, or `None` behind
     /// the camera. Pixel (i, j)'s centre is at (i + 0.5, j + 0.5).
     pub fn project(&self, p: Vec3) -> Option<(f32, f32)> {
@@ -118,5 +128,41 @@ mod tests {
         let top = (cam.forward() + cam.true_up * cam.tan_half).normalize();
         assert!((top.angle_between(cam.forward()).to_degrees() - 20.0).abs() < 1e-3);
         assert!(cam.project(cam.position - cam.forward()).is_none());
+    }
+
+    #[test]
+    fn pixel_angle_bounds_the_spread_to_the_neighbouring_pixels() {
+        let cam = Camera::look_at(
+            Vec3::new(0.0, 1.0, 5.0),
+            Vec3::ZERO,
+            Vec3::Y,
+            60.0,
+            320,
+            200,
+        );
+        for (x, y) in [
+            (160, 100),
+            (0, 0),
+            (319, 0),
+            (40, 150),
+            (300, 199),
+            (160, 0),
+        ] {
+            let d = cam.ray_dir(x, y);
+            let a = cam.pixel_angle(d);
+            // Unit vectors this close apart: the chord is the angle.
+            let across = (cam.ray_dir(x + 1, y) - d).length();
+            let down = (cam.ray_dir(x, y + 1) - d).length();
+            assert!(
+                across <= 1.01 * a && down <= 1.01 * a,
+                "({x}, {y}): {across} {down} {a}"
+            );
+            if (x, y) == (160, 100) {
+                assert!(
+                    across >= 0.99 * a && down >= 0.99 * a,
+                    "{across} {down} {a}"
+                );
+            }
+        }
     }
 }

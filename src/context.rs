@@ -9,7 +9,7 @@ use crate::camera::Camera;
 use crate::envmap::EnvMap;
 use crate::lights::LightSet;
 use crate::samples::Samples;
-use crate::scene::Scene;
+use crate::scene::{Scene, footprint_width};
 use crate::shade::ShadeLights;
 
 /// What a primary ray found at a pixel centre.
@@ -45,6 +45,10 @@ pub struct FrameContext<'a> {
     /// (x, y) is stratum (x mod k, y mod k) of pixel (x div k, y div k); with one sample per
     /// pixel, samples are pixels.
     pub samples: Samples,
+    /// Texture filtering: the share of its pixel's width one sample stands for, or 0 for
+    /// point-sampled textures (level-0 bilinear lookups). Set by
+    /// [`with_samples`](Self::with_samples), see [`texture_footprint`].
+    pub texture_footprint: f32,
 }
 
 impl<'a> FrameContext<'a> {
@@ -65,12 +69,18 @@ impl<'a> FrameContext<'a> {
             shade_lights: ShadeLights::new(lights),
             shadow_eps: shadow_epsilon(scene),
             samples: Samples::one(),
+            texture_footprint: 0.0,
         }
     }
 
-    /// This context with the pixels' samples at `samples`.
+    /// This context with the pixels' samples at `samples`, and textures filtered to what one
+    /// of them covers ([`texture_footprint`]).
     pub fn with_samples(self, samples: Samples) -> FrameContext<'a> {
-        FrameContext { samples, ..self }
+        FrameContext {
+            texture_footprint: texture_footprint(&samples),
+            samples,
+            ..self
+        }
     }
 
     /// The unit direction of the primary ray of sample (x, y).
@@ -115,11 +125,18 @@ impl<'a> FrameContext<'a> {
         if n.dot(ng) <= 0.0 || !n.is_finite() {
             n = ng;
         }
+        let albedo = if self.texture_footprint > 0.0 {
+            let angle = self.camera.pixel_angle(dir) * self.texture_footprint;
+            let width = footprint_width(hit.t, angle, ng.dot(dir));
+            self.scene.albedo_footprint(tri, (hit.u, hit.v), width)
+        } else {
+            self.scene.albedo(tri, (hit.u, hit.v))
+        };
         Surface {
             p,
             n,
             ng,
-            albedo: self.scene.albedo(tri, (hit.u, hit.v)),
+            albedo,
             hit: true,
         }
     }
@@ -151,6 +168,26 @@ impl<'a> FrameContext<'a> {
     pub fn trace_blocker(&self, s: &Surface, j: usize) -> Option<f32> {
         self.accel
             .blocker_distance(s.p + s.ng * self.shadow_eps, self.light_dir[j])
+    }
+}
+
+/// The share of its pixel's width that one sample's texture lookup filters over, as pbrt-v4
+/// scales its camera rays' differentials: `max(1/8, 1/k)` for `k × k` samples per pixel (the
+/// samples together cover the pixel; past 64 of them, a sample's own filter stops shrinking
+/// and the samples' mean does the rest).
+///
+/// One sample per pixel gives 0: textures stay point-sampled (level-0 bilinear, as before mip
+/// pyramids existed), so every frame rendered with one sample per pixel — every frame before
+/// `--spp`, textured or not — stays bit for bit what it was. That is a choice, not a
+/// necessity: the golden renders have no textured surface, so they would not have caught a
+/// change; filtering at one sample too would remove aliasing there as well, at the price of
+/// changing existing textured frames. Filtering is what more samples per pixel call for: a
+/// point-sampled texture keeps aliasing until the samples alone resolve every texel.
+pub fn texture_footprint(samples: &Samples) -> f32 {
+    if samples.k <= 1 {
+        0.0
+    } else {
+        (1.0 / samples.k as f32).max(1.0 / 8.0)
     }
 }
 

@@ -24,7 +24,7 @@ pub const MAX_FILE_BYTES: u64 = 2_000_000_000;
 pub const MAX_TRIANGLES: usize = 1 << 26;
 /// Most vertices in a scene.
 pub const MAX_VERTICES: usize = 1 << 27;
-/// Largest texture, in texels (12 bytes each once decoded).
+/// Largest texture, in texels (12 bytes each once decoded, about 16 with its mip pyramid).
 pub const MAX_TEXTURE_TEXELS: u64 = 1 << 26;
 /// The memory a render may be expected to need: 16 GB.
 pub const MAX_MEMORY_BYTES: u64 = 16_000_000_000;

@@ -330,7 +330,8 @@ settings! {
         height: u32 = 480, flag "height" [value_name = "H"], check any;
         /// Samples per pixel, a square from 1 to 64 (default 1: the pixel centre): a k×k
         /// stratified, jittered pattern warped through --filter. Shadows are predicted
-        /// between samples as between pixels.
+        /// between samples as between pixels. Above 1, textures are filtered (mip-mapped) to
+        /// what each sample covers; at 1 they are point-sampled, as they always were.
         spp: u32 = 1, flag "spp" [value_name = "N"], check check_spp;
         /// Pixel filter, importance-sampled (each sample counts once; its support may reach
         /// into the neighbouring pixels): blackman-harris (the default, Cycles' own: smooth

@@ -20,17 +20,17 @@ use crate::error::Result;
 
 pub use texture::srgb_to_linear;
 
-/// An sRGB-decoded (linear) RGB texture, row-major, row 0 at the top (glTF's UV origin).
+/// An sRGB-decoded (linear) RGB texture, row-major, row 0 at the top (glTF's UV origin), with
+/// its mip pyramid.
 ///
-/// Sampling ([`Texture::sample`]) is bilinear with repeat wrap.
+/// Sampling is bilinear with repeat wrap ([`Texture::sample`]), or trilinear over a footprint
+/// ([`Texture::sample_footprint`]). The fields are private because the pyramid is made from the
+/// texels once, by the constructors: texels changed afterwards would disagree with it.
 #[derive(Clone, Debug)]
 pub struct Texture {
-    /// Width in texels.
-    pub width: usize,
-    /// Height in texels.
-    pub height: usize,
-    /// `width × height` linear RGB texels, row 0 first.
-    pub texels: Vec<Vec3>,
+    /// Level 0 (the texels as decoded), then each level half the size of the one before, down
+    /// to 1 × 1; only level 0 when the texture is empty.
+    levels: Vec<texture::Level>,
 }
 
 /// A Lambertian material: albedo = base_color × texture(uv).
@@ -203,6 +203,43 @@ impl Scene {
         }
     }
 
+    /// UV units per world unit on triangle `tri`: `sqrt(UV area / world area)`, so that a width
+    /// on the surface times this is the same width in UV (exact for a mapping that scales
+    /// evenly; a stretched one gets the geometric mean of its two scales). 0 where either area
+    /// is zero or not finite: such a triangle is point-sampled.
+    ///
+    /// Computed from the corners on each call (a dozen operations beside a traced ray, and only
+    /// for textured hits) rather than stored, so it cannot go stale when
+    /// [`transformed`](Self::transformed) scales the scene or a scene is built through the
+    /// public fields.
+    pub fn uv_density(&self, tri: usize) -> f32 {
+        let [a, b, c] = self.triangle(tri);
+        let world = (b - a).cross(c - a).length();
+        let [ta, tb, tc] = self.triangles[tri].map(|i| self.uvs[i as usize]);
+        let uv = (tb - ta).perp_dot(tc - ta).abs();
+        let density = (uv / world).sqrt();
+        if density.is_finite() { density } else { 0.0 }
+    }
+
+    /// Linear albedo at barycentric `(u, v)` of triangle `tri`, with the texture filtered over a
+    /// footprint `footprint_world` wide on the surface (world units; [`footprint_width`] gives
+    /// a sample's): the material's base colour times [`Texture::sample_footprint`] at the
+    /// interpolated UV with footprint `footprint_world × uv_density(tri)`. Untextured materials
+    /// give their base colour.
+    ///
+    /// Where that footprint is at most one texel (also zero, negative or NaN) this is exactly
+    /// [`albedo`](Self::albedo), bit for bit.
+    pub fn albedo_footprint(&self, tri: usize, bary: (f32, f32), footprint_world: f32) -> Vec3 {
+        let material = &self.materials[self.tri_material[tri] as usize];
+        match material.texture.and_then(|t| self.textures.get(t)) {
+            Some(texture) => {
+                let footprint = footprint_world * self.uv_density(tri);
+                material.base_color * texture.sample_footprint(self.uv(tri, bary), footprint)
+            }
+            None => material.base_color,
+        }
+    }
+
     /// A copy with every vertex moved by `m` (normals by its inverse transpose). Winding is
     /// flipped when `m` mirrors, so geometric and shading normals keep agreeing. The camera is
     /// left where it was: this moves the objects, not the viewer.
@@ -250,6 +287,35 @@ impl Scene {
             self.camera = other.camera;
         }
         self.warnings.extend(other.warnings);
+    }
+}
+
+/// The width, in world units, of the surface a ray's cone covers, for
+/// [`Scene::albedo_footprint`]: `distance × angle / |cos_view|`.
+///
+/// - `distance`: from the eye to the hit, along the ray (the ray parameter for a unit
+///   direction).
+/// - `angle`: the angle the cone spans at the eye, radians: what one sample stands for
+///   (the camera's `Camera::pixel_angle` times the sample's share of its pixel).
+/// - `cos_view`: cosine of the angle between the ray and the surface normal (either sign).
+///
+/// Seen at an angle, the cone covers `distance × angle` across the tilt and that over
+/// `|cos_view|` along it. The filter is isotropic, so it takes the longer: it blurs across the
+/// tilt at grazing angles but never aliases along it (pbrt-v4's trilinear filter makes the same
+/// choice). Grazing clamp: `|cos_view|` is taken as at least `angle`, so the width stops
+/// growing at `distance`. Closer to grazing than that, the far edge of the cone is about to
+/// pass over the surface's horizon: its true footprint runs to infinity, and the first-order
+/// `1 / cos` no longer describes it anyway. The clamp also keeps the result finite at
+/// `cos_view = 0`.
+///
+/// Returns 0 (point sampling) for non-finite or non-positive results.
+pub fn footprint_width(distance: f32, angle: f32, cos_view: f32) -> f32 {
+    let cos = cos_view.abs().min(1.0).max(angle);
+    let width = distance * angle / cos;
+    if width.is_finite() && width > 0.0 {
+        width
+    } else {
+        0.0
     }
 }
 

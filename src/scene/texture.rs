@@ -1,4 +1,7 @@
-//! Texture decoding (sRGB → linear at load) and sampling.
+//! Texture decoding (sRGB → linear at load), the mip pyramid, and sampling.
+//!
+//! Determinism: the pyramid and the samplers use only + − × ÷, floor and `libm` (pure Rust),
+//! never the host's libm, so every host gets the same bits.
 
 use glam::{Vec2, Vec3};
 
@@ -11,6 +14,14 @@ pub fn srgb_to_linear(c: f32) -> f32 {
     } else {
         ((c + 0.055) / 1.055).powf(2.4)
     }
+}
+
+/// One level of a texture's pyramid: linear RGB texels, row-major, row 0 at the top.
+#[derive(Clone, Debug)]
+pub(super) struct Level {
+    width: usize,
+    height: usize,
+    texels: Vec<Vec3>,
 }
 
 impl Texture {
@@ -34,11 +45,26 @@ impl Texture {
                 )
             })
             .collect();
-        Some(Texture {
+        Texture::from_linear(width, height, texels)
+    }
+
+    /// A texture from linear RGB texels (row-major, row 0 at the top), used as given.
+    /// `None` if `texels` does not hold `width × height` texels.
+    pub fn from_linear(width: usize, height: usize, texels: Vec<Vec3>) -> Option<Texture> {
+        if width.checked_mul(height)? != texels.len() {
+            return None;
+        }
+        let mut levels = vec![Level {
             width,
             height,
             texels,
-        })
+        }];
+        if width > 0 && height > 0 {
+            while let Some(next) = levels.last().and_then(Level::half) {
+                levels.push(next);
+            }
+        }
+        Some(Texture { levels })
     }
 
     /// Decodes an encoded image (PNG or JPEG) to a linear texture, treating it as sRGB and
@@ -63,25 +89,49 @@ impl Texture {
         let mut reader =
             image::ImageReader::new(std::io::Cursor::new(bytes)).with_guessed_format()?;
         reader.limits(limits);
-        let img = reader.decode()?;
-        let rgb = img.to_rgb32f();
-        let (w, h) = (rgb.width() as usize, rgb.height() as usize);
-        let texels = rgb
-            .pixels()
-            .map(|p| Vec3::new(p[0], p[1], p[2]).map(srgb_to_linear))
-            .collect();
-        Ok(Texture {
-            width: w,
-            height: h,
-            texels,
+        let (w, h, texels) = {
+            let rgb = reader.decode()?.to_rgb32f();
+            let texels = rgb
+                .pixels()
+                .map(|p| Vec3::new(p[0], p[1], p[2]).map(srgb_to_linear))
+                .collect();
+            (rgb.width() as usize, rgb.height() as usize, texels)
+        };
+        // The decoder's buffers are gone before the pyramid is built: a lower peak. Its size
+        // matches its texels; were it not to, that is an error, not a panic.
+        Texture::from_linear(w, h, texels).ok_or_else(|| {
+            image::ImageError::Parameter(image::error::ParameterError::from_kind(
+                image::error::ParameterErrorKind::DimensionMismatch,
+            ))
         })
     }
 
-    /// The texel at integer coordinates, wrapped (repeat) into range.
-    fn texel(&self, x: i64, y: i64) -> Vec3 {
-        let x = x.rem_euclid(self.width as i64) as usize;
-        let y = y.rem_euclid(self.height as i64) as usize;
-        self.texels[y * self.width + x]
+    /// Width in texels (of level 0).
+    pub fn width(&self) -> usize {
+        self.levels[0].width
+    }
+
+    /// Height in texels (of level 0).
+    pub fn height(&self) -> usize {
+        self.levels[0].height
+    }
+
+    /// The `width × height` linear RGB texels of level 0, row 0 first.
+    pub fn texels(&self) -> &[Vec3] {
+        &self.levels[0].texels
+    }
+
+    /// Number of pyramid levels: 1 + ⌊log2(max(width, height))⌋, or 1 for an empty texture.
+    pub fn level_count(&self) -> usize {
+        self.levels.len()
+    }
+
+    /// `(width, height)` of pyramid level `k` (level 0 is the texture itself).
+    ///
+    /// # Panics
+    /// If `k >= level_count()`.
+    pub fn level_size(&self, k: usize) -> (usize, usize) {
+        (self.levels[k].width, self.levels[k].height)
     }
 
     /// Bilinear sample at `uv` with repeat wrap: texel `(i, j)` covers
@@ -89,6 +139,47 @@ impl Texture {
     /// colour is returned at its centre. Returns white for an empty texture and texel (0, 0)'s
     /// neighbourhood for non-finite `uv`.
     pub fn sample(&self, uv: Vec2) -> Vec3 {
+        self.levels[0].bilinear(uv)
+    }
+
+    /// The texture filtered over a footprint `footprint` wide in UV units (1 = the whole
+    /// texture), centred at `uv`: trilinear, i.e. [`sample`](Self::sample)'s bilinear lookup in
+    /// the two pyramid levels nearest to level `log2(footprint × max(width, height))`, blended
+    /// by its fraction. The level is clamped to the last (1 × 1, the texture's mean).
+    ///
+    /// A footprint of at most one texel (`footprint × max(width, height) ≤ 1`), zero, negative
+    /// or NaN gives exactly [`sample`](Self::sample)`(uv)`, bit for bit; an infinite one the
+    /// last level. Wrapping and non-finite `uv` as in `sample`.
+    pub fn sample_footprint(&self, uv: Vec2, footprint: f32) -> Vec3 {
+        let base = &self.levels[0];
+        let texels = footprint * base.width.max(base.height) as f32;
+        if texels.is_nan() || texels <= 1.0 || self.levels.len() == 1 {
+            return self.sample(uv);
+        }
+        let last = (self.levels.len() - 1) as f32;
+        let level = libm::log2f(texels).max(0.0).min(last);
+        let n = level.floor();
+        let t = level - n;
+        let n = n as usize;
+        let fine = self.levels[n].bilinear(uv);
+        if t == 0.0 {
+            fine
+        } else {
+            fine.lerp(self.levels[n + 1].bilinear(uv), t)
+        }
+    }
+}
+
+impl Level {
+    /// The texel at integer coordinates, wrapped (repeat) into range.
+    fn texel(&self, x: i64, y: i64) -> Vec3 {
+        let x = x.rem_euclid(self.width as i64) as usize;
+        let y = y.rem_euclid(self.height as i64) as usize;
+        self.texels[y * self.width + x]
+    }
+
+    /// [`Texture::sample`] on this level.
+    fn bilinear(&self, uv: Vec2) -> Vec3 {
         if self.width == 0 || self.height == 0 || self.texels.len() < self.width * self.height {
             return Vec3::ONE;
         }
@@ -102,5 +193,407 @@ impl Texture {
         let top = self.texel(x0, y0).lerp(self.texel(x0 + 1, y0), fx);
         let bottom = self.texel(x0, y0 + 1).lerp(self.texel(x0 + 1, y0 + 1), fx);
         top.lerp(bottom, fy)
+    }
+
+    /// The next pyramid level: each side halved, rounded down, at least 1; `None` at 1 × 1.
+    ///
+    /// Both levels span the whole texture, so texel `i` of the new level covers the span
+    /// `[i·n/n′, (i+1)·n/n′)` of this level's `n` texels along each axis (`n′` the new size): two
+    /// texels when `n` is even, between two and three when it is odd, one when that side is
+    /// already 1. The new texel is the average over that rectangle, each texel below weighted
+    /// by the area it shares with it (a box filter, separable: rows, then columns). Every texel
+    /// below gives away its whole area, so the mean is kept (exactly, but for rounding).
+    fn half(&self) -> Option<Level> {
+        let (w, h) = (self.width, self.height);
+        if w <= 1 && h <= 1 {
+            return None;
+        }
+        let (w2, h2) = ((w / 2).max(1), (h / 2).max(1));
+        let mut rows = Vec::with_capacity(w2 * h);
+        let taps_x = axis_taps(w, w2);
+        for y in 0..h {
+            let row = &self.texels[y * w..(y + 1) * w];
+            rows.extend(taps_x.iter().map(|t| t.apply(|j| row[j])));
+        }
+        let taps_y = axis_taps(h, h2);
+        let mut texels = Vec::with_capacity(w2 * h2);
+        for t in &taps_y {
+            texels.extend((0..w2).map(|x| t.apply(|j| rows[j * w2 + x])));
+        }
+        Some(Level {
+            width: w2,
+            height: h2,
+            texels,
+        })
+    }
+}
+
+/// The source texels one texel of a shrunk axis averages: at most four, since its span is at
+/// most three texels long.
+struct Taps {
+    first: usize,
+    weights: [f32; 4],
+    len: usize,
+}
+
+impl Taps {
+    /// `Σ weight_k · texel(first + k)`, in order.
+    fn apply(&self, texel: impl Fn(usize) -> Vec3) -> Vec3 {
+        let mut sum = Vec3::ZERO;
+        for (k, &w) in self.weights[..self.len].iter().enumerate() {
+            sum += texel(self.first + k) * w;
+        }
+        sum
+    }
+}
+
+/// The taps of each texel of an axis of `n` texels shrunk to `n2` (see [`Level::half`]).
+/// Positions are counted in `1/n2` of a source texel, so every boundary is an integer and the
+/// weights are the exact fractions `overlap / n`, rounded once.
+fn axis_taps(n: usize, n2: usize) -> Vec<Taps> {
+    (0..n2)
+        .map(|i| {
+            let (lo, hi) = (i * n, (i + 1) * n);
+            let first = lo / n2;
+            let mut taps = Taps {
+                first,
+                weights: [0.0; 4],
+                len: 0,
+            };
+            for j in first..hi.div_ceil(n2) {
+                let overlap = hi.min((j + 1) * n2) - lo.max(j * n2);
+                taps.weights[taps.len] = overlap as f32 / n as f32;
+                taps.len += 1;
+            }
+            taps
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Deterministic texels in [0, 1).
+    fn noise(width: usize, height: usize, seed: u64) -> Texture {
+        let mut s = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+        let mut next = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let texels = (0..width * height)
+            .map(|_| Vec3::new(next(), next(), next()))
+            .collect();
+        Texture::from_linear(width, height, texels).unwrap()
+    }
+
+    /// A checkerboard of 1-texel squares, black and white (sRGB 0 and 255: linear 0 and 1).
+    fn checker(width: usize, height: usize) -> Texture {
+        let rgb: Vec<u8> = (0..width * height)
+            .flat_map(|i| {
+                [if (i % width + i / width) % 2 == 0 {
+                    255
+                } else {
+                    0
+                }; 3]
+            })
+            .collect();
+        Texture::from_srgb8(width, height, &rgb).unwrap()
+    }
+
+    fn mean(level: &Level) -> [f64; 3] {
+        let mut sum = [0.0f64; 3];
+        for t in &level.texels {
+            for c in 0..3 {
+                sum[c] += f64::from(t[c]);
+            }
+        }
+        sum.map(|s| s / level.texels.len() as f64)
+    }
+
+    const SIZES: [(usize, usize); 12] = [
+        (1, 1),
+        (2, 2),
+        (16, 16),
+        (64, 8),
+        (1, 32),
+        (3, 3),
+        (5, 7),
+        (13, 1),
+        (99, 57),
+        (255, 3),
+        (2, 9),
+        (100, 100),
+    ];
+
+    #[test]
+    fn pyramid_sizes_halve_down_to_one_within_the_memory_bound() {
+        for (w, h) in SIZES {
+            let t = noise(w, h, 1);
+            assert_eq!(t.level_count(), 1 + w.max(h).ilog2() as usize, "{w}×{h}");
+            assert_eq!(t.level_size(0), (w, h));
+            let mut all = 0;
+            for k in 0..t.level_count() {
+                let (lw, lh) = t.level_size(k);
+                assert_eq!(
+                    (lw, lh),
+                    ((w >> k).max(1), (h >> k).max(1)),
+                    "{w}×{h} level {k}"
+                );
+                assert_eq!(t.levels[k].texels.len(), lw * lh);
+                all += lw * lh;
+            }
+            assert_eq!(t.level_size(t.level_count() - 1), (1, 1));
+            // 4/3 of level 0, plus a few texels where the short side reaches 1 first (a
+            // 1-texel strip doubles: its levels are strips too).
+            let bound = w * h + w * h / 3 + w.max(h).div_ceil(w.min(h));
+            assert!(all <= bound, "{w}×{h}: {all} texels > {bound}");
+        }
+        let empty = Texture::from_linear(0, 0, Vec::new()).unwrap();
+        assert_eq!(empty.level_count(), 1);
+        assert_eq!(
+            Texture::from_linear(0, 5, Vec::new())
+                .unwrap()
+                .level_count(),
+            1
+        );
+        assert!(Texture::from_linear(2, 2, vec![Vec3::ONE; 3]).is_none());
+    }
+
+    #[test]
+    fn every_level_keeps_the_mean() {
+        for (w, h) in SIZES {
+            let t = noise(w, h, 2);
+            let m0 = mean(&t.levels[0]);
+            // Powers of two: halves of halves, only float rounding. Odd sizes: weights such as
+            // 1/3 and 2/5 round too (one f32 rounding each), still well under 1e-5.
+            let tol = if w.is_power_of_two() && h.is_power_of_two() {
+                1e-6
+            } else {
+                1e-5
+            };
+            for (k, level) in t.levels.iter().enumerate() {
+                let m = mean(level);
+                for c in 0..3 {
+                    assert!(
+                        (m[c] - m0[c]).abs() <= tol * m0[c],
+                        "{w}×{h} level {k} channel {c}: mean {} vs {}",
+                        m[c],
+                        m0[c]
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_constant_texture_is_constant_at_every_level() {
+        let c = Vec3::new(0.2, 0.55, 0.9);
+        for (w, h) in SIZES {
+            let t = Texture::from_linear(w, h, vec![c; w * h]).unwrap();
+            for (k, level) in t.levels.iter().enumerate() {
+                for &texel in &level.texels {
+                    // Halving an even side averages pairs with weights 1/2: exact. Odd sides
+                    // weigh by thirds and fifths, which round once each.
+                    if w.is_power_of_two() && h.is_power_of_two() {
+                        assert_eq!(texel, c, "{w}×{h} level {k}");
+                    } else {
+                        let err = ((texel - c) / c).abs().max_element();
+                        assert!(err < 1e-6, "{w}×{h} level {k}: {texel} vs {c}");
+                    }
+                }
+            }
+            // And so is every footprint lookup, anywhere.
+            for footprint in [0.0, 0.01, 0.1, 0.3, 1.0, 5.0] {
+                let got = t.sample_footprint(Vec2::new(0.37, 0.81), footprint);
+                assert!(((got - c) / c).abs().max_element() < 1e-6, "{w}×{h}: {got}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_checkerboards_coarse_levels_are_its_mean() {
+        for (w, h) in [(64, 64), (16, 4), (8, 32)] {
+            let t = checker(w, h);
+            // Level 1 averages 2 × 2 squares: two black, two white. So does every level after.
+            for k in 1..t.level_count() {
+                for &texel in &t.levels[k].texels {
+                    assert_eq!(texel, Vec3::splat(0.5), "{w}×{h} level {k}");
+                }
+            }
+        }
+        // Odd sides: a 5 × 5 checker has 13 white squares; its last level is their share.
+        let t = checker(5, 5);
+        let last = t.levels[t.level_count() - 1].texels[0];
+        assert!(
+            (last - Vec3::splat(13.0 / 25.0)).abs().max_element() < 1e-6,
+            "{last}"
+        );
+    }
+
+    #[test]
+    fn a_footprint_covering_the_texture_is_its_mean() {
+        for (w, h) in SIZES {
+            let t = noise(w, h, 7);
+            let m = mean(&t.levels[0]);
+            for footprint in [1.0, 1.5, 1e3] {
+                for uv in [Vec2::new(0.1, 0.9), Vec2::new(-3.3, 7.25), Vec2::ZERO] {
+                    let got = t.sample_footprint(uv, footprint);
+                    for c in 0..3 {
+                        let err = (f64::from(got[c]) - m[c]).abs();
+                        assert!(err < 1e-5 * m[c], "{w}×{h} footprint {footprint}: {got}");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn odd_sizes_average_the_area_each_texel_covers() {
+        // 3 texels to 1 and 5 to 2: spans of 3 and 2.5 texels.
+        let t = Texture::from_linear(5, 3, (0..15).map(|i| Vec3::splat(i as f32)).collect());
+        let t = t.unwrap();
+        let l1 = &t.levels[1];
+        assert_eq!((l1.width, l1.height), (2, 1));
+        // Column weights 2/5, 2/5, 1/5 | 1/5, 2/5, 2/5; each row the mean of its 3 rows
+        // (column x's mean is x + 5).
+        let left = (0.4 * 5.0 + 0.4 * 6.0 + 0.2 * 7.0) as f32;
+        let right = (0.2 * 7.0 + 0.4 * 8.0 + 0.4 * 9.0) as f32;
+        assert!((l1.texels[0].x - left).abs() < 1e-5, "{}", l1.texels[0].x);
+        assert!((l1.texels[1].x - right).abs() < 1e-5, "{}", l1.texels[1].x);
+    }
+
+    fn bits(v: Vec3) -> [u32; 3] {
+        v.to_array().map(f32::to_bits)
+    }
+
+    #[test]
+    fn footprints_of_at_most_one_texel_are_sample_bit_for_bit() {
+        let uvs = [
+            Vec2::new(0.3, 0.7),
+            Vec2::new(0.0, 0.0),
+            Vec2::new(-2.37, 5.11),
+            Vec2::new(1e6 + 0.25, -1e5),
+            Vec2::new(0.999_999, 0.5),
+            Vec2::new(f32::NAN, 0.5),
+            Vec2::new(0.5, f32::INFINITY),
+        ];
+        for (w, h) in SIZES {
+            let t = noise(w, h, 3);
+            let one = 1.0 / w.max(h) as f32;
+            for footprint in [
+                0.0,
+                -0.0,
+                -1.0,
+                f32::NAN,
+                1e-30,
+                0.5 * one,
+                0.999 * one,
+                one,
+            ] {
+                assert!(footprint.is_nan() || footprint * w.max(h) as f32 <= 1.0);
+                for &uv in &uvs {
+                    assert_eq!(
+                        bits(t.sample_footprint(uv, footprint)),
+                        bits(t.sample(uv)),
+                        "{w}×{h} uv {uv} footprint {footprint}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn checkerboard_at_eight_texels_is_its_mean_grey() {
+        let t = checker(64, 64);
+        for i in 0..64 {
+            for j in 0..64 {
+                // Texel centres: point sampling gives exactly black or white.
+                let uv = Vec2::new((i as f32 + 0.5) / 64.0, (j as f32 + 0.5) / 64.0);
+                let point = t.sample(uv);
+                assert!(point == Vec3::ZERO || point == Vec3::ONE, "{point}");
+                let filtered = t.sample_footprint(uv, 8.0 / 64.0);
+                assert!((filtered - Vec3::splat(0.5)).abs().max_element() < 1e-6);
+                // Off the centres too, and over the wrap.
+                let uv = uv * 1.37 - Vec2::splat(0.61);
+                let filtered = t.sample_footprint(uv, 8.0 / 64.0);
+                assert!((filtered - Vec3::splat(0.5)).abs().max_element() < 1e-6);
+            }
+        }
+    }
+
+    #[test]
+    fn levels_blend_continuously_as_the_footprint_grows() {
+        let t = noise(32, 32, 4);
+        let last = (t.level_count() - 1) as f32;
+        let steps_per_level = 256;
+        let step = 1.0 / steps_per_level as f32;
+        let mut biggest_level_change = 0.0f32;
+        for uv in [
+            Vec2::new(0.31, 0.62),
+            Vec2::new(0.05, 0.93),
+            Vec2::new(0.5, 0.5),
+        ] {
+            let at = |level: f32| t.sample_footprint(uv, libm::exp2f(level) / 32.0);
+            for n in 0..last as usize {
+                let (a, b) = (at(n as f32), at(n as f32 + 1.0));
+                biggest_level_change = biggest_level_change.max((a - b).abs().max_element());
+            }
+            let mut prev = t.sample(uv);
+            for s in 1..=(last as usize + 1) * steps_per_level {
+                let value = at(s as f32 * step);
+                // The blend moves by at most |level n+1 − level n| ≤ 1 per level.
+                let jump = (value - prev).abs().max_element();
+                assert!(
+                    jump <= 1.01 * step + 1e-6,
+                    "uv {uv}: jump {jump} at step {s}"
+                );
+                prev = value;
+            }
+        }
+        // Adjacent levels differ, so a jump between them would have shown.
+        assert!(biggest_level_change > 0.1, "{biggest_level_change}");
+    }
+
+    #[test]
+    fn odd_inputs_do_not_panic() {
+        let textures = [
+            noise(1, 1, 5),
+            noise(1, 7, 5),
+            noise(5, 3, 5),
+            Texture::from_linear(0, 0, Vec::new()).unwrap(),
+            Texture::from_linear(0, 4, Vec::new()).unwrap(),
+        ];
+        let values = [
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::MAX,
+            f32::MIN_POSITIVE,
+            1e30,
+        ];
+        for t in &textures {
+            for &u in &values {
+                for &footprint in &values {
+                    let got = t.sample_footprint(Vec2::new(u, 0.25), footprint);
+                    assert!(got.is_finite(), "{u} {footprint}: {got}");
+                }
+            }
+        }
+        // An empty texture is white, as `sample` makes it.
+        assert_eq!(textures[3].sample_footprint(Vec2::ZERO, 0.5), Vec3::ONE);
+        // An infinite footprint is the last level: the mean.
+        let t = noise(8, 8, 6);
+        let m = mean(&t.levels[0]);
+        let got = t.sample_footprint(Vec2::new(0.1, 0.2), f32::INFINITY);
+        for c in 0..3 {
+            assert!((f64::from(got[c]) - m[c]).abs() < 1e-6);
+        }
     }
 }

@@ -477,10 +477,13 @@ fn locate(scene: &Scene, uv: Vec2) -> (usize, (f32, f32)) {
 
 fn check_textured(scene: &Scene) {
     assert_eq!(scene.textures.len(), 1);
-    assert_eq!((scene.textures[0].width, scene.textures[0].height), (2, 2));
+    assert_eq!(
+        (scene.textures[0].width(), scene.textures[0].height()),
+        (2, 2)
+    );
     let raw: Vec<u8> = TEXELS.iter().flatten().copied().collect();
     let direct = envshadow::scene::Texture::from_srgb8(2, 2, &raw).unwrap();
-    assert_eq!(direct.texels, scene.textures[0].texels);
+    assert_eq!(direct.texels(), scene.textures[0].texels());
     let base = Vec3::new(0.5, 1.0, 0.8);
     for (k, c) in TEXELS.iter().enumerate() {
         let expected = base * Vec3::new(decode(c[0]), decode(c[1]), decode(c[2]));
@@ -523,6 +526,232 @@ fn textured_quad_external_png_embedded_glb_and_data_uri() {
     let uri = format!("data:image/png;base64,{}", base64(&png));
     let doc = textured_file(&mut g, json!({ "uri": uri }), None);
     check_textured(&Scene::load(&g.write_gltf_data_uri(dir.path(), "tex64", doc)).unwrap());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Texture filtering at the pixel footprint (issue 21): a checkered ground plane seen towards
+// its horizon, where one pixel covers many squares.
+
+/// A ground plane (y = 0, ±1000 units) with a 16 × 16 texture of 2-texel black and white
+/// squares repeated once per world unit (8 squares a unit), and what sees it: a camera 1 unit
+/// up looking just below the horizon, one light, a constant map.
+struct CheckerGround {
+    scene: Scene,
+    accel: envshadow::accel::Accel,
+    lights: envshadow::lights::LightSet,
+    env: envshadow::envmap::EnvMap,
+    camera: envshadow::camera::Camera,
+}
+
+impl CheckerGround {
+    fn new() -> CheckerGround {
+        use envshadow::scene::{Material, Texture};
+        let rgb: Vec<u8> = (0..16 * 16)
+            .flat_map(|i| {
+                [if (i % 16 / 2 + i / 16 / 2) % 2 == 0 {
+                    255
+                } else {
+                    0
+                }; 3]
+            })
+            .collect();
+        let texture = Texture::from_srgb8(16, 16, &rgb).unwrap();
+        let l = 1000.0;
+        let positions = vec![
+            Vec3::new(-l, 0.0, -l),
+            Vec3::new(l, 0.0, -l),
+            Vec3::new(l, 0.0, l),
+            Vec3::new(-l, 0.0, l),
+        ];
+        let scene = Scene {
+            uvs: positions.iter().map(|p| Vec2::new(p.x, p.z)).collect(),
+            normals: vec![Vec3::Y; 4],
+            positions,
+            triangles: vec![[0, 2, 1], [0, 3, 2]],
+            tri_material: vec![0, 0],
+            materials: vec![Material {
+                name: "checker".into(),
+                base_color: Vec3::ONE,
+                texture: Some(0),
+            }],
+            textures: vec![texture],
+            ..Scene::default()
+        };
+        let accel = envshadow::accel::Accel::build(&scene.positions, &scene.triangles);
+        let lights = envshadow::lights::LightSet::from_lights(vec![envshadow::lights::Light {
+            dir: Vec3::Y,
+            energy: Vec3::ONE,
+            solid_angle: 1.0,
+        }]);
+        let env =
+            envshadow::envmap::EnvMap::from_texels(8, 4, vec![Vec3::ONE; 32], "ones").unwrap();
+        let camera = envshadow::camera::Camera::look_at(
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(0.0, 0.0, -20.0),
+            Vec3::Y,
+            40.0,
+            64,
+            48,
+        );
+        CheckerGround {
+            scene,
+            accel,
+            lights,
+            env,
+            camera,
+        }
+    }
+
+    fn context(&self, spp: u32) -> envshadow::context::FrameContext<'_> {
+        use envshadow::samples::{Filter, Samples};
+        envshadow::context::FrameContext::new(
+            &self.scene,
+            &self.accel,
+            self.camera,
+            &self.lights,
+            &self.env,
+        )
+        .with_samples(Samples::new(spp, Filter::Box, 0.0))
+    }
+}
+
+/// Each pixel's albedo as the film makes it: the mean of its samples' (filters are
+/// importance-sampled, so every sample weighs one). `None` where a sample missed the plane.
+fn pixel_albedos(ctx: &envshadow::context::FrameContext) -> Vec<Option<Vec3>> {
+    let k = ctx.samples.k;
+    let (w, h) = (ctx.camera.width, ctx.camera.height);
+    let mut out = Vec::new();
+    for py in 0..h {
+        for px in 0..w {
+            let mut sum = Some(Vec3::ZERO);
+            for sy in py * k..(py + 1) * k {
+                for sx in px * k..(px + 1) * k {
+                    let s = ctx.surface(sx, sy);
+                    sum = sum.filter(|_| s.hit).map(|sum| sum + s.albedo);
+                }
+            }
+            out.push(sum.map(|sum| sum / (k * k) as f32));
+        }
+    }
+    out
+}
+
+#[test]
+fn a_checkered_plane_at_16_spp_is_its_mean_grey_towards_the_horizon() {
+    let ground = CheckerGround::new();
+    let with_mips = ground.context(16);
+    assert_eq!(with_mips.texture_footprint, 0.25);
+    let mut without = ground.context(16);
+    without.texture_footprint = 0.0;
+    let (filtered, point) = (pixel_albedos(&with_mips), pixel_albedos(&without));
+    // The pixels whose centre ray meets the plane at least 10 units away (the rows just below
+    // the horizon): one pixel there spans over 0.15 units across the view (1.2 squares) and
+    // over 1.5 units along it (12 squares), so its mean is the squares' mean, 0.5.
+    let cam = &ground.camera;
+    let far: Vec<usize> = (0..filtered.len())
+        .filter(|&i| {
+            let d = cam.ray_dir(i as u32 % cam.width, i as u32 / cam.width);
+            d.y < 0.0 && 1.0 / -d.y >= 10.0
+        })
+        .collect();
+    assert!(far.len() >= 6 * 64, "{} far pixels", far.len());
+    let deviation = |v: &[Option<Vec3>]| -> (f32, f32) {
+        let errs: Vec<f32> = (far.iter())
+            .map(|&i| (v[i].expect("a far pixel's samples all hit") - Vec3::splat(0.5)).abs())
+            .map(|e| e.max_element())
+            .collect();
+        let rms = (errs.iter().map(|e| e * e).sum::<f32>() / errs.len() as f32).sqrt();
+        (errs.iter().copied().fold(0.0, f32::max), rms)
+    };
+    // Measured over the 416 far pixels: filtered, every one exactly 0.5 (every sample's
+    // footprint reaches the last level); point-sampled, max 0.24 and rms 0.08 off (the 16
+    // samples of a pixel land on black or white nearly at random).
+    let (max, rms) = deviation(&filtered);
+    assert!(
+        max < 0.02,
+        "with mip-maps: max |pixel − 0.5| = {max} (rms {rms})"
+    );
+    let (max, rms) = deviation(&point);
+    assert!(
+        max > 0.15 && rms > 0.04,
+        "point-sampled, the far pixels should alias: max {max}, rms {rms}"
+    );
+    // Near the camera a sample covers less than a texel: no filtering, the same lookups.
+    let last_row = (cam.height - 1) * cam.width;
+    for x in 0..cam.width as usize {
+        let i = last_row as usize + x;
+        assert_eq!(filtered[i], point[i], "pixel {x} of the last row");
+    }
+}
+
+#[test]
+fn uv_density_and_footprint_width() {
+    use envshadow::scene::footprint_width;
+    let ground = CheckerGround::new();
+    // One texture tile per world unit.
+    for tri in 0..2 {
+        assert!((ground.scene.uv_density(tri) - 1.0).abs() < 1e-6);
+    }
+    // Scaling the world by 4 leaves the UVs: a quarter of a tile per unit.
+    let big = ground.scene.transformed(Mat4::from_scale(Vec3::splat(4.0)));
+    assert!(
+        (big.uv_density(0) - 0.25).abs() < 1e-6,
+        "{}",
+        big.uv_density(0)
+    );
+    // A stretched mapping (u × 9, v × 1) gets the geometric mean, 3.
+    let mut stretched = ground.scene.clone();
+    for uv in &mut stretched.uvs {
+        uv.x *= 9.0;
+    }
+    assert!((stretched.uv_density(1) - 3.0).abs() < 1e-4);
+    // A triangle with no UV area (the file had no UVs) is point-sampled.
+    let mut flat = ground.scene.clone();
+    flat.uvs.fill(Vec2::ZERO);
+    assert_eq!(flat.uv_density(0), 0.0);
+    for bary in [(0.2, 0.3), (0.7, 0.1)] {
+        let a = flat.albedo_footprint(0, bary, 1e6);
+        assert_eq!(a, flat.albedo(0, bary));
+    }
+
+    // Head on, the cone's width; at 60° twice that; at grazing no more than the distance.
+    assert!((footprint_width(10.0, 0.01, 1.0) - 0.1).abs() < 1e-6);
+    assert!((footprint_width(10.0, 0.01, -0.5) - 0.2).abs() < 1e-6);
+    assert_eq!(footprint_width(10.0, 0.01, 0.0), 10.0);
+    assert_eq!(footprint_width(10.0, 0.01, 1e-9), 10.0);
+    for bad in [f32::NAN, f32::INFINITY, -1.0, 0.0] {
+        assert_eq!(footprint_width(bad, 0.01, 1.0), 0.0, "distance {bad}");
+        assert_eq!(footprint_width(10.0, bad, 1.0), 0.0, "angle {bad}");
+    }
+}
+
+#[test]
+fn one_sample_per_pixel_keeps_point_sampled_textures_bit_for_bit() {
+    // The choice documented at `context::texture_footprint`: frames at one sample per pixel
+    // (every frame before `--spp`) keep their level-0 lookups.
+    let ground = CheckerGround::new();
+    let ctx = ground.context(1);
+    assert_eq!(ctx.texture_footprint, 0.0);
+    let mut hits = 0;
+    for y in 0..ground.camera.height {
+        for x in 0..ground.camera.width {
+            let s = ctx.surface(x, y);
+            let Some(hit) = ground
+                .accel
+                .intersect(ground.camera.position, ctx.sample_dir(x, y))
+            else {
+                assert!(!s.hit);
+                continue;
+            };
+            hits += 1;
+            let expected = ground.scene.albedo(hit.tri as usize, (hit.u, hit.v));
+            assert_eq!(
+                s.albedo.to_array().map(f32::to_bits),
+                expected.to_array().map(f32::to_bits)
+            );
+        }
+    }
+    assert!(hits > 1000, "{hits}");
 }
 
 #[test]
