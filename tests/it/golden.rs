@@ -31,11 +31,18 @@ fn render(name: &'static str, spec: &'static str, flags: &str) -> Render {
 
 fn renders() -> Vec<Render> {
     let mut v = vec![
-        // The default animation's first frames, as the README's first command renders them.
+        // The default animation's first frames at one sample per pixel, as the README's
+        // first command rendered them before samples per pixel; then at four samples, as it
+        // renders them now (recorded when samples per pixel came).
         render(
             "shapes-turntable",
             "anims/shapes-turntable.toml",
-            "--frames 0..3",
+            "--frames 0..3 --spp 1",
+        ),
+        render(
+            "shapes-turntable-spp4",
+            "anims/shapes-turntable.toml",
+            "--frames 0..2 --spp 4",
         ),
     ];
     for (name, method) in [
@@ -105,7 +112,7 @@ fn renders() -> Vec<Render> {
 
 /// The recorded hashes: one line per file, `render file sha256`. `stats.csv` is hashed
 /// without its `seconds` column, which is a wall-clock time, and without the `spp` column
-/// added after these were recorded (every render here is at one sample, which is checked).
+/// added after most were recorded (checked to be the render's own).
 const EXPECTED: &str = "\
 shapes-turntable frame_0000.exr c806558a5243cc166e47b86a5c8d2def43d7c0401be92c36b57a7a6dd551c11e
 shapes-turntable frame_0000.png 1cbe80db6928cae6252c151ea368e81d6681f0c4d710b4b90db1cfc4bd2a63a3
@@ -115,6 +122,12 @@ shapes-turntable frame_0002.exr ca45b81a0cf78ba3df7f2671afea3496df90a7e39104394c
 shapes-turntable frame_0002.png 7782ce016d8711a540b0bc783d6b6f9d7122a4e38cd79b66c234b9510a0028dc
 shapes-turntable lights.json 2657dd11c380f9acd9d07d3f80e0f577c5784f8140e89778490c04deb0b09c1c
 shapes-turntable stats.csv 6c9bf6a07586f6cb955257924cb9255647d18f46190f5d7fed02b99bf10bcb70
+shapes-turntable-spp4 frame_0000.exr 7d8e53b4a85d911ca29bb6228d8661482d45b0c2666872fc1fd7b98121876825
+shapes-turntable-spp4 frame_0000.png f2260c5b38912a03fb88474b1d51e8eb32b021de6d2136e99e0214a886eace13
+shapes-turntable-spp4 frame_0001.exr c1809baae92e0f7af7e4136322f4a2e555f5b0f4c088dbe42d5d29aead1a7ef5
+shapes-turntable-spp4 frame_0001.png 9b76d7ca74a34dae4b0dc7c272520cd306f37624b45bfed726758bdbb6ce7293
+shapes-turntable-spp4 lights.json 2657dd11c380f9acd9d07d3f80e0f577c5784f8140e89778490c04deb0b09c1c
+shapes-turntable-spp4 stats.csv 540850352825ebd026f88ab680b5861a893a3a7aa24461a346619bfeaaca3a45
 bunny-none frame_0000.exr 143a3c8552910db6c8f644465d807eeac4556d64ce676cd45f22fa7d197e2c54
 bunny-none frame_0000.png 2be32b9b64b88f6561e705ed85b82b2f1e1869ca05935dd8c0abc517a26bca04
 bunny-none frame_0001.exr c925aac1fc4ecf77e307d39ac0bb5d79b0ebc79bd2eb5a2cc91509caae8f9a40
@@ -238,8 +251,8 @@ fn sha(bytes: &[u8]) -> String {
 }
 
 /// `stats.csv` with the `seconds` column emptied and the last column, `spp`, removed once
-/// checked to be 1 everywhere.
-fn stats_without_seconds(text: &str) -> String {
+/// checked to be `spp` everywhere.
+fn stats_without_seconds(text: &str, spp: &str) -> String {
     let mut lines = text.lines();
     let mut header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
     let col = header
@@ -255,7 +268,7 @@ fn stats_without_seconds(text: &str) -> String {
     for line in lines {
         let mut f: Vec<&str> = line.split(',').collect();
         f[col] = "";
-        assert_eq!(f.pop(), Some("1"), "a golden render at one sample: {line}");
+        assert_eq!(f.pop(), Some(spp), "a golden render at {spp} spp: {line}");
         out.push_str(&f.join(","));
         out.push('\n');
     }
@@ -265,7 +278,7 @@ fn stats_without_seconds(text: &str) -> String {
 /// Every file of one render folder (frames, lights, stats), hashed, in name order.
 /// `lights.json` names the map it came from: the assets folder is hashed as `ASSETS`, so the
 /// hashes do not depend on where the repository and its assets are.
-fn hashes(dir: &Path, assets: &str) -> Vec<(String, String)> {
+fn hashes(dir: &Path, assets: &str, spp: &str) -> Vec<(String, String)> {
     let mut names: Vec<String> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
@@ -276,7 +289,7 @@ fn hashes(dir: &Path, assets: &str) -> Vec<(String, String)> {
         .map(|n| {
             let bytes = std::fs::read(dir.join(&n)).unwrap();
             let h = if n == "stats.csv" {
-                sha(stats_without_seconds(&String::from_utf8(bytes).unwrap()).as_bytes())
+                sha(stats_without_seconds(&String::from_utf8(bytes).unwrap(), spp).as_bytes())
             } else if n == "lights.json" {
                 sha(String::from_utf8(bytes)
                     .unwrap()
@@ -317,7 +330,12 @@ fn every_recorded_frame_keeps_its_bits() {
             r.name,
             String::from_utf8_lossy(&o.stderr)
         );
-        for (file, h) in hashes(&out, &dir) {
+        let spp = r
+            .flags
+            .iter()
+            .position(|f| f == "--spp")
+            .map_or("1", |k| r.flags[k + 1].as_str());
+        for (file, h) in hashes(&out, &dir, spp) {
             got.push((r.name.to_string(), file, h));
         }
     }
