@@ -7,9 +7,13 @@
 #        scripts/bench-spp.sh --corpus [--spp 16] [--sizes 640x480] [--work DIR]
 #
 # For each size and spp, on SPEC (default anims/bunny-turntable.toml):
-#   none and brute on the first frame of --frames (their time hardly varies along a turntable);
-#   the default method and the default with --temporal over --frames (seconds per frame are
-#   the mean, % traced is the frames' rays over their queries);
+#   none, brute and the default timed on the first frame of --frames alone (a run of several
+#   frames keeps two in flight, so its per-frame seconds overlap; a turntable's frames cost
+#   about the same);
+#   % traced of the default and of the default with --temporal over --frames (the frames'
+#   rays over their queries); --temporal's seconds are its frames' mean — a chain renders one
+#   frame after another, so they do not overlap (keep --frames inside one chain: 1..16 is
+#   frames 1–15 after key frame 0);
 #   wrong pairs from --validate runs of both over --validate-frames.
 # Peak RSS (/usr/bin/time -v) is reported for every default run.
 # With --corpus: every .glb in ../shared/assets/corpus (or $CORPUS) as its own turntable (the
@@ -112,7 +116,7 @@ print(f'| $name | $spp | {100*$rv/$qv:.2f} | {100*$wv/$qv:.4f} | $sn | $sb | $sd
   exit 0
 fi
 
-echo "| size | spp | % traced default / temporal | rays ÷ 1 spp default / temporal | wrong pairs % default / temporal | none s | brute s | default s | temporal s | brute ÷ default / temporal | default peak RSS MB |"
+echo "| size | spp | % traced default / temporal | rays ÷ 1 spp default / temporal | wrong pairs % default / temporal | none s | brute s | default s | temporal s | brute ÷ default / temporal | peak RSS MB, default over the frames |"
 echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 for size in ${SIZES//,/ }; do
   w="${size%x*}"; h="${size#*x}"
@@ -123,13 +127,15 @@ for size in ${SIZES//,/ }; do
     common=(--width "$w" --height "$h" --spp "$spp")
     render "$base-none" "$SPEC" "${common[@]}" --frames "$f" --method none
     render "$base-brute" "$SPEC" "${common[@]}" --frames "$f" --method brute
+    render "$base-default1" "$SPEC" "${common[@]}" --frames "$f"
     render "$base-default" "$SPEC" "${common[@]}" --frames "$FRAMES"
     render "$base-temporal" "$SPEC" "${common[@]}" --frames "$FRAMES" --temporal
     render "$base-vdefault" "$SPEC" "${common[@]}" --frames "$VFRAMES" --validate
     render "$base-vtemporal" "$SPEC" "${common[@]}" --frames "$VFRAMES" --validate --temporal
     read -r sn _ _ _ _ _ <<<"$(summary "$base-none")"
     read -r sb _ _ _ _ _ <<<"$(summary "$base-brute")"
-    read -r sd rd qd _ nd rss <<<"$(summary "$base-default")"
+    read -r sd _ _ _ _ _ <<<"$(summary "$base-default1")"
+    read -r _ rd qd _ _ rss <<<"$(summary "$base-default")"
     read -r st rt qt _ nt _ <<<"$(summary "$base-temporal")"
     read -r _ _ qvd wvd _ _ <<<"$(summary "$base-vdefault")"
     read -r _ _ qvt wvt _ _ <<<"$(summary "$base-vtemporal")"
