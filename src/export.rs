@@ -1,9 +1,11 @@
 //! `envshadow export`: one frame's exact inputs for another renderer (scripts/compare-mitsuba.sh):
 //! the posed triangles, vertex normals and per-face albedo as a binary PLY, the lights as
-//! `lights.json`, the primary-ray directions of every pixel centre, and a `frame.json` with the
-//! camera and the shadow-ray offset. With these, an independent renderer can evaluate exactly
-//! what envshadow's `brute` method does: Lambertian shading of every light at every pixel
-//! centre, shadow rays from the hit point moved `shadow_eps` along the geometric normal.
+//! `lights.json`, the primary-ray direction of every sample of every pixel (`--spp`; with one
+//! sample, the pixel centre), and a `frame.json` with the camera, the sample pattern and the
+//! shadow-ray offset. With these, an independent renderer can evaluate exactly what envshadow's
+//! `brute` method does: Lambertian shading of every light at every sample, shadow rays from the
+//! hit point moved `shadow_eps` along the geometric normal, a pixel the plain mean of its
+//! samples.
 
 use std::fs;
 use std::io::{BufWriter, Write};
@@ -26,9 +28,9 @@ pub struct ExportArgs {
     /// Which frame.
     #[arg(long, default_value_t = 0)]
     pub frame: usize,
-    /// The spec's settings export reads — light count and sampler, width and height — and
-    /// the folder it writes (`--out DIR`, required): scene.ply, lights.json, primary.f32,
-    /// frame.json.
+    /// The spec's settings export reads — light count and sampler, width and height, samples
+    /// per pixel and the filter — and the folder it writes (`--out DIR`, required):
+    /// scene.ply, lights.json, primary.f32, frame.json.
     #[command(flatten)]
     pub flags: AnimFlags,
 }
@@ -41,13 +43,24 @@ pub struct Exported {
     pub lights: usize,
     pub width: u32,
     pub height: u32,
+    /// Samples per pixel: primary.f32 holds `width × height × spp` directions.
+    pub spp: u32,
     pub dir: PathBuf,
     /// What the scene loader skipped.
     pub warnings: Vec<String>,
 }
 
 /// The settings an export reads; the others would change nothing it writes.
-const READS: [&str; 5] = ["count", "sampler", "width", "height", "dir"];
+const READS: [&str; 8] = [
+    "count",
+    "sampler",
+    "width",
+    "height",
+    "spp",
+    "filter",
+    "filter_width",
+    "dir",
+];
 
 /// `envshadow export`.
 pub fn run(args: &ExportArgs) -> Result<Exported> {
@@ -89,6 +102,7 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
         None => &inputs.scene,
     };
     let camera = anim.camera(&inputs.scene, args.frame)?;
+    let samples = anim.render.samples();
     let dir = &dir;
     fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
 
@@ -126,13 +140,24 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
         Ok(())
     })?;
 
-    // primary.f32: the unit direction of every pixel centre's ray, row by row from the top.
+    // primary.f32: the unit direction of every sample's ray, pixel by pixel row by row from
+    // the top, each pixel's k × k samples in stratum order (row j, column i): an array
+    // (height, width, k·k, 3). These are the renderer's directions bit for bit: sample (i, j)
+    // of pixel (x, y) is the renderer's sample (k·x + i, k·y + j), whose direction
+    // `FrameContext::sample_dir` makes from the same two calls. With one sample the offset is
+    // zero and `ray_dir_at` is `ray_dir`: the pixel centres, as before there were samples.
+    let k = samples.k;
     write_atomic_with(&dir.join("primary.f32"), |tmp| {
         let mut f = BufWriter::new(fs::File::create(tmp)?);
         for y in 0..camera.height {
             for x in 0..camera.width {
-                for c in camera.ray_dir(x, y).to_array() {
-                    f.write_all(&c.to_le_bytes())?;
+                for j in 0..k {
+                    for i in 0..k {
+                        let (dx, dy) = samples.offset(x, y, i, j);
+                        for c in camera.ray_dir_at(x, y, dx, dy).to_array() {
+                            f.write_all(&c.to_le_bytes())?;
+                        }
+                    }
                 }
             }
         }
@@ -150,6 +175,9 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
         "camera_target": camera.target.to_array(),
         "camera_up": camera.up.to_array(),
         "vfov_deg": camera.vfov_deg,
+        "spp": samples.spp(),
+        "filter": samples.filter.name(),
+        "filter_width": samples.width,
         "shadow_eps": shadow_epsilon(scene),
         "triangles": scene.triangles.len(),
         "lights": inputs.lights.len(),
@@ -164,6 +192,7 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
         lights: inputs.lights.len(),
         width: camera.width,
         height: camera.height,
+        spp: samples.spp(),
         dir: dir.clone(),
         warnings: inputs.scene.warnings.clone(),
     })
