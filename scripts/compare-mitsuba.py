@@ -1,13 +1,22 @@
 """Renders an `envshadow export` frame with Mitsuba 3 (LLVM variant) exactly as envshadow's
-`brute` method does, times it against envshadow on the same frame in the same run, and
-compares the images. Run through scripts/compare-mitsuba.sh, which makes the venv and export.
+`brute` method does, times it against envshadow on the same frame at the same samples per
+pixel in the same run, and compares the images. Run through scripts/compare-mitsuba.sh,
+which makes the venv and export.
 
-The integrator: one primary ray per pixel centre (the exported directions), Lambertian
+The samples: `spp` from frame.json (1 when absent: an export from before samples per pixel),
+and primary.f32 holds every sample's direction, pixel by pixel, each pixel's k x k samples in
+stratum order (an array (height, width, spp, 3)) -- the very directions envshadow traces, so
+both renderers see the same sample positions. envshadow is rendered with the export's
+`--spp`, `--filter` and `--filter-width`. A pixel is the plain mean of its samples, in both.
+
+The integrator: one primary ray per sample, Lambertian
 B = albedo/pi * sum_j V_j E_j max(0, N.w_j) over every light, shading normal = normalised
 interpolated vertex normal (the facet normal where it points away from the facet's visible
 side), both normals turned towards the camera, shadow rays from the hit point moved
-`shadow_eps` along the geometric normal, t in (0, inf). Background pixels are left out of the
-comparison (envshadow shows the environment there; this integrator does not look it up).
+`shadow_eps` along the geometric normal, t in (0, inf). Only pixels whose every sample hits
+the scene are compared: where a sample misses, envshadow shows the environment and this
+integrator returns 0 (it does not look the map up), so a pixel with any missing sample --
+the background and the silhouette's edge -- is left out.
 """
 
 import argparse
@@ -73,7 +82,9 @@ def shade(scene, origin, n, albedo, ldir, lenergy, count):
     return albedo * dr.inv_pi * e
 
 
-def render(scene, mesh, meta, dirs, ldir, lenergy, count):
+def render(scene, mesh, meta, dirs, ldir, lenergy, count, spp):
+    """Every sample's radiance, then each pixel's plain mean of its `spp` consecutive samples;
+    returns (pixel RGB, whether every sample of the pixel hit the scene)."""
     cam = mi.Point3f(*meta["camera_position"])
     d = mi.Vector3f(dirs[:, 0], dirs[:, 1], dirs[:, 2])
     si = scene.ray_intersect(mi.Ray3f(cam, d))
@@ -88,21 +99,26 @@ def render(scene, mesh, meta, dirs, ldir, lenergy, count):
     origin = si.p + ng * meta["shadow_eps"]
     b = shade(scene, origin, ns, albedo, ldir, lenergy, count)
     b = dr.select(hit, b, 0.0)
+    if spp > 1:
+        # A pixel's samples are consecutive: sum each block, in the same kernels.
+        b = dr.block_sum(b, spp) / spp
+        hit = dr.block_sum(dr.select(hit, mi.UInt32(1), mi.UInt32(0)), spp) == spp
     dr.eval(b, hit)
     # The LLVM backend runs kernels asynchronously: wait for this one before the clock stops.
     dr.sync_thread()
     return b, hit
 
 
-def envshadow_frame(binary, spec, frame, lights, method, threads, out):
+def envshadow_frame(binary, spec, frame, lights, method, threads, out, sample_flags):
     """Renders one frame with envshadow; returns (seconds from stats.csv, RGB array).
     `method` is a method name, optionally followed by more render flags
-    ("grid-nowarp-uncertainty --flood-to contrary")."""
+    ("grid-nowarp-uncertainty --flood-to contrary"); `sample_flags` are the export's
+    `--spp`, `--filter` and `--filter-width`, so envshadow traces the exported samples."""
     name, *flags = method.split()
     subprocess.run(
         [binary, "render", spec, "--frames", str(frame), "--lights", str(lights),
-         "--method", name, *flags, "--threads", str(threads), "--out", out, "-q",
-         "--no-report"],
+         "--method", name, *flags, *sample_flags, "--threads", str(threads), "--out", out,
+         "-q", "--no-report"],
         check=True)
     with open(os.path.join(out, "stats.csv")) as f:
         row = list(csv.DictReader(f))[-1]
@@ -128,17 +144,35 @@ def main():
     ap.add_argument("--methods", default="brute,grid-nowarp-uncertainty",
                     help="comma-separated; each a method name, optionally with render flags")
     ap.add_argument("--work", required=True)
+    ap.add_argument("--spp", type=int,
+                    help="samples per pixel the export must have (default: frame.json's)")
+    ap.add_argument("--filter", help="pixel filter the export must have (default: frame.json's)")
     args = ap.parse_args()
 
     meta = json.load(open(os.path.join(args.export, "frame.json")))
     lights = json.load(open(os.path.join(args.export, "lights.json")))["lights"]
     w, h = meta["width"], meta["height"]
+    # The export decides the samples; --spp and --filter only check that it is the one meant.
+    spp = int(meta.get("spp", 1))
+    filt = meta.get("filter")
+    if args.spp is not None and args.spp != spp:
+        sys.exit(f"{args.export}: exported at {spp} spp, not --spp {args.spp}; export again")
+    if args.filter is not None and filt is not None and args.filter != filt:
+        sys.exit(f"{args.export}: exported with filter {filt}, not --filter {args.filter}")
+    sample_flags = ["--spp", str(spp)]
+    if filt is not None:
+        sample_flags += ["--filter", filt, "--filter-width", repr(float(meta["filter_width"]))]
     dirs = np.fromfile(os.path.join(args.export, "primary.f32"), dtype="<f4").reshape(-1, 3)
+    if len(dirs) != w * h * spp:
+        sys.exit(f"{args.export}: primary.f32 holds {len(dirs)} directions, "
+                 f"not {w}x{h}x{spp}")
     ldir_np = np.array([l["direction"] for l in lights], dtype=np.float32)
     le_np = np.array([l["energy"] for l in lights], dtype=np.float32)
     count = len(lights)
+    pattern = f" ({filt} filter, width {meta['filter_width']})" if filt and spp > 1 else ""
     print(f"mitsuba {mi.__version__} ({mi.variant()}), drjit {dr.__version__}; "
-          f"{meta['triangles']} triangles, {count} lights, {w}x{h}, frame {meta['frame']}")
+          f"{meta['triangles']} triangles, {count} lights, {w}x{h}, {spp} spp{pattern}, "
+          f"frame {meta['frame']}")
 
     rows = []
     images = {}
@@ -150,7 +184,7 @@ def main():
             t1 = time.perf_counter()
             ldir = mi.Vector3f(ldir_np[:, 0], ldir_np[:, 1], ldir_np[:, 2])
             lenergy = mi.Color3f(le_np[:, 0], le_np[:, 1], le_np[:, 2])
-            b, hit = render(scene, mesh, meta, dirs, ldir, lenergy, mi.UInt32(count))
+            b, hit = render(scene, mesh, meta, dirs, ldir, lenergy, mi.UInt32(count), spp)
             t2 = time.perf_counter()
             # The first render of a run includes compiling the kernel; later ones reuse it.
             rows.append(("mitsuba", threads, rep, t1 - t0, t2 - t1))
@@ -159,7 +193,7 @@ def main():
             for method in args.methods.split(","):
                 out = os.path.join(args.work, f"{'_'.join(method.split())}-t{threads}")
                 secs, img = envshadow_frame(args.binary, args.spec, meta["frame"], count,
-                                            method, threads, out)
+                                            method, threads, out, sample_flags)
                 rows.append((method, threads, rep, None, secs))
                 images[method] = img
 
@@ -184,8 +218,11 @@ def main():
             print(f"| {label} | {threads} | {m:.3f} | {bs} | {fs} | {ratio} |")
 
     ref, hit = images["mitsuba"]
-    print(f"\nImage difference over the {int(hit.sum())} pixels that hit the scene "
-          "(relative = divided by Mitsuba's mean pixel value there):")
+    print(f"\nImage difference at {spp} spp, the same sample positions in both (a pixel is the "
+          f"plain mean of its samples), over the {int(hit.sum())} pixels whose every sample "
+          "hits the scene: where a sample misses, envshadow shows the environment and this "
+          "integrator returns 0, so such pixels are left out (relative = divided by "
+          "Mitsuba's mean pixel value there):")
     print("\n| image | RMSE | relative RMSE | max abs diff | relative max | pixels differing > 1 % |")
     print("|---|---:|---:|---:|---:|---:|")
     mean = ref[hit].mean()
