@@ -100,6 +100,12 @@ if [ "$CORPUS_MODE" = 1 ]; then
       for spp in ${SPPS//,/ }; do
         base="$WORK/$name-$w-$spp"
         f="$(first_frame)"
+        # A model envshadow cannot load is a row saying why, not the end of the table.
+        if ! err="$("$BIN" render "$spec" --width 8 --height 8 --frames "$f" --lights 8 \
+            --out "$WORK/probe" --no-report -q 2>&1)"; then
+          echo "| $name | $spp | does not load: ${err##*: } | | | | | |"
+          continue
+        fi
         render "$base-none" "$spec" --width "$w" --height "$h" --spp "$spp" --frames "$f" --method none
         render "$base-brute" "$spec" --width "$w" --height "$h" --spp "$spp" --frames "$f" --method brute
         render "$base-default" "$spec" --width "$w" --height "$h" --spp "$spp" --frames "$f"

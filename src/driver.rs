@@ -139,7 +139,11 @@ impl FrameWork<'_> {
             }
         }
         let voters = &voters[..nv];
-        if let Some(prev) = self.shadows.prev {
+        // [ours] With samples per pixel, the previous frame's pixels are a pixel apart: a
+        // sample whose spatial voters are closer is left to them.
+        if let Some(prev) = self.shadows.prev
+            && !at.inside
+        {
             let min_voters = self.shadows.params.min_voters;
             if solve_temporal(ctx, bufs, scratch, prev, i, voters, min_voters, at) {
                 return i;

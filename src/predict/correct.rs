@@ -23,6 +23,9 @@ pub struct At {
     /// Inside a pixel (the voters closer than a pixel apart): a light on which three of four
     /// voters agree is taken from them rather than traced.
     pub majority: bool,
+    /// The pixel's voters lie closer than a pixel apart (samples per pixel): closer than the
+    /// previous frame's pixels, so `--temporal` leaves it to them.
+    pub inside: bool,
 }
 
 /// Traces the queued lights of region pixel `i` (begun, hit) starting from the prediction in
@@ -318,6 +321,7 @@ mod tests {
                     keep_blockers,
                     keep_predicted: false,
                     majority: false,
+                    inside: false,
                 };
                 (case.solve)(&ctx, &mut bufs, &mut sc, 0, at);
                 let want_vis: Vec<usize> = mine
@@ -385,6 +389,7 @@ mod tests {
                 keep_blockers: true,
                 keep_predicted,
                 majority: false,
+                inside: false,
             };
             correct::<Uncertainty>(&ctx, &mut bufs, &mut sc, 0, at);
             let got: Vec<(usize, f32)> = bufs.blockers.of(0).collect();
@@ -483,6 +488,7 @@ mod tests {
                         keep_blockers,
                         keep_predicted: false,
                         majority: false,
+                        inside: false,
                     };
                     let (want, queued) = run(trace, at, orders[0].1);
                     // The case must exercise what it guards: several waves, and flooding.

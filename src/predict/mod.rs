@@ -246,6 +246,7 @@ impl Shadows<'_> {
                 .flood_to
                 .at_level(self.order.finest(pass) || inside),
             majority: self.params.pixel_majority && inside && spacing == Some(1),
+            inside,
             keep_blockers: self.rule.reads_blockers() && self.order.read_later(pass),
             keep_predicted: self.order.keeps_predicted(),
         }
@@ -388,6 +389,7 @@ mod tests {
                         keep_blockers: warp && !(order == "grid" && pass == 8),
                         keep_predicted: order == "grid",
                         majority: false,
+                        inside: false,
                     };
                     let got = shadows.at(pass);
                     if got != want {

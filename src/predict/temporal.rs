@@ -138,6 +138,7 @@ pub fn solve_temporal(
     let at = At {
         keep_predicted: true,
         majority: false,
+        inside: false,
         ..at
     };
     correct::<Uncertainty>(ctx, bufs, sc, i, at);
