@@ -103,7 +103,8 @@ if [ "$CORPUS_MODE" = 1 ]; then
         # A model envshadow cannot load is a row saying why, not the end of the table.
         if ! err="$("$BIN" render "$spec" --width 8 --height 8 --frames "$f" --lights 8 \
             --out "$WORK/probe" --no-report -q 2>&1)"; then
-          echo "| $name | $spp | does not load: ${err##*: } | | | | | |"
+          msg="${err#*invalid glTF: }"
+          echo "| $name | $spp | does not load: ${msg:0:160} | | | | | |"
           continue
         fi
         render "$base-none" "$spec" --width "$w" --height "$h" --spp "$spp" --frames "$f" --method none
