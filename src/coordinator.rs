@@ -27,7 +27,7 @@ use crate::output::stats::{FrameStats, StatsFile};
 use crate::output::{self, frame_path};
 use crate::scene::Scene;
 use crate::temporal::{chains, prev_view};
-use crate::tile::{Rect, Tile, tiles};
+use crate::tile::{Rect, Tile};
 
 /// Progress reports from the library; the CLI decides how to show them (a bar or log lines).
 pub trait Progress: Sync {
@@ -216,12 +216,7 @@ pub fn render_frame_with(
     progress: &dyn Progress,
     temporal: &Temporal,
 ) -> Result<(Film, FrameStats, Option<Carried>)> {
-    let list = tiles(
-        anim.render.width,
-        anim.render.height,
-        anim.render.tile,
-        region,
-    );
+    let list = anim.render.tiles(region);
     let never = Cancel::default();
     render_tile_list(
         anim, inputs, frame, &list, region, progress, temporal, &never,
@@ -234,22 +229,9 @@ pub fn render_frame_with(
 /// whole-frame render.
 fn selection(anim: &Animation, opts: &RunOptions) -> (Vec<Tile>, Option<Rect>) {
     let Some(indices) = &opts.tiles else {
-        return (
-            tiles(
-                anim.render.width,
-                anim.render.height,
-                anim.render.tile,
-                opts.region,
-            ),
-            opts.region,
-        );
+        return (anim.render.tiles(opts.region), opts.region);
     };
-    let all = tiles(
-        anim.render.width,
-        anim.render.height,
-        anim.render.tile,
-        None,
-    );
+    let all = anim.render.tiles(None);
     let whole = indices.len() == all.len();
     let list: Vec<Tile> = all
         .into_iter()
@@ -335,12 +317,7 @@ fn render_tile_list(
     if phases > 0 {
         let reach = region.map(|r| {
             let grown = r.grow(work.shared_reach());
-            tiles(
-                anim.render.width,
-                anim.render.height,
-                anim.render.tile,
-                Some(grown),
-            )
+            anim.render.tiles(Some(grown))
         });
         let shared_tiles = reach.as_deref().unwrap_or(list);
         for phase in 0..phases {

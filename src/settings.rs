@@ -400,6 +400,11 @@ settings! {
 }
 
 impl Render {
+    /// The frame's tiles (the frame-anchored grid of `tile`), inside `region` if given.
+    pub fn tiles(&self, region: Option<crate::tile::Rect>) -> Vec<crate::tile::Tile> {
+        crate::tile::tiles(self.width, self.height, self.tile, region)
+    }
+
     /// The pixels' sample pattern.
     pub fn samples(&self) -> Samples {
         Samples::new(self.spp, self.filter, self.filter_width)

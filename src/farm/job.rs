@@ -59,13 +59,7 @@ impl Settings {
             width: anim.render.width,
             height: anim.render.height,
             tile: anim.render.tile,
-            tiles: tiles(
-                anim.render.width,
-                anim.render.height,
-                anim.render.tile,
-                None,
-            )
-            .len(),
+            tiles: anim.render.tiles(None).len(),
             exposure: anim.render.exposure,
             validate: anim.render.validate,
             spp: anim.render.spp,
@@ -128,20 +122,9 @@ pub fn tiles_path(dir: &Path, frame: usize, ext: &str) -> PathBuf {
     dir.join(format!("tiles_{frame:04}.{ext}"))
 }
 
+/// `Settings::spp` in manifests written before samples per pixel.
 fn one() -> u32 {
     1
-}
-
-/// Channel names of a job's tile image (EXR stores them sorted).
-pub fn channel_names(validate: bool, spp: u32) -> Vec<&'static str> {
-    let mut v = vec!["R", "G", "B", "rays", "visible"];
-    if validate {
-        v.extend(["wrong", "ref.R", "ref.G", "ref.B"]);
-    }
-    if spp > 1 {
-        v.push("coverage");
-    }
-    v
 }
 
 /// Writes one job's frames into its folder; the coordinator calls it in place of writing
@@ -220,7 +203,7 @@ impl FrameSink for JobWriter {
     }
 }
 
-/// Writes `film`'s pixels inside `bbox` as float channels (`channel_names`), ZIP compressed,
+/// Writes `film`'s pixels inside `bbox` as float channels (the module's table names them), ZIP compressed,
 /// one thread: lossless, so assembling gives back the very floats the renderer made.
 fn write_tile_image(path: &Path, film: &Film, bbox: Rect) -> Result<()> {
     let (w, h) = (bbox.width() as usize, bbox.height() as usize);

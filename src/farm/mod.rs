@@ -47,13 +47,7 @@ pub fn request(anim: &Animation, jobs: usize, by: Option<By>) -> Result<PlanRequ
     let alignment = anim.frame_alignment();
     Ok(PlanRequest {
         frames: anim.frames.clone(),
-        tiles: crate::tile::tiles(
-            anim.render.width,
-            anim.render.height,
-            anim.render.tile,
-            None,
-        )
-        .len(),
+        tiles: anim.render.tiles(None).len(),
         alignment,
         jobs,
         by: by.unwrap_or_else(|| plan::default_by(alignment)),
@@ -115,12 +109,7 @@ pub fn render_job(
     cancel: crate::cancel::Cancel,
     progress: &dyn Progress,
 ) -> Result<(Job, PathBuf, RunSummary)> {
-    let grid = crate::tile::tiles(
-        anim.render.width,
-        anim.render.height,
-        anim.render.tile,
-        None,
-    );
+    let grid = anim.render.tiles(None);
     let (job, plan_ref) = match sel {
         JobSelection::Planned { index, of, by } => {
             let req = request(anim, *of, *by)?;

@@ -403,6 +403,39 @@ mod tests {
         assert!(failures.is_empty(), "{}", failures.join("\n"));
     }
 
+    /// With 4 × 4 samples per pixel (k = 4, h0 = 16 → 64 on the lattice: passes 0..=12, the
+    /// levels of spacing 2 and 1 being passes 9–12): the passes whose voters lie inside a
+    /// pixel flood to contrary lights and leave `--temporal` to their voters; the majority
+    /// decides at the finest level only, and not at all with `--pixel-majority=false`.
+    #[test]
+    fn passes_inside_a_pixel_flood_contrary_and_the_finest_takes_the_majority() {
+        for pixel_majority in [true, false] {
+            let params = Params {
+                pixel_majority,
+                ..Params::default()
+            }
+            .for_samples(4);
+            let shadows = Method::DEFAULT.build(params, None);
+            assert_eq!(shadows.order.passes(), 13);
+            for pass in 0..13 {
+                let at = shadows.at(pass);
+                let inside = pass >= 9;
+                assert_eq!(at.inside, inside, "pass {pass}");
+                let contrary = if inside {
+                    FloodTo::Contrary
+                } else {
+                    FloodTo::All
+                };
+                assert_eq!(at.flood_to, contrary, "pass {pass}");
+                assert_eq!(at.majority, pixel_majority && pass >= 11, "pass {pass}");
+            }
+        }
+        // The scanline has no levels: nothing is inside.
+        let scan = "scan-warp-boundary".parse::<Method>().unwrap();
+        let shadows = scan.build(Params::default().for_samples(4), None);
+        assert!(!shadows.at(0).inside && !shadows.at(0).majority);
+    }
+
     /// `at_level` resolves `contrary-finest` alone.
     #[test]
     fn only_contrary_finest_depends_on_the_level() {
