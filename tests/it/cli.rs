@@ -218,6 +218,26 @@ fn bad_inputs_fail_with_one_clear_line_and_no_output() {
         &format!("{base}[scene]\nbuiltin = \"shapes\"\n[render]\nwidht = 10\n"),
     );
     check(render(&p, &[]), &["unknown.toml", "widht"]);
+    // Samples per pixel and the pixel filter, in the spec and on the command line.
+    let p = write_spec(
+        "spp.toml",
+        &format!("{base}[scene]\nbuiltin = \"shapes\"\n[render]\nspp = 7\n"),
+    );
+    check(render(&p, &[]), &["spp.toml", "[render] spp = 7", "square"]);
+    let shapes = write_spec(
+        "shapes.toml",
+        &format!("{base}[scene]\nbuiltin = \"shapes\"\n"),
+    );
+    check(render(&shapes, &["--spp", "5"]), &["--spp 5", "square"]);
+    check(render(&shapes, &["--spp", "0"]), &["--spp 0", "square"]);
+    check(
+        render(&shapes, &["--filter", "lanczos"]),
+        &["lanczos", "blackman-harris"],
+    );
+    check(
+        render(&shapes, &["--filter-width", "0.2"]),
+        &["--filter-width 0.2", "0.5 to 8"],
+    );
     let p = write_spec(
         "type.toml",
         &format!("{base}[scene]\nbuiltin = \"shapes\"\n[render]\nwidth = \"wide\"\n"),
