@@ -31,6 +31,17 @@ impl Blockers {
             .map(|(&j, &t)| (j as usize, t))
     }
 
+    /// Room for `pixels` pixels' runs and no entries; a pixel's run is empty once
+    /// [`begin`](Self::begin) starts it (runs of pixels not begun since are stale).
+    pub(crate) fn reserve(&mut self, pixels: usize) {
+        if self.start.len() < pixels {
+            self.start.resize(pixels, 0);
+            self.len.resize(pixels, 0);
+        }
+        self.light.clear();
+        self.dist.clear();
+    }
+
     /// Starts pixel `i`'s run; push its entries next.
     #[inline]
     pub fn begin(&mut self, i: usize) {

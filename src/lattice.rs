@@ -104,6 +104,7 @@ impl Lattice {
             return false;
         };
         let w = self.words;
+        bufs.valid[i] = true;
         bufs.surf[i] = self.surf[k];
         let src = &self.bits[k * 3 * w..(k + 1) * 3 * w];
         bufs.above[i * w..(i + 1) * w].copy_from_slice(&src[..w]);
@@ -184,6 +185,7 @@ mod tests {
             words,
             surf: vec![Surface::default(); n],
             needed: vec![false; n],
+            valid: vec![false; n],
             above: vec![0; n * words],
             vis: vec![0; n * words],
             traced: vec![0; n * words],
