@@ -23,6 +23,8 @@ pub struct Surface {
     pub ng: Vec3,
     /// Linear RGB albedo.
     pub albedo: Vec3,
+    /// The primary ray's unit direction: where a background sample looks up the map.
+    pub dir: Vec3,
     /// False for background pixels (the ray left the scene).
     pub hit: bool,
 }
@@ -108,7 +110,10 @@ impl<'a> FrameContext<'a> {
     pub fn surface(&self, x: u32, y: u32) -> Surface {
         let dir = self.sample_dir(x, y);
         let Some(hit) = self.accel.intersect(self.camera.position, dir) else {
-            return Surface::default();
+            return Surface {
+                dir,
+                ..Surface::default()
+            };
         };
         let tri = hit.tri as usize;
         let [p0, p1, p2] = self.scene.triangle(tri);
@@ -137,6 +142,7 @@ impl<'a> FrameContext<'a> {
             n,
             ng,
             albedo,
+            dir,
             hit: true,
         }
     }

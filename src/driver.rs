@@ -261,31 +261,23 @@ impl FrameWork<'_> {
                 }
             }
         }
-        let counts = count_work(&slot.bufs);
+        let counts = count_halo(&slot.bufs);
         shade(self.ctx, &slot.bufs, pixels, self.validate, counts)
     }
 }
 
-/// Queries and rays of the tile's pixels, and the halo's work apart.
-fn count_work(bufs: &TileBuffers) -> Counts {
-    let (r, t, w) = (bufs.region, bufs.tile, bufs.words);
+/// The halo's work: pixels outside the tile the method evaluated for it, and their rays (the
+/// tile's own are counted as it is shaded).
+fn count_halo(bufs: &TileBuffers) -> Counts {
+    let (r, t) = (bufs.region, bufs.tile);
     let mut c = Counts::default();
+    if r == t {
+        return c;
+    }
     for y in r.y0..r.y1 {
         for x in r.x0..r.x1 {
             let i = r.index(x, y);
-            if t.contains(x, y) {
-                debug_assert!(bufs.needed[i], "method left pixel ({x}, {y}) unevaluated");
-                c.queries += bits::count(TileBuffers::row(&bufs.above, i, w)) as u64;
-                c.rays += bufs.rays[i] as u64;
-                let why = bufs.split[i];
-                c.rays_every_light += why.every as u64;
-                c.rays_flooded += why.flooded as u64;
-                c.flood_fixes += why.fixes as u64;
-                if bufs.temporal[i] {
-                    c.temporal_pixels += 1;
-                    c.temporal_rays += bufs.rays[i] as u64;
-                }
-            } else if bufs.needed[i] {
+            if bufs.needed[i] && !t.contains(x, y) {
                 c.halo_pixels += 1;
                 c.halo_rays += bufs.rays[i] as u64;
             }
@@ -294,9 +286,9 @@ fn count_work(bufs: &TileBuffers) -> Counts {
     c
 }
 
-/// Shades the samples of the tile's `pixels` and gathers each pixel's own — the mean of their
-/// radiance (in stratum order, so the sum does not depend on the tile), the sum of their rays
-/// and wrong pairs, the mean of their visible fractions and, with several samples, the
+/// Shades the samples of the tile's `pixels`, counts their queries and rays into `counts`,
+/// and gathers each pixel's own — the mean of their radiance (in stratum order, so the sum
+/// does not depend on the tile), the sum of their rays and wrong pairs, the mean of their visible fractions and, with several samples, the
 /// fraction that hit. With `validate`, every query is traced again to count the method's
 /// mistakes and shade the brute-force reference. With one sample per pixel this is the pixel
 /// as it always was: adding to zero and dividing by one change no bit.
@@ -334,10 +326,20 @@ fn shade(
                 for i in 0..k {
                     let (x, y) = (px * k + i, py * k + j);
                     let q = bufs.region.index(x, y);
+                    debug_assert!(bufs.needed[q], "method left sample ({x}, {y}) unevaluated");
                     let s = bufs.surf[q];
                     traced += bufs.rays[q] as f32;
+                    counts.rays += bufs.rays[q] as u64;
+                    let why = bufs.split[q];
+                    counts.rays_every_light += why.every as u64;
+                    counts.rays_flooded += why.flooded as u64;
+                    counts.flood_fixes += why.fixes as u64;
+                    if bufs.temporal[q] {
+                        counts.temporal_pixels += 1;
+                        counts.temporal_rays += bufs.rays[q] as u64;
+                    }
                     if !s.hit {
-                        let r = ctx.env.radiance(ctx.sample_dir(x, y));
+                        let r = ctx.env.radiance(s.dir);
                         lit += r;
                         exact += r;
                         continue;
@@ -356,6 +358,7 @@ fn shade(
                     last = Some((s.n, q, sum));
                     lit += reflect(s.albedo, sum);
                     let n_above = bits::count(above);
+                    counts.queries += n_above as u64;
                     if n_above > 0 {
                         seen += bits::count(vis) as f32 / n_above as f32;
                     }

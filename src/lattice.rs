@@ -246,6 +246,7 @@ mod tests {
                 n: Vec3::Y,
                 ng: Vec3::Z,
                 albedo: Vec3::splat(0.1 * s),
+                dir: Vec3::new(0.0, -s, 1.0).normalize(),
                 hit: true,
             },
             bits: [

@@ -53,6 +53,7 @@ pub fn origin() -> Surface {
         n: Vec3::Y,
         ng: Vec3::Y,
         albedo: Vec3::splat(0.5),
+        dir: Vec3::NEG_Y,
         hit: true,
     }
 }
