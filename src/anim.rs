@@ -385,6 +385,9 @@ impl Animation {
                 "[motion] takes `degrees_per_frame` or `turn_degrees`, not both"
             ),
             (Some(d), None) => d,
+            (None, Some(t)) if !t.is_finite() => {
+                bail_input!(path, "[motion] turn_degrees = {t} is not a finite number")
+            }
             (None, Some(t)) => t / frame_count.max(1) as f32,
             (None, None) => 360.0 / frame_count.max(1) as f32,
         };
@@ -522,16 +525,37 @@ impl Animation {
                 self.frame_count
             );
         }
-        let finite = [
-            self.env_rotation_deg,
-            self.env_intensity,
-            self.degrees_per_frame,
-            self.camera.vfov_deg,
-            self.camera.elevation_deg,
-            self.camera.azimuth_deg,
+        // Every number named by its key, before anything is loaded or written: a NaN or
+        // infinite vector would otherwise reach the BVH build (a panic in obvhs) or render
+        // empty frames with a NaN camera in stats.csv.
+        let numbers = [
+            ("[environment] rotation", self.env_rotation_deg),
+            ("[environment] intensity", self.env_intensity),
+            ("[motion] degrees_per_frame", self.degrees_per_frame),
+            ("[camera] vfov", self.camera.vfov_deg),
+            ("[camera] elevation", self.camera.elevation_deg),
+            ("[camera] azimuth", self.camera.azimuth_deg),
         ];
-        if finite.iter().any(|v| !v.is_finite()) {
-            bail_input!(path, "a number in the spec is not finite");
+        for (key, v) in numbers {
+            if !v.is_finite() {
+                bail_input!(path, "{key} = {v} is not a finite number");
+            }
+        }
+        let vectors = [
+            ("[camera] target", self.camera.target),
+            ("[camera] position", self.camera.position),
+            ("[camera] up", Some(self.camera.up)),
+            ("[motion] pivot", self.pivot),
+        ];
+        for (key, v) in vectors {
+            if let Some(v) = v
+                && !v.is_finite()
+            {
+                bail_input!(path, "{key} = {} is not finite", show(v));
+            }
+        }
+        if self.camera.up.length_squared() == 0.0 {
+            bail_input!(path, "[camera] up = [0, 0, 0] has no direction");
         }
         if self.env_intensity < 0.0 {
             bail_input!(
@@ -618,6 +642,24 @@ impl Animation {
         if (position - target).length() < 1e-9 {
             bail_input!(&self.spec_path, "[camera] position and target coincide");
         }
+        if !(position.is_finite() && target.is_finite()) {
+            bail_input!(
+                &self.spec_path,
+                "the camera at frame {frame} is not finite (position {}, target {})",
+                show(position),
+                show(target)
+            );
+        }
+        // look_at needs a right vector: `up` along the view leaves none.
+        let forward = (target - position).normalize();
+        if forward.cross(rig.up.normalize()).length() < 1e-4 {
+            bail_input!(
+                &self.spec_path,
+                "[camera] up = {} is parallel to the view direction {} at frame {frame}",
+                show(rig.up),
+                show(forward)
+            );
+        }
         Ok(Camera::look_at(
             position,
             target,
@@ -627,6 +669,11 @@ impl Animation {
             self.render.height,
         ))
     }
+}
+
+/// A vector as a spec writes it: `[x, y, z]`.
+fn show(v: Vec3) -> String {
+    format!("[{}, {}, {}]", v.x, v.y, v.z)
 }
 
 /// Default key-frame interval for `motion` (docs/temporal.md has the measurements): with a

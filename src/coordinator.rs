@@ -423,6 +423,11 @@ pub fn render_animation(
     }
     // Inputs first: a bad input leaves nothing behind, not even an empty folder.
     let inputs = Inputs::load(anim)?;
+    // Every frame's camera, so a spec whose camera breaks at some frame (an `up` along the
+    // view) is refused before lights.json or any frame is written.
+    for f in anim.frames.clone() {
+        anim.camera(&inputs.scene, f)?;
+    }
     for w in &inputs.scene.warnings {
         progress.warning(w);
     }

@@ -517,6 +517,88 @@ fn every_kind_of_broken_input_is_refused_with_one_located_line() {
     c.failures.assert_none();
 }
 
+/// Issue 20, item 7: a NaN or infinite number anywhere in a spec, an `up` of zero length or
+/// along the view (at any frame of the orbit), is refused with its key named and exit 2 —
+/// before lights.json or a frame is written. A NaN pivot used to panic inside the BVH build;
+/// a NaN camera rendered empty frames with exit 0.
+#[test]
+fn non_finite_numbers_and_a_degenerate_camera_are_refused_before_any_file() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mut c = Case {
+        dir: tmp.path().to_path_buf(),
+        out: tmp.path().join("out"),
+        count: 0,
+        failures: Failures::new(),
+    };
+    let scene = "[scene]\nbuiltin = \"shapes\"\n[render]\nwidth = 16\nheight = 16\n";
+    let cases: [(&str, &str, &[&str]); 11] = [
+        (
+            "NaN pivot",
+            "[motion]\nkind = \"spin\"\nframes = 2\npivot = [nan, 0.0, 0.0]",
+            &["[motion] pivot", "not finite"],
+        ),
+        (
+            "infinite pivot",
+            "[motion]\nkind = \"spin\"\nframes = 2\npivot = [0.0, inf, 0.0]",
+            &["[motion] pivot", "inf", "not finite"],
+        ),
+        (
+            "NaN camera position",
+            "[camera]\nposition = [nan, 1.0, 1.0]",
+            &["[camera] position", "not finite"],
+        ),
+        (
+            "infinite camera target",
+            "[camera]\ntarget = [0.0, -inf, 0.0]",
+            &["[camera] target", "not finite"],
+        ),
+        (
+            "NaN up",
+            "[camera]\nup = [0.0, nan, 0.0]",
+            &["[camera] up", "not finite"],
+        ),
+        (
+            "zero up",
+            "[camera]\nup = [0.0, 0.0, 0.0]",
+            &["[camera] up", "no direction"],
+        ),
+        (
+            "up along the view",
+            "[camera]\nelevation = 90.0",
+            &["[camera] up", "parallel to the view direction", "frame 0"],
+        ),
+        (
+            "up along the view at the orbit's second frame",
+            "[camera]\nup = [1.0, 0.0, 0.0]\nelevation = 0.0\nazimuth = 0.0\n\
+             [motion]\nframes = 4\ndegrees_per_frame = 90.0",
+            &["[camera] up", "parallel to the view direction", "frame 1"],
+        ),
+        (
+            "infinite turn",
+            "[motion]\nframes = 4\nturn_degrees = inf",
+            &["[motion] turn_degrees", "not a finite number"],
+        ),
+        (
+            "NaN map rotation",
+            "[environment]\nbuiltin = \"sky\"\nrotation = nan",
+            &["[environment] rotation", "not a finite number"],
+        ),
+        (
+            "NaN elevation",
+            "[camera]\nelevation = nan",
+            &["[camera] elevation", "not a finite number"],
+        ),
+    ];
+    for (i, (kind, body, needles)) in cases.iter().enumerate() {
+        let name = format!("case{i}.toml");
+        let spec = c.spec(&name, &format!("{scene}{body}"));
+        let mut all = vec![name.as_str()];
+        all.extend_from_slice(needles);
+        c.render(kind, &spec, &[], &all);
+    }
+    c.failures.assert_none();
+}
+
 #[test]
 fn non_triangle_primitives_and_zero_area_triangles_are_skipped_with_warnings() {
     let tmp = tempfile::tempdir().unwrap();
