@@ -76,7 +76,7 @@ impl Lattice {
     /// The lattice index of frame pixel (x, y), if it lies on the lattice.
     #[inline]
     pub fn index(&self, x: u32, y: u32) -> Option<usize> {
-        if self.step == 0 || x % self.step != 0 || y % self.step != 0 {
+        if self.step == 0 || !x.is_multiple_of(self.step) || !y.is_multiple_of(self.step) {
             return None;
         }
         let (c, r) = (x / self.step, y / self.step);

@@ -26,7 +26,7 @@ use crate::lights::LightSet;
 
 /// Whether `frame` starts a chain (is predicted from its own pixels only).
 pub fn is_key(frame: usize, keyframe: u32) -> bool {
-    frame % keyframe.max(1) as usize == 0
+    frame.is_multiple_of(keyframe.max(1) as usize)
 }
 
 /// One chain of frames rendered in order, each reading its predecessor: the frames and

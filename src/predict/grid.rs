@@ -177,13 +177,13 @@ mod tests {
 
     /// The definition: walk the levels down from h0 until s divides both coordinates.
     fn pass_by_levels(x: u32, y: u32, h0: u32) -> usize {
-        if x % h0 == 0 && y % h0 == 0 {
+        if x.is_multiple_of(h0) && y.is_multiple_of(h0) {
             return 0;
         }
         let (mut h, mut p) = (h0, 1);
         loop {
             let s = h / 2;
-            if x % s == 0 && y % s == 0 {
+            if x.is_multiple_of(s) && y.is_multiple_of(s) {
                 return if x % h == s && y % h == s { p } else { p + 1 };
             }
             h = s;

@@ -108,14 +108,14 @@ fn check_position_references(path: &Path, root: &::gltf::json::Root) -> Result<(
             let position = primitive
                 .attributes
                 .get(&Checked::Valid(::gltf::json::mesh::Semantic::Positions));
-            if let Some(a) = position {
-                if a.value() >= n {
-                    bail_input!(
-                        path,
-                        "mesh {m} primitive {p}: POSITION refers to accessor {}, but the file has {n} accessors",
-                        a.value()
-                    );
-                }
+            if let Some(a) = position
+                && a.value() >= n
+            {
+                bail_input!(
+                    path,
+                    "mesh {m} primitive {p}: POSITION refers to accessor {}, but the file has {n} accessors",
+                    a.value()
+                );
             }
         }
     }
@@ -441,7 +441,7 @@ impl Loader<'_> {
             },
         };
         let mut tris = assemble(mode, &indices);
-        if mode == Mode::Triangles && indices.len() % 3 != 0 {
+        if mode == Mode::Triangles && !indices.len().is_multiple_of(3) {
             self.warn(format!(
                 "{at}: {} indices is not a multiple of 3, the last {} ignored",
                 indices.len(),

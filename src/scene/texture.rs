@@ -293,7 +293,7 @@ mod tests {
     fn checker(width: usize, height: usize) -> Texture {
         let rgb: Vec<u8> = (0..width * height)
             .flat_map(|i| {
-                [if (i % width + i / width) % 2 == 0 {
+                [if (i % width + i / width).is_multiple_of(2) {
                     255
                 } else {
                     0

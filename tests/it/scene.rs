@@ -22,7 +22,7 @@ struct Gltf {
 
 impl Gltf {
     fn view(&mut self, bytes: &[u8]) -> usize {
-        while self.bin.len() % 4 != 0 {
+        while !self.bin.len().is_multiple_of(4) {
             self.bin.push(0);
         }
         self.views
@@ -101,11 +101,11 @@ impl Gltf {
     /// Writes `name.glb` into `dir`.
     fn write_glb(&self, dir: &Path, name: &str, rest: Value) -> PathBuf {
         let mut json = serde_json::to_vec(&self.json(rest, None)).unwrap();
-        while json.len() % 4 != 0 {
+        while !json.len().is_multiple_of(4) {
             json.push(b' ');
         }
         let mut bin = self.bin.clone();
-        while bin.len() % 4 != 0 {
+        while !bin.len().is_multiple_of(4) {
             bin.push(0);
         }
         let total = 12 + 8 + json.len() + 8 + bin.len();
