@@ -23,6 +23,7 @@ use crate::error::{Interrupted, Result};
 use crate::film::{Counts, Film};
 use crate::history::{Carried, CarryPatch};
 use crate::lights::LightSet;
+use crate::output::lock::FolderLock;
 use crate::output::stats::{FrameStats, StatsFile};
 use crate::output::{self, frame_path};
 use crate::scene::Scene;
@@ -157,6 +158,9 @@ pub struct RunOptions {
     pub tiles: Option<Vec<usize>>,
     /// Stops the run between tiles: complete frames are written, frames in flight dropped.
     pub cancel: Cancel,
+    /// When another render holds the output folder, wait for it rather than refuse
+    /// ([`FolderLock`]).
+    pub wait: bool,
 }
 
 /// What a run did.
@@ -434,6 +438,8 @@ pub fn render_animation(
     opts.cancel.check()?;
     std::fs::create_dir_all(dir)
         .with_context(|| format!("creating output folder {}", dir.display()))?;
+    // One writer per folder, from the first file written to the last.
+    let _lock = FolderLock::acquire(dir, opts.wait)?;
     sink.begin()?;
     inputs.lights.write_json(&dir.join("lights.json"))?;
 

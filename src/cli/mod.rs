@@ -145,6 +145,10 @@ pub struct RenderArgs {
     /// Skip frames whose EXR and PNG already exist in the output folder.
     #[arg(long)]
     pub resume: bool,
+    /// When another render is writing the same output folder, wait for it to finish instead
+    /// of refusing (one writer per folder; farm jobs always wait).
+    #[arg(long)]
+    pub wait: bool,
     /// Render only the pixel rectangle x0,y0,x1,y1 (x1, y1 excluded); the rest stays black.
     #[arg(long, value_name = "x0,y0,x1,y1", value_parser = parse_region)]
     pub region: Option<Rect>,
@@ -456,6 +460,7 @@ fn render(args: RenderArgs) -> Result<()> {
         region: args.region,
         tiles: None,
         cancel: envshadow::cancel::Cancel::on_signals()?,
+        wait: args.wait,
     };
     let mut files = coordinator::FrameFiles::new(&anim);
     let summary = coordinator::render_animation(&anim, &opts, &mut files, progress.as_ref())?;

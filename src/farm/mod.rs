@@ -195,6 +195,8 @@ pub fn render_job(
         region: None,
         tiles: Some(writer.tiles().to_vec()),
         cancel,
+        // Two attempts of one job (a requeue while the first still runs) take turns.
+        wait: true,
     };
     let summary = coordinator::render_animation(&job_anim, &opts, &mut writer, progress)?;
     Ok((job, dir, summary))

@@ -50,17 +50,19 @@ pub(super) fn to_json(set: &LightSet) -> Value {
     })
 }
 
-/// Writes `bytes` to `<path>.tmp` in the same folder, then renames it over `path`, so a reader
-/// never sees half a file.
+/// Writes `bytes` under a unique temporary name in the same folder
+/// ([`crate::output::temp_path`]), then renames it over `path`, so a reader never sees half a
+/// file and two writers of the same file (two renders starting at once) never share a
+/// temporary.
 pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let mut tmp_name = path
-        .file_name()
-        .ok_or_else(|| input_error(path, "not a file path"))?
-        .to_os_string();
-    tmp_name.push(".tmp");
-    let tmp = path.with_file_name(tmp_name);
-    std::fs::write(&tmp, bytes)
-        .map_err(|e| anyhow::anyhow!("cannot write {}: {e}", tmp.display()))?;
+    if path.file_name().is_none() {
+        return Err(input_error(path, "not a file path"));
+    }
+    let tmp = crate::output::temp_path(path);
+    std::fs::write(&tmp, bytes).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        anyhow::anyhow!("cannot write {}: {e}", tmp.display())
+    })?;
     std::fs::rename(&tmp, path).map_err(|e| {
         let _ = std::fs::remove_file(&tmp);
         anyhow::anyhow!("cannot rename {} to {}: {e}", tmp.display(), path.display())

@@ -3,6 +3,7 @@
 //! or a crash never sees half a file.
 
 pub mod exr;
+pub mod lock;
 pub mod png;
 pub mod stats;
 
@@ -15,10 +16,19 @@ use anyhow::Context;
 use crate::error::Result;
 use crate::film::Film;
 
-/// The temporary name a file is written under before it is renamed into place.
+/// The temporary name a file is written under before it is renamed into place: unique to the
+/// process (its PID), the write (a counter: threads of one process may publish the same file)
+/// and the moment (nanoseconds, for two hosts of a shared folder whose PIDs coincide), so two
+/// writers never share one.
 pub fn temp_path(path: &Path) -> PathBuf {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static WRITES: AtomicU64 = AtomicU64::new(0);
+    let n = WRITES.fetch_add(1, Ordering::Relaxed);
+    let nanos = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.subsec_nanos());
     let mut name = path.file_name().unwrap_or_default().to_os_string();
-    name.push(format!(".{}.tmp", std::process::id()));
+    name.push(format!(".{}-{n}-{nanos:08x}.tmp", std::process::id()));
     path.with_file_name(name)
 }
 

@@ -452,3 +452,76 @@ fn table_and_bench_commands_measure_every_requested_configuration() {
         "{out}"
     );
 }
+
+/// Issue 20, item 4: one writer per output folder. Two renders into one folder used to both
+/// exit 0 with `stats.csv` last-writer-wins. While another process holds the folder's lock
+/// (here the test, as a running render would), a render refuses with exit 2, naming the
+/// folder and the holder's PID, and writes nothing; with `--wait` it writes nothing while the
+/// lock is held and renders once it is released.
+#[test]
+fn a_render_into_a_folder_another_render_holds_refuses_or_waits() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = shapes_spec(tmp.path(), "");
+    let out = tmp.path().join("out");
+    fs::create_dir_all(&out).unwrap();
+    let held = fs::File::open(&out).unwrap();
+    held.try_lock()
+        .expect("the test takes the folder's lock first");
+    let render = |extra: &[&str]| {
+        let mut c = common::bin();
+        c.arg("render")
+            .arg(&spec)
+            .args(["--frames", "0..1", "--no-report", "-q"])
+            .args(extra);
+        c
+    };
+
+    let o = render(&[]).output().unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "stderr: {err}");
+    let pid = format!("PID {}", std::process::id());
+    for needle in [out.to_str().unwrap(), pid.as_str(), "--wait"] {
+        assert!(err.contains(needle), "{needle:?} not in {err}");
+    }
+    assert_eq!(err.trim().lines().count(), 1, "one line: {err}");
+    assert!(
+        names(&out).is_empty(),
+        "a refused render wrote {:?}",
+        names(&out)
+    );
+
+    let mut waiting = render(&["--wait"]).spawn().unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let still = waiting.try_wait().unwrap();
+    let early = names(&out);
+    drop(held);
+    let status = waiting.wait().unwrap();
+    assert!(still.is_none(), "--wait did not wait: exited {still:?}");
+    assert!(
+        early.is_empty(),
+        "--wait wrote {early:?} while the folder was held"
+    );
+    assert!(status.success(), "--wait render failed: {status}");
+    let done = names(&out);
+    for f in [
+        "frame_0000.exr",
+        "frame_0000.png",
+        "lights.json",
+        "stats.csv",
+    ] {
+        assert!(done.iter().any(|n| n == f), "{f} missing from {done:?}");
+    }
+}
+
+/// Every name in `dir` (none when it does not exist).
+fn names(dir: &Path) -> Vec<String> {
+    let Ok(rd) = fs::read_dir(dir) else {
+        return Vec::new();
+    };
+    let mut v: Vec<String> = rd
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
