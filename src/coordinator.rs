@@ -440,6 +440,9 @@ pub fn render_animation(
         .with_context(|| format!("creating output folder {}", dir.display()))?;
     // One writer per folder, from the first file written to the last.
     let _lock = FolderLock::acquire(dir, opts.wait)?;
+    // Holding the lock, no other writer is mid-write: whatever temporaries the folder holds
+    // were left by a render that was killed, and would stay for good.
+    output::remove_stale_temporaries(dir)?;
     sink.begin()?;
     inputs.lights.write_json(&dir.join("lights.json"))?;
 

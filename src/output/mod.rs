@@ -32,6 +32,51 @@ pub fn temp_path(path: &Path) -> PathBuf {
     path.with_file_name(name)
 }
 
+/// Whether `name` is one of [`temp_path`]'s names (`<file>.<pid>-<n>-<nanos>.tmp`, or the
+/// older `<file>.<pid>.tmp`): a file only a write in progress, or one a kill interrupted,
+/// leaves behind. Other names ending in `.tmp` are not ours.
+pub fn is_temp_name(name: &str) -> bool {
+    let Some(stem) = name.strip_suffix(".tmp") else {
+        return false;
+    };
+    let Some((file, tag)) = stem.rsplit_once('.') else {
+        return false;
+    };
+    let mut parts = tag.split('-');
+    let pid_ok = parts
+        .next()
+        .is_some_and(|p| !p.is_empty() && p.bytes().all(|b| b.is_ascii_digit()));
+    let rest: Vec<&str> = parts.collect();
+    let rest_ok = match rest.as_slice() {
+        [] => true,
+        [n, nanos] => {
+            !n.is_empty()
+                && n.bytes().all(|b| b.is_ascii_digit())
+                && nanos.len() == 8
+                && nanos.bytes().all(|b| b.is_ascii_hexdigit())
+        }
+        _ => false,
+    };
+    !file.is_empty() && pid_ok && rest_ok
+}
+
+/// Removes the temporaries an interrupted writer left in `dir` ([`is_temp_name`]); call it
+/// holding the folder's lock ([`lock::FolderLock`]), when no other writer can be mid-write.
+/// Returns how many were removed.
+pub fn remove_stale_temporaries(dir: &Path) -> Result<usize> {
+    let mut removed = 0;
+    let rd = fs::read_dir(dir).with_context(|| format!("listing {}", dir.display()))?;
+    for e in rd.flatten() {
+        let name = e.file_name();
+        if name.to_str().is_some_and(is_temp_name) && e.file_type().is_ok_and(|t| t.is_file()) {
+            fs::remove_file(e.path())
+                .with_context(|| format!("removing the stale {}", e.path().display()))?;
+            removed += 1;
+        }
+    }
+    Ok(removed)
+}
+
 /// Writes a file atomically with `write`, which receives the temporary path.
 pub fn write_atomic_with(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
     let tmp = temp_path(path);
@@ -83,4 +128,34 @@ pub fn write_frame_files(dir: &Path, frame: usize, film: &Film, exposure: f32) -
         &film.beauty,
         exposure,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// temp_path's names, this version's and the older PID-only ones, are recognised; a
+    /// user's own `.tmp` files and our published files are not.
+    #[test]
+    fn only_our_temporary_names_count_as_stale() {
+        let ours = temp_path(Path::new("/x/frame_0001.exr"));
+        let ours = ours.file_name().unwrap().to_str().unwrap();
+        let mut failures = Vec::new();
+        for (name, want) in [
+            (ours, true),
+            ("lights.json.4242.tmp", true),
+            ("stats.csv.17-3-0badcafe.tmp", true),
+            ("frame_0001.exr", false),
+            ("notes.tmp", false),
+            ("scratch.draft.tmp", false),
+            (".12.tmp", false),
+            ("a.12-3.tmp", false),
+            ("a.12-3-xyz.tmp", false),
+        ] {
+            if is_temp_name(name) != want {
+                failures.push(format!("{name}: {}", !want));
+            }
+        }
+        assert!(failures.is_empty(), "{failures:?}");
+    }
 }

@@ -525,3 +525,41 @@ fn names(dir: &Path) -> Vec<String> {
     v.sort();
     v
 }
+
+/// Issue 20, item 3 (its temporaries): a render killed mid-write (SIGKILL, power) leaves
+/// `frame_NNNN.exr.<pid>….tmp` files that no later run removed. A render into the folder —
+/// here `--resume`, the command every message suggests — removes every temporary of ours,
+/// this version's names and the older PID-only ones, and keeps everything else.
+#[test]
+fn resume_removes_the_temporaries_a_killed_render_left() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = shapes_spec(tmp.path(), "");
+    let out = tmp.path().join("out");
+    fs::create_dir_all(&out).unwrap();
+    let stale = [
+        "frame_0001.exr.999999-0-0badcafe.tmp",
+        "frame_0001.png.4242.tmp",
+        "stats.csv.17-3-00000001.tmp",
+    ];
+    let kept = ["notes.tmp", "README.txt"];
+    for n in stale.iter().chain(&kept) {
+        fs::write(out.join(n), b"half").unwrap();
+    }
+    let o = common::bin()
+        .arg("render")
+        .arg(&spec)
+        .args(["--frames", "0..2", "--resume", "--no-report", "-q"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let left = names(&out);
+    for n in stale {
+        assert!(!left.iter().any(|l| l == n), "{n} left: {left:?}");
+    }
+    for n in kept
+        .iter()
+        .chain(&["frame_0000.exr", "frame_0001.exr", "stats.csv"])
+    {
+        assert!(left.iter().any(|l| l == n), "{n} missing: {left:?}");
+    }
+}
