@@ -288,8 +288,8 @@ fn count_halo(bufs: &TileBuffers) -> Counts {
 
 /// Shades the samples of the tile's `pixels`, counts their queries and rays into `counts`,
 /// and gathers each pixel's own — the mean of their radiance (in stratum order, so the sum
-/// does not depend on the tile), the sum of their rays and wrong pairs, the mean of their visible fractions and, with several samples, the
-/// fraction that hit. With `validate`, every query is traced again to count the method's
+/// does not depend on the tile), the sum of their rays and wrong pairs, the mean of their
+/// visible fractions and, with several samples, the fraction that hit. With `validate`, every query is traced again to count the method's
 /// mistakes and shade the brute-force reference. With one sample per pixel this is the pixel
 /// as it always was: adding to zero and dividing by one change no bit.
 fn shade(

@@ -15,7 +15,7 @@ use std::path::Path;
 
 use super::{EnvSummary, Light, LightSet, Sampler};
 use crate::bail_input;
-use crate::error::{Result, input_error};
+use crate::error::Result;
 
 pub(super) fn to_json(set: &LightSet) -> Value {
     let environment = match &set.environment {
@@ -47,25 +47,6 @@ pub(super) fn to_json(set: &LightSet) -> Value {
         "sampler": set.sampler.map_or("given", |s| s.name()),
         "count": set.lights.len(),
         "lights": lights,
-    })
-}
-
-/// Writes `bytes` under a unique temporary name in the same folder
-/// ([`crate::output::temp_path`]), then renames it over `path`, so a reader never sees half a
-/// file and two writers of the same file (two renders starting at once) never share a
-/// temporary.
-pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    if path.file_name().is_none() {
-        return Err(input_error(path, "not a file path"));
-    }
-    let tmp = crate::output::temp_path(path);
-    std::fs::write(&tmp, bytes).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        anyhow::anyhow!("cannot write {}: {e}", tmp.display())
-    })?;
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        anyhow::anyhow!("cannot rename {} to {}: {e}", tmp.display(), path.display())
     })
 }
 

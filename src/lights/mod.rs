@@ -459,9 +459,9 @@ impl LightSet {
         json::to_json(self)
     }
 
-    /// Writes [`LightSet::to_json`] to `path` atomically (a `.tmp` beside it, then a rename).
+    /// Writes [`LightSet::to_json`] to `path` atomically ([`crate::output::write_atomic`]).
     pub fn write_json(&self, path: &Path) -> Result<()> {
         let text = serde_json::to_string_pretty(&self.to_json())?;
-        crate::lights::json::write_atomic(path, text.as_bytes())
+        crate::output::write_atomic(path, text.as_bytes())
     }
 }

@@ -112,5 +112,5 @@ pub fn cells_png(env: &EnvMap, lights: &LightSet, path: &Path) -> Result<()> {
             &mut std::io::Cursor::new(&mut bytes),
             image::ImageFormat::Png,
         )?;
-    super::json::write_atomic(path, &bytes)
+    crate::output::write_atomic(path, &bytes)
 }

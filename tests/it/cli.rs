@@ -23,16 +23,10 @@ fn shapes_spec(dir: &Path, extra: &str) -> PathBuf {
 }
 
 fn frame_files(dir: &Path) -> Vec<String> {
-    let Ok(rd) = fs::read_dir(dir) else {
-        return Vec::new();
-    };
-    let mut v: Vec<String> = rd
-        .filter_map(|e| e.ok())
-        .map(|e| e.file_name().to_string_lossy().into_owned())
+    common::file_names(dir)
+        .into_iter()
         .filter(|n| n.starts_with("frame_") || n.ends_with(".tmp"))
-        .collect();
-    v.sort();
-    v
+        .collect()
 }
 
 #[test]
@@ -485,15 +479,15 @@ fn a_render_into_a_folder_another_render_holds_refuses_or_waits() {
     }
     assert_eq!(err.trim().lines().count(), 1, "one line: {err}");
     assert!(
-        names(&out).is_empty(),
+        common::file_names(&out).is_empty(),
         "a refused render wrote {:?}",
-        names(&out)
+        common::file_names(&out)
     );
 
     let mut waiting = render(&["--wait"]).spawn().unwrap();
     std::thread::sleep(std::time::Duration::from_millis(1500));
     let still = waiting.try_wait().unwrap();
-    let early = names(&out);
+    let early = common::file_names(&out);
     drop(held);
     let status = waiting.wait().unwrap();
     assert!(still.is_none(), "--wait did not wait: exited {still:?}");
@@ -502,7 +496,7 @@ fn a_render_into_a_folder_another_render_holds_refuses_or_waits() {
         "--wait wrote {early:?} while the folder was held"
     );
     assert!(status.success(), "--wait render failed: {status}");
-    let done = names(&out);
+    let done = common::file_names(&out);
     for f in [
         "frame_0000.exr",
         "frame_0000.png",
@@ -511,19 +505,6 @@ fn a_render_into_a_folder_another_render_holds_refuses_or_waits() {
     ] {
         assert!(done.iter().any(|n| n == f), "{f} missing from {done:?}");
     }
-}
-
-/// Every name in `dir` (none when it does not exist).
-fn names(dir: &Path) -> Vec<String> {
-    let Ok(rd) = fs::read_dir(dir) else {
-        return Vec::new();
-    };
-    let mut v: Vec<String> = rd
-        .filter_map(|e| e.ok())
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .collect();
-    v.sort();
-    v
 }
 
 /// Issue 20, item 3 (its temporaries): a render killed mid-write (SIGKILL, power) leaves
@@ -552,7 +533,7 @@ fn resume_removes_the_temporaries_a_killed_render_left() {
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let left = names(&out);
+    let left = common::file_names(&out);
     for n in stale {
         assert!(!left.iter().any(|l| l == n), "{n} left: {left:?}");
     }

@@ -283,3 +283,36 @@ pub fn csv_by_name(path: &Path) -> Vec<std::collections::BTreeMap<String, String
         })
         .collect()
 }
+
+/// Panics, naming the layer, unless `film` equals `want` bit for bit in every layer: beauty,
+/// the `rays`, `visible` and `wrong` AOVs, coverage and the brute-force reference.
+pub fn assert_same_film(film: &envshadow::film::Film, want: &envshadow::film::Film) {
+    assert!(film.beauty == want.beauty, "beauty differs");
+    assert!(film.rays == want.rays, "rays AOV differs");
+    assert!(film.visible == want.visible, "visible AOV differs");
+    assert!(film.wrong == want.wrong, "wrong AOV differs");
+    assert!(film.coverage == want.coverage, "coverage differs");
+    assert!(film.reference == want.reference, "reference differs");
+}
+
+/// `c` without the halo's work, the one count that depends on the tiles.
+pub fn without_halo(c: envshadow::film::Counts) -> envshadow::film::Counts {
+    envshadow::film::Counts {
+        halo_pixels: 0,
+        halo_rays: 0,
+        ..c
+    }
+}
+
+/// The names in `dir`, sorted (none when it does not exist).
+pub fn file_names(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .map(|rd| {
+            rd.filter_map(|e| e.ok())
+                .map(|e| e.file_name().to_string_lossy().into_owned())
+                .collect()
+        })
+        .unwrap_or_default();
+    v.sort();
+    v
+}

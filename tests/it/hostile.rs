@@ -9,16 +9,6 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{Value, json};
 
-/// Files in `out` a render would leave: frames, temporaries, stats, lights, report.
-fn leftovers(out: &Path) -> Vec<String> {
-    let Ok(rd) = fs::read_dir(out) else {
-        return Vec::new();
-    };
-    rd.filter_map(|e| e.ok())
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .collect()
-}
-
 /// Runs `envshadow ARGS` and checks a bad-input failure naming each of `needles`.
 fn expect_refused(kind: &str, args: &[OsString], needles: &[&str], out: &Path) {
     let o = common::bin().args(args).output().unwrap();
@@ -35,9 +25,9 @@ fn expect_refused(kind: &str, args: &[OsString], needles: &[&str], out: &Path) {
         );
     }
     assert!(
-        leftovers(out).is_empty(),
+        common::file_names(out).is_empty(),
         "{kind}: left {:?}",
-        leftovers(out)
+        common::file_names(out)
     );
 }
 
@@ -172,6 +162,16 @@ struct Case {
 }
 
 impl Case {
+    /// Cases whose files go in `dir` and whose renders write to `dir/out`.
+    fn new(dir: &Path) -> Case {
+        Case {
+            dir: dir.to_path_buf(),
+            out: dir.join("out"),
+            count: 0,
+            failures: Failures::new(),
+        }
+    }
+
     fn spec(&self, name: &str, body: &str) -> PathBuf {
         let p = self.dir.join(name);
         fs::write(
@@ -233,12 +233,7 @@ impl Case {
 #[test]
 fn every_kind_of_broken_input_is_refused_with_one_located_line() {
     let tmp = tempfile::tempdir().unwrap();
-    let mut c = Case {
-        dir: tmp.path().to_path_buf(),
-        out: tmp.path().join("out"),
-        count: 0,
-        failures: Failures::new(),
-    };
+    let mut c = Case::new(tmp.path());
 
     // The control: the unedited file renders.
     let good = c.dir.join("good.gltf");
@@ -524,12 +519,7 @@ fn every_kind_of_broken_input_is_refused_with_one_located_line() {
 #[test]
 fn non_finite_numbers_and_a_degenerate_camera_are_refused_before_any_file() {
     let tmp = tempfile::tempdir().unwrap();
-    let mut c = Case {
-        dir: tmp.path().to_path_buf(),
-        out: tmp.path().join("out"),
-        count: 0,
-        failures: Failures::new(),
-    };
+    let mut c = Case::new(tmp.path());
     let scene = "[scene]\nbuiltin = \"shapes\"\n[render]\nwidth = 16\nheight = 16\n";
     let cases: [(&str, &str, &[&str]); 11] = [
         (

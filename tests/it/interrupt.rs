@@ -32,20 +32,8 @@ fn spec(dir: &Path) -> PathBuf {
     p
 }
 
-fn names(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = fs::read_dir(dir)
-        .map(|rd| {
-            rd.filter_map(|e| e.ok())
-                .map(|e| e.file_name().to_string_lossy().into_owned())
-                .collect()
-        })
-        .unwrap_or_default();
-    v.sort();
-    v
-}
-
 fn frames_done(dir: &Path) -> usize {
-    names(dir)
+    common::file_names(dir)
         .iter()
         .filter(|n| n.starts_with("frame_") && n.ends_with(".png"))
         .count()
@@ -53,7 +41,7 @@ fn frames_done(dir: &Path) -> usize {
 
 /// Every file but stats.csv, whose `seconds` column is a timing.
 fn contents(dir: &Path) -> BTreeMap<String, Vec<u8>> {
-    names(dir)
+    common::file_names(dir)
         .into_iter()
         .filter(|n| n != "stats.csv")
         .map(|n| {
@@ -120,7 +108,7 @@ fn interrupt(spec: &Path, out: &Path, signal: &str) {
             .contains("interrupted; complete frames are kept, run again with --resume"),
         "{err}"
     );
-    let files = names(out);
+    let files = common::file_names(out);
     assert!(
         !files.iter().any(|n| n.contains(".tmp")),
         "temporaries left after SIG{signal}: {files:?}"

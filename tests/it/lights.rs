@@ -483,9 +483,8 @@ fn cells_png_is_written() {
 
 /// Files in `dir` named like a temporary (`….tmp`).
 fn temporaries(dir: &std::path::Path) -> Vec<String> {
-    std::fs::read_dir(dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+    common::file_names(dir)
+        .into_iter()
         .filter(|n| n.ends_with(".tmp"))
         .collect()
 }

@@ -313,16 +313,12 @@ fn tiles_and_threads_give_identical_pixels_and_counts_for_every_method() {
                 for tile in [8, 16, 64, 0] {
                     failures.case(&format!("{name} {m} tile {tile} threads {threads}"), || {
                         let (film, c) = render(&anim, &inputs, m, tile, threads);
-                        assert!(film.beauty == reference.beauty, "beauty differs");
-                        assert!(film.rays == reference.rays, "rays AOV differs");
-                        assert!(film.visible == reference.visible, "visible AOV differs");
-                        assert!(film.wrong == reference.wrong, "wrong AOV differs");
-                        let strip = |c: Counts| Counts {
-                            halo_pixels: 0,
-                            halo_rays: 0,
-                            ..c
-                        };
-                        assert_eq!(strip(c), strip(rc), "counts differ");
+                        common::assert_same_film(&film, &reference);
+                        assert_eq!(
+                            common::without_halo(c),
+                            common::without_halo(rc),
+                            "counts differ"
+                        );
                     });
                 }
             }

@@ -63,18 +63,12 @@ fn tiles_threads_and_samples_give_identical_pixels_and_counts() {
                         || {
                             let (film, c) =
                                 render(&with(&anim, m, spp, tile, true), &inputs, threads);
-                            assert!(film.beauty == reference.beauty, "beauty differs");
-                            assert!(film.rays == reference.rays, "rays AOV differs");
-                            assert!(film.visible == reference.visible, "visible AOV differs");
-                            assert!(film.wrong == reference.wrong, "wrong AOV differs");
-                            assert!(film.coverage == reference.coverage, "coverage differs");
-                            assert!(film.reference == reference.reference, "reference differs");
-                            let strip = |c: Counts| Counts {
-                                halo_pixels: 0,
-                                halo_rays: 0,
-                                ..c
-                            };
-                            assert_eq!(strip(c), strip(rc), "counts differ");
+                            common::assert_same_film(&film, &reference);
+                            assert_eq!(
+                                common::without_halo(c),
+                                common::without_halo(rc),
+                                "counts differ"
+                            );
                         },
                     );
                 }
