@@ -56,6 +56,7 @@ use serde::Deserialize;
 use crate::bail_input;
 use crate::camera::Camera;
 use crate::error::{Result, input_error};
+use crate::output::record::{SettingsRecord, file_sha256};
 use crate::scene::Scene;
 use crate::settings::{
     Lights, LightsLayer, Output, OutputLayer, Render, RenderLayer, Source, check_applies,
@@ -668,6 +669,64 @@ impl Animation {
             self.render.width,
             self.render.height,
         ))
+    }
+
+    /// The settings that decide this animation's frames and `stats.csv` rows, as
+    /// (`[table] key`, value) in spec order: what `render --resume` checks a folder against.
+    /// The frames selected, the tile size, the thread count and the output folder change no
+    /// pixel and are left out; input files are named by their content's SHA-256, so a moved spec still agrees.
+    pub fn settings_record(&self) -> Result<SettingsRecord> {
+        let mut lines: Vec<(String, String)> = Vec::new();
+        let mut put = |k: &str, v: String| lines.push((k.to_string(), v));
+        let file = |p: &Path| -> Result<String> {
+            Ok(format!(
+                "sha256:{}",
+                file_sha256(p).map_err(|e| input_error(p, format!("{e:#}")))?
+            ))
+        };
+        match &self.scene {
+            SceneSource::Shapes => put("[scene] builtin", "shapes".into()),
+            SceneSource::File(p) => put("[scene] file", file(p)?),
+        }
+        match &self.env {
+            EnvSource::Sky => put("[environment] builtin", "sky".into()),
+            EnvSource::File(p) => put("[environment] file", file(p)?),
+        }
+        put("[environment] rotation", self.env_rotation_deg.to_string());
+        put("[environment] intensity", self.env_intensity.to_string());
+        let auto = |v: Option<String>| v.unwrap_or_else(|| "auto".into());
+        let c = &self.camera;
+        put("[camera] target", auto(c.target.map(show)));
+        put("[camera] distance", auto(c.distance.map(|d| d.to_string())));
+        put("[camera] elevation", c.elevation_deg.to_string());
+        put("[camera] azimuth", c.azimuth_deg.to_string());
+        put("[camera] vfov", c.vfov_deg.to_string());
+        put("[camera] up", show(c.up));
+        put("[camera] position", auto(c.position.map(show)));
+        put("[camera] from_file", c.from_file.to_string());
+        let kind = match self.motion {
+            MotionKind::Orbit => "orbit",
+            MotionKind::Spin => "spin",
+            MotionKind::Still => "none",
+        };
+        put("[motion] kind", kind.into());
+        put("[motion] frames", self.frame_count.to_string());
+        put(
+            "[motion] degrees_per_frame",
+            self.degrees_per_frame.to_string(),
+        );
+        put("[motion] pivot", auto(self.pivot.map(show)));
+        for (key, _, value) in self.lights.layer().given() {
+            put(&format!("[{}] {key}", Lights::TABLE), value);
+        }
+        for (key, _, value) in self.render.layer().given() {
+            // [ours] Tiles and threads change no pixel (tiled == untiled, bit for bit): a
+            // resume may pick them for the machine it runs on.
+            if key != "threads" && key != "tile" {
+                put(&format!("[{}] {key}", Render::TABLE), value);
+            }
+        }
+        Ok(SettingsRecord { lines })
     }
 }
 

@@ -19,13 +19,14 @@ use crate::cancel::Cancel;
 use crate::context::FrameContext;
 use crate::driver::{FrameWork, Slot};
 use crate::envmap::EnvMap;
-use crate::error::{Interrupted, Result};
+use crate::error::{Interrupted, Result, input_error};
 use crate::film::{Counts, Film};
 use crate::history::{Carried, CarryPatch};
 use crate::lights::LightSet;
+use crate::output;
 use crate::output::lock::FolderLock;
+use crate::output::record::{FrameRecord, SettingsRecord};
 use crate::output::stats::{FrameStats, StatsFile};
-use crate::output::{self, frame_path};
 use crate::scene::Scene;
 use crate::temporal::{chains, prev_view};
 use crate::tile::{Rect, Tile};
@@ -65,33 +66,97 @@ pub trait FrameSink: Send {
     fn write(&mut self, film: &Film, stats: &FrameStats) -> Result<()>;
 }
 
-/// A render's own folder: `frame_NNNN.exr` and `.png` per frame, one `stats.csv` row each.
+/// A render's own folder: `frame_NNNN.exr` and `.png` per frame, each committed with its
+/// record, `settings.txt`, and `stats.csv` rebuilt from the records ([`output::record`]).
 pub struct FrameFiles {
     dir: PathBuf,
     exposure: f32,
+    /// What the settings record is made from (in `begin`: the inputs are loaded by then, so a
+    /// missing file gets the loader's message).
+    anim: Animation,
+    region: Option<Rect>,
+    resume: bool,
+    /// The settings' fingerprint, which each frame's record names.
+    settings: String,
     stats: StatsFile,
 }
 
 impl FrameFiles {
-    /// The frame files of `anim`'s output folder (`stats.csv` rows already there are kept).
-    pub fn new(anim: &Animation) -> FrameFiles {
+    /// The frame files of `anim`'s output folder for a run with `opts` (`stats.csv` rows
+    /// already there are kept).
+    pub fn new(anim: &Animation, opts: &RunOptions) -> FrameFiles {
         let dir = anim.output.dir.clone();
         FrameFiles {
             stats: StatsFile::open(&dir.join("stats.csv")),
             dir,
             exposure: anim.render.exposure,
+            anim: anim.clone(),
+            region: opts.region,
+            resume: opts.resume,
+            settings: String::new(),
         }
     }
 }
 
 impl FrameSink for FrameFiles {
+    /// Checks (`--resume`) and publishes `settings.txt`, and restores the `stats.csv` rows of
+    /// committed frames from their records.
+    fn begin(&mut self) -> Result<()> {
+        let mut now = self.anim.settings_record()?;
+        if let Some(r) = self.region {
+            now.lines.push(("--region".into(), r.to_string()));
+        }
+        let old = SettingsRecord::read(&self.dir)?;
+        // [ours] A resumed folder holds one render's frames: mixing sizes, light counts or
+        // methods would make its frames and rows disagree without a word.
+        if self.resume
+            && let Some(old) = &old
+            && let Some(diff) = old.first_difference(&now)
+        {
+            return Err(input_error(
+                &self.dir,
+                format!(
+                    "cannot resume: its frames were rendered with other settings ({diff}); \
+                     render into another folder, or without --resume to render every frame again"
+                ),
+            ));
+        }
+        if old.as_ref() != Some(&now) {
+            now.write(&self.dir)?;
+        }
+        self.settings = now.fingerprint();
+        // A kill between a frame's commit and the stats.csv that follows it loses no row: the
+        // committed frame's record has it.
+        let mut restored = 0;
+        for rec in FrameRecord::read_all(&self.dir) {
+            if rec.sizes_match(&self.dir) && self.stats.row(rec.frame) != Some(&rec.stats_row) {
+                self.stats.set_row(rec.frame, &rec.stats_row);
+                restored += 1;
+            }
+        }
+        if restored > 0 {
+            self.stats.write(&self.dir.join("stats.csv"))?;
+        }
+        Ok(())
+    }
+
+    /// The frame's record names this run's settings and its EXR and PNG are the recorded files.
     fn frame_done(&self, frame: usize) -> bool {
-        frame_path(&self.dir, frame, "exr").exists() && frame_path(&self.dir, frame, "png").exists()
+        FrameRecord::read(&self.dir, frame)
+            .is_some_and(|r| r.settings == self.settings && r.files_match(&self.dir))
     }
 
     fn write(&mut self, film: &Film, stats: &FrameStats) -> Result<()> {
-        output::write_frame_files(&self.dir, stats.frame, film, self.exposure)?;
-        self.stats.set(stats);
+        let row = stats.csv_row();
+        output::publish_frame(
+            &self.dir,
+            stats.frame,
+            film,
+            self.exposure,
+            &self.settings,
+            row.clone(),
+        )?;
+        self.stats.set_row(stats.frame, &row);
         self.stats.write(&self.dir.join("stats.csv"))
     }
 }

@@ -462,7 +462,7 @@ fn render(args: RenderArgs) -> Result<()> {
         cancel: envshadow::cancel::Cancel::on_signals()?,
         wait: args.wait,
     };
-    let mut files = coordinator::FrameFiles::new(&anim);
+    let mut files = coordinator::FrameFiles::new(&anim, &opts);
     let summary = coordinator::render_animation(&anim, &opts, &mut files, progress.as_ref())?;
     let dir = &anim.output.dir;
     if !args.quiet {

@@ -47,7 +47,7 @@ impl Progress for Reporter {
             );
             bar.set_message(format!("frame 0/{frames}"));
         } else {
-            eprintln!("rendering {frames} frames of {tiles} tiles");
+            log(&format!("rendering {frames} frames of {tiles} tiles"));
         }
     }
 
@@ -81,7 +81,7 @@ impl Progress for Reporter {
                 ));
                 bar.println(line);
             }
-            None => eprintln!("{line}"),
+            None => log(&line),
         }
     }
 
@@ -98,7 +98,7 @@ impl Progress for Reporter {
     fn note(&self, msg: &str) {
         match &self.bar {
             Some(bar) => bar.println(msg),
-            None => eprintln!("{msg}"),
+            None => log(msg),
         }
     }
 
@@ -114,6 +114,13 @@ pub struct Quiet;
 
 impl Progress for Quiet {
     fn warning(&self, msg: &str) {
-        eprintln!("warning: {msg}");
+        log(&format!("warning: {msg}"));
     }
+}
+
+/// One progress line on stderr. A log that cannot be written (a full disk under a farm job's
+/// redirected stderr, a closed pipe) loses the line, not the render: `eprintln!` would panic.
+fn log(line: &str) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr(), "{line}");
 }

@@ -20,8 +20,8 @@ pub struct Aov<'a> {
     pub values: &'a [f32],
 }
 
-/// Writes the film's beauty and AOVs (plus `extra`) to `path` atomically.
-pub fn write_frame(path: &Path, film: &Film, extra: &[Aov]) -> Result<()> {
+/// The EXR file of the film's beauty and AOVs (plus `extra`).
+pub fn encode_frame(film: &Film, extra: &[Aov]) -> Result<Vec<u8>> {
     let (w, h) = (film.width as usize, film.height as usize);
     let mut channels: Vec<AnyChannel<FlatSamples>> = Vec::new();
     for (c, name) in ["R", "G", "B"].iter().enumerate() {
@@ -39,16 +39,25 @@ pub fn write_frame(path: &Path, film: &Film, extra: &[Aov]) -> Result<()> {
             FlatSamples::F32(aov.values.to_vec()),
         ));
     }
-    write_channels(path, (w, h), channels)
+    encode_channels((w, h), channels)
 }
 
-/// Writes float `channels` of a `size` image to `path` atomically: ZIP compression in
-/// increasing scanline order on one thread, so the same samples always give the same bytes.
+/// Writes float `channels` of a `size` image to `path` atomically ([`encode_channels`]).
 pub fn write_channels(
     path: &Path,
     size: (usize, usize),
     channels: Vec<AnyChannel<FlatSamples>>,
 ) -> Result<()> {
+    let bytes = encode_channels(size, channels)?;
+    super::write_atomic(path, &bytes).with_context(|| format!("writing EXR {}", path.display()))
+}
+
+/// The EXR file of float `channels` of a `size` image: ZIP compression in increasing
+/// scanline order on one thread, so the same samples always give the same bytes.
+pub fn encode_channels(
+    size: (usize, usize),
+    channels: Vec<AnyChannel<FlatSamples>>,
+) -> Result<Vec<u8>> {
     let encoding = Encoding {
         compression: Compression::ZIP16,
         blocks: Blocks::ScanLines,
@@ -61,13 +70,13 @@ pub fn write_channels(
         AnyChannels::sort(SmallVec::from_vec(channels)),
     );
     let image = Image::from_layer(layer);
-    super::write_atomic_with(path, |tmp| {
-        image
-            .write()
-            .non_parallel()
-            .to_file(tmp)
-            .with_context(|| format!("encoding EXR {}", tmp.display()))
-    })
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    image
+        .write()
+        .non_parallel()
+        .to_buffered(&mut bytes)
+        .context("encoding EXR")?;
+    Ok(bytes.into_inner())
 }
 
 /// A frame read back: channel name → samples (row-major), and the size.
@@ -86,7 +95,7 @@ impl ReadFrame {
     }
 }
 
-/// Reads every channel of the first layer of an EXR written by [`write_frame`].
+/// Reads every channel of the first layer of an EXR made by [`encode_frame`].
 pub fn read_frame(path: &Path) -> Result<ReadFrame> {
     let image = read()
         .no_deep_data()

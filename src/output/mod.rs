@@ -1,10 +1,12 @@
 //! Writing results: EXR frames with AOV layers, PNG previews, `stats.csv`, all published
 //! atomically (written under a temporary name in the same folder, then renamed), so a reader
-//! or a crash never sees half a file.
+//! or a crash never sees half a file; each frame's record ([`record`]) makes the frame and its
+//! `stats.csv` row one commit.
 
 pub mod exr;
 pub mod lock;
 pub mod png;
+pub mod record;
 pub mod stats;
 
 use std::fs;
@@ -62,9 +64,13 @@ pub fn is_temp_name(name: &str) -> bool {
 
 /// Removes the temporaries an interrupted writer left in `dir` ([`is_temp_name`]); call it
 /// holding the folder's lock ([`lock::FolderLock`]), when no other writer can be mid-write.
-/// Returns how many were removed.
+/// Its `records/` folder is cleaned too. Returns how many were removed.
 pub fn remove_stale_temporaries(dir: &Path) -> Result<usize> {
     let mut removed = 0;
+    let records = dir.join(record::RECORDS_DIR);
+    if records.is_dir() {
+        removed += remove_stale_temporaries(&records)?;
+    }
     let rd = fs::read_dir(dir).with_context(|| format!("listing {}", dir.display()))?;
     for e in rd.flatten() {
         let name = e.file_name();
@@ -105,8 +111,39 @@ pub fn frame_path(dir: &Path, frame: usize, ext: &str) -> PathBuf {
     dir.join(format!("frame_{frame:04}.{ext}"))
 }
 
-/// Writes one frame's files: `frame_NNNN.exr` (beauty + AOVs) and `frame_NNNN.png`.
-pub fn write_frame_files(dir: &Path, frame: usize, film: &Film, exposure: f32) -> Result<()> {
+/// Publishes one frame into `dir`: `frame_NNNN.png`, then its record
+/// (`records/frame_NNNN.json`: `stats_row`, the `settings` fingerprint and both files'
+/// checksums), then `frame_NNNN.exr`, whose rename commits the frame — a kill at any instant
+/// leaves either the frame with its record, or a frame `--resume` renders again. Returns the
+/// record.
+pub fn publish_frame(
+    dir: &Path,
+    frame: usize,
+    film: &Film,
+    exposure: f32,
+    settings: &str,
+    stats_row: String,
+) -> Result<record::FrameRecord> {
+    let exr = exr::encode_frame(film, &frame_aovs(film))?;
+    let png = png::encode_preview(film.width, film.height, &film.beauty, exposure)?;
+    let rec = record::FrameRecord {
+        format: record::FRAME_FORMAT.into(),
+        frame,
+        settings: settings.into(),
+        exr_bytes: exr.len() as u64,
+        exr_sha256: record::sha256(&exr),
+        png_bytes: png.len() as u64,
+        png_sha256: record::sha256(&png),
+        stats_row,
+    };
+    write_atomic(&frame_path(dir, frame, "png"), &png)?;
+    rec.write(dir)?;
+    write_atomic(&frame_path(dir, frame, "exr"), &exr)?;
+    Ok(rec)
+}
+
+/// The AOVs a frame's EXR carries beside beauty, rays and visibility.
+fn frame_aovs(film: &Film) -> Vec<exr::Aov<'_>> {
     let mut aovs = Vec::new();
     if let Some(wrong) = &film.wrong {
         aovs.push(exr::Aov {
@@ -120,7 +157,13 @@ pub fn write_frame_files(dir: &Path, frame: usize, film: &Film, exposure: f32) -
             values: coverage,
         });
     }
-    exr::write_frame(&frame_path(dir, frame, "exr"), film, &aovs)?;
+    aovs
+}
+
+/// Writes one frame's files: `frame_NNNN.exr` (beauty + AOVs) and `frame_NNNN.png`.
+pub fn write_frame_files(dir: &Path, frame: usize, film: &Film, exposure: f32) -> Result<()> {
+    let exr = exr::encode_frame(film, &frame_aovs(film))?;
+    write_atomic(&frame_path(dir, frame, "exr"), &exr)?;
     png::write_preview(
         &frame_path(dir, frame, "png"),
         film.width,

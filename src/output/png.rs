@@ -12,17 +12,37 @@ pub fn tonemap(rgb: [f32; 3], exposure: f32) -> [u8; 3] {
     rgb.map(|c| (srgb_encode(c * exposure) * 255.0 + 0.5) as u8)
 }
 
-/// Writes an RGB8 image atomically.
-pub fn write_rgb8(path: &Path, width: u32, height: u32, pixels: Vec<u8>) -> Result<()> {
+/// The PNG file of an RGB8 image.
+pub fn encode_rgb8(width: u32, height: u32, pixels: Vec<u8>) -> Result<Vec<u8>> {
     let img = image::RgbImage::from_raw(width, height, pixels)
         .context("pixel buffer does not match the image size")?;
-    super::write_atomic_with(path, |tmp| {
-        img.save_with_format(tmp, image::ImageFormat::Png)
-            .with_context(|| format!("encoding PNG {}", tmp.display()))
-    })
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut bytes, image::ImageFormat::Png)
+        .context("encoding PNG")?;
+    Ok(bytes.into_inner())
 }
 
-/// Writes a tone-mapped preview of linear RGB pixels.
+/// Writes an RGB8 image atomically.
+pub fn write_rgb8(path: &Path, width: u32, height: u32, pixels: Vec<u8>) -> Result<()> {
+    let bytes = encode_rgb8(width, height, pixels)?;
+    super::write_atomic(path, &bytes).with_context(|| format!("writing PNG {}", path.display()))
+}
+
+/// The PNG file of a tone-mapped preview of linear RGB pixels.
+pub fn encode_preview(
+    width: u32,
+    height: u32,
+    beauty: &[[f32; 3]],
+    exposure: f32,
+) -> Result<Vec<u8>> {
+    let mut bytes = Vec::with_capacity(beauty.len() * 3);
+    for p in beauty {
+        bytes.extend_from_slice(&tonemap(*p, exposure));
+    }
+    encode_rgb8(width, height, bytes)
+}
+
+/// Writes a tone-mapped preview of linear RGB pixels atomically.
 pub fn write_preview(
     path: &Path,
     width: u32,
@@ -30,9 +50,6 @@ pub fn write_preview(
     beauty: &[[f32; 3]],
     exposure: f32,
 ) -> Result<()> {
-    let mut bytes = Vec::with_capacity(beauty.len() * 3);
-    for p in beauty {
-        bytes.extend_from_slice(&tonemap(*p, exposure));
-    }
-    write_rgb8(path, width, height, bytes)
+    let bytes = encode_preview(width, height, beauty, exposure)?;
+    super::write_atomic(path, &bytes).with_context(|| format!("writing PNG {}", path.display()))
 }

@@ -129,6 +129,16 @@ impl StatsFile {
         self.rows.insert(stats.frame, stats.csv_row());
     }
 
+    /// `frame`'s row, if there is one.
+    pub fn row(&self, frame: usize) -> Option<&String> {
+        self.rows.get(&frame)
+    }
+
+    /// Sets `frame`'s row from its text (a frame record's copy of it).
+    pub fn set_row(&mut self, frame: usize, row: &str) {
+        self.rows.insert(frame, row.to_string());
+    }
+
     pub fn len(&self) -> usize {
         self.rows.len()
     }

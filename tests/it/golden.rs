@@ -275,13 +275,15 @@ fn stats_without_seconds(text: &str, spp: &str) -> String {
     out
 }
 
-/// Every file of one render folder (frames, lights, stats), hashed, in name order.
+/// The output files of one render folder (frames, lights, stats), hashed, in name order.
 /// `lights.json` names the map it came from: the assets folder is hashed as `ASSETS`, so the
-/// hashes do not depend on where the repository and its assets are.
+/// hashes do not depend on where the repository and its assets are. The bookkeeping for
+/// `--resume` (`settings.txt`, `records/`) is not output.
 fn hashes(dir: &Path, assets: &str, spp: &str) -> Vec<(String, String)> {
     let mut names: Vec<String> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n != "settings.txt" && dir.join(n).is_file())
         .collect();
     names.sort();
     names

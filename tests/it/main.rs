@@ -17,6 +17,7 @@ mod lights;
 mod predict;
 mod render;
 mod report;
+mod resume;
 mod samples;
 mod scene;
 mod simd;

@@ -177,7 +177,7 @@ fn one_job_and_split_jobs_write_identical_frames() {
     render_animation(
         &anim,
         &RunOptions::default(),
-        &mut FrameFiles::new(&anim),
+        &mut FrameFiles::new(&anim, &RunOptions::default()),
         &Silent,
     )
     .unwrap();
@@ -189,7 +189,7 @@ fn one_job_and_split_jobs_write_identical_frames() {
         render_animation(
             &anim,
             &RunOptions::default(),
-            &mut FrameFiles::new(&anim),
+            &mut FrameFiles::new(&anim, &RunOptions::default()),
             &Silent,
         )
         .unwrap();
@@ -259,7 +259,7 @@ fn savings_plot_compares_two_renders() {
     render_animation(
         &anim,
         &RunOptions::default(),
-        &mut FrameFiles::new(&anim),
+        &mut FrameFiles::new(&anim, &RunOptions::default()),
         &Silent,
     )
     .unwrap();
@@ -268,7 +268,7 @@ fn savings_plot_compares_two_renders() {
     render_animation(
         &anim,
         &RunOptions::default(),
-        &mut FrameFiles::new(&anim),
+        &mut FrameFiles::new(&anim, &RunOptions::default()),
         &Silent,
     )
     .unwrap();

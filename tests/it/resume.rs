@@ -1,0 +1,300 @@
+//! Killing a render at any instant, then running it again with `--resume`: every frame ends
+//! byte-identical to an uninterrupted render's, with exactly one `stats.csv` row each and no
+//! temporary left; a folder rendered with other settings is refused (issue 20, items 3 and 5).
+//! The kills come from strace's fault injection (before each rename, i.e. right after the
+//! one before it; a full disk at each write) and at seeded random instants.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::Duration;
+
+use crate::common::{self, Failures};
+
+const FRAMES: usize = 3;
+
+/// A 3-frame shapes turntable into `dir/out`, two frames in flight at once.
+fn spec(dir: &Path) -> PathBuf {
+    let spec = dir.join("anim.toml");
+    fs::write(
+        &spec,
+        "[scene]\nbuiltin = \"shapes\"\n[lights]\ncount = 40\n[motion]\nframes = 3\n\
+         [render]\nwidth = 96\nheight = 64\ntile = 32\nspp = 4\nthreads = 2\n",
+    )
+    .unwrap();
+    spec
+}
+
+fn render(spec: &Path, out: &Path, extra: &[&str]) -> Output {
+    common::bin()
+        .arg("render")
+        .arg(spec)
+        .arg("--out")
+        .arg(out)
+        .args(["--no-report", "-q"])
+        .args(extra)
+        .output()
+        .unwrap()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// `stats.csv`'s rows without the wall-clock column, in file order.
+fn rows_without_seconds(dir: &Path) -> Vec<String> {
+    common::csv_by_name(&dir.join("stats.csv"))
+        .into_iter()
+        .map(|mut row| {
+            row.remove("seconds");
+            format!("{row:?}")
+        })
+        .collect()
+}
+
+/// What differs between `out` and the uninterrupted `reference`: frame bytes, rows (one per
+/// frame, equal but for the seconds), temporaries left in the folder or its records.
+fn differences(out: &Path, reference: &Path) -> Vec<String> {
+    let mut diff = Vec::new();
+    for f in 0..FRAMES {
+        for ext in ["exr", "png"] {
+            let name = format!("frame_{f:04}.{ext}");
+            if fs::read(out.join(&name)).ok() != fs::read(reference.join(&name)).ok() {
+                diff.push(format!("{name} differs or is missing"));
+            }
+        }
+    }
+    let (rows, want) = (rows_without_seconds(out), rows_without_seconds(reference));
+    if rows != want {
+        diff.push(format!(
+            "stats.csv has {} rows, {} expected, or they differ",
+            rows.len(),
+            want.len()
+        ));
+    }
+    for dir in [out.to_path_buf(), out.join("records")] {
+        for n in common::file_names(&dir) {
+            if n.ends_with(".tmp") {
+                diff.push(format!("{n} left in {}", dir.display()));
+            }
+        }
+    }
+    diff
+}
+
+/// Runs the render under strace with `inject` (a strace fault-injection expression) into a
+/// fresh `out`, then `--resume` without faults; records what differs from `reference`.
+/// Returns whether the injection fired (the run did not finish cleanly).
+fn fault_then_resume(
+    failures: &mut Failures,
+    label: &str,
+    spec: &Path,
+    out: &Path,
+    reference: &Path,
+    inject: &str,
+) -> bool {
+    let _ = fs::remove_dir_all(out);
+    let o = Command::new("strace")
+        .args(["-f", "-qq", "-o", "/dev/null", "-e", inject])
+        .arg(env!("CARGO_BIN_EXE_envshadow"))
+        .arg("render")
+        .arg(spec)
+        .arg("--out")
+        .arg(out)
+        .args(["--no-report", "-q"])
+        .output()
+        .unwrap();
+    let fired = !o.status.success();
+    // A fault is an error or a kill (exit 0: it never came), never a panic or an abort.
+    let code = o.status.code();
+    failures.check(matches!(code, None | Some(0) | Some(1)), || {
+        format!("{label}: exit {code:?}: {}", stderr(&o))
+    });
+    let again = render(spec, out, &["--resume"]);
+    if failures.check(again.status.success(), || {
+        format!("{label}: resume failed: {}", stderr(&again))
+    }) {
+        for d in differences(out, reference) {
+            failures.check(false, || format!("{label}: {d}"));
+        }
+    }
+    fired
+}
+
+#[test]
+fn a_kill_before_any_rename_or_a_full_disk_at_any_write_then_resume_loses_nothing() {
+    if !common::require_tools(common::this_test!(), &["strace"], "apt-get install strace") {
+        return;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = spec(tmp.path());
+    let reference = tmp.path().join("reference");
+    let o = render(&spec, &reference, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = tmp.path().join("out");
+    let mut failures = Failures::new();
+    // strace counts a syscall per thread: the main thread publishes settings.txt and
+    // lights.json, the writer thread then each frame's PNG, record, EXR and stats.csv. A fault
+    // at the n-th call of each thread reaches every publication of both.
+    let publications = 4 * FRAMES;
+    for (syscall, fault) in [("rename", "signal=SIGKILL"), ("write", "error=ENOSPC")] {
+        let mut fired = 0;
+        for n in 1..=publications + 1 {
+            let inject = format!("inject={syscall}:{fault}:when={n}");
+            if fault_then_resume(&mut failures, &inject, &spec, &out, &reference, &inject) {
+                fired += 1;
+            }
+        }
+        // One more than there are finishes untouched.
+        failures.check_eq(fired, publications, || {
+            format!("{syscall} faults that fired")
+        });
+    }
+    failures.assert_none();
+}
+
+#[test]
+fn sigkill_at_random_instants_then_resume_loses_nothing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = spec(tmp.path());
+    let reference = tmp.path().join("reference");
+    let o = render(&spec, &reference, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = tmp.path().join("out");
+    let mut failures = Failures::new();
+    // Seeded instants over about the length of a render: the outcome must not depend on them.
+    let mut seed = 0x9E37_79B9_7F4A_7C15u64;
+    for k in 0..12 {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        let delay = Duration::from_millis(seed % 400);
+        let _ = fs::remove_dir_all(&out);
+        let mut child = common::bin()
+            .arg("render")
+            .arg(&spec)
+            .arg("--out")
+            .arg(&out)
+            .args(["--no-report", "-q"])
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(delay);
+        let _ = child.kill();
+        let _ = child.wait();
+        let again = render(&spec, &out, &["--resume"]);
+        let label = format!("kill {k} after {delay:?}");
+        if failures.check(again.status.success(), || {
+            format!("{label}: resume failed: {}", stderr(&again))
+        }) {
+            for d in differences(&out, &reference) {
+                failures.check(false, || format!("{label}: {d}"));
+            }
+        }
+    }
+    failures.assert_none();
+}
+
+#[test]
+fn resume_refuses_a_folder_rendered_with_other_settings_naming_the_first_difference() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = spec(tmp.path());
+    let out = tmp.path().join("out");
+    let o = render(&spec, &out, &["--frames", "0..2"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let before: Vec<(String, Vec<u8>)> = common::file_names(&out)
+        .into_iter()
+        .filter(|n| n.starts_with("frame_") || n == "stats.csv")
+        .map(|n| (n.clone(), fs::read(out.join(&n)).unwrap()))
+        .collect();
+    let mut failures = Failures::new();
+    for (flags, named) in [
+        (&["--width", "128"][..], "[render] width = 96, now 128"),
+        (&["--lights", "20"][..], "[lights] count = 40, now 20"),
+        (
+            &["--method", "brute"][..],
+            "[render] method = grid-nowarp-uncertainty, now brute",
+        ),
+        (&["--validate"][..], "[render] validate = false, now true"),
+    ] {
+        let mut args = vec!["--resume"];
+        args.extend_from_slice(flags);
+        let o = render(&spec, &out, &args);
+        let err = stderr(&o);
+        failures.check(
+            o.status.code() == Some(2) && err.contains(named) && err.contains("cannot resume"),
+            || format!("{flags:?}: exit {:?}: {err}", o.status.code()),
+        );
+    }
+    // Refused runs changed nothing; the same settings resume, and threads and tiles, which
+    // change no pixel, are free.
+    for (name, bytes) in &before {
+        failures.check(
+            fs::read(out.join(name)).ok().as_ref() == Some(bytes),
+            || format!("{name} changed by a refused resume"),
+        );
+    }
+    let o = render(&spec, &out, &["--resume", "--threads", "1", "--tile", "0"]);
+    failures.check(o.status.success(), || {
+        format!("same settings: {}", stderr(&o))
+    });
+    failures.check_eq(rows_without_seconds(&out).len(), FRAMES, || {
+        "rows after the resume".into()
+    });
+    // Without --resume, other settings render the frames again (and become the folder's).
+    let o = render(&spec, &out, &["--width", "128"]);
+    failures.check(o.status.success(), || format!("no resume: {}", stderr(&o)));
+    let settings = fs::read_to_string(out.join("settings.txt")).unwrap_or_default();
+    failures.check(settings.contains("[render] width = 128"), || {
+        format!("settings.txt not updated: {settings}")
+    });
+    failures.assert_none();
+}
+
+/// A frame whose EXR or PNG no longer matches its record (corrupted, truncated, replaced) is
+/// rendered again by `--resume`; the frames that match are not touched.
+#[test]
+fn resume_renders_again_exactly_the_frames_whose_files_do_not_match_their_record() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = spec(tmp.path());
+    let out = tmp.path().join("out");
+    let o = render(&spec, &out, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let reference = tmp.path().join("reference");
+    let o = render(&spec, &reference, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // Same-size corruption of frame 0's EXR, a truncated PNG of frame 1; frame 2 untouched.
+    let exr0 = out.join("frame_0000.exr");
+    let mut bytes = fs::read(&exr0).unwrap();
+    let mid = bytes.len() / 2;
+    bytes[mid] ^= 0xff;
+    fs::write(&exr0, &bytes).unwrap();
+    let png1 = out.join("frame_0001.png");
+    let len = fs::metadata(&png1).unwrap().len();
+    fs::File::options()
+        .write(true)
+        .open(&png1)
+        .unwrap()
+        .set_len(len / 2)
+        .unwrap();
+    let untouched = fs::metadata(out.join("frame_0002.exr"))
+        .unwrap()
+        .modified()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(20));
+    let o = render(&spec, &out, &["--resume"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let mut failures = Failures::new();
+    for d in differences(&out, &reference) {
+        failures.check(false, || d);
+    }
+    failures.check(
+        fs::metadata(out.join("frame_0002.exr"))
+            .unwrap()
+            .modified()
+            .unwrap()
+            == untouched,
+        || "frame 2 matched its record but was rendered again".into(),
+    );
+    failures.assert_none();
+}
