@@ -627,11 +627,17 @@ impl Animation {
             let position = match rig.position {
                 Some(p) => p,
                 None => {
-                    let dist = rig
-                        .distance
-                        .unwrap_or_else(|| radius / (rig.vfov_deg.to_radians() * 0.5).sin() * 1.05);
+                    let dist = rig.distance.unwrap_or_else(|| {
+                        radius / libm::sinf(rig.vfov_deg.to_radians() * 0.5) * 1.05
+                    });
                     let (el, az) = (rig.elevation_deg.to_radians(), rig.azimuth_deg.to_radians());
-                    target + dist * Vec3::new(el.cos() * az.sin(), el.sin(), el.cos() * az.cos())
+                    target
+                        + dist
+                            * Vec3::new(
+                                libm::cosf(el) * libm::sinf(az),
+                                libm::sinf(el),
+                                libm::cosf(el) * libm::cosf(az),
+                            )
                 }
             };
             (position, target, rig.vfov_deg)

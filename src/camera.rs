@@ -51,7 +51,7 @@ impl Camera {
             forward,
             right,
             true_up,
-            tan_half: (vfov_deg.to_radians() * 0.5).tan(),
+            tan_half: libm::tanf(vfov_deg.to_radians() * 0.5),
             aspect: width as f32 / height.max(1) as f32,
         }
     }

@@ -119,7 +119,7 @@ pub fn srgb_encode(x: f32) -> f32 {
     if x <= 0.003_130_8 {
         12.92 * x
     } else {
-        1.055 * x.powf(1.0 / 2.4) - 0.055
+        1.055 * libm::powf(x, 1.0 / 2.4) - 0.055
     }
 }
 
@@ -210,7 +210,7 @@ impl Film {
             rmse,
             rel_rmse: if mean > 0.0 { rmse / mean } else { 0.0 },
             psnr_db: if mse_ldr > 0.0 {
-                -10.0 * mse_ldr.log10()
+                -10.0 * libm::log10(mse_ldr)
             } else {
                 f64::INFINITY
             },

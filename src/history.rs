@@ -186,7 +186,8 @@ impl<'a> Prev<'a> {
             to_prev_rot: Mat3::from_mat4(to_prev),
             camera: prev_camera,
             eye: camera.position,
-            pixel_angle: 2.0 * (camera.vfov_deg.to_radians() * 0.5).tan() / camera.height as f32,
+            pixel_angle: 2.0 * libm::tanf(camera.vfov_deg.to_radians() * 0.5)
+                / camera.height as f32,
             remap,
         }
     }

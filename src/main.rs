@@ -2,6 +2,7 @@
 //! one line and exit with a documented code (see `envshadow --help`).
 
 mod cli;
+mod pure_maths;
 
 use clap::Parser;
 use clap::error::ErrorKind;

@@ -162,7 +162,7 @@ fn nice_axis(max: f64) -> (f64, f64) {
         return (1.0, 0.25);
     }
     let raw = max / 4.0;
-    let mag = 10f64.powf(raw.log10().floor());
+    let mag = libm::pow(10.0, libm::log10(raw).floor());
     let step = [1.0, 2.0, 2.5, 5.0, 10.0]
         .into_iter()
         .map(|m| m * mag)

@@ -40,8 +40,8 @@ pub fn luminance(c: Vec3) -> f32 {
 /// (no rotation). See the module comment for the convention.
 #[inline]
 pub fn dir_to_uv(dir: Vec3) -> Vec2 {
-    let lat = dir.y.clamp(-1.0, 1.0).asin();
-    let lon = dir.x.atan2(dir.z);
+    let lat = libm::asinf(dir.y.clamp(-1.0, 1.0));
+    let lon = libm::atan2f(dir.x, dir.z);
     Vec2::new(
         0.5 - lon / std::f32::consts::TAU,
         0.5 - lat / std::f32::consts::PI,
@@ -53,8 +53,8 @@ pub fn dir_to_uv(dir: Vec3) -> Vec2 {
 pub fn uv_to_dir(uv: Vec2) -> Vec3 {
     let lon = (0.5 - uv.x) * std::f32::consts::TAU;
     let lat = (0.5 - uv.y) * std::f32::consts::PI;
-    let (sl, cl) = lat.sin_cos();
-    let (so, co) = lon.sin_cos();
+    let (sl, cl) = libm::sincosf(lat);
+    let (so, co) = libm::sincosf(lon);
     Vec3::new(cl * so, sl, cl * co)
 }
 
@@ -184,7 +184,7 @@ impl EnvMap {
     /// (sin, cos) of the rotation.
     #[inline]
     fn rot(&self) -> (f32, f32) {
-        self.rotation_deg.to_radians().sin_cos()
+        libm::sincosf(self.rotation_deg.to_radians())
     }
 
     /// A direction in the map's own frame turned into world space (the rotation applied).
@@ -219,7 +219,7 @@ impl EnvMap {
         let h = self.height as f64;
         let lat_top = PI * (0.5 - y as f64 / h);
         let lat_bottom = PI * (0.5 - (y as f64 + 1.0) / h);
-        (2.0 * PI / self.width as f64) * (lat_top.sin() - lat_bottom.sin())
+        (2.0 * PI / self.width as f64) * (libm::sin(lat_top) - libm::sin(lat_bottom))
     }
 
     /// Texel (x, y).

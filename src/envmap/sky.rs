@@ -26,8 +26,8 @@ const SUN_COLOR: Vec3 = Vec3::new(1.0, 0.95, 0.86);
 
 /// Unit direction towards the built-in sun.
 pub fn sun_direction() -> Vec3 {
-    let (se, ce) = SUN_ELEVATION_DEG.to_radians().sin_cos();
-    let (sa, ca) = SUN_AZIMUTH_DEG.to_radians().sin_cos();
+    let (se, ce) = libm::sincosf(SUN_ELEVATION_DEG.to_radians());
+    let (sa, ca) = libm::sincosf(SUN_AZIMUTH_DEG.to_radians());
     Vec3::new(ce * sa, se, ce * ca)
 }
 
@@ -67,9 +67,9 @@ pub(super) fn builtin() -> EnvMap {
         }
     }
     // The sun's coverage of each texel near it, then its radiance from the energy it must carry.
-    let cos_r = SUN_RADIUS_DEG.to_radians().cos();
+    let cos_r = libm::cosf(SUN_RADIUS_DEG.to_radians());
     let texel_deg = 360.0 / WIDTH as f32;
-    let near = (SUN_RADIUS_DEG + 3.0 * texel_deg).to_radians().cos();
+    let near = libm::cosf((SUN_RADIUS_DEG + 3.0 * texel_deg).to_radians());
     const SUB: usize = 16;
     let mut coverage = Vec::new();
     let mut covered_solid_angle = 0.0f64;
@@ -87,7 +87,7 @@ pub(super) fn builtin() -> EnvMap {
                         (y as f32 + (sy as f32 + 0.5) / SUB as f32) / HEIGHT as f32,
                     );
                     let d = uv_to_dir(uv);
-                    let w = (d.y.clamp(-1.0, 1.0).asin().cos()) as f64;
+                    let w = libm::cosf(libm::asinf(d.y.clamp(-1.0, 1.0))) as f64;
                     total += w;
                     if d.dot(sun) >= cos_r {
                         inside += w;

@@ -86,7 +86,7 @@ impl CellTable {
                     }
                     // Margin for the corner bound and for f32 rounding in `cube_texel` and in the
                     // dot products that `cell_of` compares.
-                    let alpha = cos_alpha.clamp(-1.0, 1.0).acos() * 1.05 + 1e-5;
+                    let alpha = libm::acos(cos_alpha.clamp(-1.0, 1.0)) * 1.05 + 1e-5;
                     let mut best = f64::NEG_INFINITY;
                     for (k, l) in lights.iter().enumerate() {
                         dots[k] = dot(c, *l);
@@ -94,11 +94,11 @@ impl CellTable {
                     }
                     // j can be nearest somewhere in the texel only if
                     // angle(c, ω_j) − α ≤ min_k angle(c, ω_k) + α.
-                    let limit = best.clamp(-1.0, 1.0).acos() + 2.0 * alpha;
+                    let limit = libm::acos(best.clamp(-1.0, 1.0)) + 2.0 * alpha;
                     let cos_limit = if limit >= std::f64::consts::PI {
                         -2.0
                     } else {
-                        limit.cos()
+                        libm::cos(limit)
                     };
                     for (k, &d) in dots.iter().enumerate() {
                         if d >= cos_limit {

@@ -50,7 +50,7 @@ pub fn directions(env: &EnvMap, n: usize) -> Vec<Vec3> {
         }
         // Angular extents: width at the region's middle latitude.
         let mid_lat = std::f64::consts::PI * (0.5 - (r.y0 + r.y1) as f64 / (2.0 * h as f64));
-        let ang_w = rw as f64 / w as f64 * std::f64::consts::TAU * mid_lat.cos();
+        let ang_w = rw as f64 / w as f64 * std::f64::consts::TAU * libm::cos(mid_lat);
         let ang_h = rh as f64 / h as f64 * std::f64::consts::PI;
         let split_x = rh == 1 || (rw > 1 && ang_w >= ang_h);
         let k_lo = r.k / 2;
@@ -169,8 +169,8 @@ fn ring_in_texel(env: &EnvMap, x: usize, y: usize, k: usize) -> Vec<Vec3> {
         .map(|i| {
             let a = std::f32::consts::TAU * i as f32 / k as f32;
             let uv = Vec2::new(
-                (x as f32 + 0.5 + 0.25 * a.cos()) / w,
-                (y as f32 + 0.5 + 0.25 * a.sin()) / h,
+                (x as f32 + 0.5 + 0.25 * libm::cosf(a)) / w,
+                (y as f32 + 0.5 + 0.25 * libm::sinf(a)) / h,
             );
             env.to_world(crate::envmap::uv_to_dir(uv))
         })

@@ -297,8 +297,8 @@ impl LightSet {
             for j in 0..n {
                 let d = self.dirs[j];
                 let nearest = self.nearest_other(j);
-                let angle = d.dot(self.dirs[nearest as usize]).clamp(-1.0, 1.0).acos();
-                let half = (1.5 * angle).min(1.2).tan();
+                let angle = libm::acosf(d.dot(self.dirs[nearest as usize]).clamp(-1.0, 1.0));
+                let half = libm::tanf((1.5 * angle).min(1.2));
                 let (t1, t2) = d.any_orthonormal_pair();
                 for gy in 0..L {
                     for gx in 0..L {
@@ -386,10 +386,10 @@ impl LightSet {
             }
             let g = da - v(dc);
             let (x, y) = (g.dot(e1), g.dot(e2));
-            if x.hypot(y) < 1e-12 {
+            if libm::hypot(x, y) < 1e-12 {
                 continue;
             }
-            let phi = y.atan2(x);
+            let phi = libm::atan2(y, x);
             arc = Some(match arc {
                 None => (phi - FRAC_PI_2, phi + FRAC_PI_2),
                 Some((lo, hi)) => {
@@ -419,11 +419,11 @@ impl LightSet {
         }
         let (a, b) = (self.dirs[j], self.dirs[self.nearest_other(j) as usize]);
         let cos = a.x as f64 * b.x as f64 + a.y as f64 * b.y as f64 + a.z as f64 * b.z as f64;
-        let theta = cos.clamp(-1.0, 1.0).acos();
+        let theta = libm::acos(cos.clamp(-1.0, 1.0));
         if theta < 0.01 {
             2.0
         } else {
-            (0.45 * theta).cos() as f32
+            libm::cos(0.45 * theta) as f32
         }
     }
 

@@ -90,7 +90,7 @@ pub fn directions(env: &EnvMap, n: usize, thresholds: Thresholds) -> Vec<Vec3> {
             e += lum[t as usize] as f64 * dw[y];
             a += dw[y];
         }
-        e * a.min(0.01).powf(0.25)
+        e * libm::pow(a.min(0.01), 0.25)
     };
     let all: Vec<u32> = (0..(w * h) as u32).collect();
     let mut strata = vec![Stratum {
@@ -239,7 +239,7 @@ fn candidate_dirs(env: &EnvMap, texels: &[u32], lum: &[f32]) -> Vec<Vec3> {
     let col_step: Vec<usize> = (0..h)
         .map(|y| {
             let lat = std::f64::consts::PI * (0.5 - (y as f64 + 0.5) / h as f64);
-            ((1.0 / lat.cos()).round() as usize).clamp(1, w)
+            ((1.0 / libm::cos(lat)).round() as usize).clamp(1, w)
         })
         .collect();
     let mut s = 2usize;
@@ -309,7 +309,7 @@ fn fibonacci_sphere(k: usize) -> Vec<Vec3> {
             let v = (i as f64 + 0.5) / k as f64;
             let u = (i as f64 * golden).fract();
             // Uniform in y = 1 − 2v, so equal areas.
-            let vv = (1.0 - 2.0 * v).acos() / std::f64::consts::PI;
+            let vv = libm::acos(1.0 - 2.0 * v) / std::f64::consts::PI;
             uv_to_dir(Vec2::new(u as f32, vv as f32))
         })
         .collect()

@@ -27,7 +27,7 @@ pub fn star() -> Vec<Vec3> {
     let mut d = vec![Vec3::Y];
     for k in 0..6 {
         let a = (60.0 * k as f32).to_radians();
-        d.push(Vec3::new(a.cos(), 1.0, a.sin()).normalize());
+        d.push(Vec3::new(libm::cosf(a), 1.0, libm::sinf(a)).normalize());
     }
     d.push(Vec3::NEG_Y);
     d
@@ -41,7 +41,7 @@ pub fn spiral(n: usize) -> Vec<Vec3> {
             let y = 1.0 - 2.0 * (k as f32 + 0.5) / n as f32;
             let r = (1.0 - y * y).sqrt();
             let a = golden * k as f32;
-            Vec3::new(r * a.cos(), y, r * a.sin())
+            Vec3::new(r * libm::cosf(a), y, r * libm::sinf(a))
         })
         .collect()
 }

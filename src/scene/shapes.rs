@@ -143,9 +143,9 @@ fn sphere(b: &mut Builder, r: f32) {
     b.surface(96, 48, |u, v| {
         let (phi, theta) = (TAU * u, PI * v);
         let n = Vec3::new(
-            theta.sin() * phi.cos(),
-            theta.cos(),
-            theta.sin() * phi.sin(),
+            libm::sinf(theta) * libm::cosf(phi),
+            libm::cosf(theta),
+            libm::sinf(theta) * libm::sinf(phi),
         );
         (r * n, n)
     });
@@ -169,7 +169,7 @@ fn unit_box(b: &mut Builder) {
 /// A closed cylinder standing on y = 0 about the Y axis: 64 segments, smooth side, flat caps.
 fn cylinder(b: &mut Builder, r: f32, h: f32) {
     b.surface(64, 4, |u, v| {
-        let n = Vec3::new((TAU * u).cos(), 0.0, (TAU * u).sin());
+        let n = Vec3::new(libm::cosf(TAU * u), 0.0, libm::sinf(TAU * u));
         (Vec3::new(r * n.x, h * v, r * n.z), n)
     });
     disc(b, r, h, Vec3::Y);
@@ -180,7 +180,7 @@ fn cylinder(b: &mut Builder, r: f32, h: f32) {
 /// The apex vertex is repeated per segment, each with its segment's normal.
 fn cone(b: &mut Builder, r: f32, h: f32) {
     b.surface(64, 8, |u, v| {
-        let (c, s) = ((TAU * u).cos(), (TAU * u).sin());
+        let (c, s) = (libm::cosf(TAU * u), libm::sinf(TAU * u));
         // The side's normal leans outward by the slope: (h cos, r, h sin), normalised.
         let n = Vec3::new(h * c, r, h * s).normalize();
         (Vec3::new((1.0 - v) * r * c, v * h, (1.0 - v) * r * s), n)
@@ -192,7 +192,10 @@ fn cone(b: &mut Builder, r: f32, h: f32) {
 fn disc(b: &mut Builder, r: f32, y: f32, n: Vec3) {
     b.surface(64, 1, |u, v| {
         let a = TAU * u;
-        (Vec3::new(v * r * a.cos(), y, v * r * a.sin()), n)
+        (
+            Vec3::new(v * r * libm::cosf(a), y, v * r * libm::sinf(a)),
+            n,
+        )
     });
 }
 
@@ -202,11 +205,11 @@ fn torus(b: &mut Builder, big: f32, small: f32) {
     b.surface(96, 32, |u, v| {
         let (phi, theta) = (TAU * u, TAU * v);
         let n = Vec3::new(
-            theta.cos() * phi.cos(),
-            theta.sin(),
-            theta.cos() * phi.sin(),
+            libm::cosf(theta) * libm::cosf(phi),
+            libm::sinf(theta),
+            libm::cosf(theta) * libm::sinf(phi),
         );
-        let centre = Vec3::new(big * phi.cos(), 0.0, big * phi.sin());
+        let centre = Vec3::new(big * libm::cosf(phi), 0.0, big * libm::sinf(phi));
         (centre + small * n, n)
     });
 }
