@@ -9,6 +9,7 @@
 //! keeps out of the crate): they are compared within tolerances, never written as output.
 #![allow(clippy::disallowed_methods)]
 
+mod chaos;
 mod cli;
 mod common;
 mod envmap;
