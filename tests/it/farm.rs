@@ -2,8 +2,9 @@
 //! "hosts" on loopback (127.0.0.2–4; tests/farm-hosts.sh starts and stops them by PID).
 //! Every farm render must equal a one-process render byte for byte.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::fs;
+use std::os::unix::fs::MetadataExt;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -170,6 +171,137 @@ fn jobs_assemble_into_the_one_process_render_and_name_what_is_missing() {
     // cannot be assembled; frames 6 and 7 owe nothing to the broken jobs.
     assert!(!out.join("frame_0000.exr").exists());
     assert!(out.join("frame_0007.exr").exists());
+}
+
+/// Issue 20, item 1: `render --job K --of N --resume` renders again exactly the frames whose
+/// files are missing, truncated or corrupt (the SHA-256 that tiles_NNNN.json records is
+/// checked, not only the size), and `assemble --pending` names the jobs a re-run must render.
+#[test]
+fn a_job_resume_renders_again_only_its_damaged_frames_and_pending_names_the_jobs() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (refdir, out) = (tmp.path().join("ref"), tmp.path().join("farm"));
+    reference(&refdir);
+    let o = out.to_str().unwrap();
+    let mut plan = vec!["plan", SPEC, "--out", o, "--jobs", "4", "-q"];
+    plan.extend_from_slice(FLAGS);
+    ok(&envshadow(&plan));
+    let job = |k: usize| {
+        let ks = k.to_string();
+        let mut a = vec![
+            "render", SPEC, "--out", o, "--job", &ks, "--of", "4", "--resume",
+        ];
+        a.extend_from_slice(FLAGS);
+        ok(&envshadow(&a))
+    };
+    for k in 0..4 {
+        job(k);
+    }
+    let folders = planned_folders(&out);
+    flip_a_byte(&folders[0].join("tiles_0001.exr"));
+    truncate_half(&folders[1].join("tiles_0002.exr"));
+    fs::remove_file(folders[2].join("tiles_0003.exr")).unwrap();
+    let before = stamps(&out.join("jobs"));
+    for (k, want) in [
+        "1 frames rendered, 7 skipped",
+        "1 frames rendered, 7 skipped",
+        "1 frames rendered, 7 skipped",
+        "0 frames rendered, 8 skipped",
+    ]
+    .iter()
+    .enumerate()
+    {
+        let err = job(k);
+        assert!(err.contains(want), "job {k}: {err}");
+    }
+    for (path, st) in &before {
+        let name = path.file_name().unwrap().to_string_lossy();
+        if name.starts_with("tiles_")
+            && !["tiles_0001", "tiles_0002", "tiles_0003"]
+                .iter()
+                .any(|f| name.starts_with(f))
+        {
+            assert_eq!(stamp(path), *st, "{} was written again", path.display());
+        }
+    }
+    ok(&envshadow(&["assemble", o, "--no-report"]));
+    assert_same_frames(&refdir, &out);
+
+    // Nothing to do: --pending prints nothing. Then three jobs damaged three other ways.
+    let pending = |what: &str| {
+        let p = envshadow(&["assemble", o, "--pending"]);
+        let err = ok(&p);
+        assert!(err.contains(what), "{err}");
+        (String::from_utf8_lossy(&p.stdout).into_owned(), err)
+    };
+    let (lines, _) = pending("0 of 4 jobs to render (8 of 8 frames complete)");
+    assert_eq!(lines, "");
+    flip_a_byte(&folders[1].join("tiles_0006.exr"));
+    fs::remove_file(folders[2].join("lights.json")).unwrap();
+    fs::remove_dir_all(&folders[3]).unwrap();
+    let (lines, err) = pending("3 of 4 jobs to render (0 of 8 frames complete)");
+    let planned: Vec<String> = fs::read_to_string(out.join("jobs.txt"))
+        .unwrap()
+        .lines()
+        .map(|l| format!("{l}\n"))
+        .collect();
+    assert_eq!(lines, planned[1..].concat());
+    assert!(
+        err.contains("corrupt job 1 ") && err.contains("tiles_0006.exr: checksum mismatch"),
+        "{err}"
+    );
+    assert!(
+        err.contains("bad job 2 ") && err.contains("no lights.json"),
+        "{err}"
+    );
+    assert!(err.contains("missing job 3 "), "{err}");
+    assert!(!err.contains("job 0 "), "{err}");
+}
+
+/// A file as it lies on disk: (inode, modification time in ns, length). A file written again
+/// gets another inode even with the same bytes (files are published by renaming a new one).
+fn stamp(p: &Path) -> (u64, i128, u64) {
+    let m = fs::metadata(p).unwrap();
+    (
+        m.ino(),
+        m.mtime() as i128 * 1_000_000_000 + m.mtime_nsec() as i128,
+        m.len(),
+    )
+}
+
+/// [`stamp`] of every file under `dir`, by path.
+fn stamps(dir: &Path) -> BTreeMap<PathBuf, (u64, i128, u64)> {
+    walk(dir)
+        .into_iter()
+        .filter(|p| p.is_file())
+        .map(|p| {
+            let s = stamp(&p);
+            (p, s)
+        })
+        .collect()
+}
+
+/// The job folders of `out`'s plan, by job index (from jobs.txt).
+fn planned_folders(out: &Path) -> Vec<PathBuf> {
+    fs::read_to_string(out.join("jobs.txt"))
+        .unwrap()
+        .lines()
+        .map(|l| out.join("jobs").join(l.split('\t').nth(3).unwrap()))
+        .collect()
+}
+
+/// Flips one byte in the middle of `p`: same size, other content.
+fn flip_a_byte(p: &Path) {
+    let mut bytes = fs::read(p).unwrap();
+    let mid = bytes.len() / 2;
+    bytes[mid] ^= 0xff;
+    fs::write(p, bytes).unwrap();
+}
+
+/// Cuts `p` to half its size.
+fn truncate_half(p: &Path) {
+    let f = fs::OpenOptions::new().write(true).open(p).unwrap();
+    let len = f.metadata().unwrap().len();
+    f.set_len(len / 2).unwrap();
 }
 
 #[test]
