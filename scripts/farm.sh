@@ -175,10 +175,14 @@ echo "$plan_id" >"$joblog.plan"
 # host) and is split into one log per host; anything untagged (parallel's and ssh's own
 # messages) goes to farm.log and the terminal.
 job_wrapped="o=\$( ($job_cmd) 2>&1); s=\$?; [ -z \"\$o\" ] || printf '%s\n' \"\$o\" | sed \"s|^|\$PARALLEL_SSHHOST	|\"; exit \$s"
+# mawk (Debian's awk) reads a pipe in blocks: without -W interactive, the logs below would
+# get a job's lines only when a block filled or the run ended.
+awk_live=()
+if awk -W version 2>/dev/null | grep -q mawk; then awk_live=(-W interactive); fi
 echo "farm.sh: $njobs jobs on ${#host_names[@]} hosts ($slots slots); per-host logs in $logs/hosts/, job log $logs/joblog"
 "${par[@]}" "${resume[@]}" --joblog "$joblog" --retries "$retries" --timeout "$timeout" \
     --colsep '\t' -a "$out/jobs.txt" "$job_wrapped" \
-    > >(awk -F'\t' -v dir="$logs/hosts" -v farm="$logs/farm.log" -v hosts="${host_names[*]}" '
+    > >(awk "${awk_live[@]}" -F'\t' -v dir="$logs/hosts" -v farm="$logs/farm.log" -v hosts="${host_names[*]}" '
         BEGIN { n = split(hosts, h, " "); for (i = 1; i <= n; i++) known[h[i]] = 1 }
         ($1 in known) { f = dir "/" $1 ".log"; sub(/^[^\t]*\t/, ""); print >> f; fflush(f); next }
         { print >> farm; fflush(farm); print > "/dev/stderr" }') 2>&1 &
