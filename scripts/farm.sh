@@ -13,16 +13,19 @@
 # --shared-fs (default): DIR, the spec and its inputs are at the same paths on every host,
 #   which run CMD (default: this machine's envshadow binary, by absolute path).
 # --no-shared-fs: the binary (unless --envshadow is given), the spec and its input files are
-#   shipped to each host (--basefile) into ~/.envshadow-farm/RUN, each job's folder comes back
-#   as a tar file (--return) and is removed there (--cleanup).
+#   shipped to each host (--basefile) into ~/.envshadow-farm/RUN, with what a job to run again
+#   already has here; each job's folder comes back as a tar file (--return) and is removed
+#   there (--cleanup).
 #
 # Before any job starts every host must report the same `envshadow version --build` as this
 # machine (another build can give other bits); a host that differs is named and the run is
 # refused. Jobs are retried on other hosts (--retries, default hosts + 2) and killed after
 # --timeout seconds (default 3600); ssh keepalives notice dead hosts. Run the same command
-# again to continue after a failure or an interruption (SIGHUP lets running jobs finish):
-# GNU parallel's --resume-failed runs only the jobs that did not succeed, and each job skips
-# frames it already published (--resume). Logs: DIR/logs/ (joblog, one log per host).
+# again to continue after a failure or an interruption (SIGHUP lets running jobs finish): the
+# jobs to run are judged from their files (`envshadow assemble --pending`: a job is done when
+# its every tile image matches the SHA-256 it records), so a job that failed, was never run,
+# or whose folder was since damaged or deleted runs again, and nothing else; each job skips
+# the frames it already has intact (--resume). Logs: DIR/logs/ (joblog, one log per host).
 # Exit: 0 all frames assembled; 1 jobs failed or assembly incomplete; 2 bad usage or a host
 # refused; 129 interrupted.
 set -euo pipefail
@@ -128,7 +131,10 @@ else
         rbin=./envshadow-farm.bin
     fi
     par+=(--workdir ".envshadow-farm/$run_id")
-    job_cmd="$rbin render $(q "$spec_rel") --job {1} --of $jobs ${by:+--by $by} --out . --resume$qflags && tar cf jobs/{4}.tar -C jobs {4} && rm -rf jobs/{4}"
+    # A job that runs again starts from what its folder here holds (shipped as .send/FOLDER.tar,
+    # empty for a job without a folder), so it renders only the frames missing or damaged.
+    par+=(--transferfile "$out/./.send/{4}.tar")
+    job_cmd="mkdir -p jobs && tar xf .send/{4}.tar -C jobs && rm -f .send/{4}.tar && $rbin render $(q "$spec_rel") --job {1} --of $jobs ${by:+--by $by} --out . --resume$qflags && tar cf jobs/{4}.tar -C jobs {4} && rm -rf jobs/{4}"
     check_cmd="$rbin version --build"
 fi
 
@@ -158,17 +164,30 @@ else
 fi
 [ $bad = 0 ] || die "refusing to start: every host must run the same envshadow build"
 
-# A re-run of the same plan resumes from the job log; another plan starts a new log.
-joblog=$logs/joblog
-plan_id=$( (cat "$out/jobs.txt"; echo "$job_cmd") | sha256sum | cut -c1-16)
-resume=()
-if [ -f "$joblog" ] && [ "$(cat "$joblog.plan" 2>/dev/null)" = "$plan_id" ]; then
-    resume=(--resume-failed)
-    echo "farm.sh: resuming: jobs that succeeded in $joblog are not run again"
-elif [ -f "$joblog" ]; then
-    mv "$joblog" "$joblog.$(date +%Y%m%d-%H%M%S)"
+# The jobs to run, judged from the job folders themselves (not from a log of past runs,
+# which cannot know of a file damaged or deleted since): every job whose files are not all
+# there and intact. Why each one runs is in farm.log.
+todo=$logs/todo.txt
+"$bin" assemble "$out" --pending >"$todo.tmp" 2>>"$logs/farm.log" ||
+    die "envshadow assemble --pending failed: $(tail -n 1 "$logs/farm.log")"
+mv "$todo.tmp" "$todo"
+ntodo=$(wc -l <"$todo")
+if [ "$ntodo" -lt "$njobs" ]; then
+    echo "farm.sh: resuming: $ntodo of $njobs jobs to render; the others' files are complete and match their checksums (why each runs: $logs/farm.log)"
 fi
-echo "$plan_id" >"$joblog.plan"
+if [ $shared = 0 ]; then
+    rm -rf "$out/.send" && mkdir "$out/.send"
+    while IFS=$'\t' read -r _ _ _ folder; do
+        if [ -d "$out/jobs/$folder" ]; then
+            tar cf "$out/.send/$folder.tar" -C "$out/jobs" "$folder"
+        else
+            tar cf "$out/.send/$folder.tar" -T /dev/null
+        fi
+    done <"$todo"
+fi
+# Every attempt of every run, appended; parallel writes no header when appending.
+joblog=$logs/joblog
+[ -s "$joblog" ] || printf 'Seq\tHost\tStarttime\tJobRuntime\tSend\tReceive\tExitval\tSignal\tCommand\n' >"$joblog"
 [ $shared = 1 ] || par+=(--return "$out/./jobs/{4}.tar" --cleanup)
 
 # Each job's output comes back tagged with its host (PARALLEL_SSHHOST, set by parallel on the
@@ -179,25 +198,29 @@ job_wrapped="o=\$( ($job_cmd) 2>&1); s=\$?; [ -z \"\$o\" ] || printf '%s\n' \"\$
 # get a job's lines only when a block filled or the run ended.
 awk_live=()
 if awk -W version 2>/dev/null | grep -q mawk; then awk_live=(-W interactive); fi
-echo "farm.sh: $njobs jobs on ${#host_names[@]} hosts ($slots slots); per-host logs in $logs/hosts/, job log $logs/joblog"
-"${par[@]}" "${resume[@]}" --joblog "$joblog" --retries "$retries" --timeout "$timeout" \
-    --colsep '\t' -a "$out/jobs.txt" "$job_wrapped" \
-    > >(awk "${awk_live[@]}" -F'\t' -v dir="$logs/hosts" -v farm="$logs/farm.log" -v hosts="${host_names[*]}" '
-        BEGIN { n = split(hosts, h, " "); for (i = 1; i <= n; i++) known[h[i]] = 1 }
-        ($1 in known) { f = dir "/" $1 ".log"; sub(/^[^\t]*\t/, ""); print >> f; fflush(f); next }
-        { print >> farm; fflush(farm); print > "/dev/stderr" }') 2>&1 &
-ppid=$!
-interrupted=0
-trap 'interrupted=1; kill -HUP $ppid 2>/dev/null || true' HUP
-trap 'interrupted=1; kill -TERM $ppid 2>/dev/null || true' INT TERM
-set +e
-while :; do
-    wait $ppid
-    rc=$?
-    kill -0 $ppid 2>/dev/null || break
-done
-set -e
-trap - HUP INT TERM
+interrupted=0 rc=0
+if [ "$ntodo" -gt 0 ]; then
+    echo "farm.sh: $ntodo jobs on ${#host_names[@]} hosts ($slots slots); per-host logs in $logs/hosts/, job log $logs/joblog"
+    "${par[@]}" --joblog "+$joblog" --retries "$retries" --timeout "$timeout" \
+        --colsep '\t' -a "$todo" "$job_wrapped" \
+        > >(awk "${awk_live[@]}" -F'\t' -v dir="$logs/hosts" -v farm="$logs/farm.log" -v hosts="${host_names[*]}" '
+            BEGIN { n = split(hosts, h, " "); for (i = 1; i <= n; i++) known[h[i]] = 1 }
+            ($1 in known) { f = dir "/" $1 ".log"; sub(/^[^\t]*\t/, ""); print >> f; fflush(f); next }
+            { print >> farm; fflush(farm); print > "/dev/stderr" }') 2>&1 &
+    ppid=$!
+    trap 'interrupted=1; kill -HUP $ppid 2>/dev/null || true' HUP
+    trap 'interrupted=1; kill -TERM $ppid 2>/dev/null || true' INT TERM
+    set +e
+    while :; do
+        wait $ppid
+        rc=$?
+        kill -0 $ppid 2>/dev/null || break
+    done
+    set -e
+    trap - HUP INT TERM
+else
+    echo "farm.sh: all $njobs jobs are already rendered (their files match their checksums)"
+fi
 
 # Without a shared filesystem, unpack the returned job folders (into a temporary folder
 # first, so a half-unpacked folder is never taken for a job).
@@ -216,6 +239,7 @@ if [ $shared = 0 ]; then
         rm -rf "$tmp"
     done
     [ -z "${stage:-}" ] || rm -rf "$stage"
+    rm -rf "$out/.send"
 fi
 
 if [ $interrupted = 1 ]; then

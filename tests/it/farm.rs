@@ -405,35 +405,54 @@ fn farm(hosts: &Hosts, out: &Path, extra: &[&str]) -> Child {
     c.spawn().expect("starting scripts/farm.sh")
 }
 
-/// The job log's attempts: (seq, host, exit value, signal, start time in Unix seconds),
-/// columns found by the names in GNU parallel's header line. A line still being written is
-/// skipped (the log is read while parallel runs).
-fn joblog(out: &Path) -> Vec<(usize, String, i32, i32, f64)> {
+/// One attempt in GNU parallel's job log.
+#[derive(Clone, Debug)]
+struct Attempt {
+    host: String,
+    exit: i32,
+    signal: i32,
+    /// Start time, Unix seconds.
+    start: f64,
+    /// The plan job it ran (`--job K` in its command).
+    job: usize,
+}
+
+/// The job log's attempts, every run's (farm.sh appends), columns found by the names in its
+/// header line. A line still being written is skipped (the log is read while parallel runs).
+fn joblog(out: &Path) -> Vec<Attempt> {
     let Ok(text) = fs::read_to_string(out.join("logs/joblog")) else {
         return Vec::new();
     };
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap_or_default().split('\t').collect();
     let col = |name: &str| header.iter().position(|h| h.trim() == name);
-    let (Some(seq), Some(host), Some(exit), Some(signal), Some(start)) = (
-        col("Seq"),
+    let (Some(host), Some(exit), Some(signal), Some(start), Some(command)) = (
         col("Host"),
         col("Exitval"),
         col("Signal"),
         col("Starttime"),
+        col("Command"),
     ) else {
         return Vec::new();
     };
     lines
         .filter_map(|l| {
             let c: Vec<&str> = l.split('\t').collect();
-            Some((
-                c.get(seq)?.trim().parse().ok()?,
-                c.get(host)?.trim().to_string(),
-                c.get(exit)?.trim().parse().ok()?,
-                c.get(signal)?.trim().parse().ok()?,
-                c.get(start)?.trim().parse().ok()?,
-            ))
+            let cmd = c.get(command..)?.join("\t");
+            let job = cmd
+                .split("--job ")
+                .nth(1)?
+                .split(' ')
+                .next()?
+                .parse()
+                .ok()?;
+            Some(Attempt {
+                host: c.get(host)?.trim().to_string(),
+                exit: c.get(exit)?.trim().parse().ok()?,
+                signal: c.get(signal)?.trim().parse().ok()?,
+                start: c.get(start)?.trim().parse().ok()?,
+                job,
+            })
         })
         .collect()
 }
@@ -480,19 +499,52 @@ fn farm_over_ssh_renders_the_same_frames_survives_a_crash_and_resumes() {
     assert_same_frames(&refdir, &out);
     assert_eq!(stats_without_seconds(&refdir), stats_without_seconds(&out));
     assert!(log.contains("per-host logs in"), "{log}");
-    let hosts_used: BTreeSet<String> = joblog(&out).into_iter().map(|a| a.1).collect();
+    let hosts_used: BTreeSet<String> = joblog(&out).into_iter().map(|a| a.host).collect();
     assert!(hosts_used.len() >= 2, "jobs ran on {hosts_used:?}");
 
     // No shared filesystem: binary and spec shipped, job folders returned, hosts cleaned.
     let out = tmp.path().join("unshared");
-    let (code, log) = finish(farm(&hosts, &out, &["--no-shared-fs", "--jobs", "6"]));
+    let unshared = ["--no-shared-fs", "--jobs", "6"];
+    let clean = || {
+        for k in 1..=3 {
+            let left: Vec<_> = walk(&hdir.join(format!("h{k}/home")));
+            assert!(left.is_empty(), "left on host {k}: {left:?}");
+        }
+    };
+    let (code, log) = finish(farm(&hosts, &out, &unshared));
     assert_eq!(code, Some(0), "{log}");
     assert_same_frames(&refdir, &out);
-    for k in 1..=3 {
-        let work = hdir.join(format!("h{k}/home/.envshadow-farm"));
-        let left: Vec<_> = walk(&work);
-        assert!(left.is_empty(), "left on host {k}: {left:?}");
-    }
+    clean();
+    // A frame damaged here: the job runs again with what its folder holds, so the host
+    // renders that frame only.
+    truncate_half(&planned_folders(&out)[2].join("tiles_0004.exr"));
+    let summaries = |out: &Path| -> Vec<String> {
+        let mut v = Vec::new();
+        for p in walk(&out.join("logs/hosts")) {
+            let text = fs::read_to_string(&p).unwrap();
+            v.extend(
+                text.lines()
+                    .filter(|l| l.contains(" frames rendered, "))
+                    .map(str::to_string),
+            );
+        }
+        v
+    };
+    let before = summaries(&out).len();
+    let (code, log) = finish(farm(&hosts, &out, &unshared));
+    assert_eq!(code, Some(0), "{log}");
+    assert_same_frames(&refdir, &out);
+    clean();
+    let after = summaries(&out);
+    assert_eq!(after.len(), before + 1, "{after:?}");
+    assert_eq!(
+        after
+            .iter()
+            .filter(|l| l.contains("job 2 ") && l.contains("1 frames rendered, 7 skipped"))
+            .count(),
+        1,
+        "{after:?}"
+    );
 
     // A host with another build is refused, by name, before any job starts.
     for k in 1..=3 {
@@ -548,11 +600,12 @@ fn farm_over_ssh_renders_the_same_frames_survives_a_crash_and_resumes() {
         break out;
     };
     let first = joblog(&out);
-    let done: BTreeSet<usize> = first.iter().filter(|a| a.2 == 0).map(|a| a.0).collect();
-    let total = fs::read_to_string(out.join("jobs.txt"))
-        .unwrap()
-        .lines()
-        .count();
+    let done: BTreeSet<usize> = first
+        .iter()
+        .filter(|a| a.exit == 0)
+        .map(|a| a.job)
+        .collect();
+    let total = planned_folders(&out).len();
     assert!(
         !done.is_empty() && done.len() < total,
         "{done:?} of {total}"
@@ -561,10 +614,10 @@ fn farm_over_ssh_renders_the_same_frames_survives_a_crash_and_resumes() {
     assert_eq!(code, Some(0), "{log}");
     assert!(log.contains("resuming"), "{log}");
     let second = &joblog(&out)[first.len()..];
-    let rerun: Vec<usize> = second.iter().map(|a| a.0).collect();
+    let rerun: Vec<usize> = second.iter().map(|a| a.job).collect();
     let rerun_set: BTreeSet<usize> = rerun.iter().copied().collect();
     assert_eq!(rerun.len(), rerun_set.len(), "a job ran twice: {rerun:?}");
-    let missing: BTreeSet<usize> = (1..=total).filter(|s| !done.contains(s)).collect();
+    let missing: BTreeSet<usize> = (0..total).filter(|j| !done.contains(j)).collect();
     assert_eq!(
         rerun_set, missing,
         "the re-run must run exactly the missing jobs"
@@ -590,22 +643,102 @@ fn farm_over_ssh_renders_the_same_frames_survives_a_crash_and_resumes() {
     // The job log keeps each job's last attempt: the run went on after the crash, every job
     // succeeded, and none of them on the crashed host after it fell.
     let attempts = joblog(&out);
-    let after: Vec<_> = attempts.iter().filter(|a| a.4 > crashed_at).collect();
+    let after: Vec<_> = attempts.iter().filter(|a| a.start > crashed_at).collect();
     assert!(
         !after.is_empty(),
         "the crash came after the last job: {attempts:?}"
     );
-    assert!(after.iter().all(|a| a.1 != "fh3"), "{attempts:?}");
+    assert!(after.iter().all(|a| a.host != "fh3"), "{attempts:?}");
     assert!(
-        attempts.iter().all(|a| a.2 == 0 && a.3 == 0),
+        attempts.iter().all(|a| a.exit == 0 && a.signal == 0),
         "{attempts:?}"
     );
-    let seqs: BTreeSet<usize> = attempts.iter().map(|a| a.0).collect();
-    let total = fs::read_to_string(out.join("jobs.txt"))
-        .unwrap()
-        .lines()
-        .count();
-    assert_eq!(seqs.len(), total);
+    let jobs: BTreeSet<usize> = attempts.iter().map(|a| a.job).collect();
+    assert_eq!(jobs.len(), planned_folders(&out).len());
+    drop(hosts);
+}
+
+/// The hosts, the reference render and a temporary folder for one ssh farm test; None when
+/// the tools are missing (see `common::require_tools`).
+fn farm_setup(test: &str) -> Option<(tempfile::TempDir, PathBuf, Hosts)> {
+    if !common::require_tools(
+        test,
+        FARM_TOOLS,
+        "apt-get install openssh-server openssh-client parallel rsync procps",
+    ) {
+        return None;
+    }
+    let tmp = tempfile::tempdir().unwrap();
+    let refdir = tmp.path().join("ref");
+    reference(&refdir);
+    let hdir = tmp.path().join("hosts");
+    fs::create_dir_all(&hdir).unwrap();
+    let hosts = Hosts::start(&hdir);
+    Some((tmp, refdir, hosts))
+}
+
+/// Issue 20, item 1: a farm re-run decides from the files which jobs to run. A tile image
+/// with a flipped byte (same size), a truncated one, a frame's statistics removed and a job
+/// folder deleted by hand: the same command renders those four jobs again — in each only the
+/// damaged frame, all of the deleted one — leaves the other jobs' files untouched, and
+/// assembles the one-process frames.
+#[test]
+fn farm_rerun_renders_exactly_the_jobs_whose_files_are_damaged_or_gone() {
+    let Some((tmp, refdir, hosts)) = farm_setup(common::this_test!()) else {
+        return;
+    };
+    let out = tmp.path().join("farm");
+    let args = ["--shared-fs", "--jobs", "6"];
+    let (code, log) = finish(farm(&hosts, &out, &args));
+    assert_eq!(code, Some(0), "{log}");
+    let first = joblog(&out).len();
+    let folders = planned_folders(&out);
+    assert_eq!(folders.len(), 6);
+
+    flip_a_byte(&folders[0].join("tiles_0003.exr"));
+    truncate_half(&folders[1].join("tiles_0005.exr"));
+    fs::remove_file(folders[2].join("tiles_0006.json")).unwrap();
+    fs::remove_dir_all(&folders[3]).unwrap();
+    for f in 0..8 {
+        fs::remove_file(out.join(format!("frame_{f:04}.exr"))).unwrap();
+    }
+    let before = stamps(&out.join("jobs"));
+    let (code, log) = finish(farm(&hosts, &out, &args));
+    assert_eq!(code, Some(0), "{log}");
+    assert!(log.contains("resuming: 4 of 6 jobs"), "{log}");
+    assert_same_frames(&refdir, &out);
+    let rerun: Vec<usize> = joblog(&out)[first..].iter().map(|a| a.job).collect();
+    assert_eq!(
+        rerun.iter().copied().collect::<BTreeSet<_>>(),
+        BTreeSet::from([0, 1, 2, 3]),
+        "{rerun:?}"
+    );
+    assert_eq!(rerun.len(), 4, "{rerun:?}");
+
+    // Jobs 4 and 5 did not run: every file of theirs is the very same. Jobs 0–2 rendered
+    // their damaged frame only: their other frames' files are the same.
+    let damaged = [(0, "tiles_0003"), (1, "tiles_0005"), (2, "tiles_0006")];
+    let mut same = 0;
+    for (path, st) in &before {
+        let k = folders.iter().position(|f| path.starts_with(f)).unwrap();
+        let name = path.file_name().unwrap().to_string_lossy();
+        let rendered = damaged
+            .iter()
+            .any(|(j, frame)| *j == k && name.starts_with(frame));
+        if k >= 4 || (name.starts_with("tiles_") && !rendered) {
+            assert_eq!(stamp(path), *st, "{} was written again", path.display());
+            same += 1;
+        } else if rendered {
+            assert_ne!(
+                stamp(path),
+                *st,
+                "{} was not rendered again",
+                path.display()
+            );
+        }
+    }
+    // 2 untouched jobs × (8 frames × 2 files + job.json + lights.json) + 3 × 7 frames × 2.
+    assert_eq!(same, 2 * 18 + 3 * 14, "{before:?}");
     drop(hosts);
 }
 
