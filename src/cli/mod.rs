@@ -69,8 +69,8 @@ pub enum Command {
     /// List the shadow methods: name, evaluation order, voting and flood rule, the settings
     /// each reads, and what it does.
     Methods,
-    /// Print the version; with --build also the build identity (a hash of this executable),
-    /// which every farm host must share.
+    /// Print the version; with --build also the build identity (a hash of the sources,
+    /// compiler, target and flags it was built from), which every farm host must share.
     Version(VersionArgs),
     /// Write one frame's triangles, normals, albedos, lights, camera rays and shadow offset for
     /// another renderer (scripts/compare-mitsuba.sh).
@@ -233,7 +233,7 @@ pub fn run(cli: Cli) -> Result<()> {
                 println!(
                     "envshadow {} build {}",
                     env!("CARGO_PKG_VERSION"),
-                    envshadow::farm::identity::build_id()?
+                    envshadow::farm::identity::BUILD_ID
                 );
             } else {
                 println!("envshadow {}", env!("CARGO_PKG_VERSION"));

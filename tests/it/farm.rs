@@ -4,7 +4,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::fs;
-use std::os::unix::fs::MetadataExt;
+use std::os::unix::fs::{MetadataExt, PermissionsExt};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -382,8 +382,14 @@ const FARM_TOOLS: &[&str] = &[
     "/usr/sbin/sshd",
 ];
 
-/// `scripts/farm.sh SPEC --hosts … --out OUT EXTRA -- FLAGS`, not waited for.
+/// `scripts/farm.sh SPEC --hosts … --out OUT EXTRA -- FLAGS` with this test binary, not
+/// waited for.
 fn farm(hosts: &Hosts, out: &Path, extra: &[&str]) -> Child {
+    farm_with(Path::new(BIN), hosts, out, extra)
+}
+
+/// [`farm`] with another envshadow binary (`ENVSHADOW`).
+fn farm_with(bin: &Path, hosts: &Hosts, out: &Path, extra: &[&str]) -> Child {
     let mut c = Command::new("bash");
     c.arg(Path::new(ROOT).join("scripts/farm.sh"))
         .arg(SPEC)
@@ -398,7 +404,7 @@ fn farm(hosts: &Hosts, out: &Path, extra: &[&str]) -> Child {
         .arg("--")
         .args(FLAGS)
         .current_dir(ROOT)
-        .env("ENVSHADOW", BIN)
+        .env("ENVSHADOW", bin)
         .env("PARALLEL_HOME", hosts.dir.join("parallel-home"))
         .stdout(Stdio::piped())
         .stderr(Stdio::piped());
@@ -550,10 +556,14 @@ fn farm_over_ssh_renders_the_same_frames_survives_a_crash_and_resumes() {
     for k in 1..=3 {
         let b = hdir.join(format!("h{k}/bin/envshadow"));
         if k == 3 {
-            let mut bytes = fs::read(BIN).unwrap();
-            bytes.push(0); // a different executable that still runs
-            fs::write(&b, bytes).unwrap();
-            use std::os::unix::fs::PermissionsExt;
+            // Another build says so: the identity is no longer the executable's hash.
+            fs::write(
+                &b,
+                format!(
+                    "#!/bin/sh\nif [ \"$1\" = version ]; then echo 'envshadow 0.1.0 build 0000000000000000'; exit 0; fi\nexec '{BIN}' \"$@\"\n"
+                ),
+            )
+            .unwrap();
             fs::set_permissions(&b, fs::Permissions::from_mode(0o755)).unwrap();
         } else {
             std::os::unix::fs::symlink(BIN, &b).unwrap();
@@ -567,7 +577,8 @@ fn farm_over_ssh_renders_the_same_frames_survives_a_crash_and_resumes() {
     ));
     assert_eq!(code, Some(2), "{log}");
     assert!(
-        log.contains("host fh3 runs envshadow") && log.contains("refus"),
+        log.contains("host fh3 runs envshadow 0.1.0 build 0000000000000000")
+            && log.contains("refus"),
         "{log}"
     );
     assert!(
@@ -739,6 +750,50 @@ fn farm_rerun_renders_exactly_the_jobs_whose_files_are_damaged_or_gone() {
     }
     // 2 untouched jobs × (8 frames × 2 files + job.json + lights.json) + 3 × 7 frames × 2.
     assert_eq!(same, 2 * 18 + 3 * 14, "{before:?}");
+    drop(hosts);
+}
+
+/// Issue 20, item 2: the build identity is what decides the bits, not the executable's bytes.
+/// `cargo test --release` links another `target/release/envshadow` from the same source (see
+/// build.rs); a copy of the test binary with a byte appended stands for it — another file
+/// that runs the same code. A farm run with one, interrupted, continues with the other.
+#[test]
+fn another_build_of_the_same_source_resumes_the_farm() {
+    let Some((tmp, refdir, hosts)) = farm_setup(common::this_test!()) else {
+        return;
+    };
+    let other = tmp.path().join("other-build/envshadow");
+    fs::create_dir_all(other.parent().unwrap()).unwrap();
+    let mut bytes = fs::read(BIN).unwrap();
+    bytes.push(0);
+    fs::write(&other, bytes).unwrap();
+    fs::set_permissions(&other, fs::Permissions::from_mode(0o755)).unwrap();
+    let version = |bin: &Path| {
+        let o = Command::new(bin)
+            .args(["version", "--build"])
+            .output()
+            .unwrap();
+        ok(&o);
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    assert_eq!(version(Path::new(BIN)), version(&other));
+
+    let out = tmp.path().join("farm");
+    let args = ["--jobs", "6"];
+    let (code, log) = finish(farm(&hosts, &out, &args));
+    assert_eq!(code, Some(0), "{log}");
+    let first = joblog(&out).len();
+    // What an interruption leaves: a job that never ran, one that stopped half-way.
+    let folders = planned_folders(&out);
+    fs::remove_dir_all(&folders[1]).unwrap();
+    for f in 4..8 {
+        fs::remove_file(folders[4].join(format!("tiles_{f:04}.json"))).unwrap();
+    }
+    let (code, log) = finish(farm_with(&other, &hosts, &out, &args));
+    assert_eq!(code, Some(0), "{log}");
+    assert_same_frames(&refdir, &out);
+    let rerun: BTreeSet<usize> = joblog(&out)[first..].iter().map(|a| a.job).collect();
+    assert_eq!(rerun, BTreeSet::from([1, 4]));
     drop(hosts);
 }
 
