@@ -14,8 +14,9 @@
 #   which run CMD (default: this machine's envshadow binary, by absolute path).
 # --no-shared-fs: the binary (unless --envshadow is given), the spec and its input files are
 #   shipped to each host (--basefile) into ~/.envshadow-farm/RUN, with what a job to run again
-#   already has here; each job's folder comes back as a tar file (--return) and is removed
-#   there (--cleanup).
+#   already has here; each job's folder comes back as a tar file (--return), and when the run
+#   ends, however it ends, RUN is removed from every host (its jobs still running there are
+#   stopped first).
 #
 # Before any job starts every host must report the same `envshadow version --build` as this
 # machine (another build can give other bits); a host that differs is named and the run is
@@ -88,11 +89,22 @@ spec_abs=$(cd "$(dirname "$spec")" && pwd)/$(basename "$spec")
 # connection per host (cuts per-job ssh overhead several-fold).
 ctl=$(mktemp -d "${TMPDIR:-/tmp}/esfarm.XXXXXX")
 ssh_full="$ssh_cmd -o BatchMode=yes -o ConnectTimeout=10 -o ServerAliveInterval=5 -o ServerAliveCountMax=3 -o ControlMaster=auto -o ControlPath=$ctl/%C -o ControlPersist=30"
+# At exit, however farm.sh ends (done, a refused host, a failure, a signal): without a shared
+# filesystem the hosts keep nothing of the run (clean_hosts, below) and neither does DIR.
+hosts_used=0 stage=""
 cleanup() {
+    if [ $hosts_used = 1 ]; then clean_hosts; fi
+    [ -z "$stage" ] || rm -rf "$stage"
+    [ $shared = 1 ] || rm -rf "$out/.send"
     for h in "${host_names[@]}"; do $ssh_full -O exit "$h" >/dev/null 2>&1 || true; done
     rm -rf "$ctl"
 }
 trap cleanup EXIT
+interrupt() {
+    echo "farm.sh: interrupted; run the same command again to continue" >&2
+    exit 129
+}
+trap interrupt HUP INT TERM
 
 by_flag=()
 [ -z "$by" ] || by_flag=(--by "$by")
@@ -130,13 +142,36 @@ else
         par+=(--basefile "$stage/./envshadow-farm.bin")
         rbin=./envshadow-farm.bin
     fi
-    par+=(--workdir ".envshadow-farm/$run_id")
+    workdir=.envshadow-farm/$run_id
+    par+=(--workdir "$workdir")
+    # The job's shell leads its process group (GNU parallel's remote wrapper makes it so) and
+    # records it in .pgid/, so that the clean-up below can stop what a killed run left running
+    # there before it removes the files. The tar is published under its name only complete.
     # A job that runs again starts from what its folder here holds (shipped as .send/FOLDER.tar,
     # empty for a job without a folder), so it renders only the frames missing or damaged.
     par+=(--transferfile "$out/./.send/{4}.tar")
-    job_cmd="mkdir -p jobs && tar xf .send/{4}.tar -C jobs && rm -f .send/{4}.tar && $rbin render $(q "$spec_rel") --job {1} --of $jobs ${by:+--by $by} --out . --resume$qflags && tar cf jobs/{4}.tar -C jobs {4} && rm -rf jobs/{4}"
+    job_cmd="mkdir -p .pgid jobs && : >.pgid/\$\$ && { tar xf .send/{4}.tar -C jobs && rm -f .send/{4}.tar && $rbin render $(q "$spec_rel") --job {1} --of $jobs ${by:+--by $by} --out . --resume$qflags && tar cf jobs/{4}.tar.part -C jobs {4} && mv jobs/{4}.tar.part jobs/{4}.tar && rm -rf jobs/{4}; s=\$?; rm -f .pgid/\$\$; exit \$s; }"
     check_cmd="$rbin version --build"
+    # Run on each host when the run ends, however it ends: stops this run's jobs still running
+    # there (TERM, then KILL after 5 s) and removes everything the run put there. GNU
+    # parallel's --cleanup removes only what finished jobs sent and returned.
+    host_cleanup="d=$(q "$workdir"); [ -d \"\$d\" ] || exit 0; cd \"\$d\" || exit 1; groups=;"
+    host_cleanup+=" for f in .pgid/*; do [ -e \"\$f\" ] && groups=\"\$groups \${f#.pgid/}\"; done;"
+    host_cleanup+=" for g in \$groups; do kill -TERM -\$g 2>/dev/null; done; i=0;"
+    host_cleanup+=" while [ \$i -lt 50 ]; do alive=; for g in \$groups; do kill -0 -\$g 2>/dev/null && alive=\"\$alive \$g\"; done;"
+    host_cleanup+=" groups=\$alive; [ -n \"\$groups\" ] || break; i=\$((i + 1)); sleep 0.1; done;"
+    host_cleanup+=" for g in \$groups; do kill -KILL -\$g 2>/dev/null; done;"
+    host_cleanup+=" cd ../.. && rm -rf \"\$d\" && { rmdir .envshadow-farm 2>/dev/null; true; }"
 fi
+clean_hosts() {
+    local h cleaners=()
+    for h in "${host_names[@]}"; do
+        (got=$($ssh_full "$h" "sh -c $(q "$host_cleanup")" 2>&1) ||
+            echo "farm.sh: host $h: could not remove ~/$workdir: $(echo "$got" | tail -n 1)" >&2) &
+        cleaners+=($!)
+    done
+    wait "${cleaners[@]}" || true
+}
 
 # The build check, before any job: every host runs the check command (shipping the binary
 # first without a shared filesystem) and must print this machine's build.
@@ -153,6 +188,7 @@ if [ $shared = 1 ]; then
         fi
     done
 else
+    hosts_used=1 # the check ships the binary and the inputs
     check_out=$("${par[@]}" --nonall 'printf "%s\t%s\n" "$PARALLEL_SSHHOST" "$('"$check_cmd"' 2>&1 | tail -n 1)"' 2>&1) || true
     for h in "${host_names[@]}"; do
         got=$(printf '%s\n' "$check_out" | awk -F'\t' -v h="$h" '$1 == h { print $2 }' | head -n 1)
@@ -217,7 +253,7 @@ if [ "$ntodo" -gt 0 ]; then
         kill -0 $ppid 2>/dev/null || break
     done
     set -e
-    trap - HUP INT TERM
+    trap interrupt HUP INT TERM
 else
     echo "farm.sh: all $njobs jobs are already rendered (their files match their checksums)"
 fi
@@ -238,8 +274,8 @@ if [ $shared = 0 ]; then
         fi
         rm -rf "$tmp"
     done
-    [ -z "${stage:-}" ] || rm -rf "$stage"
-    rm -rf "$out/.send"
+    clean_hosts
+    hosts_used=0
 fi
 
 if [ $interrupted = 1 ]; then

@@ -463,6 +463,87 @@ fn joblog(out: &Path) -> Vec<Attempt> {
         .collect()
 }
 
+/// Waits until `cond` holds, looking every 20 ms. What is waited for is an event (a file, a
+/// log line); the two minutes only turn a hang into a failure.
+fn wait_until(what: &str, mut cond: impl FnMut() -> bool) {
+    let start = Instant::now();
+    while !cond() {
+        assert!(
+            start.elapsed() < Duration::from_secs(120),
+            "waited two minutes for {what}"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// A stand-in for envshadow on the hosts (`farm.sh --envshadow`) that holds jobs at a known
+/// point, so a test can act while they surely run: each `render` writes `started.PID` (the
+/// host's name) into the gate's folder and waits until `open` exists there — before it
+/// renders, or (`after`) once the job's files are written. Anything else (the build check)
+/// goes straight to the test binary.
+struct Gate {
+    dir: PathBuf,
+    script: PathBuf,
+}
+
+impl Gate {
+    fn new(dir: &Path, after: bool) -> Gate {
+        fs::create_dir_all(dir).unwrap();
+        let script = dir.with_extension("sh");
+        let (before, after) = if after {
+            ("false", "true")
+        } else {
+            ("true", "false")
+        };
+        fs::write(
+            &script,
+            format!(
+                "#!/bin/sh\n\
+                 g='{g}'\n\
+                 if [ \"$1\" = render ]; then\n\
+                 \x20   if {after}; then '{bin}' \"$@\" || exit $?; fi\n\
+                 \x20   echo \"${{PARALLEL_SSHHOST:-?}}\" >\"$g/.started.$$\" && mv \"$g/.started.$$\" \"$g/started.$$\"\n\
+                 \x20   while [ ! -e \"$g/open\" ]; do sleep 0.02; done\n\
+                 \x20   if {before}; then exec '{bin}' \"$@\"; fi\n\
+                 \x20   exit 0\n\
+                 fi\n\
+                 exec '{bin}' \"$@\"\n",
+                g = dir.display(),
+                bin = BIN,
+            ),
+        )
+        .unwrap();
+        fs::set_permissions(&script, fs::Permissions::from_mode(0o755)).unwrap();
+        Gate {
+            dir: dir.to_path_buf(),
+            script,
+        }
+    }
+
+    fn path(&self) -> &str {
+        self.script.to_str().unwrap()
+    }
+
+    /// The hosts of the renders that reached the gate so far, one per render.
+    fn started(&self) -> Vec<String> {
+        fs::read_dir(&self.dir)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| {
+                p.file_name()
+                    .unwrap()
+                    .to_string_lossy()
+                    .starts_with("started.")
+            })
+            .map(|p| fs::read_to_string(p).unwrap().trim().to_string())
+            .collect()
+    }
+
+    fn open(&self) {
+        fs::write(self.dir.join("open"), "").unwrap();
+    }
+}
+
 /// Waits until the job log shows `n` finished attempts (or panics after a minute).
 fn wait_for_attempts(out: &Path, n: usize) {
     let start = Instant::now();
@@ -794,6 +875,49 @@ fn another_build_of_the_same_source_resumes_the_farm() {
     assert_same_frames(&refdir, &out);
     let rerun: BTreeSet<usize> = joblog(&out)[first..].iter().map(|a| a.job).collect();
     assert_eq!(rerun, BTreeSet::from([1, 4]));
+    drop(hosts);
+}
+
+/// Issue 20, item 8: with --no-shared-fs, a SIGTERM leaves nothing on the hosts — not the
+/// shipped spec, not the folders of the jobs it stopped, not a job's tar file. The jobs are
+/// held once their files are written on the hosts, so the signal surely finds them there.
+#[test]
+fn no_shared_fs_leaves_nothing_on_the_hosts_after_sigterm() {
+    let Some((tmp, refdir, hosts)) = farm_setup(common::this_test!()) else {
+        return;
+    };
+    let gate = Gate::new(&tmp.path().join("gate"), true);
+    let out = tmp.path().join("term");
+    let args = ["--no-shared-fs", "--envshadow", gate.path(), "--jobs", "6"];
+    let child = farm(&hosts, &out, &args);
+    wait_until("a job to render on a host", || !gate.started().is_empty());
+    let _ = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status();
+    let (code, log) = finish(child);
+    assert_eq!(code, Some(129), "{log}");
+    let homes = |what: &str| {
+        for k in 1..=3 {
+            let left = walk(&hosts.dir.join(format!("h{k}/home")));
+            assert!(left.is_empty(), "{what}: left on host fh{k}: {left:?}");
+        }
+    };
+    homes("after SIGTERM");
+    let local: Vec<PathBuf> = walk(&out)
+        .into_iter()
+        .filter(|p| {
+            let n = p.file_name().unwrap().to_string_lossy();
+            n.starts_with(".stage") || n.starts_with(".unpack") || n.ends_with(".tar")
+        })
+        .collect();
+    assert!(local.is_empty(), "{local:?}");
+
+    // The same command again, the gate open: the rest is rendered, the hosts are clean.
+    gate.open();
+    let (code, log) = finish(farm(&hosts, &out, &args));
+    assert_eq!(code, Some(0), "{log}");
+    assert_same_frames(&refdir, &out);
+    homes("after the re-run");
     drop(hosts);
 }
 
