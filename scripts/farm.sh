@@ -13,16 +13,20 @@
 # --shared-fs (default): DIR, the spec and its inputs are at the same paths on every host,
 #   which run CMD (default: this machine's envshadow binary, by absolute path).
 # --no-shared-fs: the binary (unless --envshadow is given), the spec and its input files are
-#   shipped to each host (--basefile) into ~/.envshadow-farm/RUN, each job's folder comes back
-#   as a tar file (--return) and is removed there (--cleanup).
+#   shipped to each host (--basefile) into ~/.envshadow-farm/RUN, with what a job to run again
+#   already has here; each job's folder comes back as a tar file (--return), and when the run
+#   ends, however it ends, RUN is removed from every host (its jobs still running there are
+#   stopped first).
 #
 # Before any job starts every host must report the same `envshadow version --build` as this
 # machine (another build can give other bits); a host that differs is named and the run is
 # refused. Jobs are retried on other hosts (--retries, default hosts + 2) and killed after
 # --timeout seconds (default 3600); ssh keepalives notice dead hosts. Run the same command
-# again to continue after a failure or an interruption (SIGHUP lets running jobs finish):
-# GNU parallel's --resume-failed runs only the jobs that did not succeed, and each job skips
-# frames it already published (--resume). Logs: DIR/logs/ (joblog, one log per host).
+# again to continue after a failure or an interruption (SIGHUP lets running jobs finish): the
+# jobs to run are judged from their files (`envshadow assemble --pending`: a job is done when
+# its every tile image matches the SHA-256 it records), so a job that failed, was never run,
+# or whose folder was since damaged or deleted runs again, and nothing else; each job skips
+# the frames it already has intact (--resume). Logs: DIR/logs/ (joblog, one log per host).
 # Exit: 0 all frames assembled; 1 jobs failed or assembly incomplete; 2 bad usage or a host
 # refused; 129 interrupted.
 set -euo pipefail
@@ -85,11 +89,22 @@ spec_abs=$(cd "$(dirname "$spec")" && pwd)/$(basename "$spec")
 # connection per host (cuts per-job ssh overhead several-fold).
 ctl=$(mktemp -d "${TMPDIR:-/tmp}/esfarm.XXXXXX")
 ssh_full="$ssh_cmd -o BatchMode=yes -o ConnectTimeout=10 -o ServerAliveInterval=5 -o ServerAliveCountMax=3 -o ControlMaster=auto -o ControlPath=$ctl/%C -o ControlPersist=30"
+# At exit, however farm.sh ends (done, a refused host, a failure, a signal): without a shared
+# filesystem the hosts keep nothing of the run (clean_hosts, below) and neither does DIR.
+hosts_used=0 stage=""
 cleanup() {
+    if [ $hosts_used = 1 ]; then clean_hosts; fi
+    [ -z "$stage" ] || rm -rf "$stage"
+    [ $shared = 1 ] || rm -rf "$out/.send"
     for h in "${host_names[@]}"; do $ssh_full -O exit "$h" >/dev/null 2>&1 || true; done
     rm -rf "$ctl"
 }
 trap cleanup EXIT
+interrupt() {
+    echo "farm.sh: interrupted; run the same command again to continue" >&2
+    exit 129
+}
+trap interrupt HUP INT TERM
 
 by_flag=()
 [ -z "$by" ] || by_flag=(--by "$by")
@@ -127,10 +142,36 @@ else
         par+=(--basefile "$stage/./envshadow-farm.bin")
         rbin=./envshadow-farm.bin
     fi
-    par+=(--workdir ".envshadow-farm/$run_id")
-    job_cmd="$rbin render $(q "$spec_rel") --job {1} --of $jobs ${by:+--by $by} --out . --resume$qflags && tar cf jobs/{4}.tar -C jobs {4} && rm -rf jobs/{4}"
+    workdir=.envshadow-farm/$run_id
+    par+=(--workdir "$workdir")
+    # The job's shell leads its process group (GNU parallel's remote wrapper makes it so) and
+    # records it in .pgid/, so that the clean-up below can stop what a killed run left running
+    # there before it removes the files. The tar is published under its name only complete.
+    # A job that runs again starts from what its folder here holds (shipped as .send/FOLDER.tar,
+    # empty for a job without a folder), so it renders only the frames missing or damaged.
+    par+=(--transferfile "$out/./.send/{4}.tar")
+    job_cmd="mkdir -p .pgid jobs && : >.pgid/\$\$ && { tar xf .send/{4}.tar -C jobs && rm -f .send/{4}.tar && $rbin render $(q "$spec_rel") --job {1} --of $jobs ${by:+--by $by} --out . --resume$qflags && tar cf jobs/{4}.tar.part -C jobs {4} && mv jobs/{4}.tar.part jobs/{4}.tar && rm -rf jobs/{4}; s=\$?; rm -f .pgid/\$\$; exit \$s; }"
     check_cmd="$rbin version --build"
+    # Run on each host when the run ends, however it ends: stops this run's jobs still running
+    # there (TERM, then KILL after 5 s) and removes everything the run put there. GNU
+    # parallel's --cleanup removes only what finished jobs sent and returned.
+    host_cleanup="d=$(q "$workdir"); [ -d \"\$d\" ] || exit 0; cd \"\$d\" || exit 1; groups=;"
+    host_cleanup+=" for f in .pgid/*; do [ -e \"\$f\" ] && groups=\"\$groups \${f#.pgid/}\"; done;"
+    host_cleanup+=" for g in \$groups; do kill -TERM -\$g 2>/dev/null; done; i=0;"
+    host_cleanup+=" while [ \$i -lt 50 ]; do alive=; for g in \$groups; do kill -0 -\$g 2>/dev/null && alive=\"\$alive \$g\"; done;"
+    host_cleanup+=" groups=\$alive; [ -n \"\$groups\" ] || break; i=\$((i + 1)); sleep 0.1; done;"
+    host_cleanup+=" for g in \$groups; do kill -KILL -\$g 2>/dev/null; done;"
+    host_cleanup+=" cd ../.. && rm -rf \"\$d\" && { rmdir .envshadow-farm 2>/dev/null; true; }"
 fi
+clean_hosts() {
+    local h cleaners=()
+    for h in "${host_names[@]}"; do
+        (got=$($ssh_full "$h" "sh -c $(q "$host_cleanup")" 2>&1) ||
+            echo "farm.sh: host $h: could not remove ~/$workdir: $(echo "$got" | tail -n 1)" >&2) &
+        cleaners+=($!)
+    done
+    wait "${cleaners[@]}" || true
+}
 
 # The build check, before any job: every host runs the check command (shipping the binary
 # first without a shared filesystem) and must print this machine's build.
@@ -147,6 +188,7 @@ if [ $shared = 1 ]; then
         fi
     done
 else
+    hosts_used=1 # the check ships the binary and the inputs
     check_out=$("${par[@]}" --nonall 'printf "%s\t%s\n" "$PARALLEL_SSHHOST" "$('"$check_cmd"' 2>&1 | tail -n 1)"' 2>&1) || true
     for h in "${host_names[@]}"; do
         got=$(printf '%s\n' "$check_out" | awk -F'\t' -v h="$h" '$1 == h { print $2 }' | head -n 1)
@@ -158,42 +200,63 @@ else
 fi
 [ $bad = 0 ] || die "refusing to start: every host must run the same envshadow build"
 
-# A re-run of the same plan resumes from the job log; another plan starts a new log.
-joblog=$logs/joblog
-plan_id=$( (cat "$out/jobs.txt"; echo "$job_cmd") | sha256sum | cut -c1-16)
-resume=()
-if [ -f "$joblog" ] && [ "$(cat "$joblog.plan" 2>/dev/null)" = "$plan_id" ]; then
-    resume=(--resume-failed)
-    echo "farm.sh: resuming: jobs that succeeded in $joblog are not run again"
-elif [ -f "$joblog" ]; then
-    mv "$joblog" "$joblog.$(date +%Y%m%d-%H%M%S)"
+# The jobs to run, judged from the job folders themselves (not from a log of past runs,
+# which cannot know of a file damaged or deleted since): every job whose files are not all
+# there and intact. Why each one runs is in farm.log.
+todo=$logs/todo.txt
+"$bin" assemble "$out" --pending >"$todo.tmp" 2>>"$logs/farm.log" ||
+    die "envshadow assemble --pending failed: $(tail -n 1 "$logs/farm.log")"
+mv "$todo.tmp" "$todo"
+ntodo=$(wc -l <"$todo")
+if [ "$ntodo" -lt "$njobs" ]; then
+    echo "farm.sh: resuming: $ntodo of $njobs jobs to render; the others' files are complete and match their checksums (why each runs: $logs/farm.log)"
 fi
-echo "$plan_id" >"$joblog.plan"
+if [ $shared = 0 ]; then
+    rm -rf "$out/.send" && mkdir "$out/.send"
+    while IFS=$'\t' read -r _ _ _ folder; do
+        if [ -d "$out/jobs/$folder" ]; then
+            tar cf "$out/.send/$folder.tar" -C "$out/jobs" "$folder"
+        else
+            tar cf "$out/.send/$folder.tar" -T /dev/null
+        fi
+    done <"$todo"
+fi
+# Every attempt of every run, appended; parallel writes no header when appending.
+joblog=$logs/joblog
+[ -s "$joblog" ] || printf 'Seq\tHost\tStarttime\tJobRuntime\tSend\tReceive\tExitval\tSignal\tCommand\n' >"$joblog"
 [ $shared = 1 ] || par+=(--return "$out/./jobs/{4}.tar" --cleanup)
 
 # Each job's output comes back tagged with its host (PARALLEL_SSHHOST, set by parallel on the
 # host) and is split into one log per host; anything untagged (parallel's and ssh's own
 # messages) goes to farm.log and the terminal.
 job_wrapped="o=\$( ($job_cmd) 2>&1); s=\$?; [ -z \"\$o\" ] || printf '%s\n' \"\$o\" | sed \"s|^|\$PARALLEL_SSHHOST	|\"; exit \$s"
-echo "farm.sh: $njobs jobs on ${#host_names[@]} hosts ($slots slots); per-host logs in $logs/hosts/, job log $logs/joblog"
-"${par[@]}" "${resume[@]}" --joblog "$joblog" --retries "$retries" --timeout "$timeout" \
-    --colsep '\t' -a "$out/jobs.txt" "$job_wrapped" \
-    > >(awk -F'\t' -v dir="$logs/hosts" -v farm="$logs/farm.log" -v hosts="${host_names[*]}" '
-        BEGIN { n = split(hosts, h, " "); for (i = 1; i <= n; i++) known[h[i]] = 1 }
-        ($1 in known) { f = dir "/" $1 ".log"; sub(/^[^\t]*\t/, ""); print >> f; fflush(f); next }
-        { print >> farm; fflush(farm); print > "/dev/stderr" }') 2>&1 &
-ppid=$!
-interrupted=0
-trap 'interrupted=1; kill -HUP $ppid 2>/dev/null || true' HUP
-trap 'interrupted=1; kill -TERM $ppid 2>/dev/null || true' INT TERM
-set +e
-while :; do
-    wait $ppid
-    rc=$?
-    kill -0 $ppid 2>/dev/null || break
-done
-set -e
-trap - HUP INT TERM
+# mawk (Debian's awk) reads a pipe in blocks: without -W interactive, the logs below would
+# get a job's lines only when a block filled or the run ended.
+awk_live=()
+if awk -W version 2>/dev/null | grep -q mawk; then awk_live=(-W interactive); fi
+interrupted=0 rc=0
+if [ "$ntodo" -gt 0 ]; then
+    echo "farm.sh: $ntodo jobs on ${#host_names[@]} hosts ($slots slots); per-host logs in $logs/hosts/, job log $logs/joblog"
+    "${par[@]}" --joblog "+$joblog" --retries "$retries" --timeout "$timeout" \
+        --colsep '\t' -a "$todo" "$job_wrapped" \
+        > >(awk "${awk_live[@]}" -F'\t' -v dir="$logs/hosts" -v farm="$logs/farm.log" -v hosts="${host_names[*]}" '
+            BEGIN { n = split(hosts, h, " "); for (i = 1; i <= n; i++) known[h[i]] = 1 }
+            ($1 in known) { f = dir "/" $1 ".log"; sub(/^[^\t]*\t/, ""); print >> f; fflush(f); next }
+            { print >> farm; fflush(farm); print > "/dev/stderr" }') 2>&1 &
+    ppid=$!
+    trap 'interrupted=1; kill -HUP $ppid 2>/dev/null || true' HUP
+    trap 'interrupted=1; kill -TERM $ppid 2>/dev/null || true' INT TERM
+    set +e
+    while :; do
+        wait $ppid
+        rc=$?
+        kill -0 $ppid 2>/dev/null || break
+    done
+    set -e
+    trap interrupt HUP INT TERM
+else
+    echo "farm.sh: all $njobs jobs are already rendered (their files match their checksums)"
+fi
 
 # Without a shared filesystem, unpack the returned job folders (into a temporary folder
 # first, so a half-unpacked folder is never taken for a job).
@@ -211,7 +274,8 @@ if [ $shared = 0 ]; then
         fi
         rm -rf "$tmp"
     done
-    [ -z "${stage:-}" ] || rm -rf "$stage"
+    clean_hosts
+    hosts_used=0
 fi
 
 if [ $interrupted = 1 ]; then

@@ -29,10 +29,13 @@
 # --dry-run: print the plan's job count and the sbatch commands with the task scripts; submit
 #   nothing and write nothing into DIR.
 #
-# Run the same command again after a failure or a cancellation: jobs whose frames are all in
-# DIR/jobs/ are not submitted again, and each task skips frames already published (--resume).
-# Logs: DIR/logs/render-<array>_<task>.log per task, DIR/logs/assemble-<id>.log, and
-# DIR/logs/submissions.log (every submission with its Slurm job ids).
+# Run the same command again after a failure or a cancellation: the jobs to submit are judged
+# from their files (`envshadow assemble --pending`: a job is done when its every tile image
+# matches the SHA-256 it records), so a job whose folder was damaged or deleted is submitted
+# again and a complete one is not; each task skips the frames it already has intact (--resume).
+# Logs: DIR/logs/render-<array>_<task>.log per task, DIR/logs/assemble-<id>.log,
+# DIR/logs/submissions.log (every submission with its Slurm job ids) and DIR/logs/pending.log
+# (before each submission, why each job submitted has to be rendered).
 # Exit: 0 submitted (with --wait: assembled); 1 submission or (with --wait) rendering or
 # assembly failed; 2 bad usage or a missing tool.
 set -euo pipefail
@@ -124,18 +127,23 @@ mapfile -t lines <"$plan_dir/jobs.txt"
 njobs=${#lines[@]}
 [ "$njobs" -gt 0 ] || die "the plan has no jobs"
 
-# Jobs still to render: those without every frame's tiles_NNNN.json (written last, after the
-# frame's EXR) in their folder. The tasks check again (--resume), assemble checks everything.
+# Jobs still to render, judged from the files (a frame's statistics alone would pass a
+# truncated or corrupted tile image): every job that is missing, incomplete or damaged, as
+# assemble judges it. The tasks check again (--resume). A dry run looks at DIR only when it
+# holds the same plan; otherwise a real run would render every job anyway.
 todo=()
-for line in "${lines[@]}"; do
-    IFS=$'\t' read -r index frames _tiles folder <<<"$line"
-    a=${frames%..*} b=${frames#*..}
-    done_all=1
-    for ((f = 10#$a; f < 10#$b; f++)); do
-        [ -s "$out_abs/jobs/$folder/$(printf 'tiles_%04d.json' "$f")" ] || { done_all=0; break; }
-    done
-    [ $done_all = 1 ] || todo+=("$index")
-done
+pending_dir=$out_abs
+[ $dry = 0 ] || cmp -s "$plan_dir/plan.json" "$out_abs/plan.json" 2>/dev/null || pending_dir=$plan_dir
+pending_err=$(mktemp "${TMPDIR:-/tmp}/esslurm-err.XXXXXX")
+if ! pending=$("$bin" assemble "$pending_dir" --pending 2>"$pending_err"); then
+    msg=$(tail -n 1 "$pending_err"); rm -f "$pending_err"
+    die "envshadow assemble --pending failed: $msg"
+fi
+[ $dry = 1 ] || cat "$pending_err" >>"$out_abs/logs/pending.log"
+rm -f "$pending_err"
+while IFS=$'\t' read -r index _rest; do
+    [ -z "$index" ] || todo+=("$index")
+done <<<"$pending"
 
 # Array indices as ranges: 0-3,5,7-9.
 ranges() {

@@ -69,8 +69,8 @@ pub enum Command {
     /// List the shadow methods: name, evaluation order, voting and flood rule, the settings
     /// each reads, and what it does.
     Methods,
-    /// Print the version; with --build also the build identity (a hash of this executable),
-    /// which every farm host must share.
+    /// Print the version; with --build also the build identity (a hash of the sources,
+    /// compiler, target and flags it was built from), which every farm host must share.
     Version(VersionArgs),
     /// Write one frame's triangles, normals, albedos, lights, camera rays and shadow offset for
     /// another renderer (scripts/compare-mitsuba.sh).
@@ -105,6 +105,11 @@ pub struct AssembleArgs {
     /// Do not write report.html (and report/).
     #[arg(long)]
     pub no_report: bool,
+    /// Write nothing: print the plan's line (as in jobs.txt) of every job still to render —
+    /// missing, incomplete, truncated or corrupt, judged from its files and their recorded
+    /// SHA-256 — and on stderr why. What scripts/farm.sh and slurm.sh re-run.
+    #[arg(long, conflicts_with = "no_report")]
+    pub pending: bool,
 }
 
 #[derive(Args, Debug)]
@@ -228,7 +233,7 @@ pub fn run(cli: Cli) -> Result<()> {
                 println!(
                     "envshadow {} build {}",
                     env!("CARGO_PKG_VERSION"),
-                    envshadow::farm::identity::build_id()?
+                    envshadow::farm::identity::BUILD_ID
                 );
             } else {
                 println!("envshadow {}", env!("CARGO_PKG_VERSION"));
@@ -386,6 +391,22 @@ fn plan(args: PlanArgs) -> Result<()> {
 }
 
 fn assemble(args: AssembleArgs) -> Result<()> {
+    if args.pending {
+        let done = envshadow::farm::assemble::pending(&args.dir)?;
+        for p in &done.problems {
+            eprintln!("{p}");
+        }
+        print!("{}", envshadow::farm::plan::job_lines(&done.pending));
+        eprintln!(
+            "{}: {} of {} jobs to render ({} of {} frames complete)",
+            args.dir.display(),
+            done.pending.len(),
+            done.jobs,
+            done.written,
+            done.frames
+        );
+        return Ok(());
+    }
     let start = Instant::now();
     let done = envshadow::farm::assemble::assemble(&args.dir)?;
     for p in &done.problems {

@@ -1,7 +1,8 @@
 //! `envshadow assemble DIR`: stitches the jobs' tile images into the frames a one-process
 //! render writes (the same bytes: the film is rebuilt from the very floats and written by the
 //! same code), merges their statistics into `stats.csv`, and names every job that is missing,
-//! incomplete, corrupt or from other settings or another build.
+//! incomplete, corrupt or from other settings or another build. [`pending`] makes the same
+//! judgement without writing anything: the jobs a re-run must render again.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::Path;
@@ -9,18 +10,17 @@ use std::path::Path;
 use glam::Vec3;
 
 use crate::error::{Result, input_error};
-use crate::farm::job::{Manifest, Settings, TileFrame, read_manifest, tiles_path};
+use crate::farm::PlanFile;
+use crate::farm::job::{
+    FrameProblem, Manifest, Settings, TileFrame, check_frame, read_manifest, tiles_path,
+};
 use crate::farm::plan::{Job, PlanRequest, plan};
-use crate::farm::{PlanFile, identity};
 use crate::film::Counts;
 use crate::film::Film;
 use crate::output::exr::read_frame;
 use crate::output::stats::{FrameStats, StatsFile};
 use crate::output::write_atomic;
 use crate::tile::{Tile, bounding};
-
-/// How `read_piece` says a frame's files are absent (not corrupt).
-const NOT_RENDERED: &str = "not rendered: no ";
 
 /// What `assemble` did.
 #[derive(Debug, Default)]
@@ -31,6 +31,8 @@ pub struct Assembled {
     pub jobs: usize,
     /// One line per job (or job folder) that is missing, incomplete, corrupt or foreign.
     pub problems: Vec<String>,
+    /// The expected jobs that owe frames (in plan order): what a re-run must render.
+    pub pending: Vec<Job>,
 }
 
 /// A valid job folder.
@@ -51,6 +53,28 @@ fn frame_list(frames: &BTreeSet<usize>) -> String {
 /// Assembles `dir` (see the module doc). Frames whose every tile is present are written even
 /// when others are not; the problems are returned for the caller to print.
 pub fn assemble(dir: &Path) -> Result<Assembled> {
+    examine(dir, true)
+}
+
+/// The planned jobs of `dir` that are not done, judged from their files exactly as
+/// [`assemble`] judges them (a job is done when its manifest agrees with the plan, its
+/// `lights.json` is there and every frame's tile image matches its recorded size and SHA-256),
+/// without decoding images or writing anything. `pending` and `problems` say which and why;
+/// `written` counts the frames an assembly would write. Needs `plan.json`: a job folder that
+/// was deleted is known only from the plan.
+pub fn pending(dir: &Path) -> Result<Assembled> {
+    let plan = dir.join("plan.json");
+    if dir.is_dir() && !plan.exists() {
+        return Err(input_error(
+            &plan,
+            "no plan: the jobs to render are judged against the plan (run envshadow plan first)",
+        ));
+    }
+    examine(dir, false)
+}
+
+/// [`assemble`] when `write`, else [`pending`].
+fn examine(dir: &Path, write: bool) -> Result<Assembled> {
     if !dir.is_dir() {
         return Err(input_error(dir, "no such folder"));
     }
@@ -203,11 +227,13 @@ pub fn assemble(dir: &Path) -> Result<Assembled> {
         }
     }
 
-    // lights.json: the same in every job (same inputs, same build), copied once.
+    // lights.json: the same in every job (same inputs, same build), copied once. A job
+    // writes it before its first frame, so a job without it is not done (and a re-run of the
+    // job writes it again).
     let mut lights: Option<Vec<u8>> = None;
     for s in &sources {
-        if let Ok(bytes) = std::fs::read(jobs_dir.join(&s.folder).join("lights.json")) {
-            match &lights {
+        match std::fs::read(jobs_dir.join(&s.folder).join("lights.json")) {
+            Ok(bytes) => match &lights {
                 None => lights = Some(bytes),
                 Some(l) if *l != bytes => {
                     folder_problem
@@ -215,6 +241,13 @@ pub fn assemble(dir: &Path) -> Result<Assembled> {
                         .or_insert_with(|| "lights.json differs from the other jobs'".into());
                 }
                 Some(_) => {}
+            },
+            Err(e) => {
+                let p = match e.kind() {
+                    std::io::ErrorKind::NotFound => "no lights.json".to_string(),
+                    _ => format!("lights.json: cannot read: {e}"),
+                };
+                folder_problem.entry(s.folder.clone()).or_insert(p);
             }
         }
     }
@@ -228,19 +261,21 @@ pub fn assemble(dir: &Path) -> Result<Assembled> {
     };
     let stats_path = dir.join("stats.csv");
     let mut stats_file = StatsFile::open(&stats_path);
-    let mut file_problem: BTreeMap<(String, usize), String> = BTreeMap::new();
+    let mut file_problem: BTreeMap<(String, usize), FrameProblem> = BTreeMap::new();
     // Expected job → frames it still owes.
     let mut owed: BTreeMap<usize, BTreeSet<usize>> = BTreeMap::new();
-    if let Some(l) = &lights {
+    if write && let Some(l) = &lights {
         write_atomic(&dir.join("lights.json"), l)?;
     }
     for &f in &frames {
-        let mut film = Film::new(
-            settings.width,
-            settings.height,
-            settings.validate,
-            settings.spp > 1,
-        );
+        let mut film = write.then(|| {
+            Film::new(
+                settings.width,
+                settings.height,
+                settings.validate,
+                settings.spp > 1,
+            )
+        });
         let mut covered = vec![false; grid.len()];
         let mut counts = Counts::default();
         let mut seconds = 0.0;
@@ -252,7 +287,7 @@ pub fn assemble(dir: &Path) -> Result<Assembled> {
             if s.tiles.iter().any(|t| covered[t.index]) {
                 continue; // another job already gave these tiles
             }
-            match read_piece(&jobs_dir.join(&s.folder), f, s, &settings, &mut film) {
+            match read_piece(&jobs_dir.join(&s.folder), f, s, &settings, film.as_mut()) {
                 Ok(tf) => {
                     for t in &s.tiles {
                         covered[t.index] = true;
@@ -266,8 +301,11 @@ pub fn assemble(dir: &Path) -> Result<Assembled> {
                 }
             }
         }
-        if covered.iter().all(|&c| c)
+        if !write && covered.iter().all(|&c| c) {
+            result.written += 1;
+        } else if covered.iter().all(|&c| c)
             && let Some(tf) = meta
+            && let Some(mut film) = film
         {
             film.counts = counts;
             crate::output::write_frame_files(dir, f, &film, settings.exposure)?;
@@ -297,7 +335,7 @@ pub fn assemble(dir: &Path) -> Result<Assembled> {
             }
         }
     }
-    if result.written > 0 {
+    if write && result.written > 0 {
         stats_file.write(&stats_path)?;
     }
 
@@ -319,8 +357,10 @@ pub fn assemble(dir: &Path) -> Result<Assembled> {
         } else {
             let corrupt: Vec<String> = owed_frames
                 .iter()
-                .filter_map(|f| file_problem.get(&(folder.clone(), *f)).cloned())
-                .filter(|p| !p.starts_with(NOT_RENDERED))
+                .filter_map(|f| match file_problem.get(&(folder.clone(), *f)) {
+                    Some(FrameProblem::Corrupt(p)) => Some(p.clone()),
+                    _ => None,
+                })
                 .collect();
             if corrupt.is_empty() {
                 format!(
@@ -337,6 +377,7 @@ pub fn assemble(dir: &Path) -> Result<Assembled> {
             }
         };
         result.problems.push(line);
+        result.pending.push(j.clone());
     }
     // Folders outside the plan that are broken (they did not cost a frame, but say so).
     for (folder, p) in &folder_problem {
@@ -347,44 +388,40 @@ pub fn assemble(dir: &Path) -> Result<Assembled> {
     Ok(result)
 }
 
-/// Reads one job's frame `f` into `film`: checks the statistics, the EXR's size and SHA-256,
-/// then copies the job's tiles. Errors are one-line descriptions naming the file.
+/// Checks one job's frame `f` ([`check_frame`]) and, given a film, copies the job's tiles of
+/// it there. Errors are one-line descriptions naming the file.
 fn read_piece(
     dir: &Path,
     f: usize,
     s: &Source,
     settings: &Settings,
+    film: Option<&mut Film>,
+) -> std::result::Result<TileFrame, FrameProblem> {
+    let tf = check_frame(dir, f)?;
+    if let Some(film) = film {
+        copy_piece(&tiles_path(dir, f, "exr"), s, settings, film).map_err(FrameProblem::Corrupt)?;
+    }
+    Ok(tf)
+}
+
+/// Copies the job's tiles of the (checked) tile image `exr` into `film`.
+fn copy_piece(
+    exr: &Path,
+    s: &Source,
+    settings: &Settings,
     film: &mut Film,
-) -> std::result::Result<TileFrame, String> {
-    let json = tiles_path(dir, f, "json");
-    let exr = tiles_path(dir, f, "exr");
+) -> std::result::Result<(), String> {
     let name = |p: &Path| {
         p.file_name()
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default()
     };
-    let text =
-        std::fs::read_to_string(&json).map_err(|_| format!("{NOT_RENDERED}{}", name(&json)))?;
-    let tf: TileFrame =
-        serde_json::from_str(&text).map_err(|e| format!("{}: unreadable: {e}", name(&json)))?;
-    if tf.frame != f {
-        return Err(format!("{}: says frame {}", name(&json), tf.frame));
-    }
-    let bytes = std::fs::read(&exr).map_err(|e| format!("{}: {e}", name(&exr)))?;
-    if bytes.len() as u64 != tf.exr_bytes || identity::sha256(&bytes) != tf.exr_sha256 {
-        return Err(format!(
-            "{}: checksum mismatch ({} bytes, expected {})",
-            name(&exr),
-            bytes.len(),
-            tf.exr_bytes
-        ));
-    }
-    let img = read_frame(&exr).map_err(|e| format!("{}: {e:#}", name(&exr)))?;
+    let img = read_frame(exr).map_err(|e| format!("{}: {e:#}", name(exr)))?;
     let bbox = bounding(&s.tiles);
     if img.width != bbox.width() as usize || img.height != bbox.height() as usize {
         return Err(format!(
             "{}: {}x{} pixels, expected {}x{}",
-            name(&exr),
+            name(exr),
             img.width,
             img.height,
             bbox.width(),
@@ -393,7 +430,7 @@ fn read_piece(
     }
     let ch = |c: &str| {
         img.channel(c)
-            .ok_or_else(|| format!("{}: no channel {c}", name(&exr)))
+            .ok_or_else(|| format!("{}: no channel {c}", name(exr)))
     };
     let (r, g, b, rays, vis) = (ch("R")?, ch("G")?, ch("B")?, ch("rays")?, ch("visible")?);
     let validated = if settings.validate {
@@ -428,5 +465,5 @@ fn read_piece(
             }
         }
     }
-    Ok(tf)
+    Ok(())
 }

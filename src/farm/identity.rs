@@ -32,14 +32,16 @@ pub fn sha256(bytes: &[u8]) -> String {
     format!("{:x}", Sha256::digest(bytes))
 }
 
-/// This executable's build identity: the first 16 hex digits of its SHA-256. Two hosts with the
-/// same identity run the same machine code (a rebuild with other flags, e.g.
-/// `target-cpu=native`, can change a ray's hit and so a pixel).
-pub fn build_id() -> Result<String> {
-    let exe = std::env::current_exe().context("finding this executable")?;
-    let mut id = file_sha256(&exe)?;
-    id.truncate(16);
-    Ok(id)
+/// This build's identity: 16 hex digits of a SHA-256 that build.rs computes from what
+/// decides the output bits — the crate's sources and lock file, the compiler, the target, the
+/// profile and the flags — not of the executable's bytes, which also change with what does
+/// not reach a pixel (`cargo test --release` links another file from the same source; see
+/// build.rs). Two hosts with the same identity render the same bits.
+pub const BUILD_ID: &str = env!("ENVSHADOW_BUILD_ID");
+
+/// [`BUILD_ID`], as plans and manifests record it.
+pub fn build_id() -> String {
+    BUILD_ID.to_string()
 }
 
 /// The name of the machine this runs on, for job manifests: `$ENVSHADOW_HOST`, else the

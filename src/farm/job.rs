@@ -122,6 +122,67 @@ pub fn tiles_path(dir: &Path, frame: usize, ext: &str) -> PathBuf {
     dir.join(format!("tiles_{frame:04}.{ext}"))
 }
 
+/// Why a job's frame is not done.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum FrameProblem {
+    /// No `tiles_NNNN.json`: the frame was never published, or its statistics were removed.
+    NotRendered,
+    /// Published files that do not hold together: one line naming the file and the problem.
+    Corrupt(String),
+}
+
+/// Checks frame `frame` of the job folder `dir` from its files alone: `tiles_NNNN.json` reads
+/// and names the frame, and `tiles_NNNN.exr` has the size and SHA-256 it records. The size
+/// alone would miss a flipped byte; the hash is what the job wrote, so a match means these
+/// are the very bits. Returns the frame's statistics.
+pub fn check_frame(dir: &Path, frame: usize) -> std::result::Result<TileFrame, FrameProblem> {
+    let json = tiles_path(dir, frame, "json");
+    let exr = tiles_path(dir, frame, "exr");
+    let name = |p: &Path| {
+        p.file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    };
+    let corrupt = |msg: String| FrameProblem::Corrupt(msg);
+    let text = match std::fs::read_to_string(&json) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return Err(FrameProblem::NotRendered);
+        }
+        Err(e) => return Err(corrupt(format!("{}: cannot read: {e}", name(&json)))),
+    };
+    let tf: TileFrame = serde_json::from_str(&text)
+        .map_err(|e| corrupt(format!("{}: unreadable: {e}", name(&json))))?;
+    if tf.frame != frame {
+        return Err(corrupt(format!("{}: says frame {}", name(&json), tf.frame)));
+    }
+    let bytes = std::fs::read(&exr).map_err(|e| {
+        corrupt(format!(
+            "{}: {e}, though {} records it",
+            name(&exr),
+            name(&json)
+        ))
+    })?;
+    if bytes.len() as u64 != tf.exr_bytes {
+        return Err(corrupt(format!(
+            "{}: checksum mismatch: {} bytes, {} records {} (truncated or replaced)",
+            name(&exr),
+            bytes.len(),
+            name(&json),
+            tf.exr_bytes
+        )));
+    }
+    if identity::sha256(&bytes) != tf.exr_sha256 {
+        return Err(corrupt(format!(
+            "{}: checksum mismatch: the SHA-256 differs from the one {} records (same size, {} bytes: corrupted)",
+            name(&exr),
+            name(&json),
+            bytes.len()
+        )));
+    }
+    Ok(tf)
+}
+
 /// `Settings::spp` in manifests written before samples per pixel.
 fn one() -> u32 {
     1
@@ -165,17 +226,10 @@ impl FrameSink for JobWriter {
         write_manifest(&self.dir, &self.manifest)
     }
 
-    /// The frame's files exist and agree on the EXR's size (`--resume`).
+    /// The frame's files exist and the EXR has the size and SHA-256 its statistics record
+    /// (`--resume`): a truncated or corrupted tile image is rendered again.
     fn frame_done(&self, frame: usize) -> bool {
-        let Ok(text) = std::fs::read_to_string(tiles_path(&self.dir, frame, "json")) else {
-            return false;
-        };
-        let Ok(tf) = serde_json::from_str::<TileFrame>(&text) else {
-            return false;
-        };
-        tf.frame == frame
-            && std::fs::metadata(tiles_path(&self.dir, frame, "exr"))
-                .is_ok_and(|m| m.len() == tf.exr_bytes)
+        check_frame(&self.dir, frame).is_ok()
     }
 
     /// Publishes one rendered frame: the tile image, then its statistics.

@@ -65,7 +65,7 @@ pub fn write_plan(anim: &Animation, spec: &Path, jobs: usize, by: Option<By>) ->
     let file = PlanFile {
         format: PLAN_FORMAT.into(),
         spec: spec.display().to_string(),
-        build: identity::build_id()?,
+        build: identity::build_id(),
         settings: Settings::of(anim)?,
         plan: PlanRef {
             jobs: req.jobs,
@@ -166,7 +166,7 @@ pub fn render_job(
     let dir = anim.output.dir.join("jobs").join(job.folder());
     let manifest = Manifest {
         format: job::FORMAT.into(),
-        build: identity::build_id()?,
+        build: identity::build_id(),
         host: identity::host_name(),
         settings: settings.clone(),
         plan: plan_ref,

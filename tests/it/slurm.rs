@@ -208,8 +208,45 @@ fn job_folders(out: &Path) -> Vec<PathBuf> {
     v
 }
 
+/// A file as it lies on disk: (inode, modification time in ns). A file written again gets
+/// another inode even with the same bytes (files are published by renaming a new one).
+fn stamp(p: &Path) -> (u64, i128) {
+    use std::os::unix::fs::MetadataExt;
+    let m = fs::metadata(p).unwrap();
+    (
+        m.ino(),
+        m.mtime() as i128 * 1_000_000_000 + m.mtime_nsec() as i128,
+    )
+}
+
+/// Every tile file of a job folder with its [`stamp`] (none when the folder is gone).
+fn tile_stamps(dir: &Path) -> Vec<(String, (u64, i128))> {
+    let Ok(rd) = fs::read_dir(dir) else {
+        return Vec::new();
+    };
+    let mut v: Vec<(String, (u64, i128))> = rd
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            p.file_name()
+                .unwrap()
+                .to_string_lossy()
+                .starts_with("tiles_")
+        })
+        .map(|p| {
+            (
+                p.file_name().unwrap().to_string_lossy().into_owned(),
+                stamp(&p),
+            )
+        })
+        .collect();
+    v.sort();
+    v
+}
+
+/// Issue 9, and issue 20 item 1: a re-submission judges the jobs from their files.
 #[test]
-fn slurm_array_matches_one_process_render_and_a_resubmission_renders_only_missing_jobs() {
+fn slurm_array_matches_one_process_render_and_a_resubmission_renders_only_missing_or_damaged_jobs()
+{
     if !have_slurm(common::this_test!()) {
         return;
     }
@@ -239,33 +276,65 @@ fn slurm_array_matches_one_process_render_and_a_resubmission_renders_only_missin
         .collect();
     assert!(nodes.len() > 1, "tasks ran on one node only: {nodes:?}");
 
-    // Lose job 1's folder and frame 4 of job 3, and the assembled frames: a re-submission
-    // sends only jobs 1 and 3, job 3 renders only frame 4, and the frames come back the same.
+    // Damage four jobs four ways — a byte flipped in job 0's frame 2 (same size), job 1's
+    // folder deleted, job 2's frame 5 truncated, job 3's frame 4 removed — and remove the
+    // assembled frames: a re-submission sends exactly jobs 0–3, each renders only what it
+    // lacks, job 4's files stay as they were, and the frames come back the same.
     let folders = job_folders(&out);
     assert_eq!(folders.len(), 5);
+    let exr = folders[0].join("tiles_0002.exr");
+    let mut bytes = fs::read(&exr).unwrap();
+    let mid = bytes.len() / 2;
+    bytes[mid] ^= 0xff;
+    fs::write(&exr, bytes).unwrap();
     fs::remove_dir_all(&folders[1]).unwrap();
+    let exr = folders[2].join("tiles_0005.exr");
+    let len = fs::metadata(&exr).unwrap().len();
+    fs::OpenOptions::new()
+        .write(true)
+        .open(&exr)
+        .unwrap()
+        .set_len(len / 2)
+        .unwrap();
     fs::remove_file(folders[3].join("tiles_0004.json")).unwrap();
     fs::remove_file(folders[3].join("tiles_0004.exr")).unwrap();
     for f in 0..6 {
         fs::remove_file(out.join(format!("frame_{f:04}.exr"))).unwrap();
     }
+    let before: Vec<_> = folders.iter().map(|f| tile_stamps(f)).collect();
     let o = cluster.slurm_sh(&out, &["--jobs", "5", "--cpus-per-task", "2", "--wait"]);
     assert!(o.status.success(), "{}", text(&o));
-    assert_eq!(submitted_arrays(&out), ["0-4", "1,3"]);
+    assert_eq!(submitted_arrays(&out), ["0-4", "0-3"]);
     let second: Vec<(String, String)> = task_logs(&out)
         .into_iter()
         .filter(|(n, _)| !logs.iter().any(|(m, _)| m == n))
         .collect();
-    assert_eq!(second.len(), 2, "{second:?}");
-    assert!(
-        second[0].1.contains("6 frames rendered, 0 skipped"),
-        "{second:?}"
-    );
-    assert!(
-        second[1].1.contains("1 frames rendered, 5 skipped"),
-        "{second:?}"
-    );
+    assert_eq!(second.len(), 4, "{second:?}");
+    for (k, want) in [
+        "1 frames rendered, 5 skipped",
+        "6 frames rendered, 0 skipped",
+        "1 frames rendered, 5 skipped",
+        "1 frames rendered, 5 skipped",
+    ]
+    .iter()
+    .enumerate()
+    {
+        assert!(second[k].1.contains(want), "task {k}: {:?}", second[k]);
+    }
     assert_same_frames(&reference, &out);
+    // Job 4 did not run; jobs 0, 2 and 3 wrote only their damaged frame's files.
+    let after: Vec<_> = folders.iter().map(|f| tile_stamps(f)).collect();
+    assert_eq!(after[4], before[4]);
+    for (k, frame) in [(0, "tiles_0002"), (2, "tiles_0005"), (3, "tiles_0004")] {
+        let kept = |v: &Vec<(String, (u64, i128))>| -> Vec<(String, (u64, i128))> {
+            v.iter()
+                .filter(|(n, _)| !n.starts_with(frame))
+                .cloned()
+                .collect()
+        };
+        assert_eq!(kept(&after[k]), kept(&before[k]), "job {k}");
+        assert_ne!(after[k], before[k], "job {k} did not render {frame}");
+    }
 
     // Everything rendered: a third submission only assembles.
     let o = cluster.slurm_sh(&out, &["--jobs", "5", "--wait"]);
