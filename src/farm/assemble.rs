@@ -18,8 +18,10 @@ use crate::farm::plan::{Job, PlanRequest, plan};
 use crate::film::Counts;
 use crate::film::Film;
 use crate::output::exr::read_frame;
+use crate::output::record::SettingsRecord;
 use crate::output::stats::{FrameStats, StatsFile};
 use crate::output::write_atomic;
+use crate::output::{publish_frame, write_frame_files};
 use crate::tile::{Tile, bounding};
 
 /// What `assemble` did.
@@ -267,6 +269,14 @@ fn examine(dir: &Path, write: bool) -> Result<Assembled> {
     if write && let Some(l) = &lights {
         write_atomic(&dir.join("lights.json"), l)?;
     }
+    // The folder a one-process render would leave: settings.txt and each frame committed
+    // with its record, so `render --resume` into it trusts these frames.
+    let record = (!settings.record.is_empty()).then(|| SettingsRecord {
+        lines: settings.record.clone(),
+    });
+    if write && let Some(r) = &record {
+        r.write(dir)?;
+    }
     for &f in &frames {
         let mut film = write.then(|| {
             Film::new(
@@ -308,10 +318,9 @@ fn examine(dir: &Path, write: bool) -> Result<Assembled> {
             && let Some(mut film) = film
         {
             film.counts = counts;
-            crate::output::write_frame_files(dir, f, &film, settings.exposure)?;
             let full = crate::tile::Rect::frame(settings.width, settings.height);
             let v = |a: [f32; 3]| Vec3::from_array(a);
-            stats_file.set(&FrameStats {
+            let stats = FrameStats {
                 frame: f,
                 method: tf.method.clone(),
                 lights: tf.lights,
@@ -325,7 +334,15 @@ fn examine(dir: &Path, write: bool) -> Result<Assembled> {
                 camera_target: v(tf.camera_target),
                 camera_up: v(tf.camera_up),
                 vfov_deg: tf.vfov_deg,
-            });
+            };
+            match &record {
+                Some(r) => {
+                    let row = stats.csv_row();
+                    publish_frame(dir, f, &film, settings.exposure, &r.fingerprint(), row)?;
+                }
+                None => write_frame_files(dir, f, &film, settings.exposure)?,
+            }
+            stats_file.set(&stats);
             result.written += 1;
         } else {
             for (k, j) in expected.iter().enumerate() {

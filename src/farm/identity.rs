@@ -1,36 +1,10 @@
 //! Build identity and settings fingerprints: what must agree between farm hosts and jobs for
 //! their pixels to be the same bits.
 
-use std::io::Read;
-use std::path::Path;
-
-use anyhow::Context;
-use sha2::{Digest, Sha256};
-
 use crate::anim::{Animation, EnvSource, SceneSource};
 use crate::error::Result;
 
-/// SHA-256 of a file, lowercase hex.
-pub fn file_sha256(path: &Path) -> Result<String> {
-    let mut f = std::fs::File::open(path).with_context(|| format!("opening {}", path.display()))?;
-    let mut h = Sha256::new();
-    let mut buf = vec![0u8; 1 << 16];
-    loop {
-        let n = f
-            .read(&mut buf)
-            .with_context(|| format!("reading {}", path.display()))?;
-        if n == 0 {
-            break;
-        }
-        h.update(&buf[..n]);
-    }
-    Ok(format!("{:x}", h.finalize()))
-}
-
-/// SHA-256 of bytes, lowercase hex.
-pub fn sha256(bytes: &[u8]) -> String {
-    format!("{:x}", Sha256::digest(bytes))
-}
+pub use crate::output::record::{file_sha256, sha256};
 
 /// This build's identity: 16 hex digits of a SHA-256 that build.rs computes from what
 /// decides the output bits — the crate's sources and lock file, the compiler, the target, the

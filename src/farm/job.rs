@@ -50,6 +50,11 @@ pub struct Settings {
     /// The run's frames (for an explicit job: its own).
     pub frames: Range<usize>,
     pub alignment: usize,
+    /// The settings record (`Animation::settings_record`) an assembled folder publishes as
+    /// `settings.txt`, so a later `render --resume` into it trusts its frames (absent in
+    /// plans written before it: the assembled frames then carry no records).
+    #[serde(default)]
+    pub record: Vec<(String, String)>,
 }
 
 impl Settings {
@@ -65,6 +70,7 @@ impl Settings {
             spp: anim.render.spp,
             frames: anim.frames.clone(),
             alignment: anim.frame_alignment(),
+            record: anim.settings_record()?.lines,
         })
     }
 

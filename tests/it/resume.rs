@@ -298,3 +298,44 @@ fn resume_renders_again_exactly_the_frames_whose_files_do_not_match_their_record
     );
     failures.assert_none();
 }
+
+/// A farm's assembled folder is the folder a one-process render leaves: `settings.txt` and
+/// each frame with its record, so `render --resume` into it renders nothing again.
+#[test]
+fn an_assembled_farm_folder_resumes_as_a_one_process_render() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = spec(tmp.path());
+    let out = tmp.path().join("out");
+    let o_str = out.to_str().unwrap();
+    let run = |args: &[&str]| {
+        let o = common::bin().args(args).output().unwrap();
+        assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+        stderr(&o)
+    };
+    let spec_str = spec.to_str().unwrap();
+    run(&["plan", spec_str, "--jobs", "2", "--out", o_str]);
+    for k in ["0", "1"] {
+        run(&[
+            "render", spec_str, "--job", k, "--of", "2", "--out", o_str, "-q",
+        ]);
+    }
+    run(&["assemble", o_str]);
+    let reference = tmp.path().join("reference");
+    let o = render(&spec, &reference, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(
+        fs::read_to_string(out.join("settings.txt")).unwrap(),
+        fs::read_to_string(reference.join("settings.txt")).unwrap()
+    );
+    let log = run(&[
+        "render",
+        spec_str,
+        "--out",
+        o_str,
+        "--resume",
+        "--no-report",
+    ]);
+    assert!(log.contains("0 frames rendered, 3 skipped"), "{log}");
+    let diff = differences(&out, &reference);
+    assert!(diff.is_empty(), "{diff:?}");
+}
