@@ -221,7 +221,7 @@ fn lights_seeds(dir: &Path) {
         (12, Sampler::MedianCut),
     ] {
         sets.push((
-            format!("{}_{n}.json", envshadow::anim::sampler_name(sampler)),
+            format!("{}_{n}.json", sampler.name()),
             LightSet::build(&sky, n, sampler).unwrap(),
         ));
     }
