@@ -5,10 +5,12 @@
 //! The limits are fixed numbers, not read from the host, so a farm refuses or accepts the same
 //! jobs on every machine.
 
+use std::fmt;
+use std::io::Read;
 use std::path::Path;
 
 use crate::bail_input;
-use crate::error::Result;
+use crate::error::{Result, input_error};
 
 /// Largest width or height.
 pub const MAX_DIM: u32 = 16384;
@@ -42,21 +44,163 @@ pub fn lights_problem(n: usize) -> Option<String> {
     }
 }
 
-/// Refuses a file larger than [`MAX_FILE_BYTES`] before it is read. A missing file passes: the
-/// reader that follows reports it in its own words.
+/// Refuses a file larger than [`MAX_FILE_BYTES`], or one that is not a regular file (a device
+/// such as `/dev/zero` reads forever, a FIFO blocks), before it is read. A missing file passes:
+/// the reader that follows reports it in its own words.
 pub fn check_file_size(path: &Path, what: &str) -> Result<()> {
-    if let Ok(m) = std::fs::metadata(path)
-        && m.is_file()
-        && m.len() > MAX_FILE_BYTES
-    {
-        bail_input!(
-            path,
-            "{what} is {} bytes; at most {MAX_FILE_BYTES} ({}) are read",
-            m.len(),
-            human_bytes(MAX_FILE_BYTES)
-        );
+    if let Ok(m) = std::fs::metadata(path) {
+        if let Some(kind) = not_regular(&m) {
+            bail_input!(path, "{what} is {kind}, not a regular file");
+        }
+        if m.len() > MAX_FILE_BYTES {
+            bail_input!(
+                path,
+                "{what} is {} bytes; at most {MAX_FILE_BYTES} ({}) are read",
+                m.len(),
+                human_bytes(MAX_FILE_BYTES)
+            );
+        }
     }
     Ok(())
+}
+
+/// What a file that is not a regular file is, for messages; `None` for a regular file.
+fn not_regular(m: &std::fs::Metadata) -> Option<&'static str> {
+    use std::os::unix::fs::FileTypeExt;
+    let t = m.file_type();
+    if t.is_file() {
+        None
+    } else if t.is_dir() {
+        Some("a folder")
+    } else if t.is_fifo() {
+        Some("a FIFO")
+    } else if t.is_char_device() {
+        Some("a character device")
+    } else if t.is_block_device() {
+        Some("a block device")
+    } else if t.is_socket() {
+        Some("a socket")
+    } else {
+        Some("not a file")
+    }
+}
+
+/// Why [`read_regular`] read nothing.
+#[derive(Debug)]
+pub enum ReadError {
+    /// A device, FIFO, socket or folder: never opened.
+    NotRegular(&'static str),
+    /// Larger than [`MAX_FILE_BYTES`].
+    TooLarge(u64),
+    /// The system's error (missing file, permission, I/O).
+    Io(std::io::Error),
+    /// The system refused the buffer for the file's bytes.
+    NoMemory(NoMemory),
+}
+
+impl fmt::Display for ReadError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ReadError::NotRegular(kind) => write!(f, "{kind}, not a regular file"),
+            ReadError::TooLarge(n) => write!(
+                f,
+                "{n} bytes; at most {MAX_FILE_BYTES} ({}) are read",
+                human_bytes(MAX_FILE_BYTES)
+            ),
+            ReadError::Io(e) => write!(f, "{e}"),
+            ReadError::NoMemory(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl ReadError {
+    /// The error for a file named `path` that was read as `what` (`scene file`, `buffer 0`):
+    /// an input error naming both, but for a refused allocation, which is the machine's.
+    pub fn into_error(self, path: &Path, what: &str) -> anyhow::Error {
+        match self {
+            ReadError::NoMemory(e) => {
+                anyhow::Error::new(e).context(format!("{}: reading {what}", path.display()))
+            }
+            ReadError::Io(e) => input_error(path, format!("cannot read {what}: {e}")),
+            e => input_error(path, format!("{what} is {e}")),
+        }
+    }
+}
+
+/// Reads a regular file whole, or its first `limit` bytes. The file is checked before it is
+/// opened (a device or a FIFO would read forever or block, and is refused) and again once
+/// open; the read is bounded by the size it had then, so a file that grows meanwhile cannot
+/// make it run on, and its buffer is asked of the system first (a refusal is an error).
+pub fn read_regular(path: &Path, limit: u64) -> std::result::Result<Vec<u8>, ReadError> {
+    let check = |m: &std::fs::Metadata| match not_regular(m) {
+        Some(kind) => Err(ReadError::NotRegular(kind)),
+        None if m.len() > MAX_FILE_BYTES => Err(ReadError::TooLarge(m.len())),
+        None => Ok(m.len()),
+    };
+    check(&std::fs::metadata(path).map_err(ReadError::Io)?)?;
+    let file = std::fs::File::open(path).map_err(ReadError::Io)?;
+    let len = check(&file.metadata().map_err(ReadError::Io)?)?.min(limit);
+    let mut bytes = try_vec(len as usize, "a file's bytes").map_err(ReadError::NoMemory)?;
+    file.take(len)
+        .read_to_end(&mut bytes)
+        .map_err(ReadError::Io)?;
+    Ok(bytes)
+}
+
+/// The system refused memory: the machine's limit, not the input's fault (exit code 1). The
+/// message gives what was asked and what for.
+#[derive(Debug, Clone)]
+pub struct NoMemory {
+    pub bytes: u128,
+    /// What the memory was for: `a file's bytes`, or the estimate's breakdown.
+    pub what: String,
+}
+
+impl fmt::Display for NoMemory {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "the system refused {} of memory for {}",
+            human_bytes_u128(self.bytes),
+            self.what
+        )
+    }
+}
+
+impl std::error::Error for NoMemory {}
+
+/// An empty vector with room for `n` elements, or [`NoMemory`] if the system refuses it.
+pub fn try_vec<T>(n: usize, what: &str) -> std::result::Result<Vec<T>, NoMemory> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(n).map_err(|_| NoMemory {
+        bytes: n as u128 * size_of::<T>() as u128,
+        what: what.to_string(),
+    })?;
+    Ok(v)
+}
+
+/// `n` zero bytes, or [`NoMemory`]. Unlike `try_vec` then `resize`, the pages are not written:
+/// a decoder that stops early (a truncated file) has touched only what it wrote.
+pub fn try_zeroed(n: usize, what: &str) -> std::result::Result<Vec<u8>, NoMemory> {
+    if n == 0 {
+        return Ok(Vec::new());
+    }
+    let refused = || NoMemory {
+        bytes: n as u128,
+        what: what.to_string(),
+    };
+    let layout = std::alloc::Layout::array::<u8>(n).map_err(|_| refused())?;
+    // SAFETY: `layout` has a non-zero size; a null pointer is the allocator's refusal. A
+    // non-null one points to `n` zeroed bytes allocated by the global allocator with the layout
+    // of a `Vec<u8>` of capacity `n`, which is what `from_raw_parts` needs, and zero is a valid
+    // `u8`.
+    unsafe {
+        let p = std::alloc::alloc_zeroed(layout);
+        if p.is_null() {
+            return Err(refused());
+        }
+        Ok(Vec::from_raw_parts(p, n, n))
+    }
 }
 
 /// What a render holds in memory, as far as it depends on the request.
@@ -202,6 +346,43 @@ mod tests {
         };
         let e = check_memory("a.toml", &whole).unwrap_err().to_string();
         assert!(e.contains("64 spp"), "{e}");
+    }
+
+    #[test]
+    fn only_regular_files_are_read_and_no_more_than_asked() {
+        let dir = std::env::temp_dir().join(format!("envshadow-limits-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("ten.bin");
+        std::fs::write(&file, b"0123456789").unwrap();
+        assert_eq!(read_regular(&file, u64::MAX).unwrap(), b"0123456789");
+        assert_eq!(read_regular(&file, 4).unwrap(), b"0123");
+        let kind = |p: &Path| match read_regular(p, u64::MAX) {
+            Err(ReadError::NotRegular(kind)) => kind,
+            other => panic!("{}: {other:?}", p.display()),
+        };
+        assert_eq!(kind(Path::new("/dev/zero")), "a character device");
+        assert_eq!(kind(&dir), "a folder");
+        assert!(matches!(
+            read_regular(&dir.join("absent"), 1),
+            Err(ReadError::Io(_))
+        ));
+        let e = check_file_size(Path::new("/dev/zero"), "lights file").unwrap_err();
+        assert!(
+            e.to_string()
+                .contains("/dev/zero: lights file is a character device, not a regular file"),
+            "{e}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn zeroed_buffers_are_zero_and_a_refusal_is_an_error() {
+        let v = try_zeroed(1 << 20, "test").unwrap();
+        assert!(v.len() == 1 << 20 && v.iter().all(|&b| b == 0));
+        assert!(try_zeroed(0, "test").unwrap().is_empty());
+        let e = try_zeroed(usize::MAX, "a test's buffer").unwrap_err();
+        assert!(e.to_string().contains("for a test's buffer"), "{e}");
+        assert!(try_vec::<u64>(usize::MAX / 4, "x").is_err());
     }
 
     #[test]

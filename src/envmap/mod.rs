@@ -23,6 +23,7 @@ use std::path::Path;
 
 use crate::bail_input;
 use crate::error::Result;
+use crate::limits::{MAX_FILE_BYTES, read_regular};
 
 /// Largest accepted map, in texels (2^28: 4 GiB of f32 RGB would follow).
 pub const MAX_TEXELS: usize = 1 << 28;
@@ -81,15 +82,13 @@ pub struct EnvMap {
 
 impl EnvMap {
     /// Loads `.exr` (full-resolution level of tiled/mip-mapped files too) or `.hdr`.
-    /// NaN, Inf or negative texels are an `InputError` naming the file and the texel.
+    /// NaN, Inf or negative texels are an `InputError` naming the file and the texel. Only a
+    /// regular file is read.
     pub fn load(path: &Path) -> Result<EnvMap> {
         format_of(path)?;
         check_readable(path)?;
-        crate::limits::check_file_size(path, "environment map")?;
-        let bytes = match std::fs::read(path) {
-            Ok(b) => b,
-            Err(e) => bail_input!(path, "cannot read environment map: {e}"),
-        };
+        let bytes = read_regular(path, MAX_FILE_BYTES)
+            .map_err(|e| e.into_error(path, "environment map"))?;
         EnvMap::decode(&bytes, path)
     }
 
@@ -302,10 +301,11 @@ fn format_of(path: &Path) -> Result<Format> {
     }
 }
 
+/// A missing map gets a plain message; anything else that is not a regular file is refused by
+/// the reader.
 fn check_readable(path: &Path) -> Result<()> {
     match std::fs::metadata(path) {
-        Ok(m) if m.is_file() => Ok(()),
-        Ok(_) => bail_input!(path, "not a file"),
+        Ok(_) => Ok(()),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
             bail_input!(path, "environment map not found")
         }

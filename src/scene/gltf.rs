@@ -17,6 +17,7 @@ use ::gltf::{Accessor, Document, Node, Primitive};
 use super::{Material, Scene, SceneCamera, Texture, normal_matrix};
 use crate::bail_input;
 use crate::error::{Result, input_error};
+use crate::limits::{MAX_FILE_BYTES, read_regular};
 
 /// An accessor without a buffer view is all zeros; more elements than this is surely a broken
 /// file, and refusing it avoids allocating whatever the count says from a few bytes of JSON.
@@ -27,8 +28,7 @@ const MAX_ACCESSOR_VALUES: usize = 3 * crate::limits::MAX_TRIANGLES;
 
 /// Loads a glTF file into a world-space [`Scene`].
 pub(super) fn load(path: &Path) -> Result<Scene> {
-    crate::limits::check_file_size(path, "scene file")?;
-    let bytes = std::fs::read(path).map_err(|e| input_error(path, format!("cannot read: {e}")))?;
+    let bytes = read_regular(path, MAX_FILE_BYTES).map_err(|e| e.into_error(path, "scene file"))?;
     load_bytes(&bytes, path)
 }
 
@@ -122,7 +122,8 @@ fn check_position_references(path: &Path, root: &::gltf::json::Root) -> Result<(
     Ok(())
 }
 
-/// Reads every buffer: the GLB binary chunk, a `data:` URI, or a file beside the glTF.
+/// Reads every buffer: the GLB binary chunk, a `data:` URI, or a file beside the glTF (its
+/// first `byteLength` bytes: the rest is never used).
 fn load_buffers(
     path: &Path,
     base: &Path,
@@ -140,9 +141,13 @@ fn load_buffers(
                     "buffer {i} refers to the GLB binary chunk, but the file has none"
                 ),
             },
-            ::gltf::buffer::Source::Uri(uri) => {
-                read_uri(base, uri).map_err(|e| input_error(path, format!("buffer {i}: {e}")))?
-            }
+            ::gltf::buffer::Source::Uri(uri) => read_uri(
+                path,
+                base,
+                uri,
+                &format!("buffer {i}"),
+                buffer.length() as u64,
+            )?,
         };
         if data.len() < buffer.length() {
             bail_input!(
@@ -157,33 +162,33 @@ fn load_buffers(
     Ok(buffers)
 }
 
-/// The bytes a URI names: `data:…;base64,…`, or a (percent-encoded) path relative to `base`.
-fn read_uri(base: &Path, uri: &str) -> std::result::Result<Vec<u8>, String> {
+/// The bytes a URI names: `data:…;base64,…`, or a (percent-encoded) path relative to `base`,
+/// of which at most `limit` bytes are read. Only regular files are read: a device
+/// (`/dev/zero`) would read until memory ran out, a FIFO block. Errors name the glTF file
+/// `path` and `what` the URI is for (`buffer 0`, `material 1: image 2`).
+fn read_uri(path: &Path, base: &Path, uri: &str, what: &str, limit: u64) -> Result<Vec<u8>> {
+    let err = |msg: String| input_error(path, format!("{what}: {msg}"));
     if let Some(rest) = uri.strip_prefix("data:") {
         let Some((_, payload)) = rest.split_once(";base64,") else {
-            return Err("data: URI is not base64".to_string());
+            return Err(err("data: URI is not base64".to_string()));
         };
-        return base64_decode(payload).ok_or_else(|| "data: URI has invalid base64".to_string());
+        return base64_decode(payload).ok_or_else(|| err("data: URI has invalid base64".into()));
     }
     let relative = if let Some(rest) = uri.strip_prefix("file://") {
         PathBuf::from(percent_decode(rest))
     } else if uri.contains(':') {
-        return Err(format!("unsupported URI scheme in '{uri}'"));
+        return Err(err(format!("unsupported URI scheme in '{uri}'")));
     } else {
         base.join(percent_decode(uri))
     };
-    if let Ok(m) = std::fs::metadata(&relative)
-        && m.len() > crate::limits::MAX_FILE_BYTES
-    {
-        return Err(format!(
-            "external file '{}' is {} bytes; at most {} are read",
-            relative.display(),
-            m.len(),
-            crate::limits::MAX_FILE_BYTES
-        ));
-    }
-    std::fs::read(&relative)
-        .map_err(|e| format!("cannot read external file '{}': {e}", relative.display()))
+    let file = relative.display();
+    read_regular(&relative, limit).map_err(|e| match e {
+        crate::limits::ReadError::NoMemory(e) => {
+            anyhow::Error::new(e).context(format!("{}: {what}: reading '{file}'", path.display()))
+        }
+        crate::limits::ReadError::Io(e) => err(format!("cannot read external file '{file}': {e}")),
+        e => err(format!("external file '{file}' is {e}")),
+    })
 }
 
 /// Decodes `%XX` escapes; invalid escapes are kept literally, invalid UTF-8 replaced.
@@ -598,8 +603,9 @@ impl Loader<'_> {
         }
         let at = format!("material {material}: image {index}");
         let bytes: Vec<u8> = match image.source() {
-            ::gltf::image::Source::Uri { uri, .. } => read_uri(&self.base, uri)
-                .map_err(|e| input_error(self.path, format!("{at}: {e}")))?,
+            ::gltf::image::Source::Uri { uri, .. } => {
+                read_uri(self.path, &self.base, uri, &at, MAX_FILE_BYTES)?
+            }
             ::gltf::image::Source::View { view, .. } => {
                 let range = view.offset()..view.offset().saturating_add(view.length());
                 match self

@@ -14,6 +14,7 @@ mod golden;
 mod hostile;
 mod interrupt;
 mod lights;
+mod memory;
 mod predict;
 mod render;
 mod report;
