@@ -7,6 +7,7 @@
 //! not say which mesh or accessor is at fault.
 
 use glam::{Mat4, Vec2, Vec3};
+use sha2::{Digest, Sha256};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
@@ -72,6 +73,7 @@ pub(super) fn load_bytes(bytes: &[u8], path: &Path) -> Result<Scene> {
         },
         material_map: HashMap::new(),
         image_map: HashMap::new(),
+        by_digest: HashMap::new(),
         default_material: None,
     };
     loader.walk()?;
@@ -250,6 +252,9 @@ struct Loader<'a> {
     material_map: HashMap<usize, u32>,
     /// glTF image index → scene texture index.
     image_map: HashMap<usize, usize>,
+    /// SHA-256 of an image's encoded bytes → scene texture index: the same bytes under another
+    /// image index (the same file named twice, a copy, a data: URI) are not decoded again.
+    by_digest: HashMap<[u8; 32], usize>,
     /// Scene index of the default grey material, once some primitive needed it.
     default_material: Option<u32>,
 }
@@ -595,7 +600,8 @@ impl Loader<'_> {
         Ok(i)
     }
 
-    /// Decodes an image once and returns its scene texture index.
+    /// Decodes an image once and returns its scene texture index; an image whose bytes are
+    /// those of one already decoded returns that one's.
     fn texture(&mut self, material: usize, image: ::gltf::Image) -> Result<usize> {
         let index = image.index();
         if let Some(&t) = self.image_map.get(&index) {
@@ -622,11 +628,17 @@ impl Loader<'_> {
                 }
             }
         };
+        let digest: [u8; 32] = Sha256::digest(&bytes).into();
+        if let Some(&t) = self.by_digest.get(&digest) {
+            self.image_map.insert(index, t);
+            return Ok(t);
+        }
         let texture = Texture::decode(&bytes)
             .map_err(|e| input_error(self.path, format!("{at}: cannot decode: {e}")))?;
         let t = self.scene.textures.len();
         self.scene.textures.push(texture);
         self.image_map.insert(index, t);
+        self.by_digest.insert(digest, t);
         Ok(t)
     }
 

@@ -29,8 +29,9 @@ pub use texture::srgb_to_linear;
 #[derive(Clone, Debug)]
 pub struct Texture {
     /// Level 0 (the texels as decoded), then each level half the size of the one before, down
-    /// to 1 × 1; only level 0 when the texture is empty.
-    levels: Vec<texture::Level>,
+    /// to 1 × 1; only level 0 when the texture is empty. Shared: the posed copies of a
+    /// spinning scene keep the same texels.
+    levels: std::sync::Arc<[texture::Level]>,
 }
 
 /// A Lambertian material: albedo = base_color × texture(uv).

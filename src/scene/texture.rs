@@ -64,7 +64,9 @@ impl Texture {
                 levels.push(next);
             }
         }
-        Some(Texture { levels })
+        Some(Texture {
+            levels: levels.into(),
+        })
     }
 
     /// Decodes an encoded image (PNG or JPEG) to a linear texture, treating it as sRGB and

@@ -1,5 +1,6 @@
-//! Issue 20, item 6: memory is bounded by what the inputs hold. Only regular files are read: a
-//! device such as `/dev/zero` would be read until memory ran out, a FIFO would block.
+//! Issue 20, item 6: memory is bounded by what the inputs hold. Each distinct image is decoded
+//! once, however many materials and image entries use it. Only regular files are read: a device
+//! such as `/dev/zero` would be read until memory ran out, a FIFO would block.
 //!
 //! The binary runs under `prlimit --as=4G`: a refusal there happened before any large
 //! allocation.
@@ -7,6 +8,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
+use envshadow::scene::Scene;
 use serde_json::{Value, json};
 
 use crate::common::{self, Failures};
@@ -147,6 +149,80 @@ fn textured(images: Vec<Value>, views: &[&[u8]]) -> Vec<u8> {
                      "uri": format!("data:application/octet-stream;base64,{}", base64(&bin))}]
     });
     serde_json::to_vec(&doc).unwrap()
+}
+
+/// A `w × h` RGB PNG of one colour, through the `image` crate's encoder (black compresses
+/// about 1000:1, so 8192 × 8192 is a 200 kB file).
+fn png(w: u32, h: u32, rgb: [u8; 3]) -> Vec<u8> {
+    use image::ImageEncoder;
+    let pixels: Vec<u8> = if rgb == [0; 3] {
+        vec![0; w as usize * h as usize * 3]
+    } else {
+        rgb.repeat(w as usize * h as usize)
+    };
+    let mut out = Vec::new();
+    image::codecs::png::PngEncoder::new_with_quality(
+        &mut out,
+        image::codecs::png::CompressionType::Fast,
+        image::codecs::png::FilterType::NoFilter,
+    )
+    .write_image(&pixels, w, h, image::ExtendedColorType::Rgb8)
+    .unwrap();
+    out
+}
+
+#[test]
+fn materials_sharing_an_image_decode_it_once() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let red = png(2, 2, [255, 0, 0]);
+    let blue = png(2, 2, [0, 0, 255]);
+    std::fs::write(dir.join("red.png"), &red).unwrap();
+    std::fs::write(dir.join("copy of red.png"), &red).unwrap();
+    std::fs::write(dir.join("blue.png"), &blue).unwrap();
+    // Eight materials, eight image indices, two distinct images: the same file twice, a copy of
+    // it, its bytes in a data: URI and in two buffer views; and a different one.
+    let images = vec![
+        json!({"uri": "red.png"}),
+        json!({"uri": "red.png"}),
+        json!({"uri": "copy%20of%20red.png"}),
+        json!({"uri": format!("data:image/png;base64,{}", base64(&red))}),
+        json!({"bufferView": 3, "mimeType": "image/png"}),
+        json!({"bufferView": 4, "mimeType": "image/png"}),
+        json!({"uri": "blue.png"}),
+        json!({"uri": "red.png"}),
+    ];
+    let path = dir.join("shared.gltf");
+    std::fs::write(&path, textured(images, &[&red, &red])).unwrap();
+    let scene = Scene::load(&path).unwrap();
+    assert_eq!(scene.textures.len(), 2, "two distinct images");
+    let used: Vec<Option<usize>> = scene.materials.iter().map(|m| m.texture).collect();
+    let red_t = used[0];
+    assert_eq!(
+        used,
+        vec![red_t, red_t, red_t, red_t, red_t, red_t, used[6], red_t]
+    );
+    assert_ne!(used[6], red_t);
+    let texel = |t: Option<usize>| scene.textures[t.unwrap()].texels()[0];
+    assert_eq!(texel(red_t), glam::Vec3::new(1.0, 0.0, 0.0));
+    assert_eq!(texel(used[6]), glam::Vec3::new(0.0, 0.0, 1.0));
+}
+
+#[test]
+fn eight_materials_sharing_a_png_that_decodes_to_a_gigabyte_render_within_4_gb() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    // 200 kB of PNG, 8192 × 8192 texels: about 1.1 GB once decoded with its pyramid. Eight
+    // image indices name it; decoded once, it fits in 4 GB of address space with the render.
+    let big = png(8192, 8192, [0; 3]);
+    assert!(big.len() < 1_000_000, "{} bytes", big.len());
+    std::fs::write(dir.join("big.png"), &big).unwrap();
+    let images = (0..8).map(|_| json!({"uri": "big.png"})).collect();
+    std::fs::write(dir.join("eight.gltf"), textured(images, &[])).unwrap();
+    let s = spec(dir, "eight", Some("eight.gltf"), None, "");
+    let o = render_limited(&s, FOUR_GB);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(dir.join("out/frame_0000.exr").exists());
 }
 
 /// Makes a FIFO at `path` with mkfifo(1) (coreutils; required).
