@@ -18,7 +18,7 @@ use ::gltf::{Accessor, Document, Node, Primitive};
 use super::{Material, Scene, SceneCamera, Texture, normal_matrix};
 use crate::bail_input;
 use crate::error::{Result, input_error};
-use crate::limits::{MAX_FILE_BYTES, read_regular};
+use crate::limits::{MAX_FILE_BYTES, NoMemory, read_regular};
 
 /// An accessor without a buffer view is all zeros; more elements than this is surely a broken
 /// file, and refusing it avoids allocating whatever the count says from a few bytes of JSON.
@@ -633,8 +633,10 @@ impl Loader<'_> {
             self.image_map.insert(index, t);
             return Ok(t);
         }
-        let texture = Texture::decode(&bytes)
-            .map_err(|e| input_error(self.path, format!("{at}: cannot decode: {e}")))?;
+        let texture = Texture::decode(&bytes).map_err(|e| match e.downcast::<NoMemory>() {
+            Ok(e) => anyhow::Error::new(e).context(format!("{}: {at}", self.path.display())),
+            Err(e) => input_error(self.path, format!("{at}: cannot decode: {e}")),
+        })?;
         let t = self.scene.textures.len();
         self.scene.textures.push(texture);
         self.image_map.insert(index, t);
