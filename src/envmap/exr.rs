@@ -9,21 +9,28 @@ use std::path::Path;
 use super::{check_plausible, check_size};
 use crate::bail_input;
 use crate::error::Result;
-use crate::limits::{NoMemory, try_vec};
+use crate::limits::{Budget, NoMemory, try_vec};
 
-/// Decodes `bytes` (named `path` in errors) as (width, height, texels). Validation of the
-/// values is the caller's. The texels are asked of the system before they are filled: a
-/// refusal is an error ([`NoMemory`]), not an abort.
-pub(super) fn decode(bytes: &[u8], path: &Path) -> Result<(usize, usize, Vec<Vec3>)> {
+/// Decodes `bytes` (named `path` in errors) as (width, height, texels), once `budget` has
+/// counted the largest size the headers declare. Validation of the values is the caller's.
+pub(super) fn decode(
+    bytes: &[u8],
+    path: &Path,
+    budget: &mut Budget,
+) -> Result<(usize, usize, Vec<Vec3>)> {
     // Headers first, so an absurd declared size is refused before pixels are allocated.
     let meta = match ::exr::meta::MetaData::read_from_buffered(Cursor::new(bytes), false) {
         Ok(m) => m,
         Err(e) => bail_input!(path, "not a readable OpenEXR file: {e}"),
     };
+    let mut largest = 0;
     for header in &meta.headers {
-        check_size(path, header.layer_size.0, header.layer_size.1)?;
-        check_plausible(path, header.layer_size.0, header.layer_size.1, bytes.len())?;
+        let (w, h) = (header.layer_size.0, header.layer_size.1);
+        check_size(path, w, h)?;
+        check_plausible(path, w, h, bytes.len())?;
+        largest = largest.max(w as u64 * h as u64);
     }
+    budget.map(path, largest, bytes.len() as u64)?;
     // The texels are asked of the system inside the reader's callback, which cannot fail: a
     // refusal leaves them empty, the pixel callback writes nowhere, and it is reported below.
     let image = ::exr::prelude::read()

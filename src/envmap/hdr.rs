@@ -8,12 +8,15 @@ use std::path::Path;
 use super::{check_plausible, check_size};
 use crate::bail_input;
 use crate::error::Result;
-use crate::limits::{NoMemory, try_vec, try_zeroed};
+use crate::limits::{Budget, NoMemory, try_vec, try_zeroed};
 
-/// Decodes `bytes` (named `path` in errors) as (width, height, texels). Validation of the
-/// values is the caller's. The pixels' buffers are asked of the system before they are filled:
-/// a refusal is an error ([`NoMemory`]), not an abort.
-pub(super) fn decode(bytes: &[u8], path: &Path) -> Result<(usize, usize, Vec<Vec3>)> {
+/// Decodes `bytes` (named `path` in errors) as (width, height, texels), once `budget` has
+/// counted the size the header declares. Validation of the values is the caller's.
+pub(super) fn decode(
+    bytes: &[u8],
+    path: &Path,
+    budget: &mut Budget,
+) -> Result<(usize, usize, Vec<Vec3>)> {
     let decoder = match image::codecs::hdr::HdrDecoder::new(Cursor::new(bytes)) {
         Ok(d) => d,
         Err(e) => bail_input!(path, "not a valid Radiance HDR file: {e}"),
@@ -22,6 +25,7 @@ pub(super) fn decode(bytes: &[u8], path: &Path) -> Result<(usize, usize, Vec<Vec
     let (w, h) = decoder.dimensions();
     check_size(path, w as usize, h as usize)?;
     check_plausible(path, w as usize, h as usize, bytes.len())?;
+    budget.map(path, u64::from(w) * u64::from(h), bytes.len() as u64)?;
     let refused = |e: NoMemory| anyhow::Error::new(e).context(path.display().to_string());
     // The decoder's RGB f32 samples; untouched pages cost nothing if the file ends early.
     let mut rgb =

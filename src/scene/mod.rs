@@ -17,6 +17,7 @@ use glam::{Mat3, Mat4, Vec2, Vec3};
 use std::path::Path;
 
 use crate::error::Result;
+use crate::limits::Budget;
 
 pub use texture::srgb_to_linear;
 
@@ -103,14 +104,29 @@ impl Scene {
     /// or malformed file, out-of-range indices, non-finite positions, mismatched attribute
     /// counts, no triangles at all) is an [`crate::error::InputError`] naming the file and,
     /// where it applies, the mesh, primitive and accessor.
+    ///
+    /// Memory: what the file will hold (vertices and triangles of every mesh instance, image
+    /// sizes) is counted from its headers and checked against the memory budget
+    /// ([`crate::limits::Budget`]) before a buffer is read or an image decoded; each distinct
+    /// image is decoded once, shared by every material that uses it.
     pub fn load(path: &Path) -> Result<Scene> {
-        gltf::load(path)
+        gltf::load(path, &mut Budget::default())
+    }
+
+    /// [`Scene::load`] against a render's `budget`, which then counts the scene.
+    pub fn load_within(path: &Path, budget: &mut Budget) -> Result<Scene> {
+        gltf::load(path, budget)
     }
 
     /// Loads a glTF or GLB file's bytes, as [`Scene::load`] does the file: `path` names it in
     /// errors, and external buffers and images are read relative to its folder.
     pub fn load_bytes(bytes: &[u8], path: &Path) -> Result<Scene> {
-        gltf::load_bytes(bytes, path)
+        gltf::load_bytes(bytes, path, &mut Budget::default())
+    }
+
+    /// [`Scene::load_bytes`] against `budget`, which then counts the scene.
+    pub fn load_bytes_within(bytes: &[u8], path: &Path, budget: &mut Budget) -> Result<Scene> {
+        gltf::load_bytes(bytes, path, budget)
     }
 
     /// The built-in `shapes` scene: sphere, box, cylinder, cone, torus and a thin upright slab

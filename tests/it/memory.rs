@@ -1,13 +1,18 @@
-//! Issue 20, item 6: memory is bounded by what the inputs hold. Each distinct image is decoded
-//! once, however many materials and image entries use it. Only regular files are read: a device
-//! such as `/dev/zero` would be read until memory ran out, a FIFO would block.
+//! Issue 20, item 6: memory is bounded by an estimate that covers the inputs. A scene's mesh
+//! instances, its textures and the environment map are counted from their headers and refused
+//! before anything large is read or decoded — over the 16 GB budget with exit code 2 and the
+//! estimate, or, within it, by a system that cannot give that much with exit code 1 and the
+//! estimate, never an abort. Each distinct image is decoded once; only regular files are read.
 //!
-//! The binary runs under `prlimit --as=4G`: a refusal there happened before any large
-//! allocation.
+//! The memory bombs are small files made here (a grid mesh's 2.4 MB buffer placed by 256 nodes,
+//! PNG and HDR headers declaring huge sizes), and the binary runs under `prlimit --as=4G`: a
+//! refusal there happened before any large allocation.
 
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
+use envshadow::anim::{AnimFlags, Animation, EnvSource, SceneSource};
+use envshadow::envmap::EnvMap;
 use envshadow::scene::Scene;
 use serde_json::{Value, json};
 
@@ -92,6 +97,51 @@ fn base64(data: &[u8]) -> String {
     s
 }
 
+/// Writes `name.gltf` and `name.bin` in `dir`: a grid of `side × side` quads in the unit square
+/// (2 side² triangles, (side + 1)² vertices, u32 indices) placed by `instances` nodes in a row.
+fn instanced(dir: &Path, name: &str, side: u32, instances: usize) -> PathBuf {
+    let mut bin = Vec::new();
+    let n = side + 1;
+    for j in 0..n {
+        for i in 0..n {
+            for c in [i as f32 / side as f32, 0.0, j as f32 / side as f32] {
+                bin.extend_from_slice(&c.to_le_bytes());
+            }
+        }
+    }
+    let positions = bin.len();
+    for j in 0..side {
+        for i in 0..side {
+            let a = j * n + i;
+            for v in [a, a + n, a + 1, a + 1, a + n, a + n + 1] {
+                bin.extend_from_slice(&v.to_le_bytes());
+            }
+        }
+    }
+    std::fs::write(dir.join(format!("{name}.bin")), &bin).unwrap();
+    let doc = json!({
+        "asset": {"version": "2.0"},
+        "scenes": [{"nodes": (0..instances).collect::<Vec<_>>()}],
+        "nodes": (0..instances)
+            .map(|k| json!({"mesh": 0, "translation": [k as f32 * 1.1, 0.0, 0.0]}))
+            .collect::<Vec<_>>(),
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": n * n, "type": "VEC3",
+             "min": [0, 0, 0], "max": [1, 0, 1]},
+            {"bufferView": 1, "componentType": 5125, "count": 6 * side * side, "type": "SCALAR"}
+        ],
+        "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": positions},
+            {"buffer": 0, "byteOffset": positions, "byteLength": bin.len() - positions}
+        ],
+        "buffers": [{"byteLength": bin.len(), "uri": format!("{name}.bin")}]
+    });
+    let path = dir.join(format!("{name}.gltf"));
+    std::fs::write(&path, serde_json::to_vec(&doc).unwrap()).unwrap();
+    path
+}
+
 /// A glTF of `images.len()` textured quads, primitive k with material k, whose texture shows
 /// image k (each a JSON image object: a `uri` or a `bufferView` into `views`, the bytes of
 /// buffer views 3, 4, … appended to the geometry's buffer).
@@ -171,6 +221,114 @@ fn png(w: u32, h: u32, rgb: [u8; 3]) -> Vec<u8> {
     out
 }
 
+/// The CRC-32 of PNG chunks (ISO 3309).
+fn crc32(bytes: &[u8]) -> u32 {
+    let mut c = !0u32;
+    for &b in bytes {
+        c ^= u32::from(b);
+        for _ in 0..8 {
+            c = if c & 1 != 0 {
+                0xEDB8_8320 ^ (c >> 1)
+            } else {
+                c >> 1
+            };
+        }
+    }
+    !c
+}
+
+/// A PNG that is only a header: it declares `w × h` RGB texels and holds none (an empty IDAT).
+fn png_header(w: u32, h: u32) -> Vec<u8> {
+    let chunk = |kind: &[u8], data: &[u8]| {
+        let mut c = (data.len() as u32).to_be_bytes().to_vec();
+        let body = [kind, data].concat();
+        c.extend_from_slice(&body);
+        c.extend_from_slice(&crc32(&body).to_be_bytes());
+        c
+    };
+    let mut ihdr = w.to_be_bytes().to_vec();
+    ihdr.extend_from_slice(&h.to_be_bytes());
+    ihdr.extend_from_slice(&[8, 2, 0, 0, 0]);
+    [
+        b"\x89PNG\r\n\x1a\n".to_vec(),
+        chunk(b"IHDR", &ihdr),
+        chunk(b"IDAT", &[]),
+        chunk(b"IEND", &[]),
+    ]
+    .concat()
+}
+
+/// A Radiance HDR declaring `w × h` texels followed by `rows` run-length scanlines of one grey.
+fn hdr(w: u32, h: u32, rows: u32) -> Vec<u8> {
+    let mut out = format!("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y {h} +X {w}\n").into_bytes();
+    let mut line = vec![2, 2, (w >> 8) as u8, w as u8];
+    for value in [128u8, 128, 128, 129] {
+        let mut left = w;
+        while left > 0 {
+            let n = left.min(127);
+            line.extend_from_slice(&[128 + n as u8, value]);
+            left -= n;
+        }
+    }
+    for _ in 0..rows {
+        out.extend_from_slice(&line);
+    }
+    out
+}
+
+#[test]
+fn a_mesh_instanced_past_the_budget_is_refused_before_its_buffer_is_read() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    // One 131,072-triangle mesh (a 2.4 MB buffer) placed by 256 nodes: 33.6 M triangles. A
+    // spin poses the scene and builds its BVH for each of the two frames in flight.
+    instanced(dir, "instanced", 256, 256);
+    let s = spec(
+        dir,
+        "spin",
+        Some("instanced.gltf"),
+        None,
+        "[motion]\nkind = \"spin\"\nframes = 4\n",
+    );
+    let o = render_limited(&s, FOUR_GB);
+    assert_refused(
+        &o,
+        2,
+        &[
+            "instanced.gltf",
+            "the render would need about",
+            "GB of memory, more than the 16.0 GB allowed",
+            "33.6 M triangles in 256 mesh instances",
+            "a posed copy for each of 2 frames",
+            "BVH",
+        ],
+        &dir.join("out"),
+    );
+}
+
+#[test]
+fn a_mesh_instanced_past_what_the_system_gives_is_refused_by_it_not_aborted() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    // The same 256 instances, the camera orbiting: one BVH, within the budget, but not within
+    // 4 GB of address space. The system is asked for the estimate before anything is loaded.
+    instanced(dir, "instanced", 256, 256);
+    let s = spec(dir, "orbit", Some("instanced.gltf"), None, "");
+    let o = render_limited(&s, FOUR_GB);
+    assert_refused(
+        &o,
+        1,
+        &[
+            "instanced.gltf",
+            "the system refused",
+            "GB of memory for the render",
+            "33.6 M triangles in 256 mesh instances",
+            "BVH",
+        ],
+        &dir.join("out"),
+    );
+}
+
 #[test]
 fn materials_sharing_an_image_decode_it_once() {
     let tmp = tempfile::tempdir().unwrap();
@@ -223,6 +381,97 @@ fn eight_materials_sharing_a_png_that_decodes_to_a_gigabyte_render_within_4_gb()
     let o = render_limited(&s, FOUR_GB);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(dir.join("out/frame_0000.exr").exists());
+}
+
+#[test]
+fn images_declaring_huge_sizes_are_counted_before_any_is_decoded() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let mut failures = Failures::new();
+    // PNG headers of about 8192 × 8192 texels each (sizes differ, so the files differ), with no
+    // pixels at all: the estimate is made from the headers, before the first decode would
+    // find the data missing.
+    for (n, code, needles) in [
+        // Eight: 8.6 GB of textures, within the budget but not within 4 GB.
+        (
+            8,
+            1,
+            [
+                "the system refused",
+                "textures 8.6 GB (8 images, 536.6 M texels)",
+            ],
+        ),
+        // Sixteen: 17.2 GB, past the budget.
+        (
+            16,
+            2,
+            [
+                "would need about",
+                "textures 17.2 GB (16 images, 1.1 G texels)",
+            ],
+        ),
+    ] {
+        failures.case(&format!("{n} images"), || {
+            let case = dir.join(format!("case{n}"));
+            std::fs::create_dir(&case).unwrap();
+            let images = (0..n)
+                .map(|k| {
+                    let name = format!("header{k}.png");
+                    std::fs::write(case.join(&name), png_header(8192, 8192 - k)).unwrap();
+                    json!({ "uri": name })
+                })
+                .collect();
+            std::fs::write(case.join("headers.gltf"), textured(images, &[])).unwrap();
+            let s = spec(&case, "headers", Some("headers.gltf"), None, "");
+            let o = render_limited(&s, FOUR_GB);
+            let mut all = vec!["headers.gltf"];
+            all.extend(needles);
+            assert_refused(&o, code, &all, &case.join("out"));
+        });
+    }
+    failures.assert_none();
+}
+
+#[test]
+fn a_16384_square_hdr_is_refused_before_its_pixels_are_allocated() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let mut failures = Failures::new();
+    // One scanline of data: more texels than the file can hold, refused with the estimate.
+    let tiny = hdr(16384, 16384, 1);
+    std::fs::write(dir.join("tiny.hdr"), &tiny).unwrap();
+    failures.case("one scanline", || {
+        let s = spec(dir, "tiny", None, Some("tiny.hdr"), "");
+        let o = render_limited(&s, FOUR_GB);
+        assert_refused(
+            &o,
+            2,
+            &[
+                "tiny.hdr",
+                "16384×16384 texels",
+                "9.7 GB of memory to load",
+                &format!("more than a {}-byte file can hold", tiny.len()),
+            ],
+            &dir.join("out"),
+        );
+    });
+    // 400 scanlines (420 kB): a file that could hold the map, which would take 9.7 GB.
+    std::fs::write(dir.join("part.hdr"), hdr(16384, 16384, 400)).unwrap();
+    failures.case("400 scanlines", || {
+        let s = spec(dir, "part", None, Some("part.hdr"), "");
+        let o = render_limited(&s, FOUR_GB);
+        assert_refused(
+            &o,
+            1,
+            &[
+                "part.hdr",
+                "the system refused",
+                "map 3.2 GB (268.4 M texels)",
+            ],
+            &dir.join("out"),
+        );
+    });
+    failures.assert_none();
 }
 
 /// Makes a FIFO at `path` with mkfifo(1) (coreutils; required).
@@ -378,5 +627,65 @@ fn devices_and_fifos_are_refused_unread() {
         assert_eq!(o.status.code(), Some(2), "{err}");
         assert!(err.contains("is a FIFO, not a regular file"), "{err}");
     });
+    failures.assert_none();
+}
+
+/// The estimate `Inputs::load` makes for `spec`: its budget with the map's header and the
+/// scene counted, as a render counts them.
+fn estimate_of(spec: &Path) -> u64 {
+    let anim = Animation::load(spec, &AnimFlags::default()).unwrap();
+    let mut budget = anim.budget();
+    if let EnvSource::File(p) = &anim.env {
+        let (texels, bytes) = EnvMap::declared_size(p).unwrap();
+        budget.expect_map(texels, bytes);
+    }
+    if let SceneSource::File(p) = &anim.scene {
+        Scene::load_within(p, &mut budget).unwrap();
+    }
+    if let EnvSource::File(p) = &anim.env {
+        EnvMap::load_within(p, &mut budget).unwrap();
+    }
+    budget.estimate().total() as u64
+}
+
+#[test]
+fn the_estimate_bounds_the_address_space_a_render_takes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    // Each input kind at a size where its own memory dominates, rendered under an address-space
+    // limit of its estimate: were the estimate short, an allocation would fail there (or the
+    // process abort). A 2 MB mesh placed 16 times (2.1 M triangles), orbited and spun; a
+    // 4096 × 4096 texture; a 4096 × 2048 map reduced to lights by both samplers.
+    instanced(dir, "grid", 256, 16);
+    std::fs::write(dir.join("t.png"), png(4096, 4096, [40, 80, 120])).unwrap();
+    std::fs::write(
+        dir.join("t.gltf"),
+        textured(vec![json!({"uri": "t.png"})], &[]),
+    )
+    .unwrap();
+    std::fs::write(dir.join("m.hdr"), hdr(4096, 2048, 2048)).unwrap();
+    let spin = "[motion]\nkind = \"spin\"\nframes = 2\n";
+    let median_cut = "[lights]\ncount = 8\nsampler = \"median-cut\"\n";
+    let cases = [
+        ("orbit", Some("grid.gltf"), None, ""),
+        ("spin", Some("grid.gltf"), None, spin),
+        ("texture", Some("t.gltf"), None, ""),
+        ("map sis", None, Some("m.hdr"), ""),
+        ("map median-cut", None, Some("m.hdr"), median_cut),
+    ];
+    let mut failures = Failures::new();
+    for (kind, scene, map, extra) in cases {
+        failures.case(kind, || {
+            let _ = std::fs::remove_dir_all(dir.join("out"));
+            let s = spec(dir, "bound", scene, map, extra);
+            let estimate = estimate_of(&s);
+            let o = render_limited(&s, estimate);
+            assert!(
+                o.status.success(),
+                "estimate {estimate}: {}",
+                String::from_utf8_lossy(&o.stderr)
+            );
+        });
+    }
     failures.assert_none();
 }
