@@ -138,6 +138,14 @@ impl Inputs {
             SceneSource::File(p) => Scene::load_within(p, &mut budget)
                 .with_context(|| format!("while loading {}", anim.spec_path.display()))?,
         };
+        // A spin poses the scene every frame: refused here if that could overflow (found by
+        // fuzzing the posed scene: tests/data/fuzz/posed_scene/huge-pivot).
+        if anim.motion == MotionKind::Spin {
+            let pivot = anim.pivot.unwrap_or(anim.camera(&scene, 0)?.target);
+            if let Some(why) = scene.turn_problem(pivot) {
+                crate::bail_input!(&anim.spec_path, "[motion] kind = \"spin\": {why}");
+            }
+        }
         let env = match &anim.env {
             EnvSource::Sky => EnvMap::builtin_sky(),
             EnvSource::File(p) => EnvMap::load_within(p, &mut budget)

@@ -57,6 +57,11 @@ impl Material {
     }
 }
 
+/// The largest coordinate a turned scene (a spin) may have, it or its pivot: an eighth of the
+/// largest f32, so that the turn's translation (pivot − R·pivot, up to three coordinates
+/// summed) plus a turned point (two) cannot reach infinity.
+pub const MAX_TURNED_COORDINATE: f32 = f32::MAX / 8.0;
+
 /// A perspective camera found in a scene file.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SceneCamera {
@@ -279,6 +284,22 @@ impl Scene {
             }
         }
         out
+    }
+
+    /// Why turning this scene about a vertical axis through `pivot` could overflow (a posed
+    /// vertex at infinity, which a BVH cannot hold), if it could: the turn's matrix and its
+    /// products stay finite while every coordinate of the scene and of the pivot is at most
+    /// [`MAX_TURNED_COORDINATE`] in magnitude.
+    pub fn turn_problem(&self, pivot: Vec3) -> Option<String> {
+        let (lo, hi) = self.bounds();
+        let scene = lo.abs().max(hi.abs()).max_element();
+        let pivot_max = pivot.abs().max_element();
+        if scene <= MAX_TURNED_COORDINATE && pivot_max <= MAX_TURNED_COORDINATE {
+            return None;
+        }
+        Some(format!(
+            "turning the scene (coordinates up to {scene:.1e}) about its pivot (coordinates up to {pivot_max:.1e}) could overflow; a spin turns coordinates up to {MAX_TURNED_COORDINATE:.1e}"
+        ))
     }
 
     /// Appends `other`'s triangles, materials and textures (indices shifted). Keeps this scene's
