@@ -479,18 +479,34 @@ impl Animation {
         Ok(a)
     }
 
-    fn validate(&self, path: &Path) -> Result<()> {
-        use limits::*;
-        let (r, lights) = (&self.render, self.lights.count);
-        let request = Request {
+    /// What rendering this animation holds in memory, as far as its settings say.
+    pub fn request(&self) -> limits::Request {
+        let r = &self.render;
+        limits::Request {
             width: r.width,
             height: r.height,
-            lights,
+            lights: self.lights.count,
             tile: r.tile,
             threads: r.threads,
             validate: r.validate,
             spp: r.spp,
+        }
+    }
+
+    /// The memory budget its inputs are loaded against: the request, and with a spin a posed
+    /// copy of the scene (and its BVH) for each frame in flight.
+    pub fn budget(&self) -> limits::Budget {
+        let posed = match self.motion {
+            MotionKind::Spin => self.frames.len().min(limits::FRAMES_IN_FLIGHT),
+            MotionKind::Orbit | MotionKind::Still => 0,
         };
+        limits::Budget::new(&self.request(), posed)
+    }
+
+    fn validate(&self, path: &Path) -> Result<()> {
+        use limits::*;
+        let (r, lights) = (&self.render, self.lights.count);
+        let request = self.request();
         let need = human_bytes_u128(estimate_bytes(&request));
         if r.width == 0 || r.height == 0 || r.width > MAX_DIM || r.height > MAX_DIM {
             bail_input!(

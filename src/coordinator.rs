@@ -188,16 +188,32 @@ impl Inputs {
             .get_or_init(|| Accel::build(&self.scene.positions, &self.scene.triangles))
     }
 
-    /// Loads the scene and environment and samples the lights.
+    /// Loads the scene and environment and samples the lights. Each file is counted against
+    /// the render's memory budget from its headers before it is decoded; the map's header is
+    /// read first, so the scene is checked with what will light it.
     pub fn load(anim: &Animation) -> Result<Inputs> {
+        let mut budget = anim.budget();
+        if let EnvSource::File(p) = &anim.env
+            && let Some((texels, bytes)) = EnvMap::declared_size(p)
+        {
+            budget.expect_map(texels, bytes);
+        }
         let scene = match &anim.scene {
             SceneSource::Shapes => Scene::shapes(),
-            SceneSource::File(p) => Scene::load(p)
+            SceneSource::File(p) => Scene::load_within(p, &mut budget)
                 .with_context(|| format!("while loading {}", anim.spec_path.display()))?,
         };
+        // A spin poses the scene every frame: refused here if that could overflow (found by
+        // fuzzing the posed scene: tests/data/fuzz/posed_scene/huge-pivot).
+        if anim.motion == MotionKind::Spin {
+            let pivot = anim.pivot.unwrap_or(anim.camera(&scene, 0)?.target);
+            if let Some(why) = scene.turn_problem(pivot) {
+                crate::bail_input!(&anim.spec_path, "[motion] kind = \"spin\": {why}");
+            }
+        }
         let env = match &anim.env {
             EnvSource::Sky => EnvMap::builtin_sky(),
-            EnvSource::File(p) => EnvMap::load(p)
+            EnvSource::File(p) => EnvMap::load_within(p, &mut budget)
                 .with_context(|| format!("while loading {}", anim.spec_path.display()))?,
         };
         let env = env
@@ -208,8 +224,8 @@ impl Inputs {
     }
 }
 
-/// Frames rendered at once (see `render_animation`).
-const FRAMES_IN_FLIGHT: usize = 2;
+/// Frames rendered at once (see `render_animation`); the memory estimate counts them.
+const FRAMES_IN_FLIGHT: usize = crate::limits::FRAMES_IN_FLIGHT;
 
 /// Options of a run beyond the animation itself.
 #[derive(Clone, Debug, Default)]

@@ -12,8 +12,18 @@ use envshadow::anim::{AnimFlags, Animation};
 use envshadow::envmap::EnvMap;
 use envshadow::error::Result;
 use envshadow::lights::{LightSet, Sampler, parse_json};
-use envshadow::scene::Scene;
-use glam::Vec3;
+use envshadow::limits::Budget;
+use envshadow::scene::{Material, Scene};
+use glam::{Mat4, Vec2, Vec3};
+
+/// The memory budget the loaders are held to here: half of libFuzzer's `-rss_limit_mb=2048`
+/// (scripts/fuzz.sh). An input the budget accepts and that still runs out of that limit (an
+/// OOM finding) is one whose memory the estimate fell short of.
+pub const BUDGET_BYTES: u64 = 1 << 30;
+
+fn budget() -> Budget {
+    Budget::default().with_limit(BUDGET_BYTES)
+}
 
 /// An animation spec, then the camera and scene motion at its first, middle and last frames.
 pub fn anim_spec(text: &str, path: &Path, scene: &Scene) -> Result<()> {
@@ -26,13 +36,79 @@ pub fn anim_spec(text: &str, path: &Path, scene: &Scene) -> Result<()> {
     Ok(())
 }
 
-/// A glTF or GLB file, then a BVH over what loaded and rays from six sides.
+/// A glTF or GLB file (within [`BUDGET_BYTES`]), then a BVH over what loaded and rays from six
+/// sides; then the same for the scene spun a quarter turn about its centre, as a spinning
+/// animation poses it.
 pub fn gltf(data: &[u8], path: &Path) -> Result<()> {
-    let scene = Scene::load_bytes(data, path)?;
+    let scene = Scene::load_bytes_within(data, path, &mut budget())?;
     // Building is linear in the triangles; keep the executions fast.
     if scene.triangles.len() > 100_000 {
         return Ok(());
     }
+    trace(&scene);
+    let (lo, hi) = scene.bounds();
+    let centre = (lo + hi) * 0.5;
+    let spin = Mat4::from_translation(centre)
+        * Mat4::from_rotation_y(std::f32::consts::FRAC_PI_2)
+        * Mat4::from_translation(-centre);
+    trace(&scene.transformed(spin));
+    Ok(())
+}
+
+/// A spec's spin as a render poses the scene ([`Animation::scene_transform`] about the first
+/// frame's camera target, then the BVH over the posed copy, as `render_tile_list` in
+/// src/coordinator.rs does) at its first, middle and last frames, with rays through each.
+pub fn posed_scene(text: &str, path: &Path, scene: &Scene) -> Result<()> {
+    let anim = Animation::parse(text, path, &AnimFlags::default())?;
+    let target = anim.camera(scene, 0)?.target;
+    // As `Inputs::load` refuses a spin that could overflow.
+    if let Some(why) = scene.turn_problem(anim.pivot.unwrap_or(target)) {
+        return Err(envshadow::error::input_error(path, why));
+    }
+    for frame in [0, anim.frame_count / 2, anim.frame_count - 1] {
+        anim.camera(scene, frame)?;
+        if let Some(m) = anim.scene_transform(frame, target) {
+            trace(&scene.transformed(m));
+        }
+    }
+    Ok(())
+}
+
+/// A small scene for [`posed_scene`]: a ground square and a tetrahedron standing on it, off
+/// centre (6 triangles).
+pub fn small_scene() -> Scene {
+    let positions = vec![
+        Vec3::new(-2.0, 0.0, -2.0),
+        Vec3::new(2.0, 0.0, -2.0),
+        Vec3::new(2.0, 0.0, 2.0),
+        Vec3::new(-2.0, 0.0, 2.0),
+        Vec3::new(0.5, 0.0, 0.0),
+        Vec3::new(1.5, 0.0, 0.0),
+        Vec3::new(1.0, 0.0, 1.0),
+        Vec3::new(1.0, 1.2, 0.4),
+    ];
+    let triangles = vec![
+        [0, 3, 2],
+        [0, 2, 1],
+        [4, 5, 7],
+        [5, 6, 7],
+        [6, 4, 7],
+        [4, 6, 5],
+    ];
+    Scene {
+        normals: vec![Vec3::Y; positions.len()],
+        uvs: vec![Vec2::ZERO; positions.len()],
+        positions,
+        tri_material: vec![0; triangles.len()],
+        triangles,
+        materials: vec![Material::default_grey()],
+        source: "fuzz:small".into(),
+        ..Scene::default()
+    }
+}
+
+/// A BVH over `scene` and rays towards its centre from six sides.
+fn trace(scene: &Scene) {
     let accel = Accel::build(&scene.positions, &scene.triangles);
     let (lo, hi) = scene.bounds();
     let centre = (lo + hi) * 0.5;
@@ -48,12 +124,12 @@ pub fn gltf(data: &[u8], path: &Path) -> Result<()> {
         let _ = accel.intersect(origin, -d);
         let _ = accel.occluded(origin, -d);
     }
-    Ok(())
 }
 
-/// An environment map (format from `path`'s extension), reduced to lights by both samplers.
+/// An environment map (format from `path`'s extension, within [`BUDGET_BYTES`]), reduced to
+/// lights by both samplers.
 pub fn envmap(data: &[u8], path: &Path) -> Result<()> {
-    let env = EnvMap::decode(data, path)?;
+    let env = EnvMap::decode_within(data, path, &mut budget())?;
     // Sampling is linear in the texels; keep the executions fast.
     if env.width * env.height > 1 << 16 {
         return Ok(());

@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use envshadow::envmap::EnvMap;
 use envshadow::lights::{Light, LightSet, Sampler};
 use glam::Vec3;
+use image::ImageEncoder;
 
 mod files;
 
@@ -142,6 +143,92 @@ fn gltf_seeds(dir: &Path, assets: &Path) {
     }
 }
 
+/// Seeds over libFuzzer's usual 64 kB, where images decode to hundreds of megabytes: a GLB
+/// whose eight materials share one 4096 × 4096 PNG (about 100 kB) in its binary chunk. Named
+/// `large-*`, not committed.
+fn large_gltf_seeds(dir: &Path) {
+    let side = 4096u32;
+    let pixels: Vec<u8> = (0..side * side)
+        .flat_map(|i| {
+            let (x, y) = (i % side, i / side);
+            [(x / 64) as u8, (y / 64) as u8, ((x ^ y) / 512) as u8]
+        })
+        .collect();
+    let mut png = Vec::new();
+    image::codecs::png::PngEncoder::new(&mut png)
+        .write_image(&pixels, side, side, image::ExtendedColorType::Rgb8)
+        .unwrap();
+    let mut bin = files::triangle_buffer();
+    bin.extend_from_slice(&png);
+    let json = gltf_json(
+        None,
+        r#"{"bufferView": 3, "mimeType": "image/png"}"#,
+        &format!(
+            r#", {{"buffer": 0, "byteOffset": 68, "byteLength": {}}}"#,
+            png.len()
+        ),
+        4,
+    )
+    .replace(
+        r#""byteLength": 68}"#,
+        &format!(r#""byteLength": {}}}"#, bin.len()),
+    );
+    // Eight materials, each with its own texture and image entry, all the same bytes.
+    let materials: Vec<String> = (0..8)
+        .map(|k| format!(r#"{{"pbrMetallicRoughness": {{"baseColorTexture": {{"index": {k}}}}}}}"#))
+        .collect();
+    let primitives: Vec<String> = (0..8)
+        .map(|k| format!(r#"{{"attributes": {{"POSITION": 0, "TEXCOORD_0": 2}}, "indices": 1, "material": {k}}}"#))
+        .collect();
+    let json = json
+        .replace(
+            r#""textures": [{"source": 0}], "images": [{"bufferView": 3, "mimeType": "image/png"}]"#,
+            &format!(
+                r#""textures": [{}], "images": [{}]"#,
+                (0..8).map(|k| format!(r#"{{"source": {k}}}"#)).collect::<Vec<_>>().join(", "),
+                vec![r#"{"bufferView": 3, "mimeType": "image/png"}"#; 8].join(", ")
+            ),
+        )
+        .replacen(
+            r#""materials": [{"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.7, 0.6, 1],
+   "baseColorTexture": {"index": 0}}}]"#,
+            &format!(r#""materials": [{}]"#, materials.join(", ")),
+            1,
+        )
+        .replacen(
+            r#""primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 2}, "indices": 1,
+   "material": 0, "mode": 4}]"#,
+            &format!(r#""primitives": [{}]"#, primitives.join(", ")),
+            1,
+        );
+    write(dir, "large-shared-texture.glb", &glb(&json, &bin));
+}
+
+/// Maps over 64 kB: 4096 × 2048 texels, run-length coded (about 0.5 MB), and a 16384 × 16384
+/// header whose file holds a tenth of its scanlines. Named `large-*`, not committed.
+fn large_hdr_seeds(dir: &Path) {
+    let scanlines = |w: usize, rows: usize| {
+        let mut line = vec![2u8, 2, (w >> 8) as u8, w as u8];
+        for value in [120u8, 130, 140, 129] {
+            let mut left = w;
+            while left > 0 {
+                let n = left.min(127);
+                line.extend_from_slice(&[128 + n as u8, value]);
+                left -= n;
+            }
+        }
+        line.repeat(rows)
+    };
+    for (name, w, h, rows) in [
+        ("large-4096x2048.hdr", 4096, 2048, 2048),
+        ("large-16384x16384-partial.hdr", 16384, 16384, 1638),
+    ] {
+        let mut out = format!("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y {h} +X {w}\n").into_bytes();
+        out.extend_from_slice(&scanlines(w, rows));
+        write(dir, name, &out);
+    }
+}
+
 fn exr_seeds(dir: &Path) {
     use exr::prelude::*;
     let compressions = [
@@ -221,7 +308,7 @@ fn lights_seeds(dir: &Path) {
         (12, Sampler::MedianCut),
     ] {
         sets.push((
-            format!("{}_{n}.json", envshadow::anim::sampler_name(sampler)),
+            format!("{}_{n}.json", sampler.name()),
             LightSet::build(&sky, n, sampler).unwrap(),
         ));
     }
@@ -244,6 +331,37 @@ fn lights_seeds(dir: &Path) {
         write(dir, &name, &std::fs::read(&p).unwrap());
     }
     let _ = std::fs::remove_dir_all(&tmp);
+}
+
+/// Spinning specs for the posed scene: pivots near and far, turns small and large, one frame
+/// and many.
+fn posed_seeds(dir: &Path) {
+    let specs = [
+        (
+            "spin.toml",
+            "[motion]\nkind = \"spin\"\nframes = 12\ndegrees_per_frame = 3.0\n",
+        ),
+        (
+            "pivot.toml",
+            "[motion]\nkind = \"spin\"\nframes = 5\nturn_degrees = 270.0\npivot = [1.0, 0.5, -2.0]\n",
+        ),
+        (
+            "far-pivot.toml",
+            "[motion]\nkind = \"spin\"\nframes = 3\ndegrees_per_frame = 90.0\npivot = [1e6, 0.0, 1e6]\n",
+        ),
+        ("one-frame.toml", "[motion]\nkind = \"spin\"\nframes = 1\n"),
+        (
+            "camera.toml",
+            "[camera]\nposition = [0.0, 2.0, 5.0]\ntarget = [0.3, 0.2, 0.0]\n[motion]\nkind = \"spin\"\nframes = 1000\ndegrees_per_frame = 17.5\n",
+        ),
+    ];
+    for (name, body) in specs {
+        write(
+            dir,
+            name,
+            format!("[scene]\nbuiltin = \"shapes\"\n{body}").as_bytes(),
+        );
+    }
 }
 
 fn spec_seeds(dir: &Path) {
@@ -275,9 +393,12 @@ fn main() {
         std::env::var("ENVSHADOW_ASSETS").unwrap_or_else(|_| "../shared/assets".into()),
     );
     spec_seeds(&root.join("anim_spec"));
+    posed_seeds(&root.join("posed_scene"));
     gltf_seeds(&root.join("gltf"), &assets);
+    large_gltf_seeds(&root.join("gltf"));
     exr_seeds(&root.join("envmap_exr"));
     hdr_seeds(&root.join("envmap_hdr"), &assets);
+    large_hdr_seeds(&root.join("envmap_hdr"));
     lights_seeds(&root.join("lights_json"));
     println!("seeds written under {}", root.display());
 }

@@ -9,30 +9,48 @@ use std::path::Path;
 use super::{check_plausible, check_size};
 use crate::bail_input;
 use crate::error::Result;
+use crate::limits::{Budget, NoMemory, try_vec};
 
-/// Decodes `bytes` (named `path` in errors) as (width, height, texels). Validation of the
-/// values is the caller's.
-pub(super) fn decode(bytes: &[u8], path: &Path) -> Result<(usize, usize, Vec<Vec3>)> {
+/// Decodes `bytes` (named `path` in errors) as (width, height, texels), once `budget` has
+/// counted the largest size the headers declare. Validation of the values is the caller's.
+pub(super) fn decode(
+    bytes: &[u8],
+    path: &Path,
+    budget: &mut Budget,
+) -> Result<(usize, usize, Vec<Vec3>)> {
     // Headers first, so an absurd declared size is refused before pixels are allocated.
     let meta = match ::exr::meta::MetaData::read_from_buffered(Cursor::new(bytes), false) {
         Ok(m) => m,
         Err(e) => bail_input!(path, "not a readable OpenEXR file: {e}"),
     };
+    let mut largest = 0;
     for header in &meta.headers {
-        check_size(path, header.layer_size.0, header.layer_size.1)?;
-        check_plausible(path, header.layer_size.0, header.layer_size.1, bytes.len())?;
+        let (w, h) = (header.layer_size.0, header.layer_size.1);
+        check_size(path, w, h)?;
+        check_plausible(path, w, h, bytes.len())?;
+        largest = largest.max(w as u64 * h as u64);
     }
+    budget.map(path, largest, bytes.len() as u64)?;
+    // The texels are asked of the system inside the reader's callback, which cannot fail: a
+    // refusal leaves them empty, the pixel callback writes nowhere, and it is reported below.
     let image = ::exr::prelude::read()
         .no_deep_data()
         .largest_resolution_level()
         .rgba_channels(
             |size: ::exr::math::Vec2<usize>, _channels: &::exr::prelude::RgbaChannels| {
-                (size.0, vec![Vec3::ZERO; size.0 * size.1])
+                let n = size.0 * size.1;
+                let mut texels = try_vec(n, "").unwrap_or_default();
+                if texels.capacity() >= n {
+                    texels.resize(n, Vec3::ZERO);
+                }
+                (size.0, texels)
             },
             |(w, texels): &mut (usize, Vec<Vec3>),
              pos: ::exr::math::Vec2<usize>,
              (r, g, b, _a): (f32, f32, f32, f32)| {
-                texels[pos.1 * *w + pos.0] = Vec3::new(r, g, b);
+                if let Some(t) = texels.get_mut(pos.1 * *w + pos.0) {
+                    *t = Vec3::new(r, g, b);
+                }
             },
         )
         .first_valid_layer()
@@ -44,5 +62,12 @@ pub(super) fn decode(bytes: &[u8], path: &Path) -> Result<(usize, usize, Vec<Vec
     };
     let size = image.layer_data.size;
     let (_, texels) = image.layer_data.channel_data.pixels;
+    if texels.len() != size.0 * size.1 {
+        let e = NoMemory {
+            bytes: (size.0 * size.1 * size_of::<Vec3>()) as u128,
+            what: "the map's texels".to_string(),
+        };
+        return Err(anyhow::Error::new(e).context(path.display().to_string()));
+    }
     Ok((size.0, size.1, texels))
 }

@@ -23,6 +23,7 @@ use std::path::Path;
 
 use crate::bail_input;
 use crate::error::Result;
+use crate::limits::{Budget, MAX_FILE_BYTES, read_regular};
 
 /// Largest accepted map, in texels (2^28: 4 GiB of f32 RGB would follow).
 pub const MAX_TEXELS: usize = 1 << 28;
@@ -81,25 +82,60 @@ pub struct EnvMap {
 
 impl EnvMap {
     /// Loads `.exr` (full-resolution level of tiled/mip-mapped files too) or `.hdr`.
-    /// NaN, Inf or negative texels are an `InputError` naming the file and the texel.
+    /// NaN, Inf or negative texels are an `InputError` naming the file and the texel. Only a
+    /// regular file is read; the size its header declares is checked against the memory budget
+    /// ([`Budget`]) before its pixels are decoded.
     pub fn load(path: &Path) -> Result<EnvMap> {
+        EnvMap::load_within(path, &mut Budget::default())
+    }
+
+    /// [`EnvMap::load`] against a render's `budget`, which then counts the map.
+    pub fn load_within(path: &Path, budget: &mut Budget) -> Result<EnvMap> {
         format_of(path)?;
         check_readable(path)?;
-        crate::limits::check_file_size(path, "environment map")?;
-        let bytes = match std::fs::read(path) {
-            Ok(b) => b,
-            Err(e) => bail_input!(path, "cannot read environment map: {e}"),
-        };
-        EnvMap::decode(&bytes, path)
+        let bytes = read_regular(path, MAX_FILE_BYTES)
+            .map_err(|e| e.into_error(path, "environment map"))?;
+        EnvMap::decode_within(&bytes, path, budget)
     }
 
     /// Decodes a map file's bytes; `path` names it in errors and its extension gives the format.
     pub fn decode(bytes: &[u8], path: &Path) -> Result<EnvMap> {
+        EnvMap::decode_within(bytes, path, &mut Budget::default())
+    }
+
+    /// [`EnvMap::decode`] against `budget`, which then counts the map.
+    pub fn decode_within(bytes: &[u8], path: &Path, budget: &mut Budget) -> Result<EnvMap> {
         let (width, height, texels) = match format_of(path)? {
-            Format::Exr => exr::decode(bytes, path)?,
-            Format::Hdr => hdr::decode(bytes, path)?,
+            Format::Exr => exr::decode(bytes, path, budget)?,
+            Format::Hdr => hdr::decode(bytes, path, budget)?,
         };
         EnvMap::from_texels(width, height, texels, &path.display().to_string())
+    }
+
+    /// The texels a map file declares and the file's length, from its header alone (without
+    /// reading its pixels); `None` if that cannot be read, which [`EnvMap::load`] then reports.
+    pub fn declared_size(path: &Path) -> Option<(u64, u64)> {
+        let format = format_of(path).ok()?;
+        let m = std::fs::metadata(path).ok()?;
+        // Not a device or a FIFO: reading one would not end, or block.
+        if !m.is_file() {
+            return None;
+        }
+        let file = std::io::BufReader::new(std::fs::File::open(path).ok()?);
+        let texels = match format {
+            Format::Hdr => {
+                use image::ImageDecoder;
+                let (w, h) = image::codecs::hdr::HdrDecoder::new(file).ok()?.dimensions();
+                u64::from(w) * u64::from(h)
+            }
+            Format::Exr => ::exr::meta::MetaData::read_from_buffered(file, false)
+                .ok()?
+                .headers
+                .iter()
+                .map(|h| h.layer_size.0 as u64 * h.layer_size.1 as u64)
+                .max()?,
+        };
+        Some((texels, m.len()))
     }
 
     /// A map from texels in memory (row-major, row 0 at the top), validated like a file:
@@ -302,10 +338,11 @@ fn format_of(path: &Path) -> Result<Format> {
     }
 }
 
+/// A missing map gets a plain message; anything else that is not a regular file is refused by
+/// the reader.
 fn check_readable(path: &Path) -> Result<()> {
     match std::fs::metadata(path) {
-        Ok(m) if m.is_file() => Ok(()),
-        Ok(_) => bail_input!(path, "not a file"),
+        Ok(_) => Ok(()),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
             bail_input!(path, "environment map not found")
         }
@@ -327,7 +364,8 @@ fn check_plausible(path: &Path, width: usize, height: usize, file_bytes: usize) 
     if decoded > room {
         bail_input!(
             path,
-            "the header declares {width}×{height} texels, more than a {file_bytes}-byte file can hold (truncated or broken header)"
+            "the header declares {width}×{height} texels (about {} of memory to load), more than a {file_bytes}-byte file can hold (truncated or broken header)",
+            crate::limits::human_bytes_u128(crate::limits::map_bytes(width as u64 * height as u64))
         );
     }
     Ok(())

@@ -7,7 +7,9 @@
 //! not say which mesh or accessor is at fault.
 
 use glam::{Mat4, Vec2, Vec3};
+use sha2::{Digest, Sha256};
 use std::collections::HashMap;
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use ::gltf::accessor::{DataType, Dimensions};
@@ -17,6 +19,7 @@ use ::gltf::{Accessor, Document, Node, Primitive};
 use super::{Material, Scene, SceneCamera, Texture, normal_matrix};
 use crate::bail_input;
 use crate::error::{Result, input_error};
+use crate::limits::{Budget, MAX_FILE_BYTES, NoMemory, SceneSize, read_regular, try_vec};
 
 /// An accessor without a buffer view is all zeros; more elements than this is surely a broken
 /// file, and refusing it avoids allocating whatever the count says from a few bytes of JSON.
@@ -25,15 +28,19 @@ const MAX_ZERO_ELEMENTS: usize = 1 << 24;
 /// triangle limit. Values are held as f64 while read, so this bounds that buffer to 1.6 GB.
 const MAX_ACCESSOR_VALUES: usize = 3 * crate::limits::MAX_TRIANGLES;
 
-/// Loads a glTF file into a world-space [`Scene`].
-pub(super) fn load(path: &Path) -> Result<Scene> {
-    crate::limits::check_file_size(path, "scene file")?;
-    let bytes = std::fs::read(path).map_err(|e| input_error(path, format!("cannot read: {e}")))?;
-    load_bytes(&bytes, path)
+/// Loads a glTF file into a world-space [`Scene`], counted against `budget` before anything
+/// large is read or decoded.
+pub(super) fn load(path: &Path, budget: &mut Budget) -> Result<Scene> {
+    let bytes = read_regular(path, MAX_FILE_BYTES).map_err(|e| e.into_error(path, "scene file"))?;
+    load_bytes(&bytes, path, budget)
 }
 
 /// Loads a glTF file's bytes; `path` names it in errors and anchors relative URIs.
-pub(super) fn load_bytes(bytes: &[u8], path: &Path) -> Result<Scene> {
+///
+/// Memory: the JSON alone says how many vertices and triangles every mesh instance adds and
+/// how long the buffers are, so that much is checked against `budget` before a buffer is read;
+/// once the images' headers are read, their texels are counted too, before any is decoded.
+pub(super) fn load_bytes(bytes: &[u8], path: &Path, budget: &mut Budget) -> Result<Scene> {
     // The gltf crate reports a short GLB as "could not completely read the object"; say more.
     if let (Some(b"glTF"), Some(declared)) = (bytes.get(..4), bytes.get(8..12)) {
         let declared = u32::from_le_bytes([declared[0], declared[1], declared[2], declared[3]]);
@@ -60,18 +67,33 @@ pub(super) fn load_bytes(bytes: &[u8], path: &Path) -> Result<Scene> {
     let document = Document::from_json(root)
         .map_err(|e| input_error(path, format!("not a valid glTF/GLB file: {e}")))?;
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    let (mut size, used) = count(path, &document)?;
+    // The file (and the GLB chunk's copy of it) and the buffers it declares are held while
+    // loading.
+    let blob_len = blob.as_ref().map_or(0, Vec::len) as u64;
+    let declared: u64 = document
+        .buffers()
+        .filter(|b| matches!(b.source(), ::gltf::buffer::Source::Uri(_)))
+        .map(|b| b.length() as u64)
+        .sum();
+    let held = bytes.len() as u64 + blob_len;
+    size.file_bytes = held + declared;
+    budget.scene(path, size, held)?;
     let buffers = load_buffers(path, &base, &document, blob)?;
+    let read: u64 = buffers.iter().map(|b| b.len() as u64).sum();
+    let images = Images::read(path, &base, &document, &buffers, &used)?;
+    size.file_bytes = bytes.len() as u64 + read + images.owned_bytes();
+    size.textures = images.distinct.len() as u64;
+    size.texels = images.distinct.iter().map(|d| d.texels).sum();
+    size.largest_texels = images.distinct.iter().map(|d| d.texels).max().unwrap_or(0);
+    budget.scene(path, size, size.file_bytes)?;
     let mut loader = Loader {
         path,
-        base,
         document: &document,
         buffers,
-        scene: Scene {
-            source: path.display().to_string(),
-            ..Scene::default()
-        },
+        scene: reserved(path, &size)?,
         material_map: HashMap::new(),
-        image_map: HashMap::new(),
+        images,
         default_material: None,
     };
     loader.walk()?;
@@ -122,7 +144,8 @@ fn check_position_references(path: &Path, root: &::gltf::json::Root) -> Result<(
     Ok(())
 }
 
-/// Reads every buffer: the GLB binary chunk, a `data:` URI, or a file beside the glTF.
+/// Reads every buffer: the GLB binary chunk, a `data:` URI, or a file beside the glTF (its
+/// first `byteLength` bytes: the rest is never used).
 fn load_buffers(
     path: &Path,
     base: &Path,
@@ -140,9 +163,13 @@ fn load_buffers(
                     "buffer {i} refers to the GLB binary chunk, but the file has none"
                 ),
             },
-            ::gltf::buffer::Source::Uri(uri) => {
-                read_uri(base, uri).map_err(|e| input_error(path, format!("buffer {i}: {e}")))?
-            }
+            ::gltf::buffer::Source::Uri(uri) => read_uri(
+                path,
+                base,
+                uri,
+                &format!("buffer {i}"),
+                buffer.length() as u64,
+            )?,
         };
         if data.len() < buffer.length() {
             bail_input!(
@@ -157,33 +184,33 @@ fn load_buffers(
     Ok(buffers)
 }
 
-/// The bytes a URI names: `data:…;base64,…`, or a (percent-encoded) path relative to `base`.
-fn read_uri(base: &Path, uri: &str) -> std::result::Result<Vec<u8>, String> {
+/// The bytes a URI names: `data:…;base64,…`, or a (percent-encoded) path relative to `base`,
+/// of which at most `limit` bytes are read. Only regular files are read: a device
+/// (`/dev/zero`) would read until memory ran out, a FIFO block. Errors name the glTF file
+/// `path` and `what` the URI is for (`buffer 0`, `material 1: image 2`).
+fn read_uri(path: &Path, base: &Path, uri: &str, what: &str, limit: u64) -> Result<Vec<u8>> {
+    let err = |msg: String| input_error(path, format!("{what}: {msg}"));
     if let Some(rest) = uri.strip_prefix("data:") {
         let Some((_, payload)) = rest.split_once(";base64,") else {
-            return Err("data: URI is not base64".to_string());
+            return Err(err("data: URI is not base64".to_string()));
         };
-        return base64_decode(payload).ok_or_else(|| "data: URI has invalid base64".to_string());
+        return base64_decode(payload).ok_or_else(|| err("data: URI has invalid base64".into()));
     }
     let relative = if let Some(rest) = uri.strip_prefix("file://") {
         PathBuf::from(percent_decode(rest))
     } else if uri.contains(':') {
-        return Err(format!("unsupported URI scheme in '{uri}'"));
+        return Err(err(format!("unsupported URI scheme in '{uri}'")));
     } else {
         base.join(percent_decode(uri))
     };
-    if let Ok(m) = std::fs::metadata(&relative)
-        && m.len() > crate::limits::MAX_FILE_BYTES
-    {
-        return Err(format!(
-            "external file '{}' is {} bytes; at most {} are read",
-            relative.display(),
-            m.len(),
-            crate::limits::MAX_FILE_BYTES
-        ));
-    }
-    std::fs::read(&relative)
-        .map_err(|e| format!("cannot read external file '{}': {e}", relative.display()))
+    let file = relative.display();
+    read_regular(&relative, limit).map_err(|e| match e {
+        crate::limits::ReadError::NoMemory(e) => {
+            anyhow::Error::new(e).context(format!("{}: {what}: reading '{file}'", path.display()))
+        }
+        crate::limits::ReadError::Io(e) => err(format!("cannot read external file '{file}': {e}")),
+        e => err(format!("external file '{file}' is {e}")),
+    })
 }
 
 /// Decodes `%XX` escapes; invalid escapes are kept literally, invalid UTF-8 replaced.
@@ -234,17 +261,288 @@ fn base64_decode(s: &str) -> Option<Vec<u8>> {
     Some(out)
 }
 
+/// Visits the default scene's nodes depth first (pre-order), composing transforms
+/// parent × child, and calls `visit` with each node and its world transform. A node reached
+/// twice (a cycle, or two parents) and a transform that is not finite are refused.
+fn walk(
+    path: &Path,
+    document: &Document,
+    mut visit: impl FnMut(&Node, Mat4) -> Result<()>,
+) -> Result<()> {
+    let roots: Vec<Node> = match document
+        .default_scene()
+        .or_else(|| document.scenes().next())
+    {
+        Some(scene) => scene.nodes().collect(),
+        None => {
+            // No scenes: every node that is nobody's child is a root.
+            let mut is_child = vec![false; document.nodes().len()];
+            for node in document.nodes() {
+                for child in node.children() {
+                    is_child[child.index()] = true;
+                }
+            }
+            document.nodes().filter(|n| !is_child[n.index()]).collect()
+        }
+    };
+    let mut visited = vec![false; document.nodes().len()];
+    // Reversed so that popping visits nodes in file order.
+    let mut stack: Vec<(Node, Mat4)> = roots
+        .into_iter()
+        .rev()
+        .map(|n| (n, Mat4::IDENTITY))
+        .collect();
+    while let Some((node, parent)) = stack.pop() {
+        let n = node.index();
+        if visited[n] {
+            bail_input!(
+                path,
+                "node {n} is reached twice in the node hierarchy (a cycle, or a node with two parents)"
+            );
+        }
+        visited[n] = true;
+        let local = Mat4::from_cols_array_2d(&node.transform().matrix());
+        if !local.is_finite() {
+            bail_input!(path, "node {n}: transform is not finite");
+        }
+        let world = parent * local;
+        visit(&node, world)?;
+        let children: Vec<Node> = node.children().collect();
+        stack.extend(children.into_iter().rev().map(|c| (c, world)));
+    }
+    Ok(())
+}
+
+/// Whether a mesh placed by `world` is loaded: a singular transform (zero scale) flattens it.
+fn placeable(world: Mat4) -> bool {
+    let det = world.determinant();
+    det != 0.0 && det.is_finite()
+}
+
+/// Whether a primitive's mode makes triangles (others are skipped with a warning).
+fn is_triangles(mode: Mode) -> bool {
+    matches!(
+        mode,
+        Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+    )
+}
+
+/// The texture coordinate set a primitive's material samples its base colour with.
+fn tex_coord_set(primitive: &Primitive) -> u32 {
+    primitive
+        .material()
+        .pbr_metallic_roughness()
+        .base_color_texture()
+        .map_or(0, |info| info.tex_coord())
+}
+
+/// What the default scene will hold, from the JSON alone: the vertices and (at most) triangles
+/// of every primitive the loader will read, once per node that places its mesh, and the
+/// largest of them; and the images their materials use, as (material, image) in the order the
+/// loader meets them. Accessors too large to read are refused here, as the loader would.
+fn count(path: &Path, document: &Document) -> Result<(SceneSize, Vec<(usize, usize)>)> {
+    let mut size = SceneSize::default();
+    let mut used = Vec::new();
+    walk(path, document, |node, world| {
+        let Some(mesh) = node.mesh() else {
+            return Ok(());
+        };
+        if !placeable(world) {
+            return Ok(());
+        }
+        size.instances += 1;
+        for primitive in mesh.primitives() {
+            if !is_triangles(primitive.mode()) {
+                continue;
+            }
+            let at = format!("mesh {} primitive {}", mesh.index(), primitive.index());
+            // Without positions the loader refuses the primitive: nothing to count.
+            let Some(positions) = primitive.get(&Semantic::Positions) else {
+                continue;
+            };
+            let set = tex_coord_set(&primitive);
+            let attributes = [
+                Some(positions.clone()),
+                primitive.get(&Semantic::Normals),
+                primitive.get(&Semantic::TexCoords(set)),
+                primitive.indices(),
+            ];
+            for acc in attributes.iter().flatten() {
+                check_values(path, &at, acc)?;
+            }
+            let vertices = positions.count() as u64;
+            let indices = primitive.indices().map_or(vertices, |a| a.count() as u64);
+            let triangles = match primitive.mode() {
+                Mode::Triangles => indices / 3,
+                _ => indices.saturating_sub(2),
+            };
+            size.vertices += vertices;
+            size.triangles += triangles;
+            size.largest_vertices = size.largest_vertices.max(vertices);
+            size.largest_indices = size.largest_indices.max(indices);
+            let material = primitive.material();
+            if let (Some(m), Some(info)) = (
+                material.index(),
+                material.pbr_metallic_roughness().base_color_texture(),
+            ) {
+                used.push((m, info.texture().source().index()));
+            }
+        }
+        Ok(())
+    })?;
+    Ok((size, used))
+}
+
+/// Refuses an accessor with more values (elements × components) than one read may hold.
+fn check_values(path: &Path, at: &str, acc: &Accessor) -> Result<()> {
+    let (count, dims) = (acc.count(), acc.dimensions().multiplicity());
+    if count.saturating_mul(dims) > MAX_ACCESSOR_VALUES {
+        bail_input!(
+            path,
+            "{at}: accessor {}: count {count} of {dims} components is more than the {MAX_ACCESSOR_VALUES} values allowed",
+            acc.index()
+        );
+    }
+    Ok(())
+}
+
+/// An empty scene with room for `size`'s vertices and triangles, asked of the system at once:
+/// a refusal is an error now, and the arrays never grow by doubling (a copy of each, briefly
+/// twice its size).
+fn reserved(path: &Path, size: &SceneSize) -> Result<Scene> {
+    let refused = |e: NoMemory| anyhow::Error::new(e).context(path.display().to_string());
+    let (v, t) = (size.vertices as usize, size.triangles as usize);
+    Ok(Scene {
+        source: path.display().to_string(),
+        positions: try_vec(v, "the scene's positions").map_err(refused)?,
+        normals: try_vec(v, "the scene's normals").map_err(refused)?,
+        uvs: try_vec(v, "the scene's texture coordinates").map_err(refused)?,
+        triangles: try_vec(t, "the scene's triangles").map_err(refused)?,
+        tri_material: try_vec(t, "the scene's triangle materials").map_err(refused)?,
+        ..Scene::default()
+    })
+}
+
+/// Where an image's encoded bytes are.
+enum Encoded {
+    /// Read from a file or a `data:` URI.
+    Owned(Vec<u8>),
+    /// A range of a buffer.
+    View { buffer: usize, range: Range<usize> },
+    /// Decoded: the bytes are no longer needed.
+    Gone,
+}
+
+/// One distinct image: its bytes until decoded, its texels, its scene texture once decoded.
+struct DistinctImage {
+    encoded: Encoded,
+    texels: u64,
+    texture: Option<usize>,
+}
+
+/// The images the materials use, read and identified before any is decoded. Images with the
+/// same bytes (one file under several image indices, or copies of it) are one image, decoded
+/// once and shared by every material that uses any of them.
+struct Images {
+    /// glTF image index → index into `distinct`.
+    of_index: HashMap<usize, usize>,
+    distinct: Vec<DistinctImage>,
+}
+
+impl Images {
+    /// Reads the `used` images (material, image) and their sizes from their headers; errors
+    /// name the first material that uses an image.
+    fn read(
+        path: &Path,
+        base: &Path,
+        document: &Document,
+        buffers: &[Vec<u8>],
+        used: &[(usize, usize)],
+    ) -> Result<Images> {
+        let mut images = Images {
+            of_index: HashMap::new(),
+            distinct: Vec::new(),
+        };
+        let mut by_digest: HashMap<[u8; 32], usize> = HashMap::new();
+        for &(material, index) in used {
+            if images.of_index.contains_key(&index) {
+                continue;
+            }
+            let at = format!("material {material}: image {index}");
+            let Some(image) = document.images().nth(index) else {
+                bail_input!(path, "{at}: no such image");
+            };
+            let encoded = match image.source() {
+                ::gltf::image::Source::Uri { uri, .. } => {
+                    Encoded::Owned(read_uri(path, base, uri, &at, MAX_FILE_BYTES)?)
+                }
+                ::gltf::image::Source::View { view, .. } => {
+                    let range = view.offset()..view.offset().saturating_add(view.length());
+                    let buffer = view.buffer().index();
+                    if buffers
+                        .get(buffer)
+                        .and_then(|b| b.get(range.clone()))
+                        .is_none()
+                    {
+                        bail_input!(
+                            path,
+                            "{at}: buffer view {} lies outside its buffer",
+                            view.index()
+                        );
+                    }
+                    Encoded::View { buffer, range }
+                }
+            };
+            let bytes = bytes_of(&encoded, buffers);
+            let digest: [u8; 32] = Sha256::digest(bytes).into();
+            if let Some(&d) = by_digest.get(&digest) {
+                images.of_index.insert(index, d);
+                continue;
+            }
+            let (w, h) = Texture::dimensions(bytes)
+                .map_err(|e| input_error(path, format!("{at}: cannot decode: {e}")))?;
+            by_digest.insert(digest, images.distinct.len());
+            images.of_index.insert(index, images.distinct.len());
+            images.distinct.push(DistinctImage {
+                encoded,
+                texels: u64::from(w) * u64::from(h),
+                texture: None,
+            });
+        }
+        Ok(images)
+    }
+
+    /// Bytes of encoded images held beside the buffers.
+    fn owned_bytes(&self) -> u64 {
+        self.distinct
+            .iter()
+            .map(|d| match &d.encoded {
+                Encoded::Owned(b) => b.len() as u64,
+                _ => 0,
+            })
+            .sum()
+    }
+}
+
+/// The bytes of an image not yet decoded (empty once it is).
+fn bytes_of<'a>(encoded: &'a Encoded, buffers: &'a [Vec<u8>]) -> &'a [u8] {
+    match encoded {
+        Encoded::Owned(bytes) => bytes,
+        Encoded::View { buffer, range } => &buffers[*buffer][range.clone()],
+        Encoded::Gone => &[],
+    }
+}
+
 /// State while walking the node hierarchy.
 struct Loader<'a> {
     path: &'a Path,
-    base: PathBuf,
     document: &'a Document,
     buffers: Vec<Vec<u8>>,
     scene: Scene,
     /// glTF material index → scene material index.
     material_map: HashMap<usize, u32>,
-    /// glTF image index → scene texture index.
-    image_map: HashMap<usize, usize>,
+    /// The images the materials use, each decoded once.
+    images: Images,
     /// Scene index of the default grey material, once some primitive needed it.
     default_material: Option<u32>,
 }
@@ -255,53 +553,17 @@ impl Loader<'_> {
         self.scene.warnings.push(message);
     }
 
-    /// Visits the default scene's nodes depth first (pre-order), composing transforms
-    /// parent × child.
+    /// Reads the nodes of the default scene ([`walk`]): cameras, and the meshes of nodes whose
+    /// transform is not singular.
     fn walk(&mut self) -> Result<()> {
-        let document = self.document;
-        let roots: Vec<Node> = match document
-            .default_scene()
-            .or_else(|| document.scenes().next())
-        {
-            Some(scene) => scene.nodes().collect(),
-            None => {
-                // No scenes: every node that is nobody's child is a root.
-                let mut is_child = vec![false; document.nodes().len()];
-                for node in document.nodes() {
-                    for child in node.children() {
-                        is_child[child.index()] = true;
-                    }
-                }
-                document.nodes().filter(|n| !is_child[n.index()]).collect()
-            }
-        };
-        let mut visited = vec![false; document.nodes().len()];
-        // Reversed so that popping visits nodes in file order.
-        let mut stack: Vec<(Node, Mat4)> = roots
-            .into_iter()
-            .rev()
-            .map(|n| (n, Mat4::IDENTITY))
-            .collect();
-        while let Some((node, parent)) = stack.pop() {
+        let (path, document) = (self.path, self.document);
+        walk(path, document, |node, world| {
             let n = node.index();
-            if visited[n] {
-                bail_input!(
-                    self.path,
-                    "node {n} is reached twice in the node hierarchy (a cycle, or a node with two parents)"
-                );
-            }
-            visited[n] = true;
-            let local = Mat4::from_cols_array_2d(&node.transform().matrix());
-            if !local.is_finite() {
-                bail_input!(self.path, "node {n}: transform is not finite");
-            }
-            let world = parent * local;
             if let Some(camera) = node.camera() {
                 self.camera(n, &camera, world);
             }
             if let Some(mesh) = node.mesh() {
-                let det = world.determinant();
-                if det == 0.0 || !det.is_finite() {
+                if !placeable(world) {
                     self.warn(format!(
                         "node {n}: world transform is singular (zero scale), mesh {} skipped",
                         mesh.index()
@@ -312,10 +574,8 @@ impl Loader<'_> {
                     }
                 }
             }
-            let children: Vec<Node> = node.children().collect();
-            stack.extend(children.into_iter().rev().map(|c| (c, world)));
-        }
-        Ok(())
+            Ok(())
+        })
     }
 
     /// Keeps the first perspective camera: eye at the node's origin looking down its −Z, +Y up.
@@ -356,10 +616,7 @@ impl Loader<'_> {
         let p = primitive.index();
         let at = format!("mesh {m} primitive {p}");
         let mode = primitive.mode();
-        if !matches!(
-            mode,
-            Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
-        ) {
+        if !is_triangles(mode) {
             let message =
                 format!("mesh {m} primitive {p}: mode {mode:?} is not triangles, skipped");
             self.warn(message);
@@ -391,14 +648,7 @@ impl Loader<'_> {
         };
 
         let material = self.material(primitive.material())?;
-        let tex_coord = match primitive
-            .material()
-            .pbr_metallic_roughness()
-            .base_color_texture()
-        {
-            Some(info) => info.tex_coord(),
-            None => 0,
-        };
+        let tex_coord = tex_coord_set(primitive);
         let uvs = match primitive.get(&Semantic::TexCoords(tex_coord)) {
             Some(acc) => {
                 let uvs = self.read_floats::<2>(&at, &acc)?;
@@ -590,37 +840,30 @@ impl Loader<'_> {
         Ok(i)
     }
 
-    /// Decodes an image once and returns its scene texture index.
+    /// Decodes an image once and returns its scene texture index; an image with the same bytes
+    /// as one already decoded returns that one's.
     fn texture(&mut self, material: usize, image: ::gltf::Image) -> Result<usize> {
         let index = image.index();
-        if let Some(&t) = self.image_map.get(&index) {
+        let Some(&d) = self.images.of_index.get(&index) else {
+            // `count` saw every primitive the loader reads, and with it every image.
+            anyhow::bail!("{}: image {index} was not counted", self.path.display());
+        };
+        let distinct = &mut self.images.distinct[d];
+        if let Some(t) = distinct.texture {
             return Ok(t);
         }
         let at = format!("material {material}: image {index}");
-        let bytes: Vec<u8> = match image.source() {
-            ::gltf::image::Source::Uri { uri, .. } => read_uri(&self.base, uri)
-                .map_err(|e| input_error(self.path, format!("{at}: {e}")))?,
-            ::gltf::image::Source::View { view, .. } => {
-                let range = view.offset()..view.offset().saturating_add(view.length());
-                match self
-                    .buffers
-                    .get(view.buffer().index())
-                    .and_then(|b| b.get(range))
-                {
-                    Some(bytes) => bytes.to_vec(),
-                    None => bail_input!(
-                        self.path,
-                        "{at}: buffer view {} lies outside its buffer",
-                        view.index()
-                    ),
-                }
-            }
-        };
-        let texture = Texture::decode(&bytes)
-            .map_err(|e| input_error(self.path, format!("{at}: cannot decode: {e}")))?;
+        let texture =
+            Texture::decode(bytes_of(&distinct.encoded, &self.buffers)).map_err(|e| match e
+                .downcast::<NoMemory>()
+            {
+                Ok(e) => anyhow::Error::new(e).context(format!("{}: {at}", self.path.display())),
+                Err(e) => input_error(self.path, format!("{at}: cannot decode: {e}")),
+            })?;
+        distinct.encoded = Encoded::Gone;
         let t = self.scene.textures.len();
         self.scene.textures.push(texture);
-        self.image_map.insert(index, t);
+        distinct.texture = Some(t);
         Ok(t)
     }
 
@@ -675,11 +918,7 @@ impl Loader<'_> {
         let ty = acc.data_type();
         let normalized = acc.normalized();
         let err = |msg: String| input_error(self.path, format!("{at}: accessor {a}: {msg}"));
-        if count.saturating_mul(dims) > MAX_ACCESSOR_VALUES {
-            return Err(err(format!(
-                "count {count} of {dims} components is more than the {MAX_ACCESSOR_VALUES} values allowed"
-            )));
-        }
+        check_values(self.path, at, acc)?;
 
         let mut values = match acc.view() {
             Some(view) => {

@@ -17,6 +17,7 @@ use glam::{Mat3, Mat4, Vec2, Vec3};
 use std::path::Path;
 
 use crate::error::Result;
+use crate::limits::Budget;
 
 pub use texture::srgb_to_linear;
 
@@ -29,8 +30,9 @@ pub use texture::srgb_to_linear;
 #[derive(Clone, Debug)]
 pub struct Texture {
     /// Level 0 (the texels as decoded), then each level half the size of the one before, down
-    /// to 1 × 1; only level 0 when the texture is empty.
-    levels: Vec<texture::Level>,
+    /// to 1 × 1; only level 0 when the texture is empty. Shared: the posed copies of a
+    /// spinning scene keep the same texels.
+    levels: std::sync::Arc<[texture::Level]>,
 }
 
 /// A Lambertian material: albedo = base_color × texture(uv).
@@ -54,6 +56,11 @@ impl Material {
         }
     }
 }
+
+/// The largest coordinate a turned scene (a spin) may have, it or its pivot: an eighth of the
+/// largest f32, so that the turn's translation (pivot − R·pivot, up to three coordinates
+/// summed) plus a turned point (two) cannot reach infinity.
+pub const MAX_TURNED_COORDINATE: f32 = f32::MAX / 8.0;
 
 /// A perspective camera found in a scene file.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -102,14 +109,29 @@ impl Scene {
     /// or malformed file, out-of-range indices, non-finite positions, mismatched attribute
     /// counts, no triangles at all) is an [`crate::error::InputError`] naming the file and,
     /// where it applies, the mesh, primitive and accessor.
+    ///
+    /// Memory: what the file will hold (vertices and triangles of every mesh instance, image
+    /// sizes) is counted from its headers and checked against the memory budget
+    /// ([`crate::limits::Budget`]) before a buffer is read or an image decoded; each distinct
+    /// image is decoded once, shared by every material that uses it.
     pub fn load(path: &Path) -> Result<Scene> {
-        gltf::load(path)
+        gltf::load(path, &mut Budget::default())
+    }
+
+    /// [`Scene::load`] against a render's `budget`, which then counts the scene.
+    pub fn load_within(path: &Path, budget: &mut Budget) -> Result<Scene> {
+        gltf::load(path, budget)
     }
 
     /// Loads a glTF or GLB file's bytes, as [`Scene::load`] does the file: `path` names it in
     /// errors, and external buffers and images are read relative to its folder.
     pub fn load_bytes(bytes: &[u8], path: &Path) -> Result<Scene> {
-        gltf::load_bytes(bytes, path)
+        gltf::load_bytes(bytes, path, &mut Budget::default())
+    }
+
+    /// [`Scene::load_bytes`] against `budget`, which then counts the scene.
+    pub fn load_bytes_within(bytes: &[u8], path: &Path, budget: &mut Budget) -> Result<Scene> {
+        gltf::load_bytes(bytes, path, budget)
     }
 
     /// The built-in `shapes` scene: sphere, box, cylinder, cone, torus and a thin upright slab
@@ -262,6 +284,22 @@ impl Scene {
             }
         }
         out
+    }
+
+    /// Why turning this scene about a vertical axis through `pivot` could overflow (a posed
+    /// vertex at infinity, which a BVH cannot hold), if it could: the turn's matrix and its
+    /// products stay finite while every coordinate of the scene and of the pivot is at most
+    /// [`MAX_TURNED_COORDINATE`] in magnitude.
+    pub fn turn_problem(&self, pivot: Vec3) -> Option<String> {
+        let (lo, hi) = self.bounds();
+        let scene = lo.abs().max(hi.abs()).max_element();
+        let pivot_max = pivot.abs().max_element();
+        if scene <= MAX_TURNED_COORDINATE && pivot_max <= MAX_TURNED_COORDINATE {
+            return None;
+        }
+        Some(format!(
+            "turning the scene (coordinates up to {scene:.1e}) about its pivot (coordinates up to {pivot_max:.1e}) could overflow; a spin turns coordinates up to {MAX_TURNED_COORDINATE:.1e}"
+        ))
     }
 
     /// Appends `other`'s triangles, materials and textures (indices shifted). Keeps this scene's

@@ -4,6 +4,7 @@
 //! never the host's libm, so every host gets the same bits.
 
 use glam::{Vec2, Vec3};
+use image::ImageDecoder;
 
 use super::Texture;
 
@@ -54,56 +55,82 @@ impl Texture {
         if width.checked_mul(height)? != texels.len() {
             return None;
         }
+        // Small textures made in memory: a refused pyramid level would be a bug's, not an
+        // input's; decoded ones go through `try_from_linear`.
+        Texture::try_from_linear(width, height, texels).ok()
+    }
+
+    /// [`Texture::from_linear`] for a size already checked, with each pyramid level asked of
+    /// the system before it is filled.
+    fn try_from_linear(
+        width: usize,
+        height: usize,
+        texels: Vec<Vec3>,
+    ) -> Result<Texture, crate::limits::NoMemory> {
+        debug_assert_eq!(width * height, texels.len());
         let mut levels = vec![Level {
             width,
             height,
             texels,
         }];
         if width > 0 && height > 0 {
-            while let Some(next) = levels.last().and_then(Level::half) {
+            while let Some(next) = levels.last().and_then(Level::half).transpose()? {
                 levels.push(next);
             }
         }
-        Some(Texture { levels })
+        Ok(Texture {
+            levels: levels.into(),
+        })
     }
 
-    /// Decodes an encoded image (PNG or JPEG) to a linear texture, treating it as sRGB and
-    /// ignoring alpha. 16-bit images are decoded from their full precision.
-    /// Images over [`crate::limits::MAX_TEXTURE_TEXELS`] or 16384 on a side are refused before
-    /// their pixels are allocated.
-    pub fn decode(bytes: &[u8]) -> Result<Texture, image::ImageError> {
-        let mut reader =
-            image::ImageReader::new(std::io::Cursor::new(bytes)).with_guessed_format()?;
-        let mut limits = image::Limits::default();
-        limits.max_image_width = Some(crate::limits::MAX_DIM);
-        limits.max_image_height = Some(crate::limits::MAX_DIM);
-        // The decoder's own buffer: at most 8 bytes (RGBA16) per allowed texel.
-        limits.max_alloc = Some(crate::limits::MAX_TEXTURE_TEXELS * 8);
-        reader.limits(limits.clone());
-        let (w, h) = reader.into_dimensions()?;
+    /// The size an encoded image (PNG or JPEG) declares, read from its header without decoding
+    /// it. Images over [`crate::limits::MAX_TEXTURE_TEXELS`] or 16384 on a side are refused.
+    pub fn dimensions(bytes: &[u8]) -> Result<(u32, u32), image::ImageError> {
+        let (w, h) = reader(bytes)?.into_dimensions()?;
         if u64::from(w) * u64::from(h) > crate::limits::MAX_TEXTURE_TEXELS {
             return Err(image::ImageError::Limits(
                 image::error::LimitError::from_kind(image::error::LimitErrorKind::DimensionError),
             ));
         }
-        let mut reader =
-            image::ImageReader::new(std::io::Cursor::new(bytes)).with_guessed_format()?;
-        reader.limits(limits);
-        let (w, h, texels) = {
-            let rgb = reader.decode()?.to_rgb32f();
-            let texels = rgb
-                .pixels()
-                .map(|p| Vec3::new(p[0], p[1], p[2]).map(srgb_to_linear))
-                .collect();
-            (rgb.width() as usize, rgb.height() as usize, texels)
-        };
-        // The decoder's buffers are gone before the pyramid is built: a lower peak. Its size
-        // matches its texels; were it not to, that is an error, not a panic.
-        Texture::from_linear(w, h, texels).ok_or_else(|| {
-            image::ImageError::Parameter(image::error::ParameterError::from_kind(
-                image::error::ParameterErrorKind::DimensionMismatch,
-            ))
-        })
+        Ok((w, h))
+    }
+
+    /// Decodes an encoded image (PNG or JPEG) to a linear texture, treating it as sRGB and
+    /// ignoring alpha. 16-bit images are decoded from their full precision.
+    /// Images over [`crate::limits::MAX_TEXTURE_TEXELS`] or 16384 on a side are refused before
+    /// their pixels are allocated ([`Texture::dimensions`]).
+    ///
+    /// Errors: the decoder's [`image::ImageError`], or [`crate::limits::NoMemory`] when the
+    /// system refuses a buffer (the decoder's pixels, the texels, a pyramid level): each is
+    /// asked for before it is filled, so a refusal is an error rather than an abort.
+    pub fn decode(bytes: &[u8]) -> crate::error::Result<Texture> {
+        let (w, h) = Texture::dimensions(bytes)?;
+        let decoder = reader(bytes)?.into_decoder()?;
+        let color = decoder.color_type();
+        let total = decoder.total_bytes();
+        if total > crate::limits::MAX_TEXTURE_TEXELS * 8 {
+            return Err(
+                image::ImageError::Limits(image::error::LimitError::from_kind(
+                    image::error::LimitErrorKind::InsufficientMemory,
+                ))
+                .into(),
+            );
+        }
+        let mut pixels = crate::limits::try_zeroed(total as usize, "an image's pixels")?;
+        decoder.read_image(&mut pixels)?;
+        let n = w as usize * h as usize;
+        let mut texels = crate::limits::try_vec(n, "a texture's texels")?;
+        if !linear_texels(color, &pixels, &mut texels) || texels.len() != n {
+            return Err(
+                image::ImageError::Parameter(image::error::ParameterError::from_kind(
+                    image::error::ParameterErrorKind::DimensionMismatch,
+                ))
+                .into(),
+            );
+        }
+        // The decoder's pixels are gone before the pyramid is built: a lower peak.
+        drop(pixels);
+        Ok(Texture::try_from_linear(w as usize, h as usize, texels)?)
     }
 
     /// Width in texels (of level 0).
@@ -170,6 +197,54 @@ impl Texture {
     }
 }
 
+/// An image reader for `bytes`, its format guessed from them, with the texture limits: at most
+/// 16384 a side, and the decoder's own buffers at most 8 bytes (RGBA16) per allowed texel.
+fn reader(bytes: &[u8]) -> image::ImageResult<image::ImageReader<std::io::Cursor<&[u8]>>> {
+    let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes)).with_guessed_format()?;
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(crate::limits::MAX_DIM);
+    limits.max_image_height = Some(crate::limits::MAX_DIM);
+    limits.max_alloc = Some(crate::limits::MAX_TEXTURE_TEXELS * 8);
+    reader.limits(limits);
+    Ok(reader)
+}
+
+/// Appends the linear RGB texels of decoded `pixels` of colour type `color` (native-endian
+/// samples, as the decoder wrote them) to `out`: samples scaled to [0, 1] exactly as the
+/// `image` crate's `to_rgb32f` does (the textures are then the same bits as when it decoded
+/// them, without its second copy of every pixel), grey copied to R, G and B, alpha ignored;
+/// then sRGB decoded. `false` for a colour type it does not know.
+fn linear_texels(color: image::ColorType, pixels: &[u8], out: &mut Vec<Vec3>) -> bool {
+    use image::ColorType as C;
+    let (size, channels) = match color {
+        C::L8 | C::La8 | C::Rgb8 | C::Rgba8 => (1, color.channel_count() as usize),
+        C::L16 | C::La16 | C::Rgb16 | C::Rgba16 => (2, color.channel_count() as usize),
+        C::Rgb32F | C::Rgba32F => (4, color.channel_count() as usize),
+        _ => return false,
+    };
+    // RGB(A) samples are divided by the largest value and clamped; grey ones multiplied by its
+    // reciprocal (the crate's colour-space path), which rounds differently for some values.
+    let sample = |b: &[u8]| match size {
+        1 => (f32::from(b[0]) / 255.0).clamp(0.0, 1.0),
+        2 => (f32::from(u16::from_ne_bytes([b[0], b[1]])) / 65535.0).clamp(0.0, 1.0),
+        _ => f32::from_ne_bytes([b[0], b[1], b[2], b[3]]),
+    };
+    let grey = |b: &[u8]| match size {
+        1 => f32::from(b[0]) * (1.0 / 255.0),
+        2 => f32::from(u16::from_ne_bytes([b[0], b[1]])) * (1.0 / 65535.0),
+        _ => f32::from_ne_bytes([b[0], b[1], b[2], b[3]]),
+    };
+    for p in pixels.chunks_exact(size * channels) {
+        let rgb = if channels < 3 {
+            Vec3::splat(grey(p))
+        } else {
+            Vec3::new(sample(p), sample(&p[size..]), sample(&p[2 * size..]))
+        };
+        out.push(rgb.map(srgb_to_linear));
+    }
+    true
+}
+
 impl Level {
     /// The texel at integer coordinates, wrapped (repeat) into range.
     fn texel(&self, x: i64, y: i64) -> Vec3 {
@@ -203,28 +278,37 @@ impl Level {
     /// already 1. The new texel is the average over that rectangle, each texel below weighted
     /// by the area it shares with it (a box filter, separable: rows, then columns). Every texel
     /// below gives away its whole area, so the mean is kept (exactly, but for rounding).
-    fn half(&self) -> Option<Level> {
+    /// `None` at 1 × 1; an error if the system refuses the new level's memory.
+    fn half(&self) -> Option<Result<Level, crate::limits::NoMemory>> {
         let (w, h) = (self.width, self.height);
         if w <= 1 && h <= 1 {
             return None;
         }
         let (w2, h2) = ((w / 2).max(1), (h / 2).max(1));
-        let mut rows = Vec::with_capacity(w2 * h);
+        let buffers = crate::limits::try_vec(w2 * h, "a texture's pyramid").and_then(|rows| {
+            Ok((
+                rows,
+                crate::limits::try_vec(w2 * h2, "a texture's pyramid")?,
+            ))
+        });
+        let (mut rows, mut texels) = match buffers {
+            Ok(b) => b,
+            Err(e) => return Some(Err(e)),
+        };
         let taps_x = axis_taps(w, w2);
         for y in 0..h {
             let row = &self.texels[y * w..(y + 1) * w];
             rows.extend(taps_x.iter().map(|t| t.apply(|j| row[j])));
         }
         let taps_y = axis_taps(h, h2);
-        let mut texels = Vec::with_capacity(w2 * h2);
         for t in &taps_y {
             texels.extend((0..w2).map(|x| t.apply(|j| rows[j * w2 + x])));
         }
-        Some(Level {
+        Some(Ok(Level {
             width: w2,
             height: h2,
             texels,
-        })
+        }))
     }
 }
 
@@ -555,6 +639,125 @@ mod tests {
         }
         // Adjacent levels differ, so a jump between them would have shown.
         assert!(biggest_level_change > 0.1, "{biggest_level_change}");
+    }
+
+    /// The old decoding: the `image` crate's `DynamicImage::to_rgb32f`, then sRGB decoded.
+    fn through_dynamic_image(bytes: &[u8]) -> Vec<Vec3> {
+        let rgb = reader(bytes).unwrap().decode().unwrap().to_rgb32f();
+        rgb.pixels()
+            .map(|p| Vec3::new(p[0], p[1], p[2]).map(srgb_to_linear))
+            .collect()
+    }
+
+    #[test]
+    fn decoding_gives_the_texels_of_the_image_crates_conversion_bit_for_bit() {
+        use image::{DynamicImage, ImageBuffer, ImageFormat};
+        // Every 8- and 16-bit sample value, in every channel layout PNG has; JPEG's two; RGB
+        // floats through Radiance HDR.
+        let v8 = |n: usize, k: usize| ((n * 7 + k * 91) % 256) as u8;
+        let v16 = |n: usize, k: usize| ((n * 7 + k * 9091) % 65536) as u16;
+        let (w, h) = (256, 256);
+        let images: Vec<(&str, DynamicImage, ImageFormat)> = vec![
+            (
+                "L8",
+                DynamicImage::ImageLuma8(ImageBuffer::from_fn(w, h, |x, y| {
+                    image::Luma([v8((y * w + x) as usize, 0)])
+                })),
+                ImageFormat::Png,
+            ),
+            (
+                "La8",
+                DynamicImage::ImageLumaA8(ImageBuffer::from_fn(w, h, |x, y| {
+                    let n = (y * w + x) as usize;
+                    image::LumaA([v8(n, 0), v8(n, 1)])
+                })),
+                ImageFormat::Png,
+            ),
+            (
+                "Rgb8",
+                DynamicImage::ImageRgb8(ImageBuffer::from_fn(w, h, |x, y| {
+                    let n = (y * w + x) as usize;
+                    image::Rgb([v8(n, 0), v8(n, 1), v8(n, 2)])
+                })),
+                ImageFormat::Png,
+            ),
+            (
+                "Rgba8",
+                DynamicImage::ImageRgba8(ImageBuffer::from_fn(w, h, |x, y| {
+                    let n = (y * w + x) as usize;
+                    image::Rgba([v8(n, 0), v8(n, 1), v8(n, 2), v8(n, 3)])
+                })),
+                ImageFormat::Png,
+            ),
+            (
+                "L16",
+                DynamicImage::ImageLuma16(ImageBuffer::from_fn(w, h, |x, y| {
+                    image::Luma([v16((y * w + x) as usize, 0)])
+                })),
+                ImageFormat::Png,
+            ),
+            (
+                "La16",
+                DynamicImage::ImageLumaA16(ImageBuffer::from_fn(w, h, |x, y| {
+                    let n = (y * w + x) as usize;
+                    image::LumaA([v16(n, 0), v16(n, 1)])
+                })),
+                ImageFormat::Png,
+            ),
+            (
+                "Rgb16",
+                DynamicImage::ImageRgb16(ImageBuffer::from_fn(w, h, |x, y| {
+                    let n = (y * w + x) as usize;
+                    image::Rgb([v16(n, 0), v16(n, 1), v16(n, 2)])
+                })),
+                ImageFormat::Png,
+            ),
+            (
+                "Rgba16",
+                DynamicImage::ImageRgba16(ImageBuffer::from_fn(w, h, |x, y| {
+                    let n = (y * w + x) as usize;
+                    image::Rgba([v16(n, 0), v16(n, 1), v16(n, 2), v16(n, 3)])
+                })),
+                ImageFormat::Png,
+            ),
+            (
+                "JPEG L8",
+                DynamicImage::ImageLuma8(ImageBuffer::from_fn(w, h, |x, y| {
+                    image::Luma([v8((y * w + x) as usize, 0)])
+                })),
+                ImageFormat::Jpeg,
+            ),
+            (
+                "JPEG Rgb8",
+                DynamicImage::ImageRgb8(ImageBuffer::from_fn(w, h, |x, y| {
+                    let n = (y * w + x) as usize;
+                    image::Rgb([v8(n, 0), v8(n, 1), v8(n, 2)])
+                })),
+                ImageFormat::Jpeg,
+            ),
+            (
+                "HDR Rgb32F",
+                DynamicImage::ImageRgb32F(ImageBuffer::from_fn(w, h, |x, y| {
+                    let n = (y * w + x) as f32;
+                    image::Rgb([n / 1000.0, 0.5, n * 3.0])
+                })),
+                ImageFormat::Hdr,
+            ),
+        ];
+        for (name, img, format) in images {
+            let mut bytes = std::io::Cursor::new(Vec::new());
+            img.write_to(&mut bytes, format).unwrap();
+            let bytes = bytes.into_inner();
+            let t = Texture::decode(&bytes).unwrap();
+            assert_eq!((t.width(), t.height()), (w as usize, h as usize), "{name}");
+            let old = through_dynamic_image(&bytes);
+            let same = t
+                .texels()
+                .iter()
+                .zip(&old)
+                .all(|(a, b)| bits(*a) == bits(*b));
+            assert!(same, "{name}: texels differ from to_rgb32f's");
+        }
     }
 
     #[test]

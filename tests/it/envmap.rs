@@ -357,3 +357,42 @@ fn bad_intensity_is_refused() {
     }
     failures.assert_none();
 }
+
+/// Issue 20, item 6: a map's size is read from its header alone, so the scene is checked against
+/// the memory budget with the map it will be lit by, before either is decoded.
+#[test]
+fn the_declared_size_comes_from_the_header() {
+    for name in [
+        "OrientationLatLong.exr",
+        "grace.hdr",
+        "KernerEnvLatLong.exr",
+    ] {
+        let p = common::asset(name);
+        let m = EnvMap::load(&p).unwrap();
+        let len = std::fs::metadata(&p).unwrap().len();
+        assert_eq!(
+            EnvMap::declared_size(&p),
+            Some(((m.width * m.height) as u64, len)),
+            "{name}"
+        );
+    }
+    let dir = tempfile::tempdir().unwrap();
+    // Only a header: 16384 × 8192 declared, no pixels.
+    let p = dir.path().join("header.hdr");
+    let header = b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 8192 +X 16384\n";
+    std::fs::write(&p, header).unwrap();
+    assert_eq!(
+        EnvMap::declared_size(&p),
+        Some((16384 * 8192, header.len() as u64))
+    );
+    // What cannot be read gives nothing (the load reports it): a broken header, a missing file,
+    // a device.
+    std::fs::write(dir.path().join("broken.hdr"), b"#?NOTRADIANCE\n").unwrap();
+    for p in [
+        dir.path().join("broken.hdr"),
+        dir.path().join("absent.exr"),
+        Path::new("/dev/zero").to_path_buf(),
+    ] {
+        assert_eq!(EnvMap::declared_size(&p), None, "{}", p.display());
+    }
+}

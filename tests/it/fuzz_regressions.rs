@@ -88,6 +88,23 @@ fn anim_spec_inputs() {
 }
 
 #[test]
+fn posed_scene_inputs() {
+    let scene = exercise::small_scene();
+    let path = Path::new("fuzz/spec.toml");
+    replay("posed_scene", |input| {
+        let bytes = std::fs::read(input).unwrap();
+        let Ok(text) = std::str::from_utf8(&bytes) else {
+            return;
+        };
+        check_error(
+            exercise::posed_scene(text, path, &scene),
+            "fuzz/spec.toml",
+            input,
+        );
+    });
+}
+
+#[test]
 fn gltf_inputs() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("buffer.bin"), files::triangle_buffer()).unwrap();

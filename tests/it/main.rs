@@ -20,6 +20,7 @@ mod hostile;
 mod interrupt;
 mod lights;
 mod maths;
+mod memory;
 mod predict;
 mod render;
 mod report;
