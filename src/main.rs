@@ -21,7 +21,7 @@ fn main() {
             // farm's logs, and `--help` has the rest.
             let text = e.to_string();
             let first = text.lines().next().unwrap_or("error: bad arguments");
-            say(&format!("{first} (see --help)"));
+            cli::say(&format!("{first} (see --help)"));
             std::process::exit(exit::BAD_INPUT);
         }
     };
@@ -30,14 +30,7 @@ fn main() {
         for cause in err.chain().skip(1) {
             msg.push_str(&format!(": {cause}"));
         }
-        say(&msg);
+        cli::say(&msg);
         std::process::exit(exit_code(&err));
     }
-}
-
-/// The error line on stderr: when stderr cannot be written (a full disk under a redirected
-/// log), the exit code still tells, where `eprintln!` would panic and exit 101.
-fn say(line: &str) {
-    use std::io::Write;
-    let _ = writeln!(std::io::stderr(), "{line}");
 }

@@ -121,9 +121,18 @@ fn gltf_seeds(dir: &Path, assets: &Path) {
         gltf_json(Some("buffer.bin"), r#"{"uri": "texture.png"}"#, "", 6).as_bytes(),
     );
     // GLB: the texture lives in the binary chunk after the triangle's 68 bytes.
-    let mut bin = buffer.clone();
-    let png = files::texture_png();
-    bin.extend_from_slice(&png);
+    let (json, bin) = glb_with_png(&files::texture_png());
+    write(dir, "triangle.glb", &glb(&json, &bin));
+    if let Ok(b) = std::fs::read(assets.join("bunny_res4.glb")) {
+        write(dir, "bunny_res4.glb", &b);
+    }
+}
+
+/// The triangle's glTF JSON and binary chunk with `png` in the chunk after the triangle's
+/// 68 bytes, as its texture.
+fn glb_with_png(png: &[u8]) -> (String, Vec<u8>) {
+    let mut bin = files::triangle_buffer();
+    bin.extend_from_slice(png);
     let json = gltf_json(
         None,
         r#"{"bufferView": 3, "mimeType": "image/png"}"#,
@@ -137,10 +146,7 @@ fn gltf_seeds(dir: &Path, assets: &Path) {
         r#""byteLength": 68}"#,
         &format!(r#""byteLength": {}}}"#, bin.len()),
     );
-    write(dir, "triangle.glb", &glb(&json, &bin));
-    if let Ok(b) = std::fs::read(assets.join("bunny_res4.glb")) {
-        write(dir, "bunny_res4.glb", &b);
-    }
+    (json, bin)
 }
 
 /// Seeds over libFuzzer's usual 64 kB, where images decode to hundreds of megabytes: a GLB
@@ -158,21 +164,7 @@ fn large_gltf_seeds(dir: &Path) {
     image::codecs::png::PngEncoder::new(&mut png)
         .write_image(&pixels, side, side, image::ExtendedColorType::Rgb8)
         .unwrap();
-    let mut bin = files::triangle_buffer();
-    bin.extend_from_slice(&png);
-    let json = gltf_json(
-        None,
-        r#"{"bufferView": 3, "mimeType": "image/png"}"#,
-        &format!(
-            r#", {{"buffer": 0, "byteOffset": 68, "byteLength": {}}}"#,
-            png.len()
-        ),
-        4,
-    )
-    .replace(
-        r#""byteLength": 68}"#,
-        &format!(r#""byteLength": {}}}"#, bin.len()),
-    );
+    let (json, bin) = glb_with_png(&png);
     // Eight materials, each with its own texture and image entry, all the same bytes.
     let materials: Vec<String> = (0..8)
         .map(|k| format!(r#"{{"pbrMetallicRoughness": {{"baseColorTexture": {{"index": {k}}}}}}}"#))

@@ -4,6 +4,14 @@
 
 mod progress;
 
+/// One line on stderr that never panics: a log that cannot be written (a full disk under a
+/// redirected stderr, a closed pipe) loses the line, not the run or its exit code, where
+/// `eprintln!` would panic and exit 101.
+pub fn say(line: &str) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr(), "{line}");
+}
+
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::time::Instant;

@@ -8,6 +8,8 @@ use envshadow::coordinator::Progress;
 use envshadow::output::stats::FrameStats;
 use indicatif::{ProgressBar, ProgressStyle};
 
+use super::say;
+
 /// Progress as an indicatif bar on a terminal, plain lines (one per frame) otherwise.
 pub struct Reporter {
     bar: Option<ProgressBar>,
@@ -47,7 +49,7 @@ impl Progress for Reporter {
             );
             bar.set_message(format!("frame 0/{frames}"));
         } else {
-            log(&format!("rendering {frames} frames of {tiles} tiles"));
+            say(&format!("rendering {frames} frames of {tiles} tiles"));
         }
     }
 
@@ -81,7 +83,7 @@ impl Progress for Reporter {
                 ));
                 bar.println(line);
             }
-            None => log(&line),
+            None => say(&line),
         }
     }
 
@@ -98,7 +100,7 @@ impl Progress for Reporter {
     fn note(&self, msg: &str) {
         match &self.bar {
             Some(bar) => bar.println(msg),
-            None => log(msg),
+            None => say(msg),
         }
     }
 
@@ -114,13 +116,6 @@ pub struct Quiet;
 
 impl Progress for Quiet {
     fn warning(&self, msg: &str) {
-        log(&format!("warning: {msg}"));
+        say(&format!("warning: {msg}"));
     }
-}
-
-/// One progress line on stderr. A log that cannot be written (a full disk under a farm job's
-/// redirected stderr, a closed pipe) loses the line, not the render: `eprintln!` would panic.
-fn log(line: &str) {
-    use std::io::Write;
-    let _ = writeln!(std::io::stderr(), "{line}");
 }

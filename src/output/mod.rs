@@ -164,13 +164,8 @@ fn frame_aovs(film: &Film) -> Vec<exr::Aov<'_>> {
 pub fn write_frame_files(dir: &Path, frame: usize, film: &Film, exposure: f32) -> Result<()> {
     let exr = exr::encode_frame(film, &frame_aovs(film))?;
     write_atomic(&frame_path(dir, frame, "exr"), &exr)?;
-    png::write_preview(
-        &frame_path(dir, frame, "png"),
-        film.width,
-        film.height,
-        &film.beauty,
-        exposure,
-    )
+    let png = png::encode_preview(film.width, film.height, &film.beauty, exposure)?;
+    write_atomic(&frame_path(dir, frame, "png"), &png)
 }
 
 #[cfg(test)]

@@ -1,7 +1,5 @@
 //! PNG previews: exposure, then the sRGB transfer curve, 8 bits.
 
-use std::path::Path;
-
 use anyhow::Context;
 
 use crate::error::Result;
@@ -13,19 +11,13 @@ pub fn tonemap(rgb: [f32; 3], exposure: f32) -> [u8; 3] {
 }
 
 /// The PNG file of an RGB8 image.
-pub fn encode_rgb8(width: u32, height: u32, pixels: Vec<u8>) -> Result<Vec<u8>> {
+fn encode_rgb8(width: u32, height: u32, pixels: Vec<u8>) -> Result<Vec<u8>> {
     let img = image::RgbImage::from_raw(width, height, pixels)
         .context("pixel buffer does not match the image size")?;
     let mut bytes = std::io::Cursor::new(Vec::new());
     img.write_to(&mut bytes, image::ImageFormat::Png)
         .context("encoding PNG")?;
     Ok(bytes.into_inner())
-}
-
-/// Writes an RGB8 image atomically.
-pub fn write_rgb8(path: &Path, width: u32, height: u32, pixels: Vec<u8>) -> Result<()> {
-    let bytes = encode_rgb8(width, height, pixels)?;
-    super::write_atomic(path, &bytes).with_context(|| format!("writing PNG {}", path.display()))
 }
 
 /// The PNG file of a tone-mapped preview of linear RGB pixels.
@@ -40,16 +32,4 @@ pub fn encode_preview(
         bytes.extend_from_slice(&tonemap(*p, exposure));
     }
     encode_rgb8(width, height, bytes)
-}
-
-/// Writes a tone-mapped preview of linear RGB pixels atomically.
-pub fn write_preview(
-    path: &Path,
-    width: u32,
-    height: u32,
-    beauty: &[[f32; 3]],
-    exposure: f32,
-) -> Result<()> {
-    let bytes = encode_preview(width, height, beauty, exposure)?;
-    super::write_atomic(path, &bytes).with_context(|| format!("writing PNG {}", path.display()))
 }

@@ -657,14 +657,15 @@ mod tests {
         let v8 = |n: usize, k: usize| ((n * 7 + k * 91) % 256) as u8;
         let v16 = |n: usize, k: usize| ((n * 7 + k * 9091) % 65536) as u16;
         let (w, h) = (256, 256);
+        let l8 = DynamicImage::ImageLuma8(ImageBuffer::from_fn(w, h, |x, y| {
+            image::Luma([v8((y * w + x) as usize, 0)])
+        }));
+        let rgb8 = DynamicImage::ImageRgb8(ImageBuffer::from_fn(w, h, |x, y| {
+            let n = (y * w + x) as usize;
+            image::Rgb([v8(n, 0), v8(n, 1), v8(n, 2)])
+        }));
         let images: Vec<(&str, DynamicImage, ImageFormat)> = vec![
-            (
-                "L8",
-                DynamicImage::ImageLuma8(ImageBuffer::from_fn(w, h, |x, y| {
-                    image::Luma([v8((y * w + x) as usize, 0)])
-                })),
-                ImageFormat::Png,
-            ),
+            ("L8", l8.clone(), ImageFormat::Png),
             (
                 "La8",
                 DynamicImage::ImageLumaA8(ImageBuffer::from_fn(w, h, |x, y| {
@@ -673,14 +674,7 @@ mod tests {
                 })),
                 ImageFormat::Png,
             ),
-            (
-                "Rgb8",
-                DynamicImage::ImageRgb8(ImageBuffer::from_fn(w, h, |x, y| {
-                    let n = (y * w + x) as usize;
-                    image::Rgb([v8(n, 0), v8(n, 1), v8(n, 2)])
-                })),
-                ImageFormat::Png,
-            ),
+            ("Rgb8", rgb8.clone(), ImageFormat::Png),
             (
                 "Rgba8",
                 DynamicImage::ImageRgba8(ImageBuffer::from_fn(w, h, |x, y| {
@@ -720,21 +714,8 @@ mod tests {
                 })),
                 ImageFormat::Png,
             ),
-            (
-                "JPEG L8",
-                DynamicImage::ImageLuma8(ImageBuffer::from_fn(w, h, |x, y| {
-                    image::Luma([v8((y * w + x) as usize, 0)])
-                })),
-                ImageFormat::Jpeg,
-            ),
-            (
-                "JPEG Rgb8",
-                DynamicImage::ImageRgb8(ImageBuffer::from_fn(w, h, |x, y| {
-                    let n = (y * w + x) as usize;
-                    image::Rgb([v8(n, 0), v8(n, 1), v8(n, 2)])
-                })),
-                ImageFormat::Jpeg,
-            ),
+            ("JPEG L8", l8, ImageFormat::Jpeg),
+            ("JPEG Rgb8", rgb8, ImageFormat::Jpeg),
             (
                 "HDR Rgb32F",
                 DynamicImage::ImageRgb32F(ImageBuffer::from_fn(w, h, |x, y| {

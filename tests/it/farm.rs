@@ -423,6 +423,11 @@ struct Attempt {
     job: usize,
 }
 
+/// The jobs attempted after the first `first` attempts of the job log (a re-run's), in order.
+fn jobs_run_since(out: &Path, first: usize) -> Vec<usize> {
+    joblog(out)[first..].iter().map(|a| a.job).collect()
+}
+
 /// The job log's attempts, every run's (farm.sh appends), columns found by the names in its
 /// header line. A line still being written is skipped (the log is read while parallel runs).
 fn joblog(out: &Path) -> Vec<Attempt> {
@@ -526,16 +531,15 @@ impl Gate {
 
     /// The hosts of the renders that reached the gate so far, one per render.
     fn started(&self) -> Vec<String> {
-        fs::read_dir(&self.dir)
-            .unwrap()
-            .map(|e| e.unwrap().path())
-            .filter(|p| {
-                p.file_name()
+        common::file_names(&self.dir)
+            .into_iter()
+            .filter(|n| n.starts_with("started."))
+            .map(|n| {
+                fs::read_to_string(self.dir.join(n))
                     .unwrap()
-                    .to_string_lossy()
-                    .starts_with("started.")
+                    .trim()
+                    .to_string()
             })
-            .map(|p| fs::read_to_string(p).unwrap().trim().to_string())
             .collect()
     }
 
@@ -755,7 +759,7 @@ fn sighup_lets_running_jobs_finish_and_the_same_command_renders_the_rest() {
     let (code, log) = finish(farm(&hosts, &out, &args));
     assert_eq!(code, Some(0), "{log}");
     assert!(log.contains("resuming"), "{log}");
-    let rerun: Vec<usize> = joblog(&out)[first.len()..].iter().map(|a| a.job).collect();
+    let rerun = jobs_run_since(&out, first.len());
     let rerun_set: BTreeSet<usize> = rerun.iter().copied().collect();
     assert_eq!(rerun.len(), rerun_set.len(), "a job ran twice: {rerun:?}");
     let missing: BTreeSet<usize> = (0..total).filter(|j| !done.contains(j)).collect();
@@ -797,7 +801,7 @@ fn farm_rerun_renders_exactly_the_jobs_whose_files_are_damaged_or_gone() {
     assert_eq!(code, Some(0), "{log}");
     assert!(log.contains("resuming: 4 of 6 jobs"), "{log}");
     assert_same_frames(&refdir, &out);
-    let rerun: Vec<usize> = joblog(&out)[first..].iter().map(|a| a.job).collect();
+    let rerun = jobs_run_since(&out, first);
     assert_eq!(
         rerun.iter().copied().collect::<BTreeSet<_>>(),
         BTreeSet::from([0, 1, 2, 3]),
@@ -871,7 +875,7 @@ fn another_build_of_the_same_source_resumes_the_farm() {
     let (code, log) = finish(farm_with(&other, &hosts, &out, &args));
     assert_eq!(code, Some(0), "{log}");
     assert_same_frames(&refdir, &out);
-    let rerun: BTreeSet<usize> = joblog(&out)[first..].iter().map(|a| a.job).collect();
+    let rerun: BTreeSet<usize> = jobs_run_since(&out, first).into_iter().collect();
     assert_eq!(rerun, BTreeSet::from([1, 4]));
     drop(hosts);
 }

@@ -31,24 +31,6 @@ fn expect_refused(kind: &str, args: &[OsString], needles: &[&str], out: &Path) {
     );
 }
 
-fn base64(data: &[u8]) -> String {
-    const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut s = String::new();
-    for c in data.chunks(3) {
-        let n = (u32::from(c[0]) << 16)
-            | (u32::from(*c.get(1).unwrap_or(&0)) << 8)
-            | u32::from(*c.get(2).unwrap_or(&0));
-        for k in 0..4 {
-            s.push(if k <= c.len() {
-                A[(n >> (18 - 6 * k) & 63) as usize] as char
-            } else {
-                '='
-            });
-        }
-    }
-    s
-}
-
 /// A valid one-primitive glTF (two triangles sharing an edge, normals, u16 indices) in one
 /// `data:` buffer: positions at 0 (48 bytes), normals at 48 (48), indices at 96 (12).
 fn quad_gltf() -> Value {
@@ -89,7 +71,7 @@ fn quad_gltf() -> Value {
             {"buffer": 0, "byteOffset": 96, "byteLength": 12}
         ],
         "buffers": [{"byteLength": 108,
-                     "uri": format!("data:application/octet-stream;base64,{}", base64(&b))}]
+                     "uri": format!("data:application/octet-stream;base64,{}", common::base64(&b))}]
     })
 }
 
@@ -103,7 +85,7 @@ fn edited_gltf(edit: impl Fn(&mut Value), poke: impl Fn(&mut Vec<u8>)) -> Vec<u8
     poke(&mut bytes);
     doc["buffers"][0]["uri"] = json!(format!(
         "data:application/octet-stream;base64,{}",
-        base64(&bytes)
+        common::base64(&bytes)
     ));
     edit(&mut doc);
     serde_json::to_vec_pretty(&doc).unwrap()

@@ -79,24 +79,6 @@ fn spec(dir: &Path, name: &str, scene: Option<&str>, map: Option<&str>, extra: &
     p
 }
 
-fn base64(data: &[u8]) -> String {
-    const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut s = String::new();
-    for c in data.chunks(3) {
-        let n = (u32::from(c[0]) << 16)
-            | (u32::from(*c.get(1).unwrap_or(&0)) << 8)
-            | u32::from(*c.get(2).unwrap_or(&0));
-        for k in 0..4 {
-            s.push(if k <= c.len() {
-                A[(n >> (18 - 6 * k) & 63) as usize] as char
-            } else {
-                '='
-            });
-        }
-    }
-    s
-}
-
 /// Writes `name.gltf` and `name.bin` in `dir`: a grid of `side × side` quads in the unit square
 /// (2 side² triangles, (side + 1)² vertices, u32 indices) placed by `instances` nodes in a row.
 fn instanced(dir: &Path, name: &str, side: u32, instances: usize) -> PathBuf {
@@ -196,7 +178,7 @@ fn textured(images: Vec<Value>, views: &[&[u8]]) -> Vec<u8> {
         ],
         "bufferViews": buffer_views,
         "buffers": [{"byteLength": bin.len(),
-                     "uri": format!("data:application/octet-stream;base64,{}", base64(&bin))}]
+                     "uri": format!("data:application/octet-stream;base64,{}", common::base64(&bin))}]
     });
     serde_json::to_vec(&doc).unwrap()
 }
@@ -344,7 +326,7 @@ fn materials_sharing_an_image_decode_it_once() {
         json!({"uri": "red.png"}),
         json!({"uri": "red.png"}),
         json!({"uri": "copy%20of%20red.png"}),
-        json!({"uri": format!("data:image/png;base64,{}", base64(&red))}),
+        json!({"uri": format!("data:image/png;base64,{}", common::base64(&red))}),
         json!({"bufferView": 3, "mimeType": "image/png"}),
         json!({"bufferView": 4, "mimeType": "image/png"}),
         json!({"uri": "blue.png"}),

@@ -25,16 +25,46 @@ fn spec(dir: &Path) -> PathBuf {
     spec
 }
 
-fn render(spec: &Path, out: &Path, extra: &[&str]) -> Output {
-    common::bin()
-        .arg("render")
+/// `PROGRAM [PREFIX…] envshadow render SPEC --out OUT --no-report -q`: `program` is the
+/// binary itself, or a tool that runs it (strace).
+fn command(program: &str, prefix: &[&str], spec: &Path, out: &Path) -> Command {
+    let mut c = Command::new(program);
+    c.args(prefix);
+    if program != env!("CARGO_BIN_EXE_envshadow") {
+        c.arg(env!("CARGO_BIN_EXE_envshadow"));
+    }
+    c.arg("render")
         .arg(spec)
         .arg("--out")
         .arg(out)
-        .args(["--no-report", "-q"])
+        .args(["--no-report", "-q"]);
+    c
+}
+
+fn render(spec: &Path, out: &Path, extra: &[&str]) -> Output {
+    command(env!("CARGO_BIN_EXE_envshadow"), &[], spec, out)
         .args(extra)
         .output()
         .unwrap()
+}
+
+/// A render of `spec` into `dir` that must succeed.
+fn render_ok(spec: &Path, dir: &Path) {
+    let o = render(spec, dir, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+/// `--resume` into `out` must succeed and leave it as `reference`; what does not goes into
+/// `failures` under `label`.
+fn resume_matches(failures: &mut Failures, label: &str, spec: &Path, out: &Path, reference: &Path) {
+    let again = render(spec, out, &["--resume"]);
+    if failures.check(again.status.success(), || {
+        format!("{label}: resume failed: {}", stderr(&again))
+    }) {
+        for d in differences(out, reference) {
+            failures.check(false, || format!("{label}: {d}"));
+        }
+    }
 }
 
 fn stderr(o: &Output) -> String {
@@ -94,30 +124,15 @@ fn fault_then_resume(
     inject: &str,
 ) -> bool {
     let _ = fs::remove_dir_all(out);
-    let o = Command::new("strace")
-        .args(["-f", "-qq", "-o", "/dev/null", "-e", inject])
-        .arg(env!("CARGO_BIN_EXE_envshadow"))
-        .arg("render")
-        .arg(spec)
-        .arg("--out")
-        .arg(out)
-        .args(["--no-report", "-q"])
-        .output()
-        .unwrap();
+    let strace = ["-f", "-qq", "-o", "/dev/null", "-e", inject];
+    let o = command("strace", &strace, spec, out).output().unwrap();
     let fired = !o.status.success();
     // A fault is an error or a kill (exit 0: it never came), never a panic or an abort.
     let code = o.status.code();
     failures.check(matches!(code, None | Some(0) | Some(1)), || {
         format!("{label}: exit {code:?}: {}", stderr(&o))
     });
-    let again = render(spec, out, &["--resume"]);
-    if failures.check(again.status.success(), || {
-        format!("{label}: resume failed: {}", stderr(&again))
-    }) {
-        for d in differences(out, reference) {
-            failures.check(false, || format!("{label}: {d}"));
-        }
-    }
+    resume_matches(failures, label, spec, out, reference);
     fired
 }
 
@@ -129,8 +144,7 @@ fn a_kill_before_any_rename_or_a_full_disk_at_any_write_then_resume_loses_nothin
     let tmp = tempfile::tempdir().unwrap();
     let spec = spec(tmp.path());
     let reference = tmp.path().join("reference");
-    let o = render(&spec, &reference, &[]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    render_ok(&spec, &reference);
     let out = tmp.path().join("out");
     let mut failures = Failures::new();
     // strace counts a syscall per thread: the main thread publishes settings.txt and
@@ -158,8 +172,7 @@ fn sigkill_at_random_instants_then_resume_loses_nothing() {
     let tmp = tempfile::tempdir().unwrap();
     let spec = spec(tmp.path());
     let reference = tmp.path().join("reference");
-    let o = render(&spec, &reference, &[]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    render_ok(&spec, &reference);
     let out = tmp.path().join("out");
     let mut failures = Failures::new();
     // Seeded instants over about the length of a render: the outcome must not depend on them.
@@ -170,27 +183,15 @@ fn sigkill_at_random_instants_then_resume_loses_nothing() {
         seed ^= seed << 17;
         let delay = Duration::from_millis(seed % 400);
         let _ = fs::remove_dir_all(&out);
-        let mut child = common::bin()
-            .arg("render")
-            .arg(&spec)
-            .arg("--out")
-            .arg(&out)
-            .args(["--no-report", "-q"])
+        let mut child = command(env!("CARGO_BIN_EXE_envshadow"), &[], &spec, &out)
             .stderr(Stdio::null())
             .spawn()
             .unwrap();
         std::thread::sleep(delay);
         let _ = child.kill();
         let _ = child.wait();
-        let again = render(&spec, &out, &["--resume"]);
         let label = format!("kill {k} after {delay:?}");
-        if failures.check(again.status.success(), || {
-            format!("{label}: resume failed: {}", stderr(&again))
-        }) {
-            for d in differences(&out, &reference) {
-                failures.check(false, || format!("{label}: {d}"));
-            }
-        }
+        resume_matches(&mut failures, &label, &spec, &out, &reference);
     }
     failures.assert_none();
 }
@@ -258,11 +259,9 @@ fn resume_renders_again_exactly_the_frames_whose_files_do_not_match_their_record
     let tmp = tempfile::tempdir().unwrap();
     let spec = spec(tmp.path());
     let out = tmp.path().join("out");
-    let o = render(&spec, &out, &[]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    render_ok(&spec, &out);
     let reference = tmp.path().join("reference");
-    let o = render(&spec, &reference, &[]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    render_ok(&spec, &reference);
     // Same-size corruption of frame 0's EXR, a truncated PNG of frame 1; frame 2 untouched.
     let exr0 = out.join("frame_0000.exr");
     let mut bytes = fs::read(&exr0).unwrap();
@@ -321,8 +320,7 @@ fn an_assembled_farm_folder_resumes_as_a_one_process_render() {
     }
     run(&["assemble", o_str]);
     let reference = tmp.path().join("reference");
-    let o = render(&spec, &reference, &[]);
-    assert!(o.status.success(), "{}", stderr(&o));
+    render_ok(&spec, &reference);
     assert_eq!(
         fs::read_to_string(out.join("settings.txt")).unwrap(),
         fs::read_to_string(reference.join("settings.txt")).unwrap()

@@ -91,7 +91,10 @@ impl Gltf {
 
     /// Writes `name.gltf` with the buffer inline as a base64 `data:` URI.
     fn write_gltf_data_uri(&self, dir: &Path, name: &str, rest: Value) -> PathBuf {
-        let uri = format!("data:application/octet-stream;base64,{}", base64(&self.bin));
+        let uri = format!(
+            "data:application/octet-stream;base64,{}",
+            common::base64(&self.bin)
+        );
         let path = dir.join(format!("{name}.gltf"));
         let doc = self.json(rest, Some(&uri));
         std::fs::write(&path, serde_json::to_vec(&doc).unwrap()).unwrap();
@@ -123,27 +126,6 @@ impl Gltf {
         std::fs::write(&path, out).unwrap();
         path
     }
-}
-
-fn base64(data: &[u8]) -> String {
-    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut out = String::new();
-    for chunk in data.chunks(3) {
-        let b = [
-            chunk[0],
-            *chunk.get(1).unwrap_or(&0),
-            *chunk.get(2).unwrap_or(&0),
-        ];
-        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
-        for k in 0..4 {
-            if k <= chunk.len() {
-                out.push(ALPHABET[((n >> (18 - 6 * k)) & 63) as usize] as char);
-            } else {
-                out.push('=');
-            }
-        }
-    }
-    out
 }
 
 fn close(a: Vec3, b: Vec3, tol: f32) -> bool {
@@ -523,7 +505,7 @@ fn textured_quad_external_png_embedded_glb_and_data_uri() {
     check_textured(&Scene::load(&g.write_glb(dir.path(), "tex", doc)).unwrap());
 
     let mut g = Gltf::default();
-    let uri = format!("data:image/png;base64,{}", base64(&png));
+    let uri = format!("data:image/png;base64,{}", common::base64(&png));
     let doc = textured_file(&mut g, json!({ "uri": uri }), None);
     check_textured(&Scene::load(&g.write_gltf_data_uri(dir.path(), "tex64", doc)).unwrap());
 }

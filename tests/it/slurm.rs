@@ -180,22 +180,16 @@ fn submitted_arrays(out: &Path) -> Vec<String> {
 
 /// The render task logs of one array: (task, text).
 fn task_logs(out: &Path) -> Vec<(String, String)> {
-    let mut v: Vec<(String, String)> = fs::read_dir(out.join("logs"))
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| {
-            p.file_name()
-                .unwrap()
-                .to_string_lossy()
-                .starts_with("render-")
+    let logs = out.join("logs");
+    // file_names is sorted: so are the tasks.
+    common::file_names(&logs)
+        .into_iter()
+        .filter(|n| n.starts_with("render-"))
+        .map(|n| {
+            let text = fs::read_to_string(logs.join(&n)).unwrap();
+            (n.strip_suffix(".log").unwrap_or(&n).to_string(), text)
         })
-        .map(|p| {
-            let name = p.file_stem().unwrap().to_string_lossy().to_string();
-            (name, fs::read_to_string(&p).unwrap())
-        })
-        .collect();
-    v.sort();
-    v
+        .collect()
 }
 
 fn job_folders(out: &Path) -> Vec<PathBuf> {
