@@ -464,6 +464,40 @@ impl Animation {
         Ok(anim)
     }
 
+    /// A model file (`.glb`, `.gltf`) as a turntable a new user would get without writing a
+    /// spec: the camera orbits the model's bounding-box centre at 3° per frame, 25° up and
+    /// 20° round from +Z, with a 40° vertical field of view, at the distance that frames its
+    /// bounding sphere ([`Animation::camera`]'s defaults); lit by `env` (a map file; `None`:
+    /// the built-in sky); every other setting the defaults' or `flags`'. What `envshadow bench
+    /// --scene MODEL` and `scripts/bench-corpus.sh` measure.
+    pub fn model_turntable(
+        model: &Path,
+        env: Option<&Path>,
+        flags: &AnimFlags,
+    ) -> Result<Animation> {
+        // Absolute: a spec's paths are relative to its folder, these to the working directory.
+        let quote = |p: &Path| {
+            let p = std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
+            toml::Value::String(p.display().to_string()).to_string()
+        };
+        let name = model
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "model".into());
+        let environment = match env {
+            Some(p) => format!("file = {}", quote(p)),
+            None => "builtin = \"sky\"".into(),
+        };
+        let text = format!(
+            "name = {}\n[scene]\nfile = {}\n[environment]\n{environment}\n\
+             [camera]\nelevation = 25.0\nazimuth = 20.0\nvfov = 40.0\n\
+             [motion]\nkind = \"orbit\"\nframes = 120\ndegrees_per_frame = 3.0\n",
+            toml::Value::String(name).to_string(),
+            quote(model),
+        );
+        Animation::parse(&text, model, flags)
+    }
+
     /// This animation with the render settings of `layer` (one combination of a measuring
     /// command's sweep) over its own: checked as flags, refused where the method does not read
     /// them, the limits checked again.

@@ -358,8 +358,12 @@ fn bench_command(args: BenchArgs) -> Result<()> {
         bench::Log::Dumped(path, rays) => eprintln!("wrote {} ({rays} rays)", path.display()),
         bench::Log::Warning(w) => warn(&[w.to_string()]),
     })?;
-    println!("{}\n", bench::heading(&args, &rows));
-    print!("{}", bench::markdown(&rows));
+    if args.csv {
+        print!("{}", bench::csv(&args, &rows));
+    } else {
+        println!("{}\n", bench::heading(&args, &rows));
+        print!("{}", bench::markdown(&rows));
+    }
     Ok(())
 }
 
