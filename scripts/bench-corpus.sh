@@ -111,6 +111,8 @@ for (model, env), by in sorted(runs.items()):
         print(f"| {model} | {env} | {m} | {pct:.2f} | {wrong:.4f} | {rel:.5f} | {sn:.3f} | {sb:.3f} | {s:.3f} | {sb / s:.2f}× | {s / sn:.2f}× |")
 for line in open(failed):
     model, env, msg = line.rstrip("\n").split("\t", 2)
+    # The reason, without the file names the loader's message repeats.
+    msg = msg.split("invalid glTF: ", 1)[-1].split(model + ": ")[-1]
     print(f"| {name(model)} | {name(env)} | does not load: {msg[:200]} | | | | | | | | |")
 print()
 if rows:

@@ -93,7 +93,7 @@ impl Accel {
         if self.tris.is_empty() {
             return None;
         }
-        let ray = Ray::new(origin.into(), dir.into(), 0.0, f32::INFINITY);
+        let ray = ray(origin, dir);
         #[cfg(target_arch = "x86_64")]
         let found = if crate::simd::has_avx2() {
             // SAFETY: AVX2 was detected on this CPU.
@@ -213,7 +213,7 @@ impl Accel {
         if self.tris.is_empty() {
             return false;
         }
-        let ray = Ray::new(origin.into(), dir.into(), 0.0, f32::INFINITY);
+        let ray = ray(origin, dir);
         self.any_hit(&ray).is_some()
     }
 
@@ -294,7 +294,7 @@ impl Accel {
         if self.tris.is_empty() {
             return None;
         }
-        let ray = Ray::new(origin.into(), dir.into(), 0.0, f32::INFINITY);
+        let ray = ray(origin, dir);
         self.any_hit(&ray)
     }
 
@@ -532,6 +532,14 @@ mod leaf {
     }
 }
 
+/// obvhs's ray from `origin` along `dir` over t in [0, ∞), with negative zeros in the direction
+/// made positive: obvhs takes the inverse of −0 as −1/ε but picks a box's near and far planes by
+/// `d < 0`, false for −0, so a ray along an axis written with −0 (`-Vec3::Y`) missed every box.
+#[inline(always)]
+fn ray(origin: Vec3, dir: Vec3) -> Ray {
+    Ray::new(origin.into(), (dir + Vec3::ZERO).into(), 0.0, f32::INFINITY)
+}
+
 /// One shadow ray as traced: origin and unit direction, t in (0, ∞).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ShadowRay {
@@ -566,15 +574,17 @@ pub fn take_recorded() -> Vec<ShadowRay> {
 }
 
 /// Which children of `node` the ray's segment meets, in obvhs's hit-mask layout: obvhs's
-/// `CwBvhNode::intersect_ray_simd` with the same float operations in the same order (so the
-/// same children, and the same traversal), but the 8-bit child planes widened to floats eight
-/// at a time with SSE2 unpacks instead of one at a time, and all eight children tested at once.
+/// `CwBvhNode::intersect_ray_simd` with the same float operations in the same order, but the
+/// 8-bit child planes widened to floats eight at a time with SSE2 unpacks instead of one at a
+/// time, all eight children tested at once, and the segment clipped to the ray's own
+/// `[tmin, tmax]` where obvhs clips its near end at an absolute 1e-4 (`cwbvh::node::EPSILON`):
+/// that constant culled every box within 1e-4 scene units of the ray's origin, so a model
+/// authored in millimetres lost its shadows and one a thousand times smaller rendered nothing.
+/// [`node_hits_reference`] is the same test one child at a time.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn node_hits(node: &CwBvhNode, ray: &Ray, oct_inv4: u32) -> u32 {
     use std::arch::x86_64::*;
-    // obvhs's node-test epsilon (`cwbvh::node::EPSILON`, crate-private): the near clip.
-    const EPSILON: f32 = 0.0001;
     let inv = node.compute_extent() * ray.inv_direction;
     let org = (Vec3A::from(node.p) - ray.origin) * ray.inv_direction;
     let d = ray.direction;
@@ -615,7 +625,7 @@ fn node_hits(node: &CwBvhNode, ray: &Ray, oct_inv4: u32) -> u32 {
         );
         let (ix, iy, iz) = (_mm_set1_ps(inv.x), _mm_set1_ps(inv.y), _mm_set1_ps(inv.z));
         let (ox, oy, oz) = (_mm_set1_ps(org.x), _mm_set1_ps(org.y), _mm_set1_ps(org.z));
-        let eps = _mm_set1_ps(EPSILON);
+        let tmin_ray = _mm_set1_ps(ray.tmin);
         let tmax_ray = _mm_set1_ps(ray.tmax);
         let half = |lx: __m128, hx: __m128, ly: __m128, hy: __m128, lz: __m128, hz: __m128| {
             let tmin_x = _mm_add_ps(_mm_mul_ps(lx, ix), ox);
@@ -626,7 +636,7 @@ fn node_hits(node: &CwBvhNode, ray: &Ray, oct_inv4: u32) -> u32 {
             let tmax_z = _mm_add_ps(_mm_mul_ps(hz, iz), oz);
             let tmin = _mm_max_ps(tmin_x, _mm_max_ps(tmin_y, tmin_z));
             let tmax = _mm_min_ps(tmax_x, _mm_min_ps(tmax_y, tmax_z));
-            let tmin = _mm_max_ps(tmin, eps);
+            let tmin = _mm_max_ps(tmin, tmin_ray);
             let tmax = _mm_min_ps(tmax, tmax_ray);
             _mm_movemask_ps(_mm_cmple_ps(tmin, tmax)) as u32
         };
@@ -659,15 +669,17 @@ mod avx2 {
     #[target_feature(enable = "avx2")]
     pub(super) fn occluded_packet(accel: &Accel, origin: Vec3A, dirs: &[Vec3]) -> u32 {
         use std::mem::MaybeUninit;
-        const EPSILON: f32 = 0.0001;
         const STACK: usize = 256;
         let n = dirs.len();
         debug_assert!((1..=PACKET).contains(&n));
         let bvh = &accel.bvh;
         let mut inv = [Vec3A::ZERO; PACKET];
         let mut sign = [0u8; PACKET];
+        let mut dir = [Vec3A::ZERO; PACKET];
         for (r, d) in dirs.iter().enumerate() {
-            inv[r] = Ray::new(origin, (*d).into(), 0.0, f32::INFINITY).inv_direction;
+            let single = ray(origin.into(), *d);
+            (dir[r], inv[r]) = (single.direction, single.inv_direction);
+            let d = single.direction;
             sign[r] = (d.x < 0.0) as u8 | ((d.y < 0.0) as u8) << 1 | ((d.z < 0.0) as u8) << 2;
         }
         // Per sign pattern, the blend masks that swap an axis's slab ends.
@@ -682,7 +694,8 @@ mod avx2 {
         let mut stack = [MaybeUninit::<(u32, u32)>::uninit(); STACK];
         stack[0].write((0, all));
         let mut top = 1;
-        let eps = _mm256_set1_ps(EPSILON);
+        // The rays' own range, (0, ∞), as `occluded` gives each ray alone.
+        let tmin_ray = _mm256_setzero_ps();
         let tmax_ray = _mm256_set1_ps(f32::INFINITY);
         while top > 0 {
             top -= 1;
@@ -729,7 +742,7 @@ mod avx2 {
                 let (nz, fz) = slab(lz, hz, ri.z, ro.z, sz);
                 let tmin = _mm256_max_ps(nx, _mm256_max_ps(ny, nz));
                 let tmax = _mm256_min_ps(fx, _mm256_min_ps(fy, fz));
-                let tmin = _mm256_max_ps(tmin, eps);
+                let tmin = _mm256_max_ps(tmin, tmin_ray);
                 let tmax = _mm256_min_ps(tmax, tmax_ray);
                 let hit = _mm256_castps_si256(_mm256_cmp_ps::<_CMP_LE_OQ>(tmin, tmax));
                 acc = _mm256_or_si256(acc, _mm256_and_si256(hit, _mm256_set1_epi32(1 << r)));
@@ -761,7 +774,7 @@ mod avx2 {
                 leaf_rays &= leaf_rays - 1;
                 let ray = Ray {
                     origin,
-                    direction: dirs[r].into(),
+                    direction: dir[r],
                     inv_direction: inv[r],
                     tmin: 0.0,
                     tmax: f32::INFINITY,
@@ -807,11 +820,10 @@ mod avx2 {
 
     /// [`node_hits`](super::node_hits) with eight children per instruction: each child's
     /// slab distances are `plane · inv + org` (a multiply then an add, never fused, as in
-    /// obvhs), clipped by obvhs's epsilon and the ray's tmax, compared `tmin ≤ tmax`.
+    /// obvhs), clipped to the ray's `[tmin, tmax]`, compared `tmin ≤ tmax`.
     #[target_feature(enable = "avx2")]
     #[inline]
     pub fn node_hits_avx2(node: &CwBvhNode, ray: &Ray, oct_inv4: u32) -> u32 {
-        const EPSILON: f32 = 0.0001;
         let inv = node.compute_extent() * ray.inv_direction;
         let org = (Vec3A::from(node.p) - ray.origin) * ray.inv_direction;
         let d = ray.direction;
@@ -850,7 +862,7 @@ mod avx2 {
             slab(hi_x, inv.x, org.x),
             _mm256_min_ps(slab(hi_y, inv.y, org.y), slab(hi_z, inv.z, org.z)),
         );
-        let tmin = _mm256_max_ps(tmin, _mm256_set1_ps(EPSILON));
+        let tmin = _mm256_max_ps(tmin, _mm256_set1_ps(ray.tmin));
         let tmax = _mm256_min_ps(tmax, _mm256_set1_ps(ray.tmax));
         let hit = _mm256_castps_si256(_mm256_cmp_ps::<_CMP_LE_OQ>(tmin, tmax));
         // obvhs's hit mask, branch-free: each hit child's bits (one for an inner node, the
@@ -875,7 +887,37 @@ mod avx2 {
 #[cfg(not(target_arch = "x86_64"))]
 #[inline(always)]
 fn node_hits(node: &CwBvhNode, ray: &Ray, oct_inv4: u32) -> u32 {
-    node.intersect_ray(ray, oct_inv4)
+    node_hits_reference(node, ray, oct_inv4)
+}
+
+/// [`node_hits`] one child at a time in plain f32: obvhs's `intersect_ray_basic` with the
+/// segment clipped to the ray's own `[tmin, tmax]` (the kernels' reference; non-x86 hosts).
+#[cfg_attr(all(target_arch = "x86_64", not(test)), allow(dead_code))]
+fn node_hits_reference(node: &CwBvhNode, ray: &Ray, oct_inv4: u32) -> u32 {
+    let inv = node.compute_extent() * ray.inv_direction;
+    let org = (Vec3A::from(node.p) - ray.origin) * ray.inv_direction;
+    let d = ray.direction;
+    let (child_bits8, bit_index8) = node.get_child_and_index_bits(oct_inv4);
+    let mut hit_mask = 0;
+    for c in 0..8 {
+        let ends = |lo: u8, hi: u8, neg: bool| {
+            let (a, b) = if neg { (hi, lo) } else { (lo, hi) };
+            (a as f32, b as f32)
+        };
+        let (nx, fx) = ends(node.child_min_x[c], node.child_max_x[c], d.x < 0.0);
+        let (ny, fy) = ends(node.child_min_y[c], node.child_max_y[c], d.y < 0.0);
+        let (nz, fz) = ends(node.child_min_z[c], node.child_max_z[c], d.z < 0.0);
+        let near = (nx * inv.x + org.x)
+            .max((ny * inv.y + org.y).max(nz * inv.z + org.z))
+            .max(ray.tmin);
+        let far = (fx * inv.x + org.x)
+            .min((fy * inv.y + org.y).min(fz * inv.z + org.z))
+            .min(ray.tmax);
+        if near <= far {
+            hit_mask |= extract_byte64(child_bits8, c) << extract_byte64(bit_index8, c);
+        }
+    }
+    hit_mask
 }
 
 /// Barycentrics with obvhs's (Möller–Trumbore) edge convention, unnormalised like its
@@ -977,9 +1019,10 @@ mod tests {
     }
 
     #[test]
-    fn our_node_test_agrees_with_obvhs_on_every_node() {
+    fn our_node_test_agrees_with_the_reference_on_every_node() {
         // A random soup, rays from points inside and outside it in all octants: the children
-        // our kernel reports must be exactly obvhs's, or traversal (and hits) could differ.
+        // our kernels report must be exactly the reference's, or traversal (and hits) could
+        // differ; and the traversal must find what testing every triangle finds.
         let mut rng = Lcg(12345);
         let accel = soup(&mut rng, 2000, 2.0, 0.2);
         let mut checked = 0;
@@ -989,7 +1032,7 @@ mod tests {
             let ray = Ray::new(o.into(), d.into(), 0.0, f32::INFINITY);
             let oct = accel.bvh.new_traversal(ray.direction).oct_inv4;
             for node in &accel.bvh.nodes {
-                let reference = node.intersect_ray(&ray, oct);
+                let reference = node_hits_reference(node, &ray, oct);
                 assert_eq!(node_hits(node, &ray, oct), reference);
                 #[cfg(target_arch = "x86_64")]
                 if is_x86_feature_detected!("avx2") {
@@ -998,19 +1041,39 @@ mod tests {
                 }
                 checked += 1;
             }
-            let reference = !accel
-                .bvh
-                .ray_traverse_miss(ray, |r, id| accel.tris[id].intersect(r));
-            assert_eq!(accel.occluded(o, d), reference);
-            // Closest hits: obvhs's own traversal and triangle test find the same one.
-            let mut hit = obvhs::ray::RayHit::none();
-            let closest = accel
-                .bvh
-                .ray_traverse(ray, &mut hit, |r, id| accel.tris[id].intersect(r))
-                .then(|| (hit.t, accel.scene_index[hit.primitive_id as usize]));
-            assert_eq!(accel.intersect(o, d).map(|h| (h.t, h.tri)), closest);
+            // Every triangle tested alone (obvhs's own triangle test): the nearest hit, and
+            // whether there is any.
+            let nearest = (0..accel.tris.len())
+                .map(|i| (accel.tris[i].intersect(&ray), accel.scene_index[i]))
+                .filter(|h| h.0 < f32::INFINITY)
+                .min_by(|a, b| a.0.total_cmp(&b.0));
+            assert_eq!(accel.occluded(o, d), nearest.is_some());
+            assert_eq!(accel.intersect(o, d).map(|h| h.t), nearest.map(|h| h.0));
         }
         assert!(checked > 1000);
+    }
+
+    #[test]
+    fn boxes_right_at_the_origin_are_not_culled() {
+        // obvhs clips a node's segment at 1e-4 from the origin: a blocker nearer than that was
+        // missed. The same two triangles at scales from 1e-8 to 1e4: a ray from just below the
+        // upper one is blocked, and a camera ray just above it hits it, at every scale.
+        for scale in [1e-8f32, 1e-6, 1e-4, 1e-2, 1.0, 1e2, 1e4] {
+            let (p, t) = quad();
+            let p: Vec<Vec3> = p.iter().map(|v| *v * scale).collect();
+            let accel = Accel::build(&p, &t);
+            // Off the squares' diagonals, where both triangles' edge tests could refuse a ray.
+            let below = Vec3::new(0.03, 0.999, -0.02) * scale;
+            assert!(accel.occluded(below, Vec3::Y), "scale {scale}");
+            assert_eq!(accel.occluded_packet(below, &[Vec3::Y, Vec3::X]), 1);
+            let above = Vec3::new(0.03, 1.001, -0.02) * scale;
+            let hit = accel.intersect(above, -Vec3::Y).expect("hits the small square");
+            assert!(
+                (hit.t / scale - 0.001).abs() < 1e-5,
+                "scale {scale}: {}",
+                hit.t
+            );
+        }
     }
 
     #[test]

@@ -630,13 +630,21 @@ impl Animation {
         Ok(())
     }
 
-    /// The scene's world transform at `frame` (spin only), about the vertical axis through the
-    /// pivot (default: the camera target).
-    pub fn scene_transform(&self, frame: usize, target: Vec3) -> Option<Mat4> {
+    /// The spin's pivot in `scene`'s coordinates: `[motion] pivot` (world space), else the
+    /// camera's target at frame 0.
+    pub fn pivot(&self, scene: &Scene) -> Result<Vec3> {
+        match self.pivot {
+            Some(p) => Ok(scene.to_local(p)),
+            None => Ok(self.camera(scene, 0)?.target),
+        }
+    }
+
+    /// The scene's transform at `frame` (spin only), about the vertical axis through `pivot`
+    /// (from [`pivot`](Self::pivot)).
+    pub fn scene_transform(&self, frame: usize, pivot: Vec3) -> Option<Mat4> {
         if self.motion != MotionKind::Spin {
             return None;
         }
-        let pivot = self.pivot.unwrap_or(target);
         let angle = (self.degrees_per_frame * frame as f32).to_radians();
         Some(
             Mat4::from_translation(pivot)
@@ -661,7 +669,9 @@ impl Animation {
         let rig = &self.camera;
         let (lo, hi) = scene.bounds();
         let centre = (lo + hi) * 0.5;
-        let radius = ((hi - lo) * 0.5).length().max(1e-6);
+        // Scale-free: any positive radius frames the model (a floor in scene units would move
+        // the camera of a model authored in micrometres).
+        let radius = ((hi - lo) * 0.5).length().max(f32::MIN_POSITIVE);
         let (mut position, target, vfov) = if rig.from_file {
             let Some(c) = scene.camera else {
                 bail_input!(
@@ -670,12 +680,13 @@ impl Animation {
                     scene.source
                 );
             };
-            let dist = (centre - c.position).length().max(1e-3);
+            let dist = (centre - c.position).length().max(radius);
             (c.position, c.position + c.forward * dist, c.vfov_deg)
         } else {
-            let target = rig.target.unwrap_or(centre);
+            // The spec's positions are world space; the scene counts from its origin.
+            let target = rig.target.map_or(centre, |t| scene.to_local(t));
             let position = match rig.position {
-                Some(p) => p,
+                Some(p) => scene.to_local(p),
                 None => {
                     let dist = rig.distance.unwrap_or_else(|| {
                         radius / libm::sinf(rig.vfov_deg.to_radians() * 0.5) * 1.05
@@ -696,9 +707,6 @@ impl Animation {
             let angle = (self.degrees_per_frame * frame as f32).to_radians();
             position = target + Mat4::from_rotation_y(angle).transform_vector3(position - target);
         }
-        if (position - target).length() < 1e-9 {
-            bail_input!(&self.spec_path, "[camera] position and target coincide");
-        }
         if !(position.is_finite() && target.is_finite()) {
             bail_input!(
                 &self.spec_path,
@@ -706,6 +714,9 @@ impl Animation {
                 show(position),
                 show(target)
             );
+        }
+        if !(target - position).normalize_or_zero().is_normalized() {
+            bail_input!(&self.spec_path, "[camera] position and target coincide");
         }
         // look_at needs a right vector: `up` along the view leaves none.
         let forward = (target - position).normalize();

@@ -307,14 +307,14 @@ pub fn replay(accel: &Accel, rays: &[ShadowRay], packets: bool) -> u64 {
 
 /// Whether the frame's geometry is the unposed scene (its BVH is built once per run).
 fn still_geometry(anim: &Animation, inputs: &Inputs, frame: usize) -> Result<bool> {
-    let camera0 = anim.camera(&inputs.scene, 0)?;
-    Ok(anim.scene_transform(frame, camera0.target).is_none())
+    let pivot = anim.pivot(&inputs.scene)?;
+    Ok(anim.scene_transform(frame, pivot).is_none())
 }
 
 /// The frame's BVH, built as `render_frame` builds it.
 fn frame_accel(anim: &Animation, inputs: &Inputs, frame: usize) -> Result<Accel> {
-    let camera0 = anim.camera(&inputs.scene, 0)?;
-    Ok(match anim.scene_transform(frame, camera0.target) {
+    let pivot = anim.pivot(&inputs.scene)?;
+    Ok(match anim.scene_transform(frame, pivot) {
         Some(m) => {
             let posed = inputs.scene.transformed(m);
             Accel::build(&posed.positions, &posed.triangles)

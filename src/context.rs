@@ -8,6 +8,7 @@ use crate::accel::{Accel, PACKET};
 use crate::camera::Camera;
 use crate::envmap::EnvMap;
 use crate::lights::LightSet;
+use crate::offset::{hit_point, offset_origin};
 use crate::samples::Samples;
 use crate::scene::{Scene, footprint_width};
 use crate::shade::ShadeLights;
@@ -19,8 +20,11 @@ pub struct Surface {
     pub p: Vec3,
     /// Unit shading normal, on the side facing the camera.
     pub n: Vec3,
-    /// Unit geometric normal, on the side facing the camera: shadow rays start off it.
+    /// Unit geometric normal, on the side facing the camera.
     pub ng: Vec3,
+    /// Where shadow rays start: `p` moved along `ng` by a bound on its floating-point error
+    /// ([`crate::offset`]), so no ray finds the surface it leaves, at any scale.
+    pub origin: Vec3,
     /// Linear RGB albedo.
     pub albedo: Vec3,
     /// The primary ray's unit direction: where a background sample looks up the map.
@@ -41,8 +45,6 @@ pub struct FrameContext<'a> {
     /// The lights for the horizon test and shading, padded with zero lights to whole words
     /// (see [`crate::shade`]).
     pub shade_lights: ShadeLights,
-    /// Shadow-ray origin offset along the geometric normal (scene units).
-    pub shadow_eps: f32,
     /// Where the pixels' samples lie. The tiles and the methods address samples: sample
     /// (x, y) is stratum (x mod k, y mod k) of pixel (x div k, y div k); with one sample per
     /// pixel, samples are pixels.
@@ -69,7 +71,6 @@ impl<'a> FrameContext<'a> {
             env,
             light_dir: lights.lights.iter().map(|l| l.dir).collect(),
             shade_lights: ShadeLights::new(lights),
-            shadow_eps: shadow_epsilon(scene),
             samples: Samples::one(),
             texture_footprint: 0.0,
         }
@@ -117,7 +118,7 @@ impl<'a> FrameContext<'a> {
         };
         let tri = hit.tri as usize;
         let [p0, p1, p2] = self.scene.triangle(tri);
-        let p = p0 * (1.0 - hit.u - hit.v) + p1 * hit.u + p2 * hit.v;
+        let (p, err) = hit_point([p0, p1, p2], hit.u, hit.v);
         let mut ng = (p1 - p0).cross(p2 - p0).normalize_or_zero();
         let mut n = self.scene.shading_normal(tri, (hit.u, hit.v));
         // Shade the side the camera sees: both normals turn towards the viewer.
@@ -141,6 +142,7 @@ impl<'a> FrameContext<'a> {
             p,
             n,
             ng,
+            origin: offset_origin(p, err, ng),
             albedo,
             dir,
             hit: true,
@@ -152,7 +154,7 @@ impl<'a> FrameContext<'a> {
     pub fn trace(&self, s: &Surface, j: usize) -> bool {
         !self
             .accel
-            .occluded(s.p + s.ng * self.shadow_eps, self.light_dir[j])
+            .occluded(s.origin, self.light_dir[j])
     }
 
     /// [`trace`](Self::trace) for several lights at once (at most [`PACKET`]): bit k of the
@@ -165,15 +167,14 @@ impl<'a> FrameContext<'a> {
             *d = self.light_dir[j as usize];
         }
         self.accel
-            .occluded_packet(s.p + s.ng * self.shadow_eps, &dirs[..lights.len()])
+            .occluded_packet(s.origin, &dirs[..lights.len()])
     }
 
-    /// Like [`trace`](Self::trace), returning the distance from `s.p` to a blocker when the
-    /// light is blocked (the blocker point is `s.p + t·ω_j`).
+    /// Like [`trace`](Self::trace), returning the distance from the ray's origin to a blocker
+    /// when the light is blocked (the blocker point is `s.origin + t·ω_j`).
     #[inline]
     pub fn trace_blocker(&self, s: &Surface, j: usize) -> Option<f32> {
-        self.accel
-            .blocker_distance(s.p + s.ng * self.shadow_eps, self.light_dir[j])
+        self.accel.blocker_distance(s.origin, self.light_dir[j])
     }
 }
 
@@ -195,17 +196,4 @@ pub fn texture_footprint(samples: &Samples) -> f32 {
     } else {
         (1.0 / samples.k as f32).max(1.0 / 8.0)
     }
-}
-
-/// The shadow-ray offset: large enough to leave the surface's own triangle at the scene's
-/// float precision, small against any feature. Relative to the scene's size so the same
-/// rule serves a 15 cm bunny and a 10 m shapes scene.
-pub fn shadow_epsilon(scene: &Scene) -> f32 {
-    if scene.positions.is_empty() {
-        return 1e-4;
-    }
-    let (lo, hi) = scene.bounds();
-    let diag = (hi - lo).length();
-    let reach = lo.abs().max(hi.abs()).max_element();
-    (diag * 2e-5).max(reach * 1e-6).max(1e-7)
 }

@@ -206,7 +206,7 @@ impl Inputs {
         // A spin poses the scene every frame: refused here if that could overflow (found by
         // fuzzing the posed scene: tests/data/fuzz/posed_scene/huge-pivot).
         if anim.motion == MotionKind::Spin {
-            let pivot = anim.pivot.unwrap_or(anim.camera(&scene, 0)?.target);
+            let pivot = anim.pivot(&scene)?;
             if let Some(why) = scene.turn_problem(pivot) {
                 crate::bail_input!(&anim.spec_path, "[motion] kind = \"spin\": {why}");
             }
@@ -343,9 +343,9 @@ fn render_tile_list(
     cancel: &Cancel,
 ) -> Result<(Film, FrameStats, Option<Carried>)> {
     let start = Instant::now();
-    let camera0 = anim.camera(&inputs.scene, 0)?;
+    let pivot = anim.pivot(&inputs.scene)?;
     let (posed, built);
-    let (scene, accel) = match anim.scene_transform(frame, camera0.target) {
+    let (scene, accel) = match anim.scene_transform(frame, pivot) {
         Some(m) => {
             posed = inputs.scene.transformed(m);
             built = Accel::build(&posed.positions, &posed.triangles);
@@ -367,7 +367,7 @@ fn render_tile_list(
                 frame,
                 prev_camera,
                 &camera,
-                camera0.target,
+                pivot,
                 &inputs.lights,
             ))
         }
@@ -473,8 +473,8 @@ fn render_tile_list(
         counts: film.counts,
         image_error: film.image_error(rendered, anim.render.exposure),
         seconds: start.elapsed().as_secs_f64(),
-        camera_position: camera.position,
-        camera_target: camera.target,
+        camera_position: inputs.scene.to_world(camera.position),
+        camera_target: inputs.scene.to_world(camera.target),
         camera_up: camera.up,
         vfov_deg: camera.vfov_deg,
     };

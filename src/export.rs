@@ -4,8 +4,9 @@
 //! sample, the pixel centre), and a `frame.json` with the camera, the sample pattern and the
 //! shadow-ray offset. With these, an independent renderer can evaluate exactly what envshadow's
 //! `brute` method does: Lambertian shading of every light at every sample, shadow rays from the
-//! hit point moved `shadow_eps` along the geometric normal, a pixel the plain mean of its
-//! samples.
+//! hit point moved along the geometric normal by its error bound (`src/offset.rs`: `dot(|ng|,
+//! err)` with `err = gamma7 · (|p0| + |p1 − p0| + |p2 − p0|)` per axis, `frame.json`'s
+//! `shadow_offset_gamma`), a pixel the plain mean of its samples.
 
 use std::fs;
 use std::io::{BufWriter, Write};
@@ -16,7 +17,6 @@ use clap::Args;
 use serde_json::json;
 
 use crate::anim::{AnimFlags, Animation};
-use crate::context::shadow_epsilon;
 use crate::coordinator::Inputs;
 use crate::error::{Result, input_error};
 use crate::output::write_atomic_with;
@@ -92,9 +92,9 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
             ),
         ));
     }
-    let camera0 = anim.camera(&inputs.scene, 0)?;
+    let pivot = anim.pivot(&inputs.scene)?;
     let posed;
-    let scene = match anim.scene_transform(args.frame, camera0.target) {
+    let scene = match anim.scene_transform(args.frame, pivot) {
         Some(m) => {
             posed = inputs.scene.transformed(m);
             &posed
@@ -178,7 +178,9 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
         "spp": samples.spp(),
         "filter": samples.filter.name(),
         "filter_width": samples.width,
-        "shadow_eps": shadow_epsilon(scene),
+        "shadow_offset_gamma": crate::offset::gamma(7),
+        // The world point the positions and the camera count from (scene::render_origin).
+        "origin": inputs.scene.origin.to_array(),
         "triangles": scene.triangles.len(),
         "lights": inputs.lights.len(),
     });

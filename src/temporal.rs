@@ -76,15 +76,15 @@ pub fn prev_view<'a>(
     frame: usize,
     prev_camera: Camera,
     camera: &Camera,
-    target: glam::Vec3,
+    pivot: glam::Vec3,
     lights: &LightSet,
 ) -> Prev<'a> {
     debug_assert_eq!(carried.frame + 1, frame);
     let now = anim
-        .scene_transform(frame, target)
+        .scene_transform(frame, pivot)
         .unwrap_or(Mat4::IDENTITY);
     let then = anim
-        .scene_transform(carried.frame, target)
+        .scene_transform(carried.frame, pivot)
         .unwrap_or(Mat4::IDENTITY);
     let to_prev = then * now.inverse();
     let mut remap = Vec::new();

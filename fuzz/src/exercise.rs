@@ -55,19 +55,18 @@ pub fn gltf(data: &[u8], path: &Path) -> Result<()> {
     Ok(())
 }
 
-/// A spec's spin as a render poses the scene ([`Animation::scene_transform`] about the first
-/// frame's camera target, then the BVH over the posed copy, as `render_tile_list` in
-/// src/coordinator.rs does) at its first, middle and last frames, with rays through each.
+/// A spec's spin as a render poses the scene ([`Animation::scene_transform`] about its pivot,
+/// then the BVH over the posed copy, as `render_tile_list` in src/coordinator.rs does) at its first, middle and last frames, with rays through each.
 pub fn posed_scene(text: &str, path: &Path, scene: &Scene) -> Result<()> {
     let anim = Animation::parse(text, path, &AnimFlags::default())?;
-    let target = anim.camera(scene, 0)?.target;
+    let pivot = anim.pivot(scene)?;
     // As `Inputs::load` refuses a spin that could overflow.
-    if let Some(why) = scene.turn_problem(anim.pivot.unwrap_or(target)) {
+    if let Some(why) = scene.turn_problem(pivot) {
         return Err(envshadow::error::input_error(path, why));
     }
     for frame in [0, anim.frame_count / 2, anim.frame_count - 1] {
         anim.camera(scene, frame)?;
-        if let Some(m) = anim.scene_transform(frame, target) {
+        if let Some(m) = anim.scene_transform(frame, pivot) {
             trace(&scene.transformed(m));
         }
     }

@@ -52,6 +52,7 @@ pub fn origin() -> Surface {
         p: Vec3::ZERO,
         n: Vec3::Y,
         ng: Vec3::Y,
+        origin: crate::offset::offset_origin(Vec3::ZERO, Vec3::ZERO, Vec3::Y),
         albedo: Vec3::splat(0.5),
         dir: Vec3::NEG_Y,
         hit: true,
@@ -60,7 +61,12 @@ pub fn origin() -> Surface {
 
 /// A surface point at `p` facing +Y.
 pub fn at(p: Vec3) -> Surface {
-    Surface { p, ..origin() }
+    let err = p.abs() * crate::offset::gamma(7);
+    Surface {
+        p,
+        origin: crate::offset::offset_origin(p, err, Vec3::Y),
+        ..origin()
+    }
 }
 
 /// A frame with its own scene, BVH, lights and map; [`Frame::ctx`] borrows them.

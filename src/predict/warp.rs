@@ -25,7 +25,7 @@ impl Vote for Warp {
         let s = bufs.surf[i];
         let w = bufs.words;
         for &q in voters {
-            let pq = bufs.surf[q].p;
+            let pq = bufs.surf[q].origin;
             for (j, t) in bufs.blockers.of(q) {
                 let b = pq + ctx.light_dir[j] * t;
                 let d = b - s.p;

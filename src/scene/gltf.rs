@@ -6,7 +6,7 @@
 //! that does not match its semantic, a bad percent-encoding in a URI) and give errors that do
 //! not say which mesh or accessor is at fault.
 
-use glam::{Mat4, Vec2, Vec3};
+use glam::{DMat4, DVec3, Vec2, Vec3};
 use sha2::{Digest, Sha256};
 use std::collections::HashMap;
 use std::ops::Range;
@@ -67,7 +67,7 @@ pub(super) fn load_bytes(bytes: &[u8], path: &Path, budget: &mut Budget) -> Resu
     let document = Document::from_json(root)
         .map_err(|e| input_error(path, format!("not a valid glTF/GLB file: {e}")))?;
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    let (mut size, used) = count(path, &document)?;
+    let (mut size, used, origin) = count(path, &document)?;
     // The file (and the GLB chunk's copy of it) and the buffers it declares are held while
     // loading.
     let blob_len = blob.as_ref().map_or(0, Vec::len) as u64;
@@ -91,7 +91,10 @@ pub(super) fn load_bytes(bytes: &[u8], path: &Path, budget: &mut Budget) -> Resu
         path,
         document: &document,
         buffers,
-        scene: reserved(path, &size)?,
+        scene: Scene {
+            origin,
+            ..reserved(path, &size)?
+        },
         material_map: HashMap::new(),
         images,
         default_material: None,
@@ -262,12 +265,12 @@ fn base64_decode(s: &str) -> Option<Vec<u8>> {
 }
 
 /// Visits the default scene's nodes depth first (pre-order), composing transforms
-/// parent × child, and calls `visit` with each node and its world transform. A node reached
+/// parent × child in f64, and calls `visit` with each node and its world transform. A node reached
 /// twice (a cycle, or two parents) and a transform that is not finite are refused.
 fn walk(
     path: &Path,
     document: &Document,
-    mut visit: impl FnMut(&Node, Mat4) -> Result<()>,
+    mut visit: impl FnMut(&Node, DMat4) -> Result<()>,
 ) -> Result<()> {
     let roots: Vec<Node> = match document
         .default_scene()
@@ -287,10 +290,10 @@ fn walk(
     };
     let mut visited = vec![false; document.nodes().len()];
     // Reversed so that popping visits nodes in file order.
-    let mut stack: Vec<(Node, Mat4)> = roots
+    let mut stack: Vec<(Node, DMat4)> = roots
         .into_iter()
         .rev()
-        .map(|n| (n, Mat4::IDENTITY))
+        .map(|n| (n, DMat4::IDENTITY))
         .collect();
     while let Some((node, parent)) = stack.pop() {
         let n = node.index();
@@ -301,7 +304,9 @@ fn walk(
             );
         }
         visited[n] = true;
-        let local = Mat4::from_cols_array_2d(&node.transform().matrix());
+        // In f64: a node far from the origin keeps its mesh's precision until the render
+        // origin is taken off (super::origin).
+        let local = DMat4::from_cols_array_2d(&node.transform().matrix().map(|c| c.map(f64::from)));
         if !local.is_finite() {
             bail_input!(path, "node {n}: transform is not finite");
         }
@@ -314,7 +319,7 @@ fn walk(
 }
 
 /// Whether a mesh placed by `world` is loaded: a singular transform (zero scale) flattens it.
-fn placeable(world: Mat4) -> bool {
+fn placeable(world: DMat4) -> bool {
     let det = world.determinant();
     det != 0.0 && det.is_finite()
 }
@@ -340,9 +345,10 @@ fn tex_coord_set(primitive: &Primitive) -> u32 {
 /// of every primitive the loader will read, once per node that places its mesh, and the
 /// largest of them; and the images their materials use, as (material, image) in the order the
 /// loader meets them. Accessors too large to read are refused here, as the loader would.
-fn count(path: &Path, document: &Document) -> Result<(SceneSize, Vec<(usize, usize)>)> {
+fn count(path: &Path, document: &Document) -> Result<(SceneSize, Vec<(usize, usize)>, DVec3)> {
     let mut size = SceneSize::default();
     let mut used = Vec::new();
+    let mut bounds = Some((DVec3::INFINITY, DVec3::NEG_INFINITY));
     walk(path, document, |node, world| {
         let Some(mesh) = node.mesh() else {
             return Ok(());
@@ -370,6 +376,7 @@ fn count(path: &Path, document: &Document) -> Result<(SceneSize, Vec<(usize, usi
             for acc in attributes.iter().flatten() {
                 check_values(path, &at, acc)?;
             }
+            bounds = bounds.and_then(|b| grow(b, &positions, world));
             let vertices = positions.count() as u64;
             let indices = primitive.indices().map_or(vertices, |a| a.count() as u64);
             let triangles = match primitive.mode() {
@@ -390,7 +397,33 @@ fn count(path: &Path, document: &Document) -> Result<(SceneSize, Vec<(usize, usi
         }
         Ok(())
     })?;
-    Ok((size, used))
+    let origin = bounds.map_or(DVec3::ZERO, |(lo, hi)| super::render_origin(lo, hi));
+    Ok((size, used, origin))
+}
+
+/// `bounds` grown by the corners of a POSITION accessor's declared `min`/`max` placed by
+/// `world`; None when it declares none (the glTF spec requires them; without them the scene
+/// keeps its world coordinates, losing only precision far from the origin).
+fn grow(bounds: (DVec3, DVec3), positions: &Accessor, world: DMat4) -> Option<(DVec3, DVec3)> {
+    let corner = |v: Option<::gltf::json::Value>| -> Option<DVec3> {
+        let v = v?;
+        let a = v.as_array()?;
+        let c = |k: usize| a.get(k).and_then(|x| x.as_f64());
+        Some(DVec3::new(c(0)?, c(1)?, c(2)?))
+    };
+    let (lo, hi) = (corner(positions.min())?, corner(positions.max())?);
+    let (mut blo, mut bhi) = bounds;
+    for k in 0..8 {
+        let p = DVec3::new(
+            if k & 1 == 0 { lo.x } else { hi.x },
+            if k & 2 == 0 { lo.y } else { hi.y },
+            if k & 4 == 0 { lo.z } else { hi.z },
+        );
+        let w = world.transform_point3(p);
+        blo = blo.min(w);
+        bhi = bhi.max(w);
+    }
+    Some((blo, bhi))
 }
 
 /// Refuses an accessor with more values (elements × components) than one read may hold.
@@ -579,14 +612,15 @@ impl Loader<'_> {
     }
 
     /// Keeps the first perspective camera: eye at the node's origin looking down its −Z, +Y up.
-    fn camera(&mut self, node: usize, camera: &::gltf::Camera, world: Mat4) {
+    fn camera(&mut self, node: usize, camera: &::gltf::Camera, world: DMat4) {
         if self.scene.camera.is_some() {
             return;
         }
         let ::gltf::camera::Projection::Perspective(p) = camera.projection() else {
             return;
         };
-        let position = world.transform_point3(Vec3::ZERO);
+        let position = (world.transform_point3(DVec3::ZERO) - self.scene.origin).as_vec3();
+        let world = world.as_mat4();
         let forward = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
         let up = world.transform_vector3(Vec3::Y);
         // Orthogonalise: a sheared node would otherwise give an up tilted toward forward.
@@ -612,7 +646,7 @@ impl Loader<'_> {
     }
 
     /// Appends one primitive, transformed by `world`, to the scene.
-    fn primitive(&mut self, m: usize, primitive: &Primitive, world: Mat4) -> Result<()> {
+    fn primitive(&mut self, m: usize, primitive: &Primitive, world: DMat4) -> Result<()> {
         let p = primitive.index();
         let at = format!("mesh {m} primitive {p}");
         let mode = primitive.mode();
@@ -699,9 +733,11 @@ impl Loader<'_> {
             ));
         }
 
+        // Placed in f64, then counted from the render origin: one rounding to f32.
+        let origin = self.scene.origin;
         let world_pos: Vec<Vec3> = positions
             .iter()
-            .map(|&v| world.transform_point3(Vec3::from_array(v)))
+            .map(|&v| (world.transform_point3(Vec3::from_array(v).as_dvec3()) - origin).as_vec3())
             .collect();
         if world_pos.iter().any(|p| !p.is_finite()) {
             bail_input!(
@@ -730,7 +766,7 @@ impl Loader<'_> {
             ));
         }
         let smooth = smooth_normals(&world_pos, &tris);
-        let nm = normal_matrix(world);
+        let nm = normal_matrix(world.as_mat4());
         let world_nrm: Vec<Vec3> = match &normals {
             Some(normals) => normals
                 .iter()

@@ -10,15 +10,17 @@
 //! Barycentric coordinates `(u, v)` name the point `(1 − u − v)·p0 + u·p1 + v·p2`.
 
 mod gltf;
+mod origin;
 mod shapes;
 mod texture;
 
-use glam::{Mat3, Mat4, Vec2, Vec3};
+use glam::{DVec3, Mat3, Mat4, Vec2, Vec3};
 use std::path::Path;
 
 use crate::error::Result;
 use crate::limits::Budget;
 
+pub use origin::render_origin;
 pub use texture::srgb_to_linear;
 
 /// An sRGB-decoded (linear) RGB texture, row-major, row 0 at the top (glTF's UV origin), with
@@ -75,10 +77,10 @@ pub struct SceneCamera {
     pub vfov_deg: f32,
 }
 
-/// All triangles of the default scene in world space.
+/// All triangles of the default scene in world space, counted from [`Scene::origin`].
 #[derive(Clone, Debug, Default)]
 pub struct Scene {
-    /// World-space vertex positions.
+    /// Vertex positions: world space less [`origin`](Self::origin).
     pub positions: Vec<Vec3>,
     /// Unit shading normals per vertex.
     pub normals: Vec<Vec3>,
@@ -96,6 +98,9 @@ pub struct Scene {
     pub camera: Option<SceneCamera>,
     /// Where it came from: a path, or `builtin:shapes`.
     pub source: String,
+    /// The world-space point the positions (and the file's camera) count from: zero unless
+    /// the scene lies far from the world's origin for its size ([`render_origin`]).
+    pub origin: DVec3,
     /// Things skipped while loading (non-triangle primitives, …); each was also printed to
     /// stderr as `warning: …`.
     pub warnings: Vec<String>,
@@ -182,7 +187,19 @@ impl Scene {
         }
     }
 
-    /// The three world-space corners of triangle `tri`.
+    /// A world-space point (a spec's camera position, target or pivot) in the scene's
+    /// coordinates, which count from [`origin`](Self::origin); the point itself when that is
+    /// zero.
+    pub fn to_local(&self, world: Vec3) -> Vec3 {
+        (world.as_dvec3() - self.origin).as_vec3()
+    }
+
+    /// A point of the scene's coordinates in world space.
+    pub fn to_world(&self, local: Vec3) -> Vec3 {
+        (local.as_dvec3() + self.origin).as_vec3()
+    }
+
+    /// The three corners of triangle `tri`.
     #[inline]
     pub fn triangle(&self, tri: usize) -> [Vec3; 3] {
         self.triangles[tri].map(|i| self.positions[i as usize])
@@ -302,13 +319,24 @@ impl Scene {
         ))
     }
 
-    /// Appends `other`'s triangles, materials and textures (indices shifted). Keeps this scene's
-    /// camera and source, taking `other`'s camera only if this one has none.
+    /// Appends `other`'s triangles, materials and textures (indices shifted, positions moved to
+    /// this scene's origin). Keeps this scene's camera, origin and source, taking `other`'s
+    /// camera only if this one has none.
     pub fn merge(&mut self, other: Scene) {
         let vertex_base = self.positions.len() as u32;
         let material_base = self.materials.len() as u32;
         let texture_base = self.textures.len();
-        self.positions.extend(other.positions);
+        let shift = other.origin - self.origin;
+        if shift == DVec3::ZERO {
+            self.positions.extend(other.positions);
+        } else {
+            self.positions.extend(
+                other
+                    .positions
+                    .iter()
+                    .map(|p| (p.as_dvec3() + shift).as_vec3()),
+            );
+        }
         self.normals.extend(other.normals);
         self.uvs.extend(other.uvs);
         self.triangles
@@ -322,7 +350,10 @@ impl Scene {
             }));
         self.textures.extend(other.textures);
         if self.camera.is_none() {
-            self.camera = other.camera;
+            self.camera = other.camera.map(|mut c| {
+                c.position = (c.position.as_dvec3() + shift).as_vec3();
+                c
+            });
         }
         self.warnings.extend(other.warnings);
     }

@@ -26,6 +26,7 @@ mod render;
 mod report;
 mod resume;
 mod samples;
+mod scale;
 mod scene;
 mod simd;
 mod slurm;

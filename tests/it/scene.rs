@@ -1,132 +1,13 @@
 //! Scene loading: the shared bunny assets, glTF files generated here (hierarchies, textures,
 //! cameras, missing normals, non-triangle primitives, bad inputs), and the built-in shapes.
 
-use crate::common::{self, Failures};
+use crate::common::{self, Failures, Gltf};
 
 use envshadow::error::{InputError, exit_code};
 use envshadow::scene::Scene;
 use glam::{Mat4, Vec2, Vec3};
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
-
-// ---------------------------------------------------------------------------------------------
-// A small glTF writer: accessors go into one binary buffer, written as `.gltf` + `.bin`, as
-// `.gltf` with a `data:` URI, or as `.glb`.
-
-#[derive(Clone, Default)]
-struct Gltf {
-    bin: Vec<u8>,
-    views: Vec<Value>,
-    accessors: Vec<Value>,
-}
-
-impl Gltf {
-    fn view(&mut self, bytes: &[u8]) -> usize {
-        while !self.bin.len().is_multiple_of(4) {
-            self.bin.push(0);
-        }
-        self.views
-            .push(json!({"buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len()}));
-        self.bin.extend_from_slice(bytes);
-        self.views.len() - 1
-    }
-
-    /// A float accessor of `type_` ("VEC2", "VEC3") over `data`.
-    fn floats(&mut self, type_: &str, data: &[f32]) -> usize {
-        let n = match type_ {
-            "VEC2" => 2,
-            "VEC3" => 3,
-            _ => 1,
-        };
-        let bytes: Vec<u8> = data.iter().flat_map(|f| f.to_le_bytes()).collect();
-        let view = self.view(&bytes);
-        let mut acc = json!({"bufferView": view, "componentType": 5126, "count": data.len() / n, "type": type_});
-        if type_ == "VEC3" {
-            // glTF requires min/max on POSITION (f32::min skips NaN); harmless on others.
-            let mut lo = [f32::INFINITY; 3];
-            let mut hi = [f32::NEG_INFINITY; 3];
-            for c in data.chunks(3) {
-                for k in 0..3 {
-                    lo[k] = lo[k].min(c[k]);
-                    hi[k] = hi[k].max(c[k]);
-                }
-            }
-            acc["min"] = json!(lo);
-            acc["max"] = json!(hi);
-        }
-        self.accessors.push(acc);
-        self.accessors.len() - 1
-    }
-
-    fn indices(&mut self, data: &[u32]) -> usize {
-        let bytes: Vec<u8> = data.iter().flat_map(|i| i.to_le_bytes()).collect();
-        let view = self.view(&bytes);
-        self.accessors.push(json!({"bufferView": view, "componentType": 5125, "count": data.len(), "type": "SCALAR"}));
-        self.accessors.len() - 1
-    }
-
-    /// The document: `rest` (meshes, nodes, scenes, …) plus buffers, views and accessors.
-    fn json(&self, rest: Value, buffer_uri: Option<&str>) -> Value {
-        let mut doc = rest;
-        doc["asset"] = json!({"version": "2.0"});
-        let mut buffer = json!({"byteLength": self.bin.len()});
-        if let Some(uri) = buffer_uri {
-            buffer["uri"] = json!(uri);
-        }
-        doc["buffers"] = json!([buffer]);
-        doc["bufferViews"] = json!(self.views);
-        doc["accessors"] = json!(self.accessors);
-        doc
-    }
-
-    /// Writes `name.gltf` + `name.bin` into `dir`.
-    fn write_gltf(&self, dir: &Path, name: &str, rest: Value) -> PathBuf {
-        let bin_name = format!("{name}.bin");
-        std::fs::write(dir.join(&bin_name), &self.bin).unwrap();
-        let path = dir.join(format!("{name}.gltf"));
-        let doc = self.json(rest, Some(&bin_name));
-        std::fs::write(&path, serde_json::to_vec_pretty(&doc).unwrap()).unwrap();
-        path
-    }
-
-    /// Writes `name.gltf` with the buffer inline as a base64 `data:` URI.
-    fn write_gltf_data_uri(&self, dir: &Path, name: &str, rest: Value) -> PathBuf {
-        let uri = format!(
-            "data:application/octet-stream;base64,{}",
-            common::base64(&self.bin)
-        );
-        let path = dir.join(format!("{name}.gltf"));
-        let doc = self.json(rest, Some(&uri));
-        std::fs::write(&path, serde_json::to_vec(&doc).unwrap()).unwrap();
-        path
-    }
-
-    /// Writes `name.glb` into `dir`.
-    fn write_glb(&self, dir: &Path, name: &str, rest: Value) -> PathBuf {
-        let mut json = serde_json::to_vec(&self.json(rest, None)).unwrap();
-        while !json.len().is_multiple_of(4) {
-            json.push(b' ');
-        }
-        let mut bin = self.bin.clone();
-        while !bin.len().is_multiple_of(4) {
-            bin.push(0);
-        }
-        let total = 12 + 8 + json.len() + 8 + bin.len();
-        let mut out = Vec::new();
-        out.extend_from_slice(b"glTF");
-        out.extend_from_slice(&2u32.to_le_bytes());
-        out.extend_from_slice(&(total as u32).to_le_bytes());
-        out.extend_from_slice(&(json.len() as u32).to_le_bytes());
-        out.extend_from_slice(b"JSON");
-        out.extend_from_slice(&json);
-        out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
-        out.extend_from_slice(b"BIN\0");
-        out.extend_from_slice(&bin);
-        let path = dir.join(format!("{name}.glb"));
-        std::fs::write(&path, out).unwrap();
-        path
-    }
-}
 
 fn close(a: Vec3, b: Vec3, tol: f32) -> bool {
     (a - b).abs().max_element() <= tol
