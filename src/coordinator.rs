@@ -26,6 +26,7 @@ use crate::lights::LightSet;
 use crate::output;
 use crate::output::lock::FolderLock;
 use crate::output::record::{FrameRecord, SettingsRecord};
+use crate::output::runs::RunRecord;
 use crate::output::stats::{FrameStats, StatsFile};
 use crate::scene::Scene;
 use crate::temporal::{chains, prev_view};
@@ -64,6 +65,10 @@ pub trait FrameSink: Send {
     fn frame_done(&self, frame: usize) -> bool;
     /// Publishes one finished frame (from the writer thread, in the order frames finish).
     fn write(&mut self, film: &Film, stats: &FrameStats) -> Result<()>;
+    /// The run ended with every frame written: what it did.
+    fn finish(&mut self, _summary: &RunSummary) -> Result<()> {
+        Ok(())
+    }
 }
 
 /// A render's own folder: `frame_NNNN.exr` and `.png` per frame, each committed with its
@@ -159,6 +164,21 @@ impl FrameSink for FrameFiles {
         self.stats.set_row(stats.frame, &row);
         self.stats.write(&self.dir.join("stats.csv"))
     }
+
+    /// Records the run in `records/runs.csv`: its wall time beside its frames' thread-seconds.
+    fn finish(&mut self, summary: &RunSummary) -> Result<()> {
+        RunRecord {
+            started_unix: summary.started_unix,
+            threads: summary.threads,
+            frames_rendered: summary.rendered,
+            frames_skipped: summary.skipped,
+            wall_seconds: summary.seconds,
+            thread_seconds: summary.thread_seconds,
+            queries: summary.counts.queries,
+            rays_traced: summary.counts.traced(),
+        }
+        .append(&self.dir)
+    }
 }
 
 /// An animation's inputs, loaded once per run.
@@ -249,8 +269,16 @@ pub struct RunOptions {
 pub struct RunSummary {
     pub rendered: usize,
     pub skipped: usize,
+    /// The written frames' counts.
     pub counts: Counts,
+    /// Wall-clock seconds of the whole run, loading included.
     pub seconds: f64,
+    /// When it started, Unix seconds.
+    pub started_unix: u64,
+    /// Worker threads.
+    pub threads: usize,
+    /// The thread-seconds of every frame rendered (warm-up frames included).
+    pub thread_seconds: f64,
 }
 
 thread_local! {
@@ -342,7 +370,11 @@ fn render_tile_list(
     temporal: &Temporal,
     cancel: &Cancel,
 ) -> Result<(Film, FrameStats, Option<Carried>)> {
+    // The frame's thread-seconds: its serial parts (this thread's time outside the parallel
+    // sections, which it spends waiting or on other frames' tasks) plus its tasks' own times.
     let start = Instant::now();
+    let mut parallel = std::time::Duration::ZERO;
+    let tasks = TaskTime::default();
     let pivot = anim.pivot(&inputs.scene)?;
     let (posed, built);
     let (scene, accel) = match anim.scene_transform(frame, pivot) {
@@ -407,10 +439,16 @@ fn render_tile_list(
         let shared_tiles = reach.as_deref().unwrap_or(list);
         for phase in 0..phases {
             cancel.check()?;
+            let t = Instant::now();
             let patches: Vec<_> = shared_tiles
                 .par_iter()
-                .map(|t| with_slot(|slot| work.shared_phase(t.rect, slot, phase, &lattice)))
+                .map(|t| {
+                    tasks.time(|| {
+                        with_slot(|slot| work.shared_phase(t.rect, slot, phase, &lattice))
+                    })
+                })
                 .collect();
+            parallel += t.elapsed();
             for p in &patches {
                 lattice.insert(p);
             }
@@ -425,6 +463,7 @@ fn render_tile_list(
     order.sort_by_cached_key(|&t| (std::cmp::Reverse(work.rays_in(&lattice, list[t].rect)), t));
     let slots: Vec<Mutex<Option<_>>> = (0..list.len()).map(|_| Mutex::new(None)).collect();
     let next = AtomicUsize::new(0);
+    let t = Instant::now();
     (0..rayon::current_num_threads())
         .into_par_iter()
         .with_max_len(1)
@@ -435,16 +474,19 @@ fn render_tile_list(
                     break;
                 }
                 let t = &list[order[k]];
-                let r = with_slot(|slot| {
-                    let r = work.tile(t.rect, slot, &lattice);
-                    let patch =
-                        carry.then(|| CarryPatch::record(&slot.bufs, &inputs.lights, edges, side));
-                    (r, patch)
+                let r = tasks.time(|| {
+                    with_slot(|slot| {
+                        let r = work.tile(t.rect, slot, &lattice);
+                        let patch = carry
+                            .then(|| CarryPatch::record(&slot.bufs, &inputs.lights, edges, side));
+                        (r, patch)
+                    })
                 });
-                progress.tile_done(r.0.counts.rays);
+                progress.tile_done(r.0.counts.traced());
                 *slots[order[k]].lock().unwrap() = Some(r);
             }
         });
+    parallel += t.elapsed();
     let results: Option<Vec<_>> = slots.into_iter().map(|s| s.into_inner().unwrap()).collect();
     let Some(results) = results else {
         return Err(Interrupted.into());
@@ -472,13 +514,33 @@ fn render_tile_list(
         spp: anim.render.spp,
         counts: film.counts,
         image_error: film.image_error(rendered, anim.render.exposure),
-        seconds: start.elapsed().as_secs_f64(),
+        thread_seconds: (start.elapsed().saturating_sub(parallel) + tasks.total()).as_secs_f64(),
         camera_position: inputs.scene.to_world(camera.position),
         camera_target: inputs.scene.to_world(camera.target),
         camera_up: camera.up,
         vfov_deg: camera.vfov_deg,
     };
     Ok((film, stats, carried))
+}
+
+/// The summed run time of a frame's parallel tasks (tiles, shared passes), each timed on the
+/// thread that ran it.
+#[derive(Default)]
+struct TaskTime(std::sync::atomic::AtomicU64);
+
+impl TaskTime {
+    /// Runs `f`, adding its run time.
+    fn time<R>(&self, f: impl FnOnce() -> R) -> R {
+        let t = Instant::now();
+        let r = f();
+        let ns = u64::try_from(t.elapsed().as_nanos()).unwrap_or(u64::MAX);
+        self.0.fetch_add(ns, Ordering::Relaxed);
+        r
+    }
+
+    fn total(&self) -> std::time::Duration {
+        std::time::Duration::from_nanos(self.0.load(Ordering::Relaxed))
+    }
 }
 
 /// A thread pool with `threads` workers (0: one per core).
@@ -498,6 +560,9 @@ pub fn render_animation(
     progress: &dyn Progress,
 ) -> Result<RunSummary> {
     let start = Instant::now();
+    let started_unix = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
     let dir = &anim.output.dir;
     if anim.render.temporal && opts.region.is_some() {
         crate::bail_input!(
@@ -540,6 +605,7 @@ pub fn render_animation(
         .collect();
     let mut summary = RunSummary {
         skipped: anim.frames.len() - todo.len(),
+        started_unix,
         ..Default::default()
     };
     // With temporal prediction, frames come in chains from a key frame, each frame reading
@@ -558,6 +624,9 @@ pub fn render_animation(
     let (list, region) = selection(anim, opts);
     progress.begin(todo.len(), list.len());
     let pool = thread_pool(anim.render.threads)?;
+    summary.threads = pool.current_num_threads();
+    // Every frame's thread-seconds, written or warm-up.
+    let thread_seconds = Mutex::new(0.0f64);
 
     // Two chains in flight share the pool: while the last tiles of one frame finish, idle
     // workers take tiles of the other chain's frame. Each driver thread renders its chain's
@@ -582,8 +651,16 @@ pub fn render_animation(
         });
         for _ in 0..FRAMES_IN_FLIGHT.min(work.len()) {
             let tx = tx.clone();
-            let (next, failed, first_error, work, pool, inputs, list) =
-                (&next, &failed, &first_error, &work, &pool, &inputs, &list);
+            let (next, failed, first_error, work, pool, inputs, list, thread_seconds) = (
+                &next,
+                &failed,
+                &first_error,
+                &work,
+                &pool,
+                &inputs,
+                &list,
+                &thread_seconds,
+            );
             s.spawn(move || {
                 'chains: loop {
                     let k = next.fetch_add(1, Ordering::Relaxed);
@@ -619,6 +696,7 @@ pub fn render_animation(
                         });
                         match rendered {
                             Ok((film, stats, carried)) => {
+                                *thread_seconds.lock().unwrap() += stats.thread_seconds;
                                 // The previous frame's data has been used: free it now.
                                 prev = carried;
                                 if !write {
@@ -656,5 +734,7 @@ pub fn render_animation(
     // Frames finished before the stop are written; the rest waits for `--resume`.
     opts.cancel.check()?;
     summary.seconds = start.elapsed().as_secs_f64();
+    summary.thread_seconds = thread_seconds.into_inner().unwrap();
+    sink.finish(&summary)?;
     Ok(summary)
 }

@@ -76,12 +76,20 @@ impl AddAssign for Counts {
 }
 
 impl Counts {
-    /// Rays traced as a percentage of queries (100 when there were no queries).
+    /// Every shadow ray traced: at the pixels themselves and, again, at the halo pixels tiles
+    /// evaluated for their neighbours (work a whole-frame render would not repeat).
+    pub fn traced(&self) -> u64 {
+        self.rays + self.halo_rays
+    }
+
+    /// [`traced`](Self::traced) as a percentage of queries (100 when there were no queries):
+    /// every ray the frame cost, halo rays included [ours]; `rays` alone is what the pixels'
+    /// `rays` layer sums to.
     pub fn percent_traced(&self) -> f64 {
         if self.queries == 0 {
             100.0
         } else {
-            100.0 * self.rays as f64 / self.queries as f64
+            100.0 * self.traced() as f64 / self.queries as f64
         }
     }
 

@@ -45,8 +45,10 @@ struct Row {
     width: u32,
     height: u32,
     queries: u64,
+    /// Every ray the frame traced, tiles' halos included.
     rays: u64,
     percent: f64,
+    /// The frame's thread-seconds.
     seconds: f64,
     /// With validation: wrong pairs, error percent, wrong pixels, PSNR (dB).
     wrong: Option<u64>,
@@ -78,9 +80,9 @@ fn read_stats(path: &Path) -> Result<Vec<Row>> {
                 width: f.width,
                 height: f.height,
                 queries: c.queries,
-                rays: c.rays,
+                rays: c.traced(),
                 percent: c.percent_traced(),
-                seconds: f.seconds,
+                seconds: f.thread_seconds,
                 wrong: validated.then_some(c.wrong_visible + c.wrong_blocked),
                 error_percent: validated.then_some(c.error_percent()),
                 wrong_pixels: validated.then_some(c.wrong_pixels),
@@ -516,7 +518,7 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
         },
         Series {
             file: "plot_seconds.png",
-            title: "Seconds per frame",
+            title: "Thread-seconds per frame",
             unit: "s",
             points: fx(|r| Some(r.seconds)),
             colour: [255, 127, 14],
@@ -747,15 +749,31 @@ fn page(
         "shadow rays traced",
         &format!("{} ({percent:.2} % of the queries)", with_commas(rays)),
     );
+    // Wall time from the runs that rendered the folder (records/runs.csv; none for a farm's
+    // assembled folder); thread-seconds from the frames themselves.
+    let runs = crate::output::runs::RunRecord::read_all(dir).unwrap_or_default();
+    let wall: f64 = runs.iter().map(|r| r.wall_seconds).sum();
+    let run_rays: u64 = runs.iter().map(|r| r.rays_traced).sum();
+    if runs.is_empty() {
+        kv("wall time", "not recorded (no records/runs.csv: an assembled farm render?)");
+    } else {
+        let threads = distinct(runs.iter().map(|r| r.threads));
+        kv(
+            "wall time",
+            &format!(
+                "{wall:.2} s ({} run{}, {threads} threads), {:.2} M shadow rays per second",
+                runs.len(),
+                if runs.len() == 1 { "" } else { "s" },
+                run_rays as f64 / wall.max(1e-9) / 1e6
+            ),
+        );
+    }
     kv(
-        "render time",
+        "compute time",
         &format!(
-            "{seconds:.2} s (sum of the frames' seconds; two frames are rendered at once, so the run's wall time is shorter)"
+            "{seconds:.2} thread-seconds (the frames' own, summed), {:.2} M shadow rays per thread-second",
+            rays as f64 / seconds.max(1e-9) / 1e6
         ),
-    );
-    kv(
-        "shadow rays per second",
-        &format!("{:.2} M", rays as f64 / seconds.max(1e-9) / 1e6),
     );
     if !validated.is_empty() {
         let vq: u64 = validated.iter().map(|r| r.queries).sum();
@@ -851,7 +869,7 @@ fn page(
     if any_wrong {
         h.push_str("<th>wrong predictions</th>");
     }
-    h.push_str("<th>traced</th><th>seconds</th>");
+    h.push_str("<th>traced</th><th>thread-seconds</th>");
     if any_wrong {
         h.push_str("<th>error</th><th>wrong pixels</th><th>PSNR</th>");
     }

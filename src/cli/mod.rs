@@ -500,14 +500,17 @@ fn render(args: RenderArgs) -> Result<()> {
     let dir = &anim.output.dir;
     if !args.quiet {
         eprintln!(
-            "{}: {} frames rendered, {} skipped in {:.1} s; {} shadow queries, {} rays traced ({:.2} %); output in {}",
+            "{}: {} frames rendered, {} skipped in {:.1} s ({:.1} thread-s on {} threads); {} shadow queries, {} rays traced ({:.2} %, {:.1} M rays/s); output in {}",
             anim.name,
             summary.rendered,
             summary.skipped,
             summary.seconds,
+            summary.thread_seconds,
+            summary.threads,
             summary.counts.queries,
-            summary.counts.rays,
+            summary.counts.traced(),
             summary.counts.percent_traced(),
+            summary.counts.traced() as f64 / summary.seconds.max(1e-9) / 1e6,
             dir.display()
         );
     }

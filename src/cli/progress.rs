@@ -68,9 +68,9 @@ impl Progress for Reporter {
             *f
         };
         let line = format!(
-            "frame {} ({done}/{total}): {:.2} s, {:.2} % of {} queries traced, {:.1} M rays/s",
+            "frame {} ({done}/{total}): {:.2} thread-s, {:.2} % of {} queries traced, {:.1} M rays/s",
             s.frame,
-            s.seconds,
+            s.thread_seconds,
             s.counts.percent_traced(),
             s.counts.queries,
             self.rays_per_second() / 1e6

@@ -288,7 +288,7 @@ fn examine(dir: &Path, write: bool) -> Result<Assembled> {
         });
         let mut covered = vec![false; grid.len()];
         let mut counts = Counts::default();
-        let mut seconds = 0.0;
+        let mut thread_seconds = 0.0;
         let mut meta: Option<TileFrame> = None;
         for s in sources
             .iter()
@@ -303,7 +303,7 @@ fn examine(dir: &Path, write: bool) -> Result<Assembled> {
                         covered[t.index] = true;
                     }
                     counts += tf.counts();
-                    seconds += tf.seconds;
+                    thread_seconds += tf.thread_seconds;
                     meta.get_or_insert(tf);
                 }
                 Err(e) => {
@@ -329,7 +329,7 @@ fn examine(dir: &Path, write: bool) -> Result<Assembled> {
                 spp: settings.spp,
                 counts,
                 image_error: film.image_error(full, settings.exposure),
-                seconds,
+                thread_seconds,
                 camera_position: v(tf.camera_position),
                 camera_target: v(tf.camera_target),
                 camera_up: v(tf.camera_up),

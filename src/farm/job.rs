@@ -5,7 +5,7 @@
 //! | `job.json` | the manifest: format, build identity, host, settings fingerprint, frame and tile grid, the plan it belongs to, the job's frames and tiles |
 //! | `lights.json` | the lights, as a one-process render writes them |
 //! | `tiles_0003.exr` | frame 3's pixels of the job's tiles, over the tiles' bounding rectangle (float channels `R G B rays visible`, with validation also `wrong ref.R ref.G ref.B`, with samples per pixel `coverage`) |
-//! | `tiles_0003.json` | frame 3's statistics for those tiles (counts, seconds, camera) and the EXR's size and SHA-256; written after the EXR, so it marks the frame done |
+//! | `tiles_0003.json` | frame 3's statistics for those tiles (counts, thread-seconds, camera) and the EXR's size and SHA-256; written after the EXR, so it marks the frame done |
 //!
 //! Every file is published atomically (`crate::output`), so a crashed or duplicated attempt
 //! leaves either nothing or a complete, identical file.
@@ -110,7 +110,10 @@ pub struct TileFrame {
     /// Every counter of the frame's tiles (flattened, so the JSON keeps one key per counter).
     #[serde(flatten)]
     pub counts: Counts,
-    pub seconds: f64,
+    /// The thread-seconds the job spent on these tiles of the frame (its stats.csv row's
+    /// `thread_seconds`): the jobs' add up to the frame's.
+    #[serde(rename = "seconds")]
+    pub thread_seconds: f64,
     pub camera_position: [f32; 3],
     pub camera_target: [f32; 3],
     pub camera_up: [f32; 3],
@@ -252,7 +255,7 @@ impl FrameSink for JobWriter {
             method: stats.method.clone(),
             lights: stats.lights,
             counts: c,
-            seconds: stats.seconds,
+            thread_seconds: stats.thread_seconds,
             camera_position: stats.camera_position.to_array(),
             camera_target: stats.camera_target.to_array(),
             camera_up: stats.camera_up.to_array(),

@@ -7,6 +7,7 @@ pub mod exr;
 pub mod lock;
 pub mod png;
 pub mod record;
+pub mod runs;
 pub mod stats;
 
 use std::fs;

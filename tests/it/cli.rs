@@ -68,7 +68,7 @@ fn render_writes_frames_stats_and_lights_deterministically() {
     // library's one reader of stats.csv, by column name, never by position.
     let stats = fs::read_to_string(out.join("stats.csv")).unwrap();
     assert!(stats.starts_with(
-        "frame,method,lights,width,height,queries,rays_traced,percent_traced,halo_pixels,halo_rays,seconds,wrong_visible"
+        "frame,method,lights,width,height,queries,rays_traced,percent_traced,halo_pixels,halo_rays,thread_seconds,wrong_visible"
     ));
     let rows = read_stats(&out.join("stats.csv")).unwrap();
     assert_eq!(rows.len(), 2, "{rows:?}");

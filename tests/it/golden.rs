@@ -114,7 +114,7 @@ fn renders() -> Vec<Render> {
 }
 
 /// The recorded hashes: one line per file, `render file sha256`. `stats.csv` is hashed
-/// without its `seconds` column, which is a wall-clock time, and without the `spp` column
+/// without its `thread_seconds` column, which is a timing, and without the `spp` column
 /// added after most were recorded (checked to be the render's own).
 const EXPECTED: &str = "\
 shapes-turntable frame_0000.exr cd044230fab30debeec8944b689b07cbf761274e62d54994ec352d2b120b5a0d
@@ -253,15 +253,15 @@ fn sha(bytes: &[u8]) -> String {
     format!("{:x}", Sha256::digest(bytes))
 }
 
-/// `stats.csv` with the `seconds` column emptied and the last column, `spp`, removed once
+/// `stats.csv` with the `thread_seconds` column emptied and the last column, `spp`, removed once
 /// checked to be `spp` everywhere.
 fn stats_without_seconds(text: &str, spp: &str) -> String {
     let mut lines = text.lines();
     let mut header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
     let col = header
         .iter()
-        .position(|h| *h == "seconds")
-        .expect("stats.csv has a seconds column");
+        .position(|h| *h == "thread_seconds")
+        .expect("stats.csv has a thread_seconds column");
     assert_eq!(
         header.pop(),
         Some("spp"),

@@ -7,7 +7,7 @@ use envshadow::error::{InputError, exit_code};
 use envshadow::scene::Scene;
 use glam::{Mat4, Vec2, Vec3};
 use serde_json::{Value, json};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 fn close(a: Vec3, b: Vec3, tol: f32) -> bool {
     (a - b).abs().max_element() <= tol
