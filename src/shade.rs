@@ -237,6 +237,25 @@ pub fn above_horizon(sl: &ShadeLights, n: Vec3, out: &mut [u64]) {
     }
 }
 
+/// The lights a surface point can receive: above the horizon of its shading normal `n` (the
+/// cosine that shades them is positive) and of its facet's normal `ng`. [ours] A light below
+/// the facet's plane reaches only the facet's other side: tracing it from this side finds the
+/// facet itself (or the closed mesh behind it), so it is blocked by definition, not a query.
+/// Where interpolated normals tilt past the facet (the shading terminator of coarse meshes)
+/// those lights were grazing queries on which neighbouring facets' votes disagreed.
+#[inline]
+pub fn above_both_horizons(sl: &ShadeLights, n: Vec3, ng: Vec3, out: &mut [u64]) {
+    above_horizon(sl, n, out);
+    if !same(n, ng) {
+        let mut g = [0u64; crate::limits::MAX_LIGHTS / 64];
+        let g = &mut g[..out.len()];
+        above_horizon(sl, ng, g);
+        for (o, g) in out.iter_mut().zip(g.iter()) {
+            *o &= g;
+        }
+    }
+}
+
 /// # Safety
 /// `x`, `y`, `z` hold at least `out.len() * 64` values.
 #[cfg(target_arch = "x86_64")]
@@ -389,5 +408,29 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn lights_below_the_facet_are_not_received_whatever_the_shading_normal() {
+        let (sl, _) = setup();
+        // A shading normal tilted 30° past its facet's (the terminator of a coarse mesh).
+        let ng = Vec3::Z;
+        let n = Vec3::new(0.5, 0.0, 0.866).normalize();
+        let mut out = [0u64; 4];
+        above_both_horizons(&sl, n, ng, &mut out);
+        let (mut received, mut tilted) = (0, 0);
+        for j in 0..256 {
+            let d = Vec3::new(sl.x[j], sl.y[j], sl.z[j]);
+            let want = n.dot(d) > 0.0 && ng.dot(d) > 0.0;
+            assert_eq!(out[j / 64] >> (j % 64) & 1 == 1, want, "light {j}");
+            received += u32::from(want);
+            tilted += u32::from(n.dot(d) > 0.0 && ng.dot(d) <= 0.0);
+        }
+        assert!(received > 0 && tilted > 0, "the case must have both kinds of light");
+        // The same normal for both: the shading normal's horizon alone.
+        let mut alone = [0u64; 4];
+        above_horizon(&sl, n, &mut alone);
+        above_both_horizons(&sl, n, n, &mut out);
+        assert_eq!(out, alone);
     }
 }
