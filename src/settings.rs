@@ -369,6 +369,12 @@ settings! {
         pixel_majority: bool = true,
             flag "pixel-majority" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
                 default_missing_value = "true"], check any;
+        /// Uncertainty and boundary methods: a neighbour votes only if it lies on the pixel's
+        /// surface (its normal within about 37° of the pixel's, its point within about 17° of
+        /// the pixel's tangent plane); default false (BENCHMARKS.md, issue 23).
+        surface_voters: bool = false,
+            flag "surface-voters" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
+                default_missing_value = "true"], check any;
         /// Scanline methods: block size at which the scan restarts, at least 8 (default 64).
         scan_block: u32 = 64, flag "scan-block" [value_name = "N"], check check_scan_block;
         /// Uncertainty methods: let every pixel whose surface point the previous frame saw use
@@ -418,6 +424,7 @@ impl Render {
             flood_to: self.flood_to,
             scan_block: self.scan_block,
             pixel_majority: self.pixel_majority,
+            surface_voters: self.surface_voters,
             k: 1,
         }
     }

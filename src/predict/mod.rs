@@ -278,6 +278,11 @@ pub struct Params {
     /// costs a pixel one of its k² samples. At 16 spp on the bunny it saves about a fifth of
     /// the rays for 3.5× the wrong pairs, still below those at 1 spp (BENCHMARKS.md).
     pub pixel_majority: bool,
+    /// [ours] Voters must share the pixel's surface: a neighbour whose normal turns more than
+    /// about 37° from the pixel's, or whose point lies more than about 17° off the pixel's
+    /// tangent plane, does not vote. Measured on the corpus and not the default
+    /// (BENCHMARKS.md, "Issue 23").
+    pub surface_voters: bool,
     /// Samples per pixel side: the lattice the method works on holds k × k samples per pixel
     /// (1: one sample at the pixel centre). Set by [`for_samples`](Self::for_samples).
     pub k: u32,
@@ -291,6 +296,7 @@ impl Default for Params {
             flood_to: FloodTo::ContraryFinest,
             scan_block: 64,
             pixel_majority: true,
+            surface_voters: false,
             k: 1,
         }
     }

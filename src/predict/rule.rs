@@ -42,6 +42,7 @@ pub trait Rule: Send + Sync {
 /// Vote with `V`, predict and correct with `F`. A pixel without voters traces every light.
 pub struct Predict<V, F> {
     min_voters: u32,
+    surface_voters: bool,
     rules: PhantomData<(V, F)>,
 }
 
@@ -49,6 +50,7 @@ impl<V: Vote, F: Flood> Predict<V, F> {
     pub fn new(params: &Params) -> Predict<V, F> {
         Predict {
             min_voters: F::min_voters(params.min_voters),
+            surface_voters: params.surface_voters,
             rules: PhantomData,
         }
     }
@@ -79,11 +81,19 @@ impl<V: Vote, F: Flood> Rule for Predict<V, F> {
         if !bufs.surf[i].hit {
             return;
         }
+        let mut same = [0usize; 4];
+        let voters = if self.surface_voters {
+            let n = on_surface(bufs, i, voters, &mut same);
+            &same[..n]
+        } else {
+            voters
+        };
         if voters.is_empty() {
             bufs.trace_all(ctx, i, at.keep_blockers);
             return;
         }
         debug_assert!(voters.len() <= 4);
+        let at = at.for_voters(bufs, voters);
         let (w, nv) = (bufs.words, voters.len());
         // 1. What the votes need (warp: the voters' blockers re-aimed from this point).
         V::gather(ctx, bufs, sc, i, voters);
@@ -110,6 +120,23 @@ impl<V: Vote, F: Flood> Rule for Predict<V, F> {
         // 3–4. Trace the queue, flooding; keep the blockers.
         correct::<F>(ctx, bufs, sc, i, at);
     }
+}
+
+/// The `voters` of pixel `i` on its surface, into `out`; returns how many. A voter's normal
+/// within about 37° of the pixel's (cosine 0.8) and its point within about 17° of the pixel's
+/// tangent plane (sine 0.3) [ours].
+fn on_surface(bufs: &TileBuffers, i: usize, voters: &[usize], out: &mut [usize; 4]) -> usize {
+    let s = bufs.surf[i];
+    let mut n = 0;
+    for &q in voters {
+        let v = bufs.surf[q];
+        let d = v.p - s.p;
+        if s.n.dot(v.n) >= 0.8 && s.n.dot(d).abs() <= 0.3 * d.length() {
+            out[n] = q;
+            n += 1;
+        }
+    }
+    n
 }
 
 /// Word `m` of the lights every one of the four `voters` has above its horizon and at least

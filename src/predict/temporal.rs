@@ -137,6 +137,7 @@ pub fn solve_temporal(
     // ([ours], docs/methods.md) whatever the spatial order does.
     let at = At {
         keep_predicted: true,
+        flood_to: at.for_voters(bufs, spatial).flood_to,
         majority: false,
         inside: false,
         ..at
