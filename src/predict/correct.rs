@@ -57,35 +57,7 @@ pub fn correct<F: Flood>(
     at: At,
 ) {
     queue_predicted(sc);
-    if at.flood_to == FloodTo::All && F::floods(true, false) && F::floods(true, true) {
-        queue_certain_floods(ctx, &bufs.above[i * bufs.words..(i + 1) * bufs.words], sc);
-    }
     trace_queue::<F>(ctx, bufs, sc, i, at);
-}
-
-/// [ours] Where every neighbour of an uncertain light is flooded to whatever its trace says
-/// (`FloodTo::All`, a rule that floods every uncertain trace), queues those neighbours before
-/// tracing anything, so the first packets are full instead of one wave per flood. Flooding
-/// only adds to the queue and the traced set does not depend on the queue's order, so the
-/// bits are those of flooding as each trace returns; the flooded rays and the wrong
-/// predictions they catch are counted as before (they follow the predicted queue).
-#[inline]
-fn queue_certain_floods(ctx: &FrameContext, mine: &[u64], sc: &mut Scratch) {
-    for k in 0..sc.predicted {
-        let j = sc.queue[k] as usize;
-        if !bits::get(&sc.uncertain, j) {
-            continue;
-        }
-        let nb = ctx.lights.neighbor_bits(j);
-        for (m, (&nb, &mine)) in nb.iter().zip(mine).enumerate() {
-            let mut new = nb & mine & !sc.queued[m];
-            sc.queued[m] |= new;
-            while new != 0 {
-                sc.queue.push((m * 64) as u32 + new.trailing_zeros());
-                new &= new - 1;
-            }
-        }
-    }
 }
 
 /// The initial queue: the lights the prediction queued (`sc.queued`), ascending.
@@ -93,7 +65,6 @@ fn queue_certain_floods(ctx: &FrameContext, mine: &[u64], sc: &mut Scratch) {
 fn queue_predicted(sc: &mut Scratch) {
     sc.queue.clear();
     bits::for_each(&sc.queued, |j| sc.queue.push(j as u32));
-    sc.predicted = sc.queue.len();
 }
 
 /// [`correct`] from an initial queue already in `sc.queue`: the lights of `sc.queued`, in any
@@ -127,7 +98,7 @@ fn trace_queue<F: Flood>(
     out.copy_from_slice(&sc.pred_vis);
     let mut head = 0;
     // Lights queued beyond this were queued by flooding.
-    let predicted_queue = sc.predicted;
+    let predicted_queue = sc.queue.len();
     let mut fixes = 0;
     // The queue is traced in waves of up to PACKET lights, one packet from the pixel's point
     // each (one ray at a time when the blockers' distances are kept). A wave's results are
@@ -474,58 +445,6 @@ mod tests {
 
     /// What correcting a pixel leaves: visibility, traced set, rays, split, blockers.
     type Outcome = (Vec<u64>, Vec<u64>, u32, RaySplit, Vec<(usize, f32)>);
-
-    /// Queuing an uncertain light's flood before tracing (`FloodTo::All`) fills the first
-    /// packets and changes nothing else: the same visible, traced and blocker bits, rays and
-    /// split as flooding when each trace returns, for both ways of tracing.
-    #[test]
-    fn queuing_certain_floods_first_changes_no_bit() {
-        let dirs = spiral(300);
-        let frame = Frame::new(&dirs);
-        let ctx = frame.ctx();
-        for keep_blockers in [false, true] {
-            let at = At {
-                flood_to: FloodTo::All,
-                keep_blockers,
-                keep_predicted: false,
-                majority: false,
-                inside: false,
-            };
-            let run = |first: bool| {
-                let (mut bufs, mut sc) = buffers(&ctx, &[origin()]);
-                crate::shade::above_horizon(&ctx.shade_lights, origin().n, &mut bufs.above);
-                for (j, d) in dirs.iter().enumerate() {
-                    if !bits::get(&bufs.above, j) {
-                        continue;
-                    }
-                    if d.z <= 0.3 {
-                        bits::set(&mut sc.pred_vis, j);
-                    }
-                    if j % 7 == 0 {
-                        bits::set(&mut sc.uncertain, j);
-                    }
-                    if j % 7 == 0 || j % 5 == 0 {
-                        bits::set(&mut sc.queued, j);
-                    }
-                }
-                queue_predicted(&mut sc);
-                if first {
-                    let w = bufs.words;
-                    queue_certain_floods(&ctx, &bufs.above[..w], &mut sc);
-                    assert!(sc.queue.len() > sc.predicted, "nothing was queued ahead");
-                }
-                trace_queue::<Uncertainty>(&ctx, &mut bufs, &mut sc, 0, at);
-                (
-                    bufs.vis.clone(),
-                    bufs.traced.clone(),
-                    bufs.rays[0],
-                    bufs.split[0],
-                    bufs.blockers.of(0).collect::<Vec<_>>(),
-                )
-            };
-            assert!(run(true) == run(false), "keep_blockers {keep_blockers}");
-        }
-    }
 
     /// ALGORITHM.md §6: the traced set does not depend on the queue's order. 300 lights (five
     /// words) under the roof, a prediction whose shadow edge crosses the true one, more queued

@@ -11,8 +11,6 @@ pub struct Scratch {
     pub(super) uncertain: Vec<u64>,
     pub(super) queued: Vec<u64>,
     pub(super) queue: Vec<u32>,
-    /// How many of `queue`'s first lights the prediction queued (the rest were flooded to).
-    pub(super) predicted: usize,
     /// Warped blockers per cell, and the cells that got any (set bits: some vote; every
     /// above-horizon voter's worth of votes).
     pub(super) votes: Vec<u8>,
