@@ -273,6 +273,14 @@ fn check_min_voters(v: &u32) -> std::result::Result<(), String> {
     }
 }
 
+fn check_busy_voters(v: &u32) -> std::result::Result<(), String> {
+    if *v <= 4 {
+        Ok(())
+    } else {
+        Err("must be 0 (off) to 4 (a pixel has at most 4 voters)".into())
+    }
+}
+
 fn check_scan_block(v: &u32) -> std::result::Result<(), String> {
     if *v >= 8 {
         Ok(())
@@ -369,6 +377,16 @@ settings! {
         pixel_majority: bool = true,
             flag "pixel-majority" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
                 default_missing_value = "true"], check any;
+        /// Uncertainty methods: predict a light only if every valid voter (at least
+        /// --min-voters of them) has it above its horizon; default false (BENCHMARKS.md,
+        /// issue 23).
+        all_voters: bool = false,
+            flag "all-voters" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
+                default_missing_value = "true"], check any;
+        /// Uncertainty methods: where a voter's flooding caught a wrong prediction, trace a
+        /// light fewer than K voters have above their horizon (0, the default: --min-voters
+        /// everywhere; BENCHMARKS.md, issue 23).
+        busy_voters: u32 = 0, flag "busy-voters" [value_name = "K"], check check_busy_voters;
         /// Uncertainty and boundary methods: a neighbour votes only if it lies on the pixel's
         /// surface (its normal within about 37° of the pixel's, its point within about 17° of
         /// the pixel's tangent plane); default false (BENCHMARKS.md, issue 23).
@@ -425,6 +443,8 @@ impl Render {
             scan_block: self.scan_block,
             pixel_majority: self.pixel_majority,
             surface_voters: self.surface_voters,
+            all_voters: self.all_voters,
+            busy_voters: self.busy_voters,
             k: 1,
         }
     }

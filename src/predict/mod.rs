@@ -283,6 +283,12 @@ pub struct Params {
     /// tangent plane, does not vote. Measured on the corpus and not the default
     /// (BENCHMARKS.md, "Issue 23").
     pub surface_voters: bool,
+    /// [ours] A light is predicted only if every valid voter (at least `min_voters`) has it
+    /// above its horizon. Measured on the corpus (BENCHMARKS.md, "Issue 23").
+    pub all_voters: bool,
+    /// [ours] Where a voter's own flooding caught a wrong prediction, `min_voters` is this
+    /// (0: off). Measured on the corpus (BENCHMARKS.md, "Issue 23").
+    pub busy_voters: u32,
     /// Samples per pixel side: the lattice the method works on holds k × k samples per pixel
     /// (1: one sample at the pixel centre). Set by [`for_samples`](Self::for_samples).
     pub k: u32,
@@ -297,6 +303,8 @@ impl Default for Params {
             scan_block: 64,
             pixel_majority: true,
             surface_voters: false,
+            all_voters: false,
+            busy_voters: 0,
             k: 1,
         }
     }

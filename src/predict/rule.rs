@@ -43,6 +43,8 @@ pub trait Rule: Send + Sync {
 pub struct Predict<V, F> {
     min_voters: u32,
     surface_voters: bool,
+    all_voters: bool,
+    busy_voters: u32,
     rules: PhantomData<(V, F)>,
 }
 
@@ -51,6 +53,13 @@ impl<V: Vote, F: Flood> Predict<V, F> {
         Predict {
             min_voters: F::min_voters(params.min_voters),
             surface_voters: params.surface_voters,
+            // Only where the flood rule counts voters at all (not `boundary`'s one voter).
+            all_voters: params.all_voters && F::READS.contains(&"all_voters"),
+            busy_voters: if F::READS.contains(&"busy_voters") {
+                params.busy_voters
+            } else {
+                0
+            },
             rules: PhantomData,
         }
     }
@@ -95,6 +104,14 @@ impl<V: Vote, F: Flood> Rule for Predict<V, F> {
         debug_assert!(voters.len() <= 4);
         let at = at.for_voters(bufs, voters);
         let (w, nv) = (bufs.words, voters.len());
+        // How many voters must see a light for it to be predicted.
+        let mut min_voters = self.min_voters;
+        if self.all_voters {
+            min_voters = min_voters.max(nv as u32);
+        }
+        if self.busy_voters > 0 && voters.iter().any(|&q| bufs.split[q].fixes > 0) {
+            min_voters = min_voters.max(self.busy_voters);
+        }
         // 1. What the votes need (warp: the voters' blockers re-aimed from this point).
         V::gather(ctx, bufs, sc, i, voters);
         // 2. The prediction, word by word: `any` = some vote, `all` = every voter's vote.
@@ -104,7 +121,7 @@ impl<V: Vote, F: Flood> Rule for Predict<V, F> {
                 above[k] = bufs.above[q * w + m];
             }
             let (any, all) = V::word(bufs, sc, voters, m, &above[..nv]);
-            let enough = bits::at_least(&above[..nv], self.min_voters);
+            let enough = bits::at_least(&above[..nv], min_voters);
             let my = bufs.above[i * w + m];
             let (mut blocked, mut unsure) = F::predict(my, enough, any, all);
             if at.majority && nv == 4 && unsure != 0 {

@@ -16,6 +16,8 @@ impl Flood for Uncertainty {
         "temporal",
         "keyframe",
         "surface_voters",
+        "all_voters",
+        "busy_voters",
     ];
 
     fn min_voters(setting: u32) -> u32 {
