@@ -384,9 +384,10 @@ settings! {
             flag "all-voters" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
                 default_missing_value = "true"], check any;
         /// Uncertainty methods: where a voter's flooding caught a wrong prediction, trace a
-        /// light fewer than K voters have above their horizon (0, the default: --min-voters
-        /// everywhere; BENCHMARKS.md, issue 23).
-        busy_voters: u32 = 0, flag "busy-voters" [value_name = "K"], check check_busy_voters;
+        /// light fewer than K voters have above their horizon (default 4; 0: --min-voters
+        /// everywhere): more tracing where shadows are finer than the voters' spacing, thin
+        /// and busy models (BENCHMARKS.md, issue 23).
+        busy_voters: u32 = 4, flag "busy-voters" [value_name = "K"], check check_busy_voters;
         /// Uncertainty and boundary methods: a neighbour votes only if it lies on the pixel's
         /// surface (its normal within about 37° of the pixel's, its point within about 17° of
         /// the pixel's tangent plane); default false (BENCHMARKS.md, issue 23).
