@@ -602,14 +602,19 @@ fn non_triangle_primitives_and_zero_area_triangles_are_skipped_with_warnings() {
         ),
     )
     .unwrap();
-    let o = common::bin()
-        .arg("render")
-        .arg(&spec)
-        .args(["-q", "--no-report"])
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(o.status.success(), "{err}");
+    let render = |extra: &[&str]| {
+        let o = common::bin()
+            .arg("render")
+            .arg(&spec)
+            .arg("--no-report")
+            .args(extra)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(o.status.success(), "{err}");
+        err
+    };
+    let err = render(&[]);
     assert!(
         err.contains("warning: ") && err.contains("mixed.gltf: mesh 0 primitive 1: mode Points"),
         "{err}"
@@ -619,4 +624,6 @@ fn non_triangle_primitives_and_zero_area_triangles_are_skipped_with_warnings() {
         "{err}"
     );
     assert!(tmp.path().join("out/frame_0000.exr").exists());
+    // -q prints errors only (issue 22, item 7).
+    assert_eq!(render(&["-q"]), "");
 }

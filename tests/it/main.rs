@@ -14,6 +14,7 @@ mod cli;
 mod common;
 mod envmap;
 mod farm;
+mod frames;
 mod fuzz_regressions;
 mod golden;
 mod hostile;
