@@ -69,6 +69,7 @@ pub fn check_file_size(path: &Path, what: &str) -> Result<()> {
 }
 
 /// What a file that is not a regular file is, for messages; `None` for a regular file.
+#[cfg(unix)]
 fn not_regular(m: &std::fs::Metadata) -> Option<&'static str> {
     use std::os::unix::fs::FileTypeExt;
     let t = m.file_type();
@@ -84,6 +85,20 @@ fn not_regular(m: &std::fs::Metadata) -> Option<&'static str> {
         Some("a block device")
     } else if t.is_socket() {
         Some("a socket")
+    } else {
+        Some("not a file")
+    }
+}
+
+/// What a file that is not a regular file is, for messages; `None` for a regular file. Windows
+/// metadata tells folders from files; a device (`NUL`, `CON`) or pipe is neither.
+#[cfg(not(unix))]
+fn not_regular(m: &std::fs::Metadata) -> Option<&'static str> {
+    let t = m.file_type();
+    if t.is_file() {
+        None
+    } else if t.is_dir() {
+        Some("a folder")
     } else {
         Some("not a file")
     }
