@@ -30,7 +30,8 @@ use talk::{Level, Talk, TalkArgs, out};
 const AFTER_HELP: &str = "\
 Exit codes: 0 success; 1 internal failure (a bug, or the disk); 2 bad input (a file, a flag or
 an animation spec is wrong, or the request is over a limit; the one-line message names the file
-and where in it); 130 interrupted by Ctrl-C, SIGTERM or SIGHUP (frames in flight are dropped,
+and where in it; a usage error gives clap's usage line and hints too); 130 interrupted by
+Ctrl-C, SIGTERM or SIGHUP, on Windows Ctrl-C or Ctrl-Break (frames in flight are dropped,
 complete frames are kept; run again with --resume; a second signal stops at once).
 
 Output: results on stdout, progress and notes on stderr; -q prints only errors, -v adds detail
