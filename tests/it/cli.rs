@@ -162,14 +162,10 @@ fn expect_bad_input(args: &[&std::ffi::OsStr], needles: &[&str], out: &Path) {
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "args {args:?}: stderr {err}");
     assert!(!err.contains("panicked"), "{err}");
-    let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
-    assert!(lines[0].starts_with("error: "), "{err}");
-    if !err.contains("For more information, try '--help'.") {
-        assert_eq!(lines.len(), 1, "one line expected: {err}");
-    }
+    let line = common::error_line(&err);
     for n in needles {
         assert!(
-            lines[0].to_lowercase().contains(&n.to_lowercase()),
+            line.to_lowercase().contains(&n.to_lowercase()),
             "{n:?} not in the first line of {err}"
         );
     }

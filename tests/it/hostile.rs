@@ -15,12 +15,10 @@ fn expect_refused(kind: &str, args: &[OsString], needles: &[&str], out: &Path) {
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{kind}: stderr {err}");
     assert!(!err.contains("panicked"), "{kind}: {err}");
-    let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
-    assert_eq!(lines.len(), 1, "{kind}: one line expected: {err}");
-    assert!(lines[0].starts_with("error: "), "{kind}: {err}");
+    let line = common::error_line(&err);
     for n in needles {
         assert!(
-            err.to_lowercase().contains(&n.to_lowercase()),
+            line.to_lowercase().contains(&n.to_lowercase()),
             "{kind}: {n:?} not in {err}"
         );
     }
