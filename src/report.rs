@@ -34,8 +34,9 @@ use crate::video::VIDEO_FILE;
 const THUMB_WIDTH: u32 = 160;
 /// Widest frame of the animated preview, pixels.
 const GIF_WIDTH: u32 = 320;
-/// Widest heat map, pixels: larger frames are shown scaled down.
-const MAP_WIDTH: u32 = 640;
+/// Widest heat map, pixels: larger frames are shown scaled down (a 640×480 frame's map is
+/// 105 kB as a JPEG at full size, 15 MB for 144 frames; at 320 pixels wide, a quarter).
+const MAP_WIDTH: u32 = 320;
 /// JPEG quality of thumbnails and heat maps.
 const JPEG_QUALITY: u8 = 85;
 /// Animated preview: milliseconds per frame (12.5 frames per second).
@@ -701,7 +702,7 @@ h1{font-size:1.5em;margin-bottom:.2em}h2{font-size:1.2em;margin-top:1.6em;border
 .lead{font-size:1.05em;margin:.2em 0 1em}\
 table{border-collapse:collapse;font-size:.9em}td,th{border:1px solid #ccc;padding:.2em .5em;text-align:right}\
 th{background:#eee}td.l,th.l{text-align:left}\
-.top{display:flex;flex-wrap:wrap;gap:1.5em;align-items:flex-start}\
+.top{display:flex;flex-wrap:wrap;gap:1.5em;align-items:flex-start}.top>figure{flex:0 1 640px}.top>div{flex:1 1 360px}\
 .top video,.top img.anim{max-width:640px;width:100%;background:#000;display:block}\
 figure{margin:0}figcaption{font-size:.85em;color:#555}\
 .plot{display:grid;grid-template-columns:3em 640px;width:max-content;column-gap:.4em;margin-bottom:1em}\
@@ -844,9 +845,7 @@ fn page(
         ),
         (
             "render time",
-            format!(
-                "{seconds:.2} s (sum of the frames' seconds; two frames are rendered at once, so the run's wall time is shorter)"
-            ),
+            format!("{seconds:.2} s (the frames' sum; two render at once)"),
         ),
         (
             "shadow rays per second",
@@ -984,7 +983,7 @@ fn page(
     );
     let _ = writeln!(
         h,
-        "<div class=\"scale\">shadow rays traced per pixel: 0 <img src=\"report/scale_rays.png\" alt=\"colour scale\" width=\"256\" height=\"14\"> {} or more ({RAYS_SCALE_PERCENTILE}th percentile over all frames; click a map for full size)</div>",
+        "<div class=\"scale\">shadow rays traced per pixel: 0 <img src=\"report/scale_rays.png\" alt=\"colour scale\" width=\"256\" height=\"14\"> {} or more ({RAYS_SCALE_PERCENTILE}th percentile over all frames; click a map for a larger view)</div>",
         tick(rays_max as f64)
     );
     if any_wrong {

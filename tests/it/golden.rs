@@ -5,7 +5,11 @@
 //! whole new table). Updated once on purpose since: when every transcendental function on the
 //! output path moved from the host's C library to the pure-Rust `libm` (issue 20, item 10),
 //! which changed last bits (the bunny's frame 0 at 320×240: 306 of 7.77 M queries flipped).
-//! Since then these hashes hold on any host whatever its C library.
+//! Since then these hashes hold on any host whatever its C library. Updated on purpose again
+//! for issue 22: the EXR's channels renamed (`shadow.rays`, …) with depth, normal and albedo
+//! passes and a header (camera matrices, settings, counts), and the PNGs made through a view
+//! transform (AgX by default) and tagged sRGB — every EXR and PNG changed, and the validated
+//! renders' stats.csv, whose PSNR is now measured on the AgX previews.
 
 use crate::common;
 

@@ -84,6 +84,29 @@ fn gif_frames(path: &Path) -> usize {
     dec.into_frames().collect_frames().unwrap().len()
 }
 
+/// A 1280×900 screenshot of `page` in headless Chromium, into `png`.
+fn chromium_screenshot(page: &Path, profile: &Path, png: &Path) {
+    let url = format!("file://{}", page.canonicalize().unwrap().display());
+    let o = Command::new("chromium")
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--hide-scrollbars",
+            "--window-size=1280,900",
+        ])
+        .arg(format!("--user-data-dir={}", profile.display()))
+        .arg(format!("--screenshot={}", png.display()))
+        .arg(&url)
+        .output()
+        .expect("running chromium");
+    assert!(
+        o.status.success() && png.is_file(),
+        "no screenshot: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
 /// Where `needle` first appears in the page.
 fn at(html: &str, needle: &str) -> usize {
     html.find(needle)
@@ -264,6 +287,20 @@ fn report_pages_load_in_chromium_without_console_errors() {
             );
             assert!(dom.contains("report/turntable.gif"));
             assert!(console.is_empty(), "console messages: {console:?}");
+            // What a person sees first: the animation and the totals fill the first screen.
+            let shot = tmp.path().join(format!("top-{validate}.png"));
+            chromium_screenshot(&page, &tmp.path().join(format!("shot-{validate}")), &shot);
+            let img = image::open(&shot).unwrap().to_rgb8();
+            let painted = img
+                .pixels()
+                .filter(|p| p.0.iter().any(|&c| c < 200))
+                .count();
+            let share = painted as f64 / (img.width() * img.height()) as f64;
+            assert!(
+                share > 0.15,
+                "the first screen is mostly empty ({:.1} % painted)",
+                100.0 * share
+            );
         });
     }
     failures.assert_none();
