@@ -248,11 +248,13 @@ fn sort_attributes(bytes: &mut [u8]) -> Result<()> {
     Ok(())
 }
 
-/// A frame read back: channel name → samples (row-major), and the size.
+/// A frame read back: channel name → samples (row-major), the size and the header's
+/// attributes.
 pub struct ReadFrame {
     pub width: usize,
     pub height: usize,
     pub channels: Vec<(String, Vec<f32>)>,
+    pub attributes: LayerAttributes,
 }
 
 impl ReadFrame {
@@ -267,14 +269,23 @@ impl ReadFrame {
 /// Reads every channel of the first layer of an EXR made by [`encode_frame`] (half-float
 /// channels widened to f32).
 pub fn read_frame(path: &Path) -> Result<ReadFrame> {
+    let file = std::fs::File::open(path)
+        .map_err(|e| crate::error::input_error(path, format!("cannot open: {e}")))?;
+    read_frame_from(std::io::BufReader::new(file))
+        .map_err(|e| crate::error::input_error(path, format!("not a readable EXR: {e}")))
+}
+
+/// [`read_frame`] from any seekable reader.
+fn read_frame_from(
+    reader: impl std::io::Read + std::io::Seek + Send,
+) -> std::result::Result<ReadFrame, exr::error::Error> {
     let image = read()
         .no_deep_data()
         .largest_resolution_level()
         .all_channels()
         .first_valid_layer()
         .all_attributes()
-        .from_file(path)
-        .map_err(|e| crate::error::input_error(path, format!("not a readable EXR: {e}")))?;
+        .from_buffered(reader)?;
     let layer = image.layer_data;
     let channels = layer
         .channel_data
@@ -286,6 +297,7 @@ pub fn read_frame(path: &Path) -> Result<ReadFrame> {
         width: layer.size.width(),
         height: layer.size.height(),
         channels,
+        attributes: layer.attributes,
     })
 }
 
@@ -358,15 +370,8 @@ mod tests {
             assert!(encode_frame(&film, &header, false).unwrap() == first);
         }
         // Sorted by name, the header reads back.
-        let image = read()
-            .no_deep_data()
-            .largest_resolution_level()
-            .all_channels()
-            .first_valid_layer()
-            .all_attributes()
-            .from_buffered(std::io::Cursor::new(first))
-            .unwrap();
-        let attrs = &image.layer_data.attributes;
+        let back = read_frame_from(std::io::Cursor::new(first)).unwrap();
+        let attrs = &back.attributes;
         assert_eq!(attrs.world_to_normalized_device, Some([1.0; 16]));
         assert_eq!(
             attrs.other.get(&text("envshadow/frame")),

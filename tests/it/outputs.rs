@@ -42,21 +42,6 @@ fn render(dir: &Path, name: &str, flags: &[&str]) -> PathBuf {
     out
 }
 
-/// The frame's layer attributes, as the exr crate reads them.
-fn layer_attributes(path: &Path) -> exr::meta::header::LayerAttributes {
-    use exr::prelude::*;
-    read()
-        .no_deep_data()
-        .largest_resolution_level()
-        .all_channels()
-        .first_valid_layer()
-        .all_attributes()
-        .from_file(path)
-        .unwrap()
-        .layer_data
-        .attributes
-}
-
 /// A row-vector matrix as OpenEXR stores it (`p' = p·M`, row by row), as glam's
 /// column-vector matrix.
 fn exr_matrix(m: &[f32; 16]) -> Mat4 {
@@ -76,7 +61,7 @@ fn depth_normal_and_albedo_passes_agree_with_the_scene_and_the_camera_matrices()
     let ch = |n: &str| f.channel(n).unwrap_or_else(|| panic!("no channel {n}"));
     let (z, nx, ny, nz) = (ch("Z"), ch("N.X"), ch("N.Y"), ch("N.Z"));
     let (ar, ag, ab) = (ch("albedo.R"), ch("albedo.G"), ch("albedo.B"));
-    let attrs = layer_attributes(&path);
+    let attrs = &f.attributes;
     let to_ndc = exr_matrix(&attrs.world_to_normalized_device.expect("worldToNDC"));
     let to_camera = exr_matrix(&attrs.world_to_camera.expect("worldToCamera"));
     let from_ndc = to_ndc.inverse();

@@ -84,20 +84,28 @@ fn gif_frames(path: &Path) -> usize {
     dec.into_frames().collect_frames().unwrap().len()
 }
 
+/// Headless Chromium, offline, on `page` with its own `profile`; the caller adds what to do.
+fn chromium(page: &Path, profile: &Path) -> Command {
+    let url = format!("file://{}", page.canonicalize().unwrap().display());
+    let mut c = Command::new("chromium");
+    c.args([
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--no-first-run",
+    ])
+    .arg(format!("--user-data-dir={}", profile.display()))
+    .arg(url);
+    c
+}
+
 /// A 1280×900 screenshot of `page` in headless Chromium, into `png`.
 fn chromium_screenshot(page: &Path, profile: &Path, png: &Path) {
-    let url = format!("file://{}", page.canonicalize().unwrap().display());
-    let o = Command::new("chromium")
-        .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--hide-scrollbars",
-            "--window-size=1280,900",
-        ])
-        .arg(format!("--user-data-dir={}", profile.display()))
+    let o = chromium(page, profile)
+        .args(["--hide-scrollbars", "--window-size=1280,900"])
         .arg(format!("--screenshot={}", png.display()))
-        .arg(&url)
         .output()
         .expect("running chromium");
     assert!(
@@ -153,21 +161,8 @@ fn check_structure(html: &str, frames: usize) {
 /// Loads `page` in headless Chromium (found on PATH); returns (exit success, DOM, console
 /// messages).
 fn chromium_load(page: &Path, profile: &Path) -> (bool, String, Vec<String>) {
-    let url = format!("file://{}", page.canonicalize().unwrap().display());
-    let o = Command::new("chromium")
-        .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--no-first-run",
-            "--enable-logging=stderr",
-            "--v=0",
-        ])
-        .arg(format!("--user-data-dir={}", profile.display()))
-        .arg("--dump-dom")
-        .arg(&url)
+    let o = chromium(page, profile)
+        .args(["--enable-logging=stderr", "--v=0", "--dump-dom"])
         .output()
         .expect("running chromium");
     let stderr = String::from_utf8_lossy(&o.stderr);
