@@ -47,7 +47,8 @@ Examples:
   envshadow render anims/bunny-turntable.toml --frames 0-7 --lights 400 --out out/bunny
   envshadow render anims/bunny-turntable.toml --frames 0-143:12 -q
   envshadow lights assets/grace.hdr -n 200 --json lights.json --png cells.png
-  envshadow report out/shapes-turntable";
+  envshadow report out/shapes-turntable
+  envshadow video out/shapes-turntable";
 
 /// Batch renderer for turntable animations of glTF scenes lit by HDR environment maps, with
 /// shadows from every light direction (Ben-Artzi, Ramamoorthi & Agrawala 2004).
@@ -98,6 +99,21 @@ pub enum Command {
     /// Print the manual page envshadow(1) in roff, or with --out DIR write one page per
     /// command (envshadow-render.1, …) into DIR.
     Man(docs::ManArgs),
+    /// Encode a render's frame PNGs into DIR/video.mp4 (H.264) with the system's ffmpeg, at
+    /// the animation's frame rate; DIR/report.html, if there, is rebuilt to show it.
+    Video(VideoArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct VideoArgs {
+    /// A render's output folder (with frame_NNNN.png).
+    pub dir: PathBuf,
+    /// Frames per second (default: the render's `[output] fps`, from DIR/settings.txt, else 24).
+    #[arg(long, value_name = "FPS")]
+    pub fps: Option<f32>,
+    /// Where to write the video (default: DIR/video.mp4; the report shows only that one).
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
 }
 
 #[derive(Args, Debug)]
@@ -293,6 +309,7 @@ pub fn run(cli: Cli) -> Result<()> {
             ));
             Ok(())
         }
+        Command::Video(args) => video(args, talk),
         Command::Report(args) => {
             let start = Instant::now();
             let page = envshadow::report::write_report(&args.dir)?;
@@ -472,6 +489,10 @@ fn render(args: RenderArgs, talk: Talk) -> Result<()> {
         (_, _, Some(t)) => Some(envshadow::farm::JobSelection::Tiles(t.clone())),
         _ => None,
     };
+    // A render that ends in a video needs ffmpeg: say so before the frames, not after.
+    if anim.output.video && selection.is_none() {
+        envshadow::video::check_ffmpeg()?;
+    }
     let progress = progress(talk);
     if let Some(sel) = selection {
         let (job, dir, summary) = envshadow::farm::render_job(
@@ -521,6 +542,20 @@ fn render(args: RenderArgs, talk: Talk) -> Result<()> {
         summary.counts.percent_traced(),
         dir.display()
     ));
+    if anim.output.video {
+        let v = envshadow::video::write_video(dir, anim.output.fps, None).with_context(|| {
+            format!(
+                "the frames are written, but not the video (retry with envshadow video {})",
+                dir.display()
+            )
+        })?;
+        talk.info(&format!(
+            "video: {} ({} frames at {} fps)",
+            v.path.display(),
+            v.frames,
+            v.fps
+        ));
+    }
     if !args.no_report {
         let start = Instant::now();
         let page = envshadow::report::write_report(dir).with_context(|| {
@@ -534,6 +569,32 @@ fn render(args: RenderArgs, talk: Talk) -> Result<()> {
             page.display(),
             start.elapsed().as_secs_f64()
         ));
+    }
+    Ok(())
+}
+
+fn video(args: VideoArgs, talk: Talk) -> Result<()> {
+    let fps = args
+        .fps
+        .or_else(|| envshadow::video::recorded_fps(&args.dir))
+        .unwrap_or(envshadow::settings::Output::default().fps);
+    let start = Instant::now();
+    let v = envshadow::video::write_video(&args.dir, fps, args.out.as_deref())?;
+    talk.done(&format!(
+        "wrote {}: {} frames ({}–{}), {}x{}, {} fps, {:.1} s of video, in {:.1} s",
+        v.path.display(),
+        v.frames,
+        v.first,
+        v.last,
+        v.width,
+        v.height,
+        v.fps,
+        v.frames as f32 / v.fps,
+        start.elapsed().as_secs_f64()
+    ));
+    if args.out.is_none() && args.dir.join("report.html").is_file() {
+        let page = envshadow::report::write_report(&args.dir)?;
+        talk.done(&format!("rebuilt {} to show it", page.display()));
     }
     Ok(())
 }
