@@ -830,8 +830,26 @@ fn man_pages_are_roff_that_groff_reads_without_warnings() {
     let dir = tmp.path().join("man1");
     let (code, _, err) = run_bin(&["man", "--out", dir.to_str().unwrap(), "-q"]);
     assert_eq!((code, err.as_str()), (Some(0), ""));
-    let pages = common::file_names(&dir);
-    assert_eq!(pages.len(), 14, "{pages:?}");
+    // One page per command --help lists (but `help`), and the main page.
+    let (_, help, _) = run_bin(&["--help"]);
+    let mut expected: Vec<String> = help
+        .split("Commands:")
+        .nth(1)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .take_while(|l| !l.trim().is_empty())
+        .filter(|l| l.starts_with("  ") && !l.starts_with("   "))
+        .filter_map(|l| l.split_whitespace().next())
+        .filter(|c| *c != "help")
+        .map(|c| format!("envshadow-{c}.1"))
+        .collect();
+    expected.push("envshadow.1".into());
+    expected.sort();
+    let mut pages = common::file_names(&dir);
+    pages.sort();
+    assert!(expected.len() >= 15, "{help}");
+    assert_eq!(pages, expected);
     let render = fs::read_to_string(dir.join("envshadow-render.1")).unwrap();
     assert!(
         render.contains(".TH envshadow-render 1  \"envshadow "),
