@@ -1067,7 +1067,9 @@ mod tests {
             assert!(accel.occluded(below, Vec3::Y), "scale {scale}");
             assert_eq!(accel.occluded_packet(below, &[Vec3::Y, Vec3::X]), 1);
             let above = Vec3::new(0.03, 1.001, -0.02) * scale;
-            let hit = accel.intersect(above, -Vec3::Y).expect("hits the small square");
+            let hit = accel
+                .intersect(above, -Vec3::Y)
+                .expect("hits the small square");
             assert!(
                 (hit.t / scale - 0.001).abs() < 1e-5,
                 "scale {scale}: {}",

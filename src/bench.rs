@@ -583,7 +583,10 @@ pub fn csv(args: &BenchArgs, rows: &[BenchRow]) -> String {
     let mut s = format!("{CSV_HEADER}\n");
     for r in rows {
         let (wrong, rel) = match r.accuracy {
-            Some(a) => (format!("{:.6}", a.wrong_percent), format!("{:.6e}", a.rel_rmse)),
+            Some(a) => (
+                format!("{:.6}", a.wrong_percent),
+                format!("{:.6e}", a.rel_rmse),
+            ),
             None => (String::new(), String::new()),
         };
         s.push_str(&format!(

@@ -152,9 +152,7 @@ impl<'a> FrameContext<'a> {
     /// Traces the shadow ray from `s` towards light `j`: true when the light is visible.
     #[inline]
     pub fn trace(&self, s: &Surface, j: usize) -> bool {
-        !self
-            .accel
-            .occluded(s.origin, self.light_dir[j])
+        !self.accel.occluded(s.origin, self.light_dir[j])
     }
 
     /// [`trace`](Self::trace) for several lights at once (at most [`PACKET`]): bit k of the
@@ -166,8 +164,7 @@ impl<'a> FrameContext<'a> {
         for (d, &j) in dirs.iter_mut().zip(lights) {
             *d = self.light_dir[j as usize];
         }
-        self.accel
-            .occluded_packet(s.origin, &dirs[..lights.len()])
+        self.accel.occluded_packet(s.origin, &dirs[..lights.len()])
     }
 
     /// Like [`trace`](Self::trace), returning the distance from the ray's origin to a blocker

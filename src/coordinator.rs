@@ -490,9 +490,8 @@ fn render_tile_list(
             let patches: Vec<_> = shared_tiles
                 .par_iter()
                 .map(|t| {
-                    tasks.time(|| {
-                        with_slot(|slot| work.shared_phase(t.rect, slot, phase, &lattice))
-                    })
+                    tasks
+                        .time(|| with_slot(|slot| work.shared_phase(t.rect, slot, phase, &lattice)))
                 })
                 .collect();
             parallel += t.elapsed();

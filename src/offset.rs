@@ -109,7 +109,11 @@ mod tests {
                     let centre = rng.vec() * scale * shift;
                     let thin = if k % 3 == 0 { 1e-3 } else { 1.0 };
                     let a = rng.vec() * scale;
-                    let p = [centre + a, centre + a + rng.vec() * scale, centre + a * thin];
+                    let p = [
+                        centre + a,
+                        centre + a + rng.vec() * scale,
+                        centre + a * thin,
+                    ];
                     let ng = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
                     if ng == Vec3::ZERO || !ng.is_finite() {
                         continue;

@@ -426,7 +426,10 @@ mod tests {
             received += u32::from(want);
             tilted += u32::from(n.dot(d) > 0.0 && ng.dot(d) <= 0.0);
         }
-        assert!(received > 0 && tilted > 0, "the case must have both kinds of light");
+        assert!(
+            received > 0 && tilted > 0,
+            "the case must have both kinds of light"
+        );
         // The same normal for both: the shading normal's horizon alone.
         let mut alone = [0u64; 4];
         above_horizon(&sl, n, &mut alone);

@@ -80,9 +80,7 @@ pub fn prev_view<'a>(
     lights: &LightSet,
 ) -> Prev<'a> {
     debug_assert_eq!(carried.frame + 1, frame);
-    let now = anim
-        .scene_transform(frame, pivot)
-        .unwrap_or(Mat4::IDENTITY);
+    let now = anim.scene_transform(frame, pivot).unwrap_or(Mat4::IDENTITY);
     let then = anim
         .scene_transform(carried.frame, pivot)
         .unwrap_or(Mat4::IDENTITY);

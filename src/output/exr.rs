@@ -36,7 +36,7 @@ pub struct FrameHeader<'a> {
     /// (`[render] method` → `envshadow/render.method`).
     pub settings: &'a [(String, String)],
     /// The frame's row of `stats.csv`: every column that does not depend on the machine, the
-    /// threads or the tiles (`envshadow/stats.rays_traced`, …; not `seconds`, not the halo's
+    /// threads or the tiles (`envshadow/stats.rays_traced`, …; not `thread_seconds`, not the halo's
     /// work).
     pub stats: &'a FrameStats,
 }
@@ -341,7 +341,7 @@ mod tests {
             spp: 1,
             counts: Default::default(),
             image_error: None,
-            seconds: 0.25,
+            thread_seconds: 0.25,
             camera_position: glam::Vec3::new(0.0, 1.0, 5.0),
             camera_target: glam::Vec3::ZERO,
             camera_up: glam::Vec3::Y,
@@ -378,7 +378,11 @@ mod tests {
             Some(&AttributeValue::I32(7))
         );
         assert!(attrs.other.contains_key(&text("envshadow/render.key19")));
-        assert!(!attrs.other.contains_key(&text("envshadow/stats.seconds")));
+        assert!(
+            !attrs
+                .other
+                .contains_key(&text("envshadow/stats.thread_seconds"))
+        );
     }
 
     #[test]

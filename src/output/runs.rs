@@ -15,8 +15,7 @@ pub fn path(dir: &Path) -> PathBuf {
 }
 
 /// The header of `runs.csv`.
-pub const HEADER: &str =
-    "started_unix,threads,frames_rendered,frames_skipped,wall_seconds,thread_seconds,queries,rays_traced";
+pub const HEADER: &str = "started_unix,threads,frames_rendered,frames_skipped,wall_seconds,thread_seconds,queries,rays_traced";
 
 /// One run.
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -39,7 +39,11 @@ impl At {
         }
         let busy = voters.iter().any(|&q| bufs.split[q].fixes > 0);
         At {
-            flood_to: if busy { FloodTo::All } else { FloodTo::Contrary },
+            flood_to: if busy {
+                FloodTo::All
+            } else {
+                FloodTo::Contrary
+            },
             ..self
         }
     }

@@ -108,7 +108,9 @@ impl std::str::FromStr for FloodTo {
             .into_iter()
             .find(|f| f.name() == s)
             .ok_or_else(|| {
-                format!("unknown flood rule {s:?}; expected all, contrary-finest, contrary or adaptive")
+                format!(
+                    "unknown flood rule {s:?}; expected all, contrary-finest, contrary or adaptive"
+                )
             })
     }
 }

@@ -435,10 +435,7 @@ impl Gltf {
 
     /// Writes `name.gltf` with the buffer inline as a base64 `data:` URI.
     pub fn write_gltf_data_uri(&self, dir: &Path, name: &str, rest: Value) -> PathBuf {
-        let uri = format!(
-            "data:application/octet-stream;base64,{}",
-            base64(&self.bin)
-        );
+        let uri = format!("data:application/octet-stream;base64,{}", base64(&self.bin));
         let path = dir.join(format!("{name}.gltf"));
         let doc = self.json(rest, Some(&uri));
         std::fs::write(&path, serde_json::to_vec(&doc).unwrap()).unwrap();

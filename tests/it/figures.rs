@@ -14,8 +14,16 @@ fn render(out: &Path, threads: usize, frames: &str, flags: &[&str]) {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let status = common::bin()
         .args(["render", "anims/shapes-turntable.toml", "--frames", frames])
-        .args(["--width", "320", "--height", "240", "--lights", "100", "--spp", "1"])
-        .args(["--threads", &threads.to_string(), "--no-report", "-q", "--out"])
+        .args([
+            "--width", "320", "--height", "240", "--lights", "100", "--spp", "1",
+        ])
+        .args([
+            "--threads",
+            &threads.to_string(),
+            "--no-report",
+            "-q",
+            "--out",
+        ])
         .arg(out)
         .args(flags)
         .current_dir(root)
@@ -49,7 +57,10 @@ fn frame_thread_seconds_add_up_to_at_most_threads_times_wall_time() {
             "{threads} threads {flags:?}: frames sum to {sum:.4} thread-s in a run of {:.4} s",
             run.wall_seconds
         );
-        assert!((run.thread_seconds - sum).abs() <= 8.0 * 5e-5 + 1e-3, "{run:?} vs {sum}");
+        assert!(
+            (run.thread_seconds - sum).abs() <= 8.0 * 5e-5 + 1e-3,
+            "{run:?} vs {sum}"
+        );
         let rays: u64 = rows.iter().map(|r| r.counts.traced()).sum();
         assert_eq!(run.rays_traced, rays);
     }
@@ -68,9 +79,24 @@ fn the_share_traced_counts_every_ray_the_frame_traced() {
     let dir = tempfile::tempdir().unwrap();
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let out = common::bin()
-        .args(["bench", "--scene", "anims/shapes-turntable.toml", "--lights", "50"])
-        .args(["--width", "160", "--height", "120", "--spp", "1", "--tile", "32"])
-        .args(["--method", "grid-nowarp-uncertainty", "--threads", "1", "--repeat", "1"])
+        .args([
+            "bench",
+            "--scene",
+            "anims/shapes-turntable.toml",
+            "--lights",
+            "50",
+        ])
+        .args([
+            "--width", "160", "--height", "120", "--spp", "1", "--tile", "32",
+        ])
+        .args([
+            "--method",
+            "grid-nowarp-uncertainty",
+            "--threads",
+            "1",
+            "--repeat",
+            "1",
+        ])
         .arg("--csv")
         .arg("--dump-rays")
         .arg(dir.path())
@@ -89,7 +115,13 @@ fn the_share_traced_counts_every_ray_the_frame_traced() {
     let percent: f64 = col("percent_traced").parse().unwrap();
     let dump = dir.path().join("rays-50-grid-nowarp-uncertainty.bin");
     let dumped = envshadow::raydump::read(&dump).unwrap().rays.len() as u64;
-    assert_eq!(traced, dumped, "counted {traced} rays, the frame traced {dumped}");
-    assert!(halo > 0, "tiles of 32 evaluate halos: the test would prove little");
+    assert_eq!(
+        traced, dumped,
+        "counted {traced} rays, the frame traced {dumped}"
+    );
+    assert!(
+        halo > 0,
+        "tiles of 32 evaluate halos: the test would prove little"
+    );
     assert!((percent - 100.0 * traced as f64 / queries as f64).abs() < 1e-3);
 }

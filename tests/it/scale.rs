@@ -130,17 +130,25 @@ fn the_same_scene_at_any_scale_or_place_renders_the_same() {
         ] {
             let name = format!("s{scale:e}-t{shift:e}");
             let moved = write_scene(&bunny, dir.path(), &name, scale, [shift, 0.0, -shift]);
-            let case = format!("{} scale {scale:e}, moved {shift:e}", if spin { "spin" } else { "orbit" });
+            let case = format!(
+                "{} scale {scale:e}, moved {shift:e}",
+                if spin { "spin" } else { "orbit" }
+            );
             failures.case(&case, || {
                 let got = render(&moved, spin, frame);
                 let pct = got.counts.percent_traced();
                 let rel = rel_rmse(&got, &want);
-                eprintln!("{case}: {pct:.4} % traced (unscaled {want_pct:.4} %), relative RMSE {rel:.2e}");
+                eprintln!(
+                    "{case}: {pct:.4} % traced (unscaled {want_pct:.4} %), relative RMSE {rel:.2e}"
+                );
                 assert!(
                     (pct - want_pct).abs() <= 0.01 * want_pct,
                     "{pct:.4} % traced against {want_pct:.4} %"
                 );
-                assert!(rel <= 1e-3, "relative RMSE {rel:.2e} against the unscaled render");
+                assert!(
+                    rel <= 1e-3,
+                    "relative RMSE {rel:.2e} against the unscaled render"
+                );
             });
         }
     }
@@ -160,9 +168,15 @@ fn far_scenes_keep_their_shape_and_report_world_positions() {
     assert_eq!(far.origin, glam::DVec3::new(1e6, 0.0, -1e6));
     assert_eq!(far.positions.len(), unit.positions.len());
     for (k, (a, b)) in far.positions.iter().zip(&unit.positions).enumerate() {
-        assert!((*a - *b).abs().max_element() <= 2e-10, "vertex {k}: {a} vs {b}");
+        assert!(
+            (*a - *b).abs().max_element() <= 2e-10,
+            "vertex {k}: {a} vs {b}"
+        );
     }
     let p = glam::Vec3::new(0.5, 0.25, -0.125);
-    assert_eq!(far.to_world(p), glam::Vec3::new(1e6 + 0.5, 0.25, -1e6 - 0.125));
+    assert_eq!(
+        far.to_world(p),
+        glam::Vec3::new(1e6 + 0.5, 0.25, -1e6 - 0.125)
+    );
     assert_eq!(far.to_local(far.to_world(p)), p);
 }

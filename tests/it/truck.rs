@@ -139,7 +139,11 @@ pub fn truck_glb(dir: &Path) -> PathBuf {
     for s in [-1.0f32, 1.0] {
         // A strip 15 cm high standing 3 cm proud of each side panel, and a mirror on a thin
         // arm beside the cab.
-        let (z0, z1) = if s > 0.0 { (1.25, 1.28) } else { (-1.28, -1.25) };
+        let (z0, z1) = if s > 0.0 {
+            (1.25, 1.28)
+        } else {
+            (-1.28, -1.25)
+        };
         trim.cuboid([-3.0, 0.85, z0], [1.5, 1.0, z1]);
         let (a0, a1) = if s > 0.0 { (1.2, 1.45) } else { (-1.45, -1.2) };
         trim.cuboid([2.9, 2.2, a0], [2.95, 2.24, a1]);
