@@ -450,6 +450,32 @@ mod tests {
     /// What correcting a pixel leaves: visibility, traced set, rays, split, blockers.
     type Outcome = (Vec<u64>, Vec<u64>, u32, RaySplit, Vec<(usize, f32)>);
 
+    /// `adaptive` floods to all where a voter's flooding caught a wrong prediction, to
+    /// contrary lights where none did; the other rules are left as they are.
+    #[test]
+    fn adaptive_flooding_follows_the_voters_fixes() {
+        let mut bufs = TileBuffers {
+            split: vec![RaySplit::default(); 3],
+            ..TileBuffers::default()
+        };
+        bufs.split[2].fixes = 1;
+        let at = |flood_to| At {
+            flood_to,
+            keep_blockers: false,
+            keep_predicted: false,
+            majority: false,
+            inside: false,
+        };
+        let resolved = |f, voters: &[usize]| at(f).for_voters(&bufs, voters).flood_to;
+        assert_eq!(resolved(FloodTo::Adaptive, &[0, 1]), FloodTo::Contrary);
+        assert_eq!(resolved(FloodTo::Adaptive, &[0, 2]), FloodTo::All);
+        assert_eq!(resolved(FloodTo::Adaptive, &[]), FloodTo::Contrary);
+        for f in [FloodTo::All, FloodTo::Contrary] {
+            assert_eq!(resolved(f, &[0, 2]), f);
+            assert_eq!(resolved(f, &[0, 1]), f);
+        }
+    }
+
     /// ALGORITHM.md §6: the traced set does not depend on the queue's order. 300 lights (five
     /// words) under the roof, a prediction whose shadow edge crosses the true one, more queued
     /// lights than a packet holds: ascending (what `correct` builds), descending and shuffled

@@ -428,6 +428,13 @@ fn table_and_bench_commands_measure_every_requested_configuration() {
     assert!(!plain.contains("min_voters"), "{plain}");
     assert!(strict.contains("min_voters 4"), "{strict}");
     assert!(p4 > p3, "--min-voters 4 traced {p4} %, the default {p3} %");
+    // Busy voters (the default 4) trace more than without them, and never more than asking
+    // four voters everywhere.
+    let (_, calm) = traced(&["--busy-voters", "0"]);
+    assert!(
+        calm <= p3 && p3 <= p4,
+        "--busy-voters 0 traced {calm} %, the default {p3} %, --min-voters 4 {p4} %"
+    );
 
     let o = common::bin()
         .args(["bench", "--scene"])

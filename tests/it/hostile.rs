@@ -478,14 +478,18 @@ fn every_kind_of_broken_input_is_refused_with_one_located_line() {
             "flood.toml",
             "[render] flood_to",
             "\"some\"",
-            "all, contrary-finest or contrary",
+            "all, contrary-finest, contrary or adaptive",
         ],
     );
     c.render(
         "unknown flood rule flag",
         &c.dir.join("ok.toml"),
         &["--flood-to", "most"],
-        &["--flood-to", "most", "all, contrary-finest or contrary"],
+        &[
+            "--flood-to",
+            "most",
+            "all, contrary-finest, contrary or adaptive",
+        ],
     );
 
     assert!(c.count >= 20, "{} kinds", c.count);
