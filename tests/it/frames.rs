@@ -75,7 +75,7 @@ fn same_frames(a: &Path, b: &Path, frames: &[usize]) {
         let mut r = read_stats(&d.join("stats.csv")).unwrap();
         r.retain(|s| frames.contains(&s.frame));
         for s in &mut r {
-            s.seconds = 0.0;
+            s.thread_seconds = 0.0;
         }
         r
     };
