@@ -37,7 +37,7 @@ pub struct FrameHeader<'a> {
     pub settings: &'a [(String, String)],
     /// The frame's row of `stats.csv`: every column that does not depend on the machine, the
     /// threads or the tiles (`envshadow/stats.rays_traced`, …; not `thread_seconds`, not the halo's
-    /// work).
+    /// work or the share traced that counts it).
     pub stats: &'a FrameStats,
 }
 
@@ -45,9 +45,13 @@ pub struct FrameHeader<'a> {
 pub const SOFTWARE: &str = concat!("envshadow ", env!("CARGO_PKG_VERSION"));
 
 /// The stats columns left out of the header: they depend on the machine or on how the frame
-/// was split (tiles, jobs), and the same frame must be the same bytes.
+/// was split (tiles, jobs), and the same frame must be the same bytes. `percent_traced` counts
+/// the halos' rays, so it depends on the tiles (`rays_traced` and `queries` stay).
 fn run_dependent(column: &str) -> bool {
-    column.starts_with("halo_") || column.contains("second") || column.contains("time")
+    column.starts_with("halo_")
+        || column == "percent_traced"
+        || column.contains("second")
+        || column.contains("time")
 }
 
 /// The EXR file of a frame's film, half-float where `half` allows, with `header`.
