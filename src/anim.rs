@@ -468,7 +468,7 @@ impl Animation {
             "name = {}\n[scene]\nfile = {}\n[environment]\n{environment}\n\
              [camera]\nelevation = 25.0\nazimuth = 20.0\nvfov = 40.0\n\
              [motion]\nkind = \"orbit\"\nframes = 120\ndegrees_per_frame = 3.0\n",
-            toml::Value::String(name).to_string(),
+            toml::Value::String(name),
             quote(model),
         );
         Animation::parse(&text, model, flags)

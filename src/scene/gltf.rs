@@ -341,11 +341,14 @@ fn tex_coord_set(primitive: &Primitive) -> u32 {
         .map_or(0, |info| info.tex_coord())
 }
 
+/// [`count`]'s answer, in the order its comment gives.
+type Counted = (SceneSize, Vec<(usize, usize)>, DVec3);
+
 /// What the default scene will hold, from the JSON alone: the vertices and (at most) triangles
 /// of every primitive the loader will read, once per node that places its mesh, and the
 /// largest of them; and the images their materials use, as (material, image) in the order the
 /// loader meets them. Accessors too large to read are refused here, as the loader would.
-fn count(path: &Path, document: &Document) -> Result<(SceneSize, Vec<(usize, usize)>, DVec3)> {
+fn count(path: &Path, document: &Document) -> Result<Counted> {
     let mut size = SceneSize::default();
     let mut used = Vec::new();
     let mut bounds = Some((DVec3::INFINITY, DVec3::NEG_INFINITY));
