@@ -15,6 +15,7 @@ mod common;
 mod envmap;
 mod farm;
 mod figures;
+mod frames;
 mod fuzz_regressions;
 mod golden;
 mod hostile;
