@@ -166,6 +166,10 @@ pub struct Prev<'a> {
     /// Lights whose votes are pulled from another of the previous frame's lights (spin):
     /// (current light, previous light).
     remap: Vec<(u16, u16)>,
+    /// The sine of the largest angle between a light's direction carried into the previous
+    /// frame and the previous light its votes come from (spin; 0 for an orbit): lights this
+    /// close to a pixel's tangent plane are at its horizon edge.
+    grazing: f32,
 }
 
 impl<'a> Prev<'a> {
@@ -189,7 +193,19 @@ impl<'a> Prev<'a> {
             pixel_angle: 2.0 * libm::tanf(camera.vfov_deg.to_radians() * 0.5)
                 / camera.height as f32,
             remap,
+            grazing: 0.0,
         }
+    }
+
+    /// This view with `grazing` (see [`grazing`](Self::grazing)).
+    pub fn with_grazing(self, grazing: f32) -> Prev<'a> {
+        Prev { grazing, ..self }
+    }
+
+    /// The sine of the elevation above a pixel's tangent plane below which a light's votes
+    /// (pulled through a spin's turn) may come from the other side of a grazing shadow.
+    pub fn grazing(&self) -> f32 {
+        self.grazing
     }
 
     pub fn carried(&self) -> &Carried {

@@ -11,10 +11,13 @@
 //! [ours] Two departures from pbrt-v4, both because our triangle test is obvhs's
 //! Möller–Trumbore (`t ≥ 0`), not pbrt's watertight test with its conservative `t > δt`:
 //! - the bound also covers the triangle test's own rounding of the surface it leaves: that test
-//!   evaluates the plane through the corner `p0` with the edges, so its error grows with the
-//!   triangle's size as well as with the coordinates: `err = γ7 · (|p0| + |e1| + |e2|)` per
-//!   axis, where pbrt's `γ7 · Σ|bᵢ pᵢ|` alone would let a large triangle near the origin find
-//!   itself again (`tests::no_ray_finds_the_triangle_it_leaves`);
+//!   evaluates the plane through the corner `p0` with the edges' cross products, so its error
+//!   grows with the triangle's size as well as with the coordinates, and with every axis's
+//!   (the products mix them): `err = γ7 · max(|p0| + |e1| + |e2|)` on each axis, where pbrt's
+//!   per-axis `γ7 · Σ|bᵢ pᵢ|` would let a large triangle near the origin find itself again
+//!   (`tests::no_ray_finds_the_triangle_it_leaves`) and gives a panel lying in a coordinate
+//!   plane through the origin no offset at all: every ray found the panel
+//!   (`tests::a_panel_in_a_coordinate_plane_through_the_origin_does_not_shadow_itself`);
 //! - every ray of a point starts from one origin on the viewer's side (pbrt flips the offset to
 //!   the side each ray leaves towards): a pixel's rays are traced as one packet from one point,
 //!   and a light below the geometric surface is blocked by it, as it should be.
@@ -36,7 +39,10 @@ pub fn gamma(n: u32) -> f32 {
 pub fn hit_point(p: [Vec3; 3], u: f32, v: f32) -> (Vec3, Vec3) {
     let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
     let point = p[0] + e1 * u + e2 * v;
-    let err = (p[0].abs() + e1.abs() + e2.abs()) * gamma(7);
+    // The same bound on every axis: the triangle test's cross products mix the axes, so a
+    // triangle whose coordinates are exact on its normal's axis (a panel in the plane z = 0)
+    // still finds itself through the rounding of the others.
+    let err = Vec3::splat((p[0].abs() + e1.abs() + e2.abs()).max_element() * gamma(7));
     (point, err)
 }
 
@@ -185,6 +191,77 @@ mod tests {
                             assert_eq!(accel.occluded_packet_unrecorded(o, &dirs), 0);
                             rays += dirs.len();
                         }
+                    }
+                }
+            }
+        }
+        assert!(rays > 10_000, "{rays}");
+    }
+
+    #[test]
+    fn a_panel_in_a_coordinate_plane_through_the_origin_does_not_shadow_itself() {
+        // A quad whose coordinate on its normal's axis is exactly 0 (the corpus's
+        // alpha_mask_panels lattice, frame 0: x from -0.6 to -5.6e-17, y to 0.8, z = 0): a
+        // per-axis bound is 0 there, the origin moved by one subnormal, and rays leaving one
+        // triangle found the other, coplanar one at t = 0.
+        let mut rng = Lcg(5);
+        let mut rays = 0;
+        for scale in [1e-4f32, 1.0, 1e3] {
+            for axis in 0..3 {
+                let flat = |x: f32, y: f32| {
+                    let mut v = [x, y, 0.0];
+                    v.rotate_right(axis);
+                    Vec3::from_array(v) * scale
+                };
+                // A post standing off the panel's plane, as the rest of a scene does: a flat
+                // bounding box alone would turn the rays away before the triangle test.
+                let post = |x: f32, y: f32, z: f32| {
+                    let mut v = [x, y, z];
+                    v.rotate_right(axis);
+                    Vec3::from_array(v) * scale
+                };
+                let p = [
+                    flat(-0.6, 0.0),
+                    flat(-5.551115e-17, 0.0),
+                    flat(-5.551115e-17, 0.8),
+                    flat(-0.6, 0.8),
+                    post(3.0, 0.0, -1.0),
+                    post(3.0, 0.1, 1.0),
+                    post(3.1, 0.0, 1.0),
+                ];
+                let quad = [[0, 1, 2], [0, 2, 3]];
+                let accel = Accel::build(&p, &[quad[0], quad[1], [4, 5, 6]]);
+                let post_only = Accel::build(&p, &[[4, 5, 6]]);
+                for k in 0..400 {
+                    let t = quad[k % 2];
+                    let tri = [p[t[0] as usize], p[t[1] as usize], p[t[2] as usize]];
+                    let ng = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize();
+                    let (mut u, mut v) = (rng.next(), rng.next());
+                    if u + v > 1.0 {
+                        (u, v) = (1.0 - u, 1.0 - v);
+                    }
+                    let (point, err) = hit_point(tri, u, v);
+                    for side in [ng, -ng] {
+                        let o = offset_origin(point, err, side);
+                        let mut dirs = Vec::new();
+                        while dirs.len() < 8 {
+                            let d = rng.vec().normalize_or_zero();
+                            if d.dot(side) > 0.0 {
+                                dirs.push(d);
+                            }
+                        }
+                        for d in &dirs {
+                            assert_eq!(
+                                accel.occluded_unrecorded(o, *d),
+                                post_only.occluded_unrecorded(o, *d),
+                                "{scale} {axis}: {o} {d}"
+                            );
+                        }
+                        assert_eq!(
+                            accel.occluded_packet_unrecorded(o, &dirs),
+                            post_only.occluded_packet_unrecorded(o, &dirs)
+                        );
+                        rays += dirs.len();
                     }
                 }
             }

@@ -213,16 +213,23 @@ unsafe fn radiance_avx2(sl: &ShadeLights, n: Vec3, bits: &[u64]) -> [[f32; 8]; 3
 /// summed in glam's dot order `(x + y) + z`), four or eight lights per instruction.
 #[inline]
 pub fn above_horizon(sl: &ShadeLights, n: Vec3, out: &mut [u64]) {
+    above_plane(sl, n, 0.0, out);
+}
+
+/// Sets `out`'s bits for the lights with `n·ω > h`: [`above_horizon`] raised to the sine `h`
+/// of an elevation above the tangent plane (the lights between are grazing).
+#[inline]
+pub fn above_plane(sl: &ShadeLights, n: Vec3, h: f32, out: &mut [u64]) {
     let lights = out.len() * 64;
     let (x, y, z) = (&sl.x[..lights], &sl.y[..lights], &sl.z[..lights]);
     #[cfg(target_arch = "x86_64")]
     {
         if crate::simd::has_avx2() {
             // SAFETY: AVX2 was detected; the slices hold `out.len() * 64` lights.
-            unsafe { above_horizon_avx2(x, y, z, n, out) };
+            unsafe { above_horizon_avx2(x, y, z, n, h, out) };
         } else {
             // SAFETY: as above (SSE2 is part of x86_64).
-            unsafe { above_horizon_sse2(x, y, z, n, out) };
+            unsafe { above_horizon_sse2(x, y, z, n, h, out) };
         }
     }
     #[cfg(not(target_arch = "x86_64"))]
@@ -231,7 +238,7 @@ pub fn above_horizon(sl: &ShadeLights, n: Vec3, out: &mut [u64]) {
         for l in 0..64 {
             let j = k * 64 + l;
             let d = n.x * x[j] + n.y * y[j] + n.z * z[j];
-            bits |= u64::from(d > 0.0) << l;
+            bits |= u64::from(d > h) << l;
         }
         *word = bits;
     }
@@ -259,11 +266,18 @@ pub fn above_both_horizons(sl: &ShadeLights, n: Vec3, ng: Vec3, out: &mut [u64])
 /// # Safety
 /// `x`, `y`, `z` hold at least `out.len() * 64` values.
 #[cfg(target_arch = "x86_64")]
-unsafe fn above_horizon_sse2(x: &[f32], y: &[f32], z: &[f32], n: Vec3, out: &mut [u64]) {
+unsafe fn above_horizon_sse2(
+    x: &[f32],
+    y: &[f32],
+    z: &[f32],
+    n: Vec3,
+    h: f32,
+    out: &mut [u64],
+) {
     use std::arch::x86_64::*;
     unsafe {
         let (nx, ny, nz) = (_mm_set1_ps(n.x), _mm_set1_ps(n.y), _mm_set1_ps(n.z));
-        let zero = _mm_setzero_ps();
+        let zero = _mm_set1_ps(h);
         for (k, word) in out.iter_mut().enumerate() {
             let mut bits = 0u64;
             for g in 0..16 {
@@ -286,7 +300,14 @@ unsafe fn above_horizon_sse2(x: &[f32], y: &[f32], z: &[f32], n: Vec3, out: &mut
 /// As [`above_horizon_sse2`], on a CPU with AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn above_horizon_avx2(x: &[f32], y: &[f32], z: &[f32], n: Vec3, out: &mut [u64]) {
+unsafe fn above_horizon_avx2(
+    x: &[f32],
+    y: &[f32],
+    z: &[f32],
+    n: Vec3,
+    h: f32,
+    out: &mut [u64],
+) {
     use std::arch::x86_64::*;
     unsafe {
         let (nx, ny, nz) = (
@@ -294,7 +315,7 @@ unsafe fn above_horizon_avx2(x: &[f32], y: &[f32], z: &[f32], n: Vec3, out: &mut
             _mm256_set1_ps(n.y),
             _mm256_set1_ps(n.z),
         );
-        let zero = _mm256_setzero_ps();
+        let zero = _mm256_set1_ps(h);
         for (k, word) in out.iter_mut().enumerate() {
             let mut bits = 0u64;
             for g in 0..8 {
@@ -399,11 +420,11 @@ mod tests {
             {
                 let (x, y, z) = (&sl.x[..], &sl.y[..], &sl.z[..]);
                 // SAFETY: the planes hold 256 lights.
-                unsafe { above_horizon_sse2(x, y, z, *n, &mut out) };
+                unsafe { above_horizon_sse2(x, y, z, *n, 0.0, &mut out) };
                 assert_eq!(out, reference);
                 if std::arch::is_x86_feature_detected!("avx2") {
                     // SAFETY: as above, and AVX2 was detected.
-                    unsafe { above_horizon_avx2(x, y, z, *n, &mut out) };
+                    unsafe { above_horizon_avx2(x, y, z, *n, 0.0, &mut out) };
                     assert_eq!(out, reference);
                 }
             }

@@ -86,18 +86,26 @@ pub fn prev_view<'a>(
         .unwrap_or(Mat4::IDENTITY);
     let to_prev = then * now.inverse();
     let mut remap = Vec::new();
+    // The cosine of the largest angle between the direction a light's votes are wanted for
+    // and the direction of the previous light they come from (1: none, an orbit).
+    let mut worst = 1.0f32;
     if anim.motion == MotionKind::Spin {
         let rot = Mat3::from_mat4(to_prev);
         for (j, l) in lights.lights.iter().enumerate() {
             // The object-space direction light j has now pointed along this world direction
             // in the previous frame.
-            let m = lights.cell_of((rot * l.dir).normalize()) as usize;
+            let wanted = (rot * l.dir).normalize();
+            let m = lights.cell_of(wanted) as usize;
+            worst = worst.min(wanted.dot(lights.lights[m].dir));
             if m != j {
                 remap.push((j as u16, m as u16));
             }
         }
     }
-    Prev::new(carried, to_prev, prev_camera, camera, remap)
+    // [ours] Lights grazing the surface by less than that angle are voted on from a direction
+    // that may lie on the other side of a grazing shadow (docs/temporal.md, "Flat panels").
+    let grazing = libm::sqrtf((1.0 - worst * worst).max(0.0));
+    Prev::new(carried, to_prev, prev_camera, camera, remap).with_grazing(grazing)
 }
 
 #[cfg(test)]

@@ -95,6 +95,15 @@ pub fn solve_temporal(
         }
         (3 * w, 4 * w, 5 * w)
     };
+    // Spin: the grazing lights (above the horizon by less than the pull's largest error) are
+    // at the edge the horizon makes: a surface's own horizon is a shadow edge the previous
+    // frame's edge lights never mark (the lights below it are no queries), and grazing
+    // shadows (trim, seams, parts standing proud of a flat panel) lie right above it.
+    let graze = 6 * w;
+    if spin {
+        let band = &mut ext[graze..graze + w];
+        crate::shade::above_plane(&ctx.shade_lights, s.n, prev.grazing(), band);
+    }
     let mine = &above[i * w..(i + 1) * w];
     for m in 0..w {
         let my = mine[m];
@@ -113,7 +122,11 @@ pub fn solve_temporal(
         let s_enough = bits::at_least(&s_above[..spatial.len()], min_voters);
         let s_blocked = s_enough & s_all & s_any;
         let s_sure = s_blocked | (s_enough & !s_any);
-        let e = my & ext[edge + m];
+        let e = if spin {
+            my & (ext[edge + m] | !ext[graze + m])
+        } else {
+            my & ext[edge + m]
+        };
         if !spin {
             sc.pred_vis[m] = my & !ext[blocked + m];
             sc.uncertain[m] = my & !ext[sure + m];
