@@ -261,9 +261,9 @@ fn frame_accel(anim: &Animation, inputs: &Inputs, frame: usize) -> Result<Accel>
     Ok(match anim.scene_transform(frame, camera0.target) {
         Some(m) => {
             let posed = inputs.scene.transformed(m);
-            Accel::build(&posed.positions, &posed.triangles)
+            posed.accel()
         }
-        None => Accel::build(&inputs.scene.positions, &inputs.scene.triangles),
+        None => inputs.scene.accel(),
     })
 }
 

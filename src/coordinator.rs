@@ -4,7 +4,7 @@
 //! thread that writes them while rendering goes on. Memory stays bounded by the frames in
 //! flight and the channel's capacity.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Mutex, OnceLock};
 use std::time::Instant;
@@ -184,8 +184,7 @@ impl Inputs {
 
     /// The unposed scene's BVH, built once.
     pub fn still_accel(&self) -> &Accel {
-        self.still
-            .get_or_init(|| Accel::build(&self.scene.positions, &self.scene.triangles))
+        self.still.get_or_init(|| self.scene.accel())
     }
 
     /// Loads the scene and environment and samples the lights. Each file is counted against
@@ -219,9 +218,37 @@ impl Inputs {
         let env = env
             .with_rotation(anim.env_rotation_deg)
             .with_intensity(anim.env_intensity)?;
-        let lights = LightSet::build(&env, anim.lights.count, anim.lights.sampler)?;
+        let mut lights = LightSet::build(&env, anim.lights.count, anim.lights.sampler)?;
+        if anim.lights.scene_lights {
+            lights = lights.with_scene_lights(&scene.lights, Path::new(&scene.source))?;
+        }
         Ok(Inputs::new(scene, env, lights))
     }
+}
+
+/// What became of the scene file's lights, for the user: lit by them, or ignored.
+pub fn scene_lights_note(anim: &Animation, scene: &Scene) -> Option<String> {
+    if scene.lights.is_empty() {
+        return None;
+    }
+    let names: Vec<String> = scene
+        .lights
+        .iter()
+        .map(|l| format!("{} '{}'", l.kind.name(), l.name))
+        .collect();
+    let n = scene.lights.len();
+    let lights = if n == 1 { "light" } else { "lights" };
+    Some(if anim.lights.scene_lights {
+        format!(
+            "{n} {lights} of the scene file join the map's: {}",
+            names.join(", ")
+        )
+    } else {
+        format!(
+            "{n} {lights} of the scene file ignored ([lights] scene_lights = false): {}",
+            names.join(", ")
+        )
+    })
 }
 
 /// Frames rendered at once (see `render_animation`); the memory estimate counts them.
@@ -348,7 +375,7 @@ fn render_tile_list(
     let (scene, accel) = match anim.scene_transform(frame, camera0.target) {
         Some(m) => {
             posed = inputs.scene.transformed(m);
-            built = Accel::build(&posed.positions, &posed.triangles);
+            built = posed.accel();
             (&posed, &built)
         }
         None => (&inputs.scene, inputs.still_accel()),
@@ -515,6 +542,9 @@ pub fn render_animation(
     }
     for w in &inputs.scene.warnings {
         progress.warning(w);
+    }
+    if let Some(note) = scene_lights_note(anim, &inputs.scene) {
+        progress.note(&note);
     }
     opts.cancel.check()?;
     std::fs::create_dir_all(dir)

@@ -24,7 +24,7 @@ use crate::film::{Counts, TileResult};
 use crate::lattice::{Lattice, LatticePatch};
 use crate::predict::temporal::solve_temporal;
 use crate::predict::{At, Order, Scratch, Shadows};
-use crate::shade::{light_sum, radiance, reflect, same};
+use crate::shade::{light_sum, point_lights, reflect, same};
 use crate::tile::Rect;
 use glam::Vec3;
 
@@ -356,6 +356,12 @@ fn shade(
                         _ => light_sum(&ctx.shade_lights, s.n, vis),
                     };
                     last = Some((s.n, q, sum));
+                    let sum = if ctx.has_points() {
+                        let first = ctx.light_dir.len();
+                        sum + point_lights(&ctx.lights.points, first, s.p, s.n, vis)
+                    } else {
+                        sum
+                    };
                     lit += reflect(s.albedo, sum);
                     let n_above = bits::count(above);
                     counts.queries += n_above as u64;
@@ -390,7 +396,7 @@ fn shade(
                     counts.wrong_blocked += wb;
                     counts.wrong_pixels += u64::from(wv + wb > 0);
                     mistakes += (wv + wb) as f32;
-                    exact += radiance(&ctx.shade_lights, s.n, s.albedo, &truth);
+                    exact += reflect(s.albedo, ctx.irradiance(&s, &truth));
                 }
             }
             beauty.push((lit / spp).to_array());

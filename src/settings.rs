@@ -318,6 +318,11 @@ settings! {
             check any;
         /// Light sampler: sis (structured importance sampling, the default) or median-cut.
         sampler: Sampler = Sampler::Sis, flag "sampler" [value_name = "NAME"], check any;
+        /// Light the scene with the lights its glTF file places (KHR_lights_punctual:
+        /// directional, point and spot) besides the map's (default true); false ignores them.
+        scene_lights: bool = true,
+            flag "scene-lights" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
+                default_missing_value = "true"], check any;
     }
 }
 

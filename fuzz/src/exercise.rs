@@ -7,7 +7,6 @@
 
 use std::path::Path;
 
-use envshadow::accel::Accel;
 use envshadow::anim::{AnimFlags, Animation};
 use envshadow::envmap::EnvMap;
 use envshadow::error::Result;
@@ -109,7 +108,7 @@ pub fn small_scene() -> Scene {
 
 /// A BVH over `scene` and rays towards its centre from six sides.
 fn trace(scene: &Scene) {
-    let accel = Accel::build(&scene.positions, &scene.triangles);
+    let accel = scene.accel();
     let (lo, hi) = scene.bounds();
     let centre = (lo + hi) * 0.5;
     for d in [

@@ -11,6 +11,7 @@ mod json;
 mod lookup;
 pub mod median_cut;
 pub mod picture;
+pub mod punctual;
 pub mod sis;
 
 use glam::Vec3;
@@ -22,6 +23,7 @@ use crate::error::Result;
 use lookup::CellTable;
 
 pub use json::{parse_json, read_json};
+pub use punctual::{Cone, FileLight, PointLight};
 
 /// One directional light: the spherical Voronoi cell of `dir` with the map's radiance integrated over it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -92,10 +94,22 @@ impl EnvSummary {
     }
 }
 
-/// N directional lights, their cells, an O(1) `cell_of` lookup and the cells' adjacency.
+/// N directional lights, their cells, an O(1) `cell_of` lookup and the cells' adjacency; and
+/// the scene file's point and spot lights.
+///
+/// Every light has a bit in the visibility bitsets: the directional lights first (the map's,
+/// then the scene file's: [`lights`](Self::lights)), then the point and spot lights
+/// ([`points`](Self::points)). A file's directional light is a site of the cells like a map
+/// light; a point or spot light has no cell (its direction differs from pixel to pixel) and no
+/// neighbours.
 #[derive(Clone, Debug)]
 pub struct LightSet {
+    /// The directional lights: the map's, then the scene file's.
     pub lights: Vec<Light>,
+    /// The scene file's point and spot lights; point light k has bit `lights.len() + k`.
+    pub points: Vec<PointLight>,
+    /// The scene file's lights, in the file's node order, and where each went.
+    pub from_file: Vec<FileLight>,
     /// The sampler that placed the lights; `None` for hand-placed ones ([`LightSet::from_lights`]).
     pub sampler: Option<Sampler>,
     /// The map they came from; `None` for hand-placed lights.
@@ -153,6 +167,8 @@ impl LightSet {
         let dirs: Vec<Vec3> = lights.iter().map(|l| l.dir).collect();
         let mut set = LightSet {
             lights,
+            points: Vec::new(),
+            from_file: Vec::new(),
             sampler: None,
             environment: None,
             table: if dirs.is_empty() {
@@ -171,11 +187,104 @@ impl LightSet {
         set
     }
 
+    /// Every light: directional, point and spot.
     pub fn len(&self) -> usize {
-        self.lights.len()
+        self.lights.len() + self.points.len()
     }
     pub fn is_empty(&self) -> bool {
-        self.lights.is_empty()
+        self.len() == 0
+    }
+
+    /// This set with the scene file's lights added [ours]: directional ones after the map's
+    /// (energy colour × lux / 683, [`punctual`]), point and spot lights after those. The map
+    /// lights keep the energies integrated over their own cells; the cell lookup and the
+    /// adjacency are then rebuilt over every directional light, so a file's sun is a cell of
+    /// its own for warping and flooding, and takes the directions nearest to it from its
+    /// neighbours' cells for lookups only. More than [`crate::limits::MAX_LIGHTS`] lights in
+    /// all is an input error naming `source`.
+    pub fn with_scene_lights(
+        self,
+        scene: &[crate::scene::SceneLight],
+        source: &Path,
+    ) -> Result<LightSet> {
+        if scene.is_empty() {
+            return Ok(self);
+        }
+        let total = self.len() + scene.len();
+        if total > crate::limits::MAX_LIGHTS {
+            bail_input!(
+                source,
+                "{} lights of the scene file with {} from the map make {total}; at most {} are allowed",
+                scene.len(),
+                self.len(),
+                crate::limits::MAX_LIGHTS
+            );
+        }
+        let (mut lights, mut points) = (self.lights, self.points);
+        // Where each went: a directional index, or a point index (its bit is counted once
+        // every directional light is in).
+        let old_directional = lights.len();
+        let mut from_file: Vec<(FileLight, bool)> = self
+            .from_file
+            .into_iter()
+            .map(|f| {
+                let point = f.index >= old_directional;
+                let index = if point {
+                    f.index - old_directional
+                } else {
+                    f.index
+                };
+                (FileLight { index, ..f }, point)
+            })
+            .collect();
+        for l in scene {
+            let (index, point) = match punctual::convert(l) {
+                punctual::Joined::Directional { dir, energy } => {
+                    lights.push(Light {
+                        dir,
+                        energy,
+                        solid_angle: 0.0,
+                    });
+                    (lights.len() - 1, false)
+                }
+                punctual::Joined::Point(p) => {
+                    points.push(p);
+                    (points.len() - 1, true)
+                }
+            };
+            let cone = match l.kind {
+                crate::scene::SceneLightKind::Spot { inner, outer } => Some((inner, outer)),
+                _ => None,
+            };
+            let file = FileLight {
+                name: l.name.clone(),
+                kind: l.kind.name(),
+                index,
+                color: l.color,
+                intensity: l.intensity,
+                cone,
+            };
+            from_file.push((file, point));
+        }
+        let directional = lights.len();
+        let from_file = from_file
+            .into_iter()
+            .map(|(f, point)| FileLight {
+                index: if point {
+                    directional + f.index
+                } else {
+                    f.index
+                },
+                ..f
+            })
+            .collect();
+        let mut set = LightSet::from_lights(lights);
+        set.points = points;
+        set.from_file = from_file;
+        set.sampler = self.sampler;
+        set.environment = self.environment;
+        set.adjacency_for_points();
+        Ok(set)
     }
 
     /// The light whose cell contains unit direction `dir` (nearest light; ties to the lower index).
@@ -219,7 +328,7 @@ impl LightSet {
 
     /// [`neighbors`](Self::neighbors) of light `j` as a bitset of `ceil(len / 64)` words.
     pub fn neighbor_bits(&self, j: usize) -> &[u64] {
-        let w = self.lights.len().div_ceil(64);
+        let w = self.len().div_ceil(64);
         &self.adj_bits[j * w..(j + 1) * w]
     }
 
@@ -355,15 +464,26 @@ impl LightSet {
         for j in 0..n {
             ids[offsets[j] as usize..offsets[j + 1] as usize].sort_unstable();
         }
-        let w = n.div_ceil(64);
-        let mut bits = vec![0u64; n * w];
+        self.adj_offsets = offsets;
+        self.adj_ids = ids;
+        self.adjacency_for_points();
+    }
+
+    /// Gives the point and spot lights (after the directional ones) no neighbours, and makes
+    /// the adjacency bitsets as wide as every light's bitset.
+    pub(super) fn adjacency_for_points(&mut self) {
+        let (n, total) = (self.dirs.len(), self.len());
+        self.adj_offsets.truncate(n + 1);
+        let end = self.adj_offsets[n];
+        self.adj_offsets.resize(total + 1, end);
+        let w = total.div_ceil(64);
+        let mut bits = vec![0u64; total * w];
         for j in 0..n {
-            for &a in &ids[offsets[j] as usize..offsets[j + 1] as usize] {
+            let ids = &self.adj_ids[self.adj_offsets[j] as usize..self.adj_offsets[j + 1] as usize];
+            for &a in ids {
                 bits[j * w + (a as usize >> 6)] |= 1 << (a & 63);
             }
         }
-        self.adj_offsets = offsets;
-        self.adj_ids = ids;
         self.adj_bits = bits;
     }
 

@@ -9,6 +9,7 @@
 //! to, so the geometric normal `(p1 − p0) × (p2 − p0)` agrees with the vertex normals.
 //! Barycentric coordinates `(u, v)` name the point `(1 − u − v)·p0 + u·p1 + v·p2`.
 
+mod alpha;
 mod gltf;
 mod shapes;
 mod texture;
@@ -19,6 +20,7 @@ use std::path::Path;
 use crate::error::Result;
 use crate::limits::Budget;
 
+pub use alpha::{Alpha, AlphaMap, AlphaMode, AlphaTest, coverage_threshold};
 pub use texture::srgb_to_linear;
 
 /// An sRGB-decoded (linear) RGB texture, row-major, row 0 at the top (glTF's UV origin), with
@@ -44,6 +46,8 @@ pub struct Material {
     pub base_color: Vec3,
     /// Index into [`Scene::textures`] of the base colour texture, if any.
     pub texture: Option<usize>,
+    /// Coverage: glTF's alpha mode and the base colour alpha it reads.
+    pub alpha: Alpha,
 }
 
 impl Material {
@@ -53,6 +57,7 @@ impl Material {
             name: "default".to_string(),
             base_color: Vec3::splat(0.8),
             texture: None,
+            alpha: Alpha::OPAQUE,
         }
     }
 }
@@ -61,6 +66,50 @@ impl Material {
 /// largest f32, so that the turn's translation (pivot − R·pivot, up to three coordinates
 /// summed) plus a turned point (two) cannot reach infinity.
 pub const MAX_TURNED_COORDINATE: f32 = f32::MAX / 8.0;
+
+/// A light placed by the scene file (glTF's `KHR_lights_punctual`), in world space, with its
+/// photometric intensity as the file gives it. File lights stay where the file puts them: a
+/// spin turns the geometry, not them (they light the turning object like the map does).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneLight {
+    /// The file's name for the light, or `light N` (N its index in the file's list).
+    pub name: String,
+    pub kind: SceneLightKind,
+    /// World-space position (unused by a directional light).
+    pub position: Vec3,
+    /// Unit world-space direction the light shines along: its node's −Z (unused by a point
+    /// light).
+    pub direction: Vec3,
+    /// Linear RGB colour, a multiplier of the intensity.
+    pub color: Vec3,
+    /// Lux (lm/m²) for a directional light, candela (lm/sr) for point and spot lights.
+    pub intensity: f32,
+    /// Distance at which a point or spot light's influence ends, if the file sets one.
+    pub range: Option<f32>,
+}
+
+/// The three kinds of `KHR_lights_punctual` light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SceneLightKind {
+    Directional,
+    Point,
+    /// A cone: full intensity within `inner` radians of its axis, none beyond `outer`.
+    Spot {
+        inner: f32,
+        outer: f32,
+    },
+}
+
+impl SceneLightKind {
+    /// `directional`, `point` or `spot`, as the extension spells them.
+    pub fn name(self) -> &'static str {
+        match self {
+            SceneLightKind::Directional => "directional",
+            SceneLightKind::Point => "point",
+            SceneLightKind::Spot { .. } => "spot",
+        }
+    }
+}
 
 /// A perspective camera found in a scene file.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -92,8 +141,16 @@ pub struct Scene {
     pub materials: Vec<Material>,
     /// Textures referenced by [`Material::texture`].
     pub textures: Vec<Texture>,
+    /// Base colour alphas referenced by [`Alpha::map`] (the alpha of textures that non-opaque
+    /// materials use).
+    pub alpha_maps: Vec<AlphaMap>,
+    /// `COLOR_0` alpha per vertex, or empty: kept only when a non-opaque material's primitive
+    /// has one (1 for every other vertex then).
+    pub vertex_alpha: Vec<f32>,
     /// The first perspective camera of the file, if any.
     pub camera: Option<SceneCamera>,
+    /// The file's lights (`KHR_lights_punctual`), one per node that places one.
+    pub lights: Vec<SceneLight>,
     /// Where it came from: a path, or `builtin:shapes`.
     pub source: String,
     /// Things skipped while loading (non-triangle primitives, …); each was also printed to
@@ -263,8 +320,9 @@ impl Scene {
     }
 
     /// A copy with every vertex moved by `m` (normals by its inverse transpose). Winding is
-    /// flipped when `m` mirrors, so geometric and shading normals keep agreeing. The camera is
-    /// left where it was: this moves the objects, not the viewer.
+    /// flipped when `m` mirrors, so geometric and shading normals keep agreeing. The camera and
+    /// the file's lights are left where they were: this moves the objects, not the viewer or
+    /// the lights.
     pub fn transformed(&self, m: Mat4) -> Scene {
         let mut out = self.clone();
         let normal_matrix = normal_matrix(m);
@@ -308,6 +366,16 @@ impl Scene {
         let vertex_base = self.positions.len() as u32;
         let material_base = self.materials.len() as u32;
         let texture_base = self.textures.len();
+        let alpha_base = self.alpha_maps.len();
+        if !self.vertex_alpha.is_empty() || !other.vertex_alpha.is_empty() {
+            self.vertex_alpha.resize(self.positions.len(), 1.0);
+            if other.vertex_alpha.is_empty() {
+                let n = self.positions.len() + other.positions.len();
+                self.vertex_alpha.resize(n, 1.0);
+            } else {
+                self.vertex_alpha.extend(&other.vertex_alpha);
+            }
+        }
         self.positions.extend(other.positions);
         self.normals.extend(other.normals);
         self.uvs.extend(other.uvs);
@@ -318,12 +386,15 @@ impl Scene {
         self.materials
             .extend(other.materials.into_iter().map(|mut m| {
                 m.texture = m.texture.map(|t| t + texture_base);
+                m.alpha.map = m.alpha.map.map(|a| a + alpha_base);
                 m
             }));
         self.textures.extend(other.textures);
+        self.alpha_maps.extend(other.alpha_maps);
         if self.camera.is_none() {
             self.camera = other.camera;
         }
+        self.lights.extend(other.lights);
         self.warnings.extend(other.warnings);
     }
 }

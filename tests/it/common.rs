@@ -94,6 +94,7 @@ pub fn scene_with_materials(albedos: &[f32]) -> Scene {
                 name: format!("m{i}"),
                 base_color: Vec3::splat(a),
                 texture: None,
+                alpha: envshadow::scene::Alpha::OPAQUE,
             })
             .collect(),
         source: "test".into(),

@@ -9,6 +9,7 @@
 //! keeps out of the crate): they are compared within tolerances, never written as output.
 #![allow(clippy::disallowed_methods)]
 
+mod alpha;
 mod chaos;
 mod cli;
 mod common;
@@ -22,6 +23,7 @@ mod lights;
 mod maths;
 mod memory;
 mod predict;
+mod punctual;
 mod render;
 mod report;
 mod resume;
