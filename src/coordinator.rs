@@ -237,15 +237,19 @@ pub fn scene_lights_note(anim: &Animation, scene: &Scene) -> Option<String> {
         .map(|l| format!("{} '{}'", l.kind.name(), l.name))
         .collect();
     let n = scene.lights.len();
-    let lights = if n == 1 { "light" } else { "lights" };
+    let (lights, join) = if n == 1 {
+        ("light", "joins")
+    } else {
+        ("lights", "join")
+    };
     Some(if anim.lights.scene_lights {
         format!(
-            "{n} {lights} of the scene file join the map's: {}",
+            "the scene file's {n} {lights} {join} the map's: {}",
             names.join(", ")
         )
     } else {
         format!(
-            "{n} {lights} of the scene file ignored ([lights] scene_lights = false): {}",
+            "the scene file's {n} {lights} ignored ([lights] scene_lights = false): {}",
             names.join(", ")
         )
     })
