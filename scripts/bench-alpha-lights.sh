@@ -81,9 +81,14 @@ row() {
     fi
   done
   rm -rf "$base-valid"
-  "$NEW" render "$spec" "$@" --frames 1 --width "$W" --height "$H" --spp "$SPP" \
-    --lights "$LIGHTS" --threads "$THREADS" --out "$base-valid" --validate --no-report -q \
-    >/dev/null 2>&1
+  local err
+  if ! err="$("$NEW" render "$spec" "$@" --frames 1 --width "$W" --height "$H" --spp "$SPP" \
+      --lights "$LIGHTS" --threads "$THREADS" --out "$base-valid" --validate --no-report -q \
+      2>&1 >/dev/null)"; then
+    # A model this build cannot load is a row saying why, not the end of the table.
+    echo "| $name | does not load: ${err:0:160} | | | | | | | | |"
+    return
+  fi
   local snd snb sod="-" sob="-"
   snd="$(median "${nd[@]}")"; snb="$(median "${nb[@]}")"
   if [ -n "$OLD" ]; then sod="$(median "${od[@]}")"; sob="$(median "${ob[@]}")"; fi

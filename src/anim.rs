@@ -10,6 +10,7 @@
 //! [lights]
 //! count = 100
 //! sampler = "sis"               # or "median-cut"
+//! scene_lights = true           # also the glTF file's own lights (KHR_lights_punctual)
 //! [camera]
 //! target = [0.0, 0.5, 0.0]      # default: the scene's bounding-box centre
 //! distance = 7.0                # default: frames the scene's bounding sphere
@@ -877,6 +878,10 @@ mod tests {
             .expect("the module doc has a toml block");
         let anim = Animation::parse(toml, Path::new("doc.toml"), &AnimFlags::default()).unwrap();
         assert_eq!((anim.render.width, anim.lights.count), (320, 100));
+        assert!(anim.lights.scene_lights);
+        let off = toml.replace("scene_lights = true", "scene_lights = false");
+        let anim = Animation::parse(&off, Path::new("doc.toml"), &AnimFlags::default()).unwrap();
+        assert!(!anim.lights.scene_lights);
     }
 
     #[test]
