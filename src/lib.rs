@@ -31,6 +31,7 @@ pub mod error;
 pub mod export;
 pub mod farm;
 pub mod film;
+pub mod frames;
 pub mod history;
 pub mod lattice;
 pub mod lights;

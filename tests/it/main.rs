@@ -15,6 +15,7 @@ mod cli;
 mod common;
 mod envmap;
 mod farm;
+mod frames;
 mod fuzz_regressions;
 mod golden;
 mod hostile;
