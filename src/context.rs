@@ -5,6 +5,7 @@
 use glam::Vec3;
 
 use crate::accel::{Accel, PACKET};
+use crate::background::{Backdrop, ENVIRONMENT};
 use crate::camera::Camera;
 use crate::envmap::EnvMap;
 use crate::lights::LightSet;
@@ -27,6 +28,8 @@ pub struct Surface {
     pub dir: Vec3,
     /// False for background pixels (the ray left the scene).
     pub hit: bool,
+    /// A shadow catcher (`crate::catcher`): it shows only the shadows it receives.
+    pub catcher: bool,
 }
 
 /// Everything a tile needs about its frame: shared, read-only, across threads.
@@ -36,6 +39,9 @@ pub struct FrameContext<'a> {
     pub camera: Camera,
     pub lights: &'a LightSet,
     pub env: &'a EnvMap,
+    /// What rays that leave the scene see (`[render] background`; the environment unless
+    /// [`with_backdrop`](Self::with_backdrop) says otherwise).
+    pub backdrop: &'a Backdrop,
     /// Light directions as a flat array, for shadow rays and warping.
     pub light_dir: Vec<Vec3>,
     /// The lights for the horizon test and shading, padded with zero lights to whole words
@@ -67,6 +73,7 @@ impl<'a> FrameContext<'a> {
             camera,
             lights,
             env,
+            backdrop: &ENVIRONMENT,
             light_dir: lights.lights.iter().map(|l| l.dir).collect(),
             shade_lights: ShadeLights::new(lights),
             shadow_eps: shadow_epsilon(scene),
@@ -83,6 +90,11 @@ impl<'a> FrameContext<'a> {
             samples,
             ..self
         }
+    }
+
+    /// This context with rays that leave the scene seeing `backdrop`.
+    pub fn with_backdrop(self, backdrop: &'a Backdrop) -> FrameContext<'a> {
+        FrameContext { backdrop, ..self }
     }
 
     /// The unit direction of the primary ray of sample (x, y).
@@ -144,6 +156,7 @@ impl<'a> FrameContext<'a> {
             albedo,
             dir,
             hit: true,
+            catcher: self.scene.is_catcher(tri),
         }
     }
 
@@ -205,7 +218,10 @@ pub fn shadow_epsilon(scene: &Scene) -> f32 {
         return 1e-4;
     }
     let (lo, hi) = scene.bounds();
-    let diag = (hi - lo).length();
+    // [ours] Sized to the model, not to the wide ground envshadow may add under it (which
+    // would make it 30 times larger); the reach term still covers the ground's coordinates.
+    let (model_lo, model_hi) = scene.model_bounds();
+    let diag = (model_hi - model_lo).length();
     let reach = lo.abs().max(hi.abs()).max_element();
     (diag * 2e-5).max(reach * 1e-6).max(1e-7)
 }

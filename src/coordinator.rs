@@ -15,6 +15,7 @@ use rayon::prelude::*;
 
 use crate::accel::Accel;
 use crate::anim::{Animation, EnvSource, MotionKind, SceneSource};
+use crate::background::Backdrop;
 use crate::cancel::Cancel;
 use crate::context::FrameContext;
 use crate::driver::{FrameWork, Slot};
@@ -163,9 +164,13 @@ impl FrameSink for FrameFiles {
 
 /// An animation's inputs, loaded once per run.
 pub struct Inputs {
+    /// The scene as the spec asks for it: stood up, its catchers marked, a ground added
+    /// ([`Animation::prepare_scene`]).
     pub scene: Scene,
     pub env: EnvMap,
     pub lights: LightSet,
+    /// What rays that leave the scene see.
+    pub backdrop: Backdrop,
     /// The BVH of the unposed scene, built by the first frame that needs it: frames whose
     /// geometry does not move (orbit turntables, still cameras) share one build per run.
     still: OnceLock<Accel>,
@@ -178,8 +183,14 @@ impl Inputs {
             scene,
             env,
             lights,
+            backdrop: Backdrop::Environment,
             still: OnceLock::new(),
         }
+    }
+
+    /// These inputs with rays that leave the scene seeing `backdrop`.
+    pub fn with_backdrop(self, backdrop: Backdrop) -> Inputs {
+        Inputs { backdrop, ..self }
     }
 
     /// The unposed scene's BVH, built once.
@@ -203,6 +214,7 @@ impl Inputs {
             SceneSource::File(p) => Scene::load_within(p, &mut budget)
                 .with_context(|| format!("while loading {}", anim.spec_path.display()))?,
         };
+        let scene = anim.prepare_scene(scene)?;
         // A spin poses the scene every frame: refused here if that could overflow (found by
         // fuzzing the posed scene: tests/data/fuzz/posed_scene/huge-pivot).
         if anim.motion == MotionKind::Spin {
@@ -220,7 +232,9 @@ impl Inputs {
             .with_rotation(anim.env_rotation_deg)
             .with_intensity(anim.env_intensity)?;
         let lights = LightSet::build(&env, anim.lights.count, anim.lights.sampler)?;
-        Ok(Inputs::new(scene, env, lights))
+        let r = &anim.render;
+        let backdrop = Backdrop::new(r.background, r.background_color, r.background_blur, &env)?;
+        Ok(Inputs::new(scene, env, lights).with_backdrop(backdrop))
     }
 }
 
@@ -356,8 +370,9 @@ fn render_tile_list(
     let camera = anim.camera(&inputs.scene, frame)?;
     let samples = anim.render.samples();
     let side = samples.k;
-    let ctx =
-        FrameContext::new(scene, accel, camera, &inputs.lights, &inputs.env).with_samples(samples);
+    let ctx = FrameContext::new(scene, accel, camera, &inputs.lights, &inputs.env)
+        .with_samples(samples)
+        .with_backdrop(&inputs.backdrop);
     let prev = match temporal.prev {
         Some(carried) => {
             let prev_camera = anim.camera(&inputs.scene, carried.frame)?;
@@ -454,7 +469,8 @@ fn render_tile_list(
         anim.render.height,
         work.validate,
         side > 1,
-    );
+    )
+    .with_alpha(inputs.backdrop.is_transparent());
     for (r, patch) in &results {
         film.add(r);
         if let (Some(c), Some(p)) = (&mut carried, patch) {
@@ -515,6 +531,19 @@ pub fn render_animation(
     }
     for w in &inputs.scene.warnings {
         progress.warning(w);
+    }
+    if inputs.scene.added_ground.is_some() {
+        let catcher = inputs.scene.catcher.last().copied().unwrap_or(false);
+        progress.note(&format!(
+            "{} has no ground under the model: added {} (`[scene] ground = \"none\"` or \
+             --ground none leaves it out)",
+            inputs.scene.source,
+            if catcher {
+                "a shadow-catcher ground"
+            } else {
+                "a grey ground"
+            }
+        ));
     }
     opts.cancel.check()?;
     std::fs::create_dir_all(dir)

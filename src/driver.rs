@@ -19,6 +19,7 @@
 
 use crate::bits;
 use crate::buffers::TileBuffers;
+use crate::catcher::{self, Catchers};
 use crate::context::FrameContext;
 use crate::film::{Counts, TileResult};
 use crate::lattice::{Lattice, LatticePatch};
@@ -289,9 +290,11 @@ fn count_halo(bufs: &TileBuffers) -> Counts {
 /// Shades the samples of the tile's `pixels`, counts their queries and rays into `counts`,
 /// and gathers each pixel's own — the mean of their radiance (in stratum order, so the sum
 /// does not depend on the tile), the sum of their rays and wrong pairs, the mean of their
-/// visible fractions and, with several samples, the fraction that hit. With `validate`, every query is traced again to count the method's
-/// mistakes and shade the brute-force reference. With one sample per pixel this is the pixel
-/// as it always was: adding to zero and dividing by one change no bit.
+/// visible fractions, with several samples the fraction that hit, and over a transparent
+/// background the mean of their alphas (`crate::catcher`: 1 on the model, the shadow fraction
+/// on a catcher, 0 on the background). With `validate`, every query is traced again to count
+/// the method's mistakes and shade the brute-force reference. With one sample per pixel this
+/// is the pixel as it always was: adding to zero and dividing by one change no bit.
 fn shade(
     ctx: &FrameContext,
     bufs: &TileBuffers,
@@ -309,6 +312,8 @@ fn shade(
     let mut wrong = validate.then(|| Vec::with_capacity(n));
     let mut reference = validate.then(|| Vec::with_capacity(n));
     let mut coverage = (k > 1).then(|| Vec::with_capacity(n));
+    let mut alpha = ctx.backdrop.is_transparent().then(|| Vec::with_capacity(n));
+    let mut catchers = Catchers::default();
     let mut truth = vec![0u64; w];
     // The last light sum shaded: (normal, sample, sum). A sample with the same normal and the
     // same visible lights has the same sum, bit for bit — neighbouring samples of a flat or
@@ -322,6 +327,7 @@ fn shade(
             let mut mistakes = 0.0f32;
             let mut exact = Vec3::ZERO;
             let mut hits = 0u32;
+            let mut opacity = 0.0f32;
             for j in 0..k {
                 for i in 0..k {
                     let (x, y) = (px * k + i, py * k + j);
@@ -339,9 +345,10 @@ fn shade(
                         counts.temporal_rays += bufs.rays[q] as u64;
                     }
                     if !s.hit {
-                        let r = ctx.env.radiance(s.dir);
+                        let (r, a) = catcher::miss(ctx, s.dir);
                         lit += r;
                         exact += r;
+                        opacity += a;
                         continue;
                     }
                     hits += 1;
@@ -356,7 +363,14 @@ fn shade(
                         _ => light_sum(&ctx.shade_lights, s.n, vis),
                     };
                     last = Some((s.n, q, sum));
-                    lit += reflect(s.albedo, sum);
+                    if s.catcher {
+                        let (c, a) = catchers.sample(ctx, &s, above, sum);
+                        lit += c;
+                        opacity += a;
+                    } else {
+                        lit += reflect(s.albedo, sum);
+                        opacity += 1.0;
+                    }
                     let n_above = bits::count(above);
                     counts.queries += n_above as u64;
                     if n_above > 0 {
@@ -390,7 +404,12 @@ fn shade(
                     counts.wrong_blocked += wb;
                     counts.wrong_pixels += u64::from(wv + wb > 0);
                     mistakes += (wv + wb) as f32;
-                    exact += radiance(&ctx.shade_lights, s.n, s.albedo, &truth);
+                    exact += if s.catcher {
+                        let sum = light_sum(&ctx.shade_lights, s.n, &truth);
+                        catchers.sample(ctx, &s, above, sum).0
+                    } else {
+                        radiance(&ctx.shade_lights, s.n, s.albedo, &truth)
+                    };
                 }
             }
             beauty.push((lit / spp).to_array());
@@ -403,6 +422,9 @@ fn shade(
             if let Some(c) = &mut coverage {
                 c.push(hits as f32 / spp);
             }
+            if let Some(a) = &mut alpha {
+                a.push(opacity / spp);
+            }
         }
     }
     TileResult {
@@ -413,6 +435,7 @@ fn shade(
         wrong,
         reference,
         coverage,
+        alpha,
         counts,
     }
 }

@@ -21,6 +21,8 @@ pub struct TileResult {
     pub reference: Option<Vec<[f32; 3]>>,
     /// With several samples per pixel: the fraction of them that hit the scene.
     pub coverage: Option<Vec<f32>>,
+    /// Over a transparent background: each pixel's alpha (see [`Film::alpha`]).
+    pub alpha: Option<Vec<f32>>,
     pub counts: Counts,
 }
 
@@ -139,6 +141,12 @@ pub struct Film {
     /// With several samples per pixel: the fraction of each pixel's samples that hit the
     /// scene (at one sample it would be the hit mask, and is not kept).
     pub coverage: Option<Vec<f32>>,
+    /// Over a transparent background (`[render] background`): each pixel's alpha, the mean
+    /// over its samples (placed by the pixel filter, so weighted as the beauty is) of 1 where a
+    /// sample sees the model, the shadow fraction where it sees a shadow catcher and 0 where
+    /// it sees the background; the beauty is premultiplied by it. `None`: alpha is 1
+    /// everywhere (an opaque background).
+    pub alpha: Option<Vec<f32>>,
     /// Sum of the tiles' counts.
     pub counts: Counts,
 }
@@ -157,8 +165,23 @@ impl Film {
             wrong: validated.then(|| vec![0.0; n]),
             reference: validated.then(|| vec![[0.0; 3]; n]),
             coverage: coverage.then(|| vec![0.0; n]),
+            alpha: None,
             counts: Counts::default(),
         }
+    }
+
+    /// This film with an alpha plane (a transparent background) when `alpha` is true; pixels
+    /// no tile rendered stay at 0, transparent like the black around a region render.
+    pub fn with_alpha(mut self, alpha: bool) -> Film {
+        self.alpha = alpha.then(|| vec![0.0; self.beauty.len()]);
+        self
+    }
+
+    /// Whether some pixel is less than opaque.
+    pub fn has_transparency(&self) -> bool {
+        self.alpha
+            .as_ref()
+            .is_some_and(|a| a.iter().any(|&v| v < 1.0))
     }
 
     /// Copies a finished tile into place and adds its counts.
@@ -178,6 +201,9 @@ impl Film {
                 d[dst..dst + w].copy_from_slice(&s[src..src + w]);
             }
             if let (Some(d), Some(s)) = (&mut self.coverage, &tile.coverage) {
+                d[dst..dst + w].copy_from_slice(&s[src..src + w]);
+            }
+            if let (Some(d), Some(s)) = (&mut self.alpha, &tile.alpha) {
                 d[dst..dst + w].copy_from_slice(&s[src..src + w]);
             }
         }

@@ -324,7 +324,8 @@ fn scan_frame(dir: &Path, frame: usize) -> Scan {
     let png = frame_path(dir, frame, "png");
     match image::open(&png) {
         Ok(img) => {
-            let img = img.to_rgb8();
+            // A transparent frame is shown over a checkerboard.
+            let img = output::png::over_checkerboard(&img.to_rgba8(), 8);
             scan.thumb = Some(scaled(&img, THUMB_WIDTH));
             scan.gif = Some(scaled(&img, GIF_WIDTH));
         }

@@ -151,8 +151,14 @@ pub struct ReportArgs {
 
 #[derive(Args, Debug)]
 pub struct RenderArgs {
-    /// The animation spec, e.g. anims/shapes-turntable.toml.
+    /// The animation spec, e.g. anims/shapes-turntable.toml; or a glTF model (.glb, .gltf)
+    /// for a default turntable of it: 72 frames orbiting the model, auto-framed, built-in
+    /// sky (or --env), a ground if it has none, 640x480 at 4 spp, into out/<model name>/.
     pub spec: PathBuf,
+    /// With a model instead of a spec: light it with this lat-long map (.exr, .hdr) instead
+    /// of the built-in sky.
+    #[arg(long, value_name = "MAP")]
+    pub env: Option<PathBuf>,
     #[command(flatten)]
     pub flags: AnimFlags,
     /// Skip frames whose EXR and PNG already exist in the output folder.
@@ -444,7 +450,16 @@ fn assemble(args: AssembleArgs) -> Result<()> {
 }
 
 fn render(args: RenderArgs) -> Result<()> {
-    let anim = Animation::load(&args.spec, &args.flags)?;
+    let anim = if envshadow::anim::is_model(&args.spec) {
+        Animation::of_model(&args.spec, args.env.as_deref(), &args.flags)?
+    } else if args.env.is_some() {
+        return Err(input_error(
+            "--env",
+            "applies to a model (envshadow render model.glb); a spec names its map in [environment]",
+        ));
+    } else {
+        Animation::load(&args.spec, &args.flags)?
+    };
     let selection = match (args.job, args.of, &args.tiles) {
         (Some(index), Some(of), _) => Some(envshadow::farm::JobSelection::Planned {
             index,

@@ -285,6 +285,7 @@ fn examine(dir: &Path, write: bool) -> Result<Assembled> {
                 settings.validate,
                 settings.spp > 1,
             )
+            .with_alpha(settings.alpha)
         });
         let mut covered = vec![false; grid.len()];
         let mut counts = Counts::default();
@@ -460,6 +461,7 @@ fn copy_piece(
     } else {
         None
     };
+    let alpha = if settings.alpha { Some(ch("A")?) } else { None };
     let fw = film.width as usize;
     let bw = bbox.width() as usize;
     for t in &s.tiles {
@@ -478,6 +480,9 @@ fn copy_piece(
                 }
                 if let (Some(c), Some(fc)) = (coverage, film.coverage.as_mut()) {
                     fc[d] = c[i];
+                }
+                if let (Some(a), Some(fa)) = (alpha, film.alpha.as_mut()) {
+                    fa[d] = a[i];
                 }
             }
         }

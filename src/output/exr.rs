@@ -1,6 +1,7 @@
 //! EXR frames: float RGB beauty plus AOV channels.
 //!
-//! Channels: `R`, `G`, `B` (linear radiance), `rays` (shadow rays traced at the pixel),
+//! Channels: `R`, `G`, `B` (linear radiance, premultiplied by alpha), `A` (alpha: coverage
+//! over a transparent background, 1 over an opaque one; `crate::film::Film::alpha`), `rays` (shadow rays traced at the pixel),
 //! `visible` (fraction of above-horizon lights visible), with samples per pixel `coverage`
 //! (the filter-weighted fraction of the pixel's samples that hit the scene), with validation
 //! `wrong` (wrong pairs, summed over the samples). ZIP compression in increasing scanline
@@ -28,6 +29,8 @@ pub fn encode_frame(film: &Film, extra: &[Aov]) -> Result<Vec<u8>> {
         let v: Vec<f32> = film.beauty.iter().map(|p| p[c]).collect();
         channels.push(AnyChannel::new(*name, FlatSamples::F32(v)));
     }
+    let alpha = film.alpha.clone().unwrap_or_else(|| vec![1.0; w * h]);
+    channels.push(AnyChannel::new("A", FlatSamples::F32(alpha)));
     channels.push(AnyChannel::new("rays", FlatSamples::F32(film.rays.clone())));
     channels.push(AnyChannel::new(
         "visible",

@@ -125,7 +125,13 @@ pub fn publish_frame(
     stats_row: String,
 ) -> Result<record::FrameRecord> {
     let exr = exr::encode_frame(film, &frame_aovs(film))?;
-    let png = png::encode_preview(film.width, film.height, &film.beauty, exposure)?;
+    let png = png::encode_preview(
+        film.width,
+        film.height,
+        &film.beauty,
+        film.alpha.as_deref(),
+        exposure,
+    )?;
     let rec = record::FrameRecord {
         format: record::FRAME_FORMAT.into(),
         frame,
@@ -164,7 +170,13 @@ fn frame_aovs(film: &Film) -> Vec<exr::Aov<'_>> {
 pub fn write_frame_files(dir: &Path, frame: usize, film: &Film, exposure: f32) -> Result<()> {
     let exr = exr::encode_frame(film, &frame_aovs(film))?;
     write_atomic(&frame_path(dir, frame, "exr"), &exr)?;
-    let png = png::encode_preview(film.width, film.height, &film.beauty, exposure)?;
+    let png = png::encode_preview(
+        film.width,
+        film.height,
+        &film.beauty,
+        film.alpha.as_deref(),
+        exposure,
+    )?;
     write_atomic(&frame_path(dir, frame, "png"), &png)
 }
 

@@ -1,4 +1,5 @@
-//! PNG previews: exposure, then the sRGB transfer curve, 8 bits.
+//! PNG previews: exposure, then the sRGB transfer curve, 8 bits; RGBA with straight
+//! (unpremultiplied) alpha, as PNG defines it, where the frame has transparent pixels.
 
 use anyhow::Context;
 
@@ -20,16 +21,49 @@ fn encode_rgb8(width: u32, height: u32, pixels: Vec<u8>) -> Result<Vec<u8>> {
     Ok(bytes.into_inner())
 }
 
-/// The PNG file of a tone-mapped preview of linear RGB pixels.
+/// The PNG file of a tone-mapped preview of linear RGB pixels, premultiplied by `alpha` where
+/// given: RGBA with the colour unpremultiplied before tone mapping when some pixel is less
+/// than opaque, else RGB.
 pub fn encode_preview(
     width: u32,
     height: u32,
     beauty: &[[f32; 3]],
+    alpha: Option<&[f32]>,
     exposure: f32,
 ) -> Result<Vec<u8>> {
-    let mut bytes = Vec::with_capacity(beauty.len() * 3);
-    for p in beauty {
-        bytes.extend_from_slice(&tonemap(*p, exposure));
+    let Some(alpha) = alpha.filter(|a| a.iter().any(|&v| v < 1.0)) else {
+        let mut bytes = Vec::with_capacity(beauty.len() * 3);
+        for p in beauty {
+            bytes.extend_from_slice(&tonemap(*p, exposure));
+        }
+        return encode_rgb8(width, height, bytes);
+    };
+    let mut bytes = Vec::with_capacity(beauty.len() * 4);
+    for (p, &a) in beauty.iter().zip(alpha) {
+        let a = a.clamp(0.0, 1.0);
+        let straight = if a > 0.0 { p.map(|c| c / a) } else { [0.0; 3] };
+        bytes.extend_from_slice(&tonemap(straight, exposure));
+        bytes.push((a * 255.0 + 0.5) as u8);
     }
-    encode_rgb8(width, height, bytes)
+    let img = image::RgbaImage::from_raw(width, height, bytes)
+        .context("pixel buffer does not match the image size")?;
+    let mut out = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut out, image::ImageFormat::Png)
+        .context("encoding PNG")?;
+    Ok(out.into_inner())
+}
+
+/// An RGBA preview over a light and dark grey checkerboard of `square`-pixel squares (the
+/// usual picture of transparency), as RGB; an opaque image is unchanged.
+pub fn over_checkerboard(img: &image::RgbaImage, square: u32) -> image::RgbImage {
+    image::RgbImage::from_fn(img.width(), img.height(), |x, y| {
+        let p = img.get_pixel(x, y).0;
+        let back = if (x / square + y / square) % 2 == 0 {
+            204.0
+        } else {
+            153.0
+        };
+        let a = p[3] as f32 / 255.0;
+        image::Rgb([0, 1, 2].map(|c| (p[c] as f32 * a + back * (1.0 - a) + 0.5) as u8))
+    })
 }

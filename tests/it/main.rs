@@ -12,6 +12,7 @@
 mod chaos;
 mod cli;
 mod common;
+mod compositing;
 mod envmap;
 mod farm;
 mod fuzz_regressions;
