@@ -521,7 +521,8 @@ impl Animation {
     /// The default turntable of a model (`envshadow render model.glb`), `flags` over it: the
     /// camera orbits the model in [`MODEL_FRAMES`] frames, framed as a spec without `[camera]`
     /// target or distance frames it (the model's bounding sphere, 25° above the horizon); the
-    /// built-in sky or the map `env`; 200 lights; 640×480 at 4 samples per pixel; a ground if
+    /// built-in sky at a quarter of its intensity (as the default animation has it) or the
+    /// map `env`; 200 lights; 640×480 at 4 samples per pixel; a ground if
     /// the model has none (`[scene] ground = "auto"`); frames in `out/<model's name>/`.
     pub fn of_model(model: &Path, env: Option<&Path>, flags: &AnimFlags) -> Result<Animation> {
         let stem = model
@@ -535,7 +536,9 @@ impl Animation {
         };
         let environment = match env {
             Some(map) => format!("file = {}", quote(&absolute(map)?.to_string_lossy())),
-            None => "builtin = \"sky\"".to_string(),
+            // The built-in sun is bright: at a quarter (as the default animation has it) a
+            // white model does not clip at exposure 1.
+            None => "builtin = \"sky\"\nintensity = 0.25".to_string(),
         };
         let text = format!(
             "name = {name}\n[scene]\nfile = {file}\n[environment]\n{environment}\n\
