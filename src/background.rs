@@ -240,14 +240,15 @@ pub fn blurred(env: &EnvMap, sigma_deg: f32) -> Result<EnvMap> {
     for (o, texel) in out.iter_mut().enumerate() {
         let (d, oy) = (dirs[o], o / w);
         let (mut acc, mut total) = ([0.0f64; 3], 0.0f64);
-        for y in oy.saturating_sub(reach)..(oy + reach + 1).min(h) {
+        let rows = oy.saturating_sub(reach)..(oy + reach + 1).min(h);
+        for (y, &dw) in solid.iter().enumerate().take(rows.end).skip(rows.start) {
             for x in 0..w {
                 let i = y * w + x;
                 let e = (d.dot(dirs[i]) - 1.0) * inv_var;
                 if e < -8.0 {
                     continue;
                 }
-                let k = (libm::expf(e) * solid[y]) as f64;
+                let k = (libm::expf(e) * dw) as f64;
                 let c = grid.texels[i];
                 acc[0] += c.x as f64 * k;
                 acc[1] += c.y as f64 * k;

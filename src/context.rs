@@ -28,7 +28,7 @@ pub struct Surface {
     pub dir: Vec3,
     /// False for background pixels (the ray left the scene).
     pub hit: bool,
-    /// A shadow catcher (`crate::catcher`): it shows only the shadows it receives.
+    /// A shadow catcher: it shows only the shadows it receives (see the `catcher` module).
     pub catcher: bool,
 }
 

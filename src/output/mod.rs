@@ -125,13 +125,7 @@ pub fn publish_frame(
     stats_row: String,
 ) -> Result<record::FrameRecord> {
     let exr = exr::encode_frame(film, &frame_aovs(film))?;
-    let png = png::encode_preview(
-        film.width,
-        film.height,
-        &film.beauty,
-        film.alpha.as_deref(),
-        exposure,
-    )?;
+    let png = preview(film, exposure)?;
     let rec = record::FrameRecord {
         format: record::FRAME_FORMAT.into(),
         frame,
@@ -146,6 +140,12 @@ pub fn publish_frame(
     rec.write(dir)?;
     write_atomic(&frame_path(dir, frame, "exr"), &exr)?;
     Ok(rec)
+}
+
+/// The frame's PNG preview (RGBA where it has transparent pixels).
+fn preview(film: &Film, exposure: f32) -> Result<Vec<u8>> {
+    let alpha = film.alpha.as_deref();
+    png::encode_preview(film.width, film.height, &film.beauty, alpha, exposure)
 }
 
 /// The AOVs a frame's EXR carries beside beauty, rays and visibility.
@@ -170,13 +170,7 @@ fn frame_aovs(film: &Film) -> Vec<exr::Aov<'_>> {
 pub fn write_frame_files(dir: &Path, frame: usize, film: &Film, exposure: f32) -> Result<()> {
     let exr = exr::encode_frame(film, &frame_aovs(film))?;
     write_atomic(&frame_path(dir, frame, "exr"), &exr)?;
-    let png = png::encode_preview(
-        film.width,
-        film.height,
-        &film.beauty,
-        film.alpha.as_deref(),
-        exposure,
-    )?;
+    let png = preview(film, exposure)?;
     write_atomic(&frame_path(dir, frame, "png"), &png)
 }
 

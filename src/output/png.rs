@@ -11,9 +11,12 @@ pub fn tonemap(rgb: [f32; 3], exposure: f32) -> [u8; 3] {
     rgb.map(|c| (srgb_encode(c * exposure) * 255.0 + 0.5) as u8)
 }
 
-/// The PNG file of an RGB8 image.
-fn encode_rgb8(width: u32, height: u32, pixels: Vec<u8>) -> Result<Vec<u8>> {
-    let img = image::RgbImage::from_raw(width, height, pixels)
+/// The PNG file of 8-bit `pixels`, RGB or RGBA as `P` says.
+fn encode<P>(width: u32, height: u32, pixels: Vec<u8>) -> Result<Vec<u8>>
+where
+    P: image::Pixel<Subpixel = u8> + image::PixelWithColorType,
+{
+    let img = image::ImageBuffer::<P, Vec<u8>>::from_raw(width, height, pixels)
         .context("pixel buffer does not match the image size")?;
     let mut bytes = std::io::Cursor::new(Vec::new());
     img.write_to(&mut bytes, image::ImageFormat::Png)
@@ -36,7 +39,7 @@ pub fn encode_preview(
         for p in beauty {
             bytes.extend_from_slice(&tonemap(*p, exposure));
         }
-        return encode_rgb8(width, height, bytes);
+        return encode::<image::Rgb<u8>>(width, height, bytes);
     };
     let mut bytes = Vec::with_capacity(beauty.len() * 4);
     for (p, &a) in beauty.iter().zip(alpha) {
@@ -45,12 +48,7 @@ pub fn encode_preview(
         bytes.extend_from_slice(&tonemap(straight, exposure));
         bytes.push((a * 255.0 + 0.5) as u8);
     }
-    let img = image::RgbaImage::from_raw(width, height, bytes)
-        .context("pixel buffer does not match the image size")?;
-    let mut out = std::io::Cursor::new(Vec::new());
-    img.write_to(&mut out, image::ImageFormat::Png)
-        .context("encoding PNG")?;
-    Ok(out.into_inner())
+    encode::<image::Rgba<u8>>(width, height, bytes)
 }
 
 /// An RGBA preview over a light and dark grey checkerboard of `square`-pixel squares (the
@@ -58,7 +56,7 @@ pub fn encode_preview(
 pub fn over_checkerboard(img: &image::RgbaImage, square: u32) -> image::RgbImage {
     image::RgbImage::from_fn(img.width(), img.height(), |x, y| {
         let p = img.get_pixel(x, y).0;
-        let back = if (x / square + y / square) % 2 == 0 {
+        let back = if (x / square + y / square).is_multiple_of(2) {
             204.0
         } else {
             153.0

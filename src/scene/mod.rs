@@ -144,7 +144,7 @@ pub struct Scene {
     /// The first perspective camera of the file, if any.
     pub camera: Option<SceneCamera>,
     /// Per triangle: whether it is a shadow catcher (it receives shadows and shows only them,
-    /// see `crate::catcher`). Empty when no triangle is.
+    /// as the tile services shade it). Empty when no triangle is.
     pub catcher: Vec<bool>,
     /// The glTF nodes that brought triangles, in file order (empty for built-in scenes).
     pub parts: Vec<Part>,

@@ -371,7 +371,7 @@ fn edited_glb(path: &Path, edit: impl Fn(&mut Value)) -> Vec<u8> {
     let mut doc: Value = serde_json::from_slice(&b[20..20 + json_len]).unwrap();
     edit(&mut doc);
     let mut js = serde_json::to_vec(&doc).unwrap();
-    while js.len() % 4 != 0 {
+    while !js.len().is_multiple_of(4) {
         js.push(b' ');
     }
     let rest = &b[20 + json_len..];
