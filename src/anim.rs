@@ -47,11 +47,15 @@
 //! background = "environment"   # or "transparent", "color", "blurred"
 //! # background_color = [0.18, 0.18, 0.18]   # with "color": linear RGB
 //! # background_blur = 10.0      # with "blurred": degrees
-//! exposure = 1.0                # PNG preview exposure
+//! exposure = 1.0                # PNG preview exposure, before the view transform
+//! view = "agx"                  # PNG view transform: "agx", "filmic" or "standard"
 //! tile = 64
 //! threads = 0                   # 0: all cores
 //! [output]
 //! dir = "out/shapes"
+//! half = false                  # half-float EXR channels (counts and depth stay float)
+//! fps = 24.0                    # frame rate: the EXR's framesPerSecond, the video's
+//! video = false                 # encode DIR/video.mp4 with ffmpeg at the end
 //! ```
 //! Input paths are relative to the spec file's folder; the output folder is relative to the
 //! working directory. Unknown keys are errors.
@@ -355,7 +359,7 @@ pub struct Animation {
     /// `[render]`: size, method and its parameters, validation, temporal prediction (its
     /// `keyframe` resolved for the motion), tiles, threads.
     pub render: Render,
-    /// `[output]`: the output folder.
+    /// `[output]`: the output folder, the EXR's precision, the frame rate, the video.
     pub output: Output,
 }
 
@@ -820,7 +824,7 @@ impl Animation {
         ))
     }
 
-    /// The settings that decide this animation's frames and `stats.csv` rows, as
+    /// The settings that decide this animation's frames' bytes and `stats.csv` rows, as
     /// (`[table] key`, value) in spec order: what `render --resume` checks a folder against.
     /// The frames selected, the tile size, the thread count and the output folder change no
     /// pixel and are left out; input files are named by their content's SHA-256, so a moved spec still agrees.
@@ -890,6 +894,12 @@ impl Animation {
             }
             if key != "threads" && key != "tile" {
                 put(&format!("[{}] {key}", Render::TABLE), value);
+            }
+        }
+        for (key, _, value) in self.output.layer().given() {
+            // The folder and the video change no frame's bytes.
+            if key != "dir" && key != "video" {
+                put(&format!("[{}] {key}", Output::TABLE), value);
             }
         }
         Ok(SettingsRecord { lines })

@@ -22,6 +22,7 @@ mod interrupt;
 mod lights;
 mod maths;
 mod memory;
+mod outputs;
 mod predict;
 mod render;
 mod report;
