@@ -65,7 +65,9 @@ macro_rules! deserialize_by_from_str {
         }
     )*};
 }
-deserialize_by_from_str!(Method, FloodTo, Sampler, Filter, Background, Ground, Up, View);
+deserialize_by_from_str!(
+    Method, FloodTo, Sampler, Filter, Background, Ground, Up, View
+);
 
 /// Where a layer of settings came from, so a message names a value as the user wrote it.
 #[derive(Clone, Copy, Debug)]

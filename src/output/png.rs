@@ -65,6 +65,7 @@ pub fn over_checkerboard(img: &image::RgbaImage, square: u32) -> image::RgbImage
         let a = p[3] as f32 / 255.0;
         image::Rgb([0, 1, 2].map(|c| (p[c] as f32 * a + back * (1.0 - a) + 0.5) as u8))
     })
+}
 
 #[cfg(test)]
 mod tests {

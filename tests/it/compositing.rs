@@ -12,9 +12,9 @@ use envshadow::envmap::{EnvMap, luminance};
 use envshadow::film::Film;
 use envshadow::lights::{LightSet, Sampler};
 use envshadow::output::exr::read_frame;
-use envshadow::output::png::tonemap;
 use envshadow::scene::ground::has_ground;
 use envshadow::scene::{Scene, SceneCamera, Up};
+use envshadow::view::View;
 use glam::{Mat4, Vec3, Vec4};
 use serde_json::{Value, json};
 
@@ -288,7 +288,7 @@ fn transparent_frames_are_premultiplied_rgba_in_exr_and_straight_rgba_in_png() {
             assert_eq!(&p.0[..3], &[0, 0, 0]);
         } else {
             // PNG's colour is the straight colour: the EXR's divided by alpha.
-            let straight = tonemap([r[i] / alpha, g[i] / alpha, b[i] / alpha], 1.0);
+            let straight = View::default().to_8bit([r[i] / alpha, g[i] / alpha, b[i] / alpha], 1.0);
             assert_eq!(&p.0[..3], &straight, "pixel {i}");
             if alpha < 1.0 {
                 partial += 1;
