@@ -143,6 +143,10 @@ pub struct AssembleArgs {
     /// SHA-256 — and on stderr why. What scripts/farm.sh and slurm.sh re-run.
     #[arg(long, conflicts_with = "no_report")]
     pub pending: bool,
+    /// Also encode DIR/video.mp4 once every frame is assembled (as `envshadow video DIR`);
+    /// a plan made with `[output] video` or `--video` asks for it without this flag.
+    #[arg(long, conflicts_with = "pending")]
+    pub video: bool,
 }
 
 #[derive(Args, Debug)]
@@ -416,6 +420,10 @@ fn table_command(args: TableArgs, talk: Talk) -> Result<()> {
 
 fn plan(args: PlanArgs, talk: Talk) -> Result<()> {
     let anim = Animation::load(&args.spec, &args.flags)?;
+    // The video is encoded where the jobs are assembled: say so before any job runs.
+    if anim.output.video {
+        envshadow::video::check_ffmpeg()?;
+    }
     let jobs = envshadow::farm::write_plan(&anim, &args.spec, args.jobs, args.by)?;
     // The job lines echo jobs.txt: shown unless -q.
     if talk.level() >= Level::Normal {
@@ -451,6 +459,10 @@ fn assemble(args: AssembleArgs, talk: Talk) -> Result<()> {
     }
     let start = Instant::now();
     let done = envshadow::farm::assemble::assemble(&args.dir)?;
+    let video_fps = done.video_fps.or(args.video.then(|| {
+        envshadow::video::recorded_fps(&args.dir)
+            .unwrap_or(envshadow::settings::Output::default().fps)
+    }));
     // The problems are what the error below refers to: printed even with -q.
     for p in &done.problems {
         say(p);
@@ -470,6 +482,20 @@ fn assemble(args: AssembleArgs, talk: Talk) -> Result<()> {
                 "{} job(s) missing, incomplete or corrupt (listed above); render them again (e.g. rerun scripts/farm.sh, or envshadow render --job K --of N --resume) and assemble again",
                 done.problems.len()
             ),
+        ));
+    }
+    if let Some(fps) = video_fps.filter(|_| done.written > 0) {
+        let v = envshadow::video::write_video(&args.dir, fps, None).with_context(|| {
+            format!(
+                "the frames are assembled, but not the video (retry with envshadow video {})",
+                args.dir.display()
+            )
+        })?;
+        talk.info(&format!(
+            "video: {} ({} frames at {} fps)",
+            v.path.display(),
+            v.frames,
+            v.fps
         ));
     }
     if !args.no_report && done.written > 0 {
