@@ -60,7 +60,6 @@
 //! Input paths are relative to the spec file's folder; the output folder is relative to the
 //! working directory. Unknown keys are errors.
 
-use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec3};
@@ -69,6 +68,7 @@ use serde::Deserialize;
 use crate::bail_input;
 use crate::camera::Camera;
 use crate::error::{Result, input_error};
+use crate::frames::FrameSet;
 use crate::output::record::{SettingsRecord, file_sha256};
 use crate::scene::Scene;
 use crate::settings::{
@@ -266,9 +266,11 @@ pub struct CameraRig {
 /// spec's (the binary flattens it into `render`, `plan`, `export`).
 #[derive(Clone, Debug, Default, clap::Args)]
 pub struct AnimFlags {
-    /// Frames to render: A..B (B excluded), A..=B, or A. Default: all of the animation.
-    #[arg(long, value_name = "RANGE")]
-    pub frames: Option<FrameRange>,
+    /// Frames to render, from 0: a list of pieces joined by commas, each N, A-B (B included,
+    /// as Blender's), A..B (B excluded), or A..=B, a range optionally with :STEP, e.g.
+    /// `1-10`, `1,5,9`, `1-10:2`, `0..24`, `1-3,7,10-20:5`. Default: all of the animation.
+    #[arg(long, value_name = "LIST")]
+    pub frames: Option<FrameSet>,
     #[command(flatten)]
     pub scene: SceneLayer,
     #[command(flatten)]
@@ -302,36 +304,6 @@ impl AnimFlags {
     }
 }
 
-/// A frame selection from `--frames`: `A..B` (B excluded), `A..=B`, or `A`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct FrameRange {
-    pub start: usize,
-    pub end: usize,
-}
-
-impl std::str::FromStr for FrameRange {
-    type Err = String;
-    fn from_str(s: &str) -> std::result::Result<FrameRange, String> {
-        let num = |t: &str| {
-            t.trim()
-                .parse::<usize>()
-                .map_err(|_| format!("{t:?} is not a frame number (expected A..B, A..=B or A)"))
-        };
-        let (start, end) = if let Some((a, b)) = s.split_once("..=") {
-            (num(a)?, num(b)? + 1)
-        } else if let Some((a, b)) = s.split_once("..") {
-            (num(a)?, num(b)?)
-        } else {
-            let a = num(s)?;
-            (a, a + 1)
-        };
-        if end <= start {
-            return Err(format!("frame range {s:?} is empty"));
-        }
-        Ok(FrameRange { start, end })
-    }
-}
-
 /// A resolved animation: the spec with defaults filled in and flags applied.
 #[derive(Clone, Debug)]
 pub struct Animation {
@@ -352,8 +324,8 @@ pub struct Animation {
     pub pivot: Option<Vec3>,
     /// Frames in the whole animation.
     pub frame_count: usize,
-    /// Frames this run renders.
-    pub frames: Range<usize>,
+    /// Frames this run renders (`--frames`).
+    pub frames: FrameSet,
     /// `[lights]`: how many lights, by which sampler.
     pub lights: Lights,
     /// `[render]`: size, method and its parameters, validation, temporal prediction (its
@@ -500,23 +472,23 @@ impl Animation {
             degrees_per_frame,
             pivot: spec.motion.pivot.map(v3),
             frame_count,
-            frames: 0..frame_count,
+            frames: FrameSet::range(0..frame_count),
             lights: flags.lights.clone().over(spec.lights).resolve(),
             render,
             output: flags.output.clone().over(spec.output).resolve(),
         };
-        if let Some(r) = flags.frames {
-            if r.end > anim.frame_count {
+        if let Some(r) = &flags.frames {
+            let outside = r.at_or_after(anim.frame_count);
+            if !outside.is_empty() {
                 bail_input!(
                     "--frames",
-                    "{}..{} is outside the animation's {} frames (0..{})",
-                    r.start,
-                    r.end,
-                    anim.frame_count,
+                    "{r}: frame(s) {outside} are past the animation's last frame, {} (its {} \
+                     frames are numbered from 0)",
+                    anim.frame_count.saturating_sub(1),
                     anim.frame_count
                 );
             }
-            anim.frames = r.start..r.end;
+            anim.frames = r.clone();
         }
         anim.validate(path)?;
         Ok(anim)
@@ -1078,24 +1050,6 @@ mod tests {
             .expect("the module doc has a toml block");
         let anim = Animation::parse(toml, Path::new("doc.toml"), &AnimFlags::default()).unwrap();
         assert_eq!((anim.render.width, anim.lights.count), (320, 100));
-    }
-
-    #[test]
-    fn frame_ranges() {
-        assert_eq!(
-            "2..5".parse::<FrameRange>().unwrap(),
-            FrameRange { start: 2, end: 5 }
-        );
-        assert_eq!(
-            "2..=5".parse::<FrameRange>().unwrap(),
-            FrameRange { start: 2, end: 6 }
-        );
-        assert_eq!(
-            "7".parse::<FrameRange>().unwrap(),
-            FrameRange { start: 7, end: 8 }
-        );
-        assert!("5..5".parse::<FrameRange>().is_err());
-        assert!("a..b".parse::<FrameRange>().is_err());
     }
 
     #[test]

@@ -36,8 +36,8 @@ use crate::tile::{Rect, Tile};
 pub trait Progress: Sync {
     /// The run starts: `frames` to render, `tiles` per frame.
     fn begin(&self, _frames: usize, _tiles: usize) {}
-    /// A tile finished after tracing `rays` shadow rays.
-    fn tile_done(&self, _rays: u64) {}
+    /// A tile finished.
+    fn tile_done(&self, _tile: &TileDone) {}
     /// A frame finished rendering (it is being written).
     fn frame_done(&self, _stats: &FrameStats) {}
     /// A frame was skipped because its files exist (`--resume`).
@@ -46,8 +46,22 @@ pub trait Progress: Sync {
     fn note(&self, _msg: &str) {}
     /// Something the input had that is not rendered (a loader skipped it).
     fn warning(&self, _msg: &str) {}
+    /// A one-line note worth showing only to who asked for detail (`-v`): timings, sizes.
+    fn detail(&self, _msg: &str) {}
     /// The run ended.
     fn finish(&self) {}
+}
+
+/// One finished tile, as [`Progress::tile_done`] reports it.
+#[derive(Clone, Copy, Debug)]
+pub struct TileDone {
+    pub frame: usize,
+    /// The tile's number in the frame-anchored grid, and its pixels.
+    pub index: usize,
+    pub rect: Rect,
+    pub counts: Counts,
+    /// Wall-clock seconds of this tile alone (tiles run in parallel).
+    pub seconds: f64,
 }
 
 /// Reports nothing.
@@ -483,13 +497,20 @@ fn render_tile_list(
                     break;
                 }
                 let t = &list[order[k]];
+                let began = Instant::now();
                 let r = with_slot(|slot| {
                     let r = work.tile(t.rect, slot, &lattice);
                     let patch =
                         carry.then(|| CarryPatch::record(&slot.bufs, &inputs.lights, edges, side));
                     (r, patch)
                 });
-                progress.tile_done(r.0.counts.rays);
+                progress.tile_done(&TileDone {
+                    frame,
+                    index: t.index,
+                    rect: t.rect,
+                    counts: r.0.counts,
+                    seconds: began.elapsed().as_secs_f64(),
+                });
                 *slots[order[k]].lock().unwrap() = Some(r);
             }
         });
@@ -556,10 +577,21 @@ pub fn render_animation(
         );
     }
     // Inputs first: a bad input leaves nothing behind, not even an empty folder.
+    let loading = Instant::now();
     let inputs = Inputs::load(anim)?;
+    progress.detail(&format!(
+        "inputs in {:.2} s: {} ({} triangles), {} ({}x{}), {} lights",
+        loading.elapsed().as_secs_f64(),
+        inputs.scene.source,
+        inputs.scene.triangles.len(),
+        inputs.env.source,
+        inputs.env.width,
+        inputs.env.height,
+        inputs.lights.len()
+    ));
     // Every frame's camera, so a spec whose camera breaks at some frame (an `up` along the
     // view) is refused before lights.json or any frame is written.
-    for f in anim.frames.clone() {
+    for f in anim.frames.iter() {
         anim.camera(&inputs.scene, f)?;
     }
     for w in &inputs.scene.warnings {
@@ -591,7 +623,7 @@ pub fn render_animation(
 
     let todo: Vec<usize> = anim
         .frames
-        .clone()
+        .iter()
         .filter(|&f| {
             let done = opts.resume && sink.frame_done(f);
             if done {
@@ -613,8 +645,9 @@ pub fn render_animation(
         .sum();
     if warmup > 0 {
         progress.note(&format!(
-            "temporal: {warmup} frame(s) before the first frame of a chain are rendered \
-             (not written) to warm it up from its key frame"
+            "temporal: {warmup} frame(s) not asked for are rendered (not written) so that each \
+             frame asked for is predicted from its predecessor, as in a run of every frame \
+             from its chain's key frame"
         ));
     }
     let (list, region) = selection(anim, opts);
@@ -636,7 +669,13 @@ pub fn render_animation(
         let writer = s.spawn(|| -> Result<RunSummary> {
             let mut done = RunSummary::default();
             for (film, stats) in rx {
+                let writing = Instant::now();
                 sink.write(&film, &stats)?;
+                progress.detail(&format!(
+                    "frame {}: written in {:.3} s",
+                    stats.frame,
+                    writing.elapsed().as_secs_f64()
+                ));
                 done.counts += stats.counts;
                 done.rendered += 1;
             }

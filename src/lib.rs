@@ -35,6 +35,7 @@ pub mod error;
 pub mod export;
 pub mod farm;
 pub mod film;
+pub mod frames;
 pub mod history;
 pub mod lattice;
 pub mod lights;

@@ -10,7 +10,6 @@
 //! Every file is published atomically (`crate::output`), so a crashed or duplicated attempt
 //! leaves either nothing or a complete, identical file.
 
-use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use anyhow::Context;
@@ -23,6 +22,7 @@ use crate::farm::identity;
 use crate::farm::plan::{By, Job};
 use crate::film::Counts;
 use crate::film::Film;
+use crate::frames::FrameSet;
 use crate::output::stats::FrameStats;
 use crate::output::write_atomic;
 use crate::tile::{Rect, Tile, bounding, tiles};
@@ -59,7 +59,7 @@ pub struct Settings {
     #[serde(default)]
     pub alpha: bool,
     /// The run's frames (for an explicit job: its own).
-    pub frames: Range<usize>,
+    pub frames: FrameSet,
     pub alignment: usize,
     /// The settings record (`Animation::settings_record`) an assembled folder publishes as
     /// `settings.txt`, so a later `render --resume` into it trusts its frames (absent in

@@ -15,6 +15,7 @@ mod common;
 mod compositing;
 mod envmap;
 mod farm;
+mod frames;
 mod fuzz_regressions;
 mod golden;
 mod hostile;
