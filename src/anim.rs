@@ -3,6 +3,12 @@
 //! ```toml
 //! [scene]
 //! builtin = "shapes"            # or: file = "../assets/bunny_on_plane.glb"
+//! up = "y"                      # the file's up axis: "y" (glTF's) or "z" (turned upright)
+//! ground = "auto"               # a ground below the model: "auto" (when the scene has
+//!                               # none), "none" or "always"
+//! shadow_catcher = false        # the added ground shows only its shadows (it always does
+//!                               # over a transparent background)
+//! # catchers = ["Floor"]        # glTF nodes (or meshes) that are shadow catchers
 //! [environment]
 //! builtin = "sky"               # or: file = "../assets/grace.hdr"
 //! rotation = 0.0                # degrees about +Y
@@ -39,6 +45,9 @@
 //! temporal = false              # uncertainty methods: the previous frame votes too
 //! # keyframe = 16               # with temporal: frames 0, 16, 32, … restart the chain
 //!                               # (0, the default: 16 for orbit, 4 for spin; docs/temporal.md)
+//! background = "environment"   # or "transparent", "color", "blurred"
+//! # background_color = [0.18, 0.18, 0.18]   # with "color": linear RGB
+//! # background_blur = 10.0      # with "blurred": degrees
 //! exposure = 1.0                # PNG preview exposure, before the view transform
 //! view = "agx"                  # PNG view transform: "agx", "filmic" or "standard"
 //! tile = 64
@@ -64,7 +73,8 @@ use crate::frames::FrameSet;
 use crate::output::record::{SettingsRecord, file_sha256};
 use crate::scene::Scene;
 use crate::settings::{
-    Lights, LightsLayer, Output, OutputLayer, Render, RenderLayer, Source, check_applies,
+    Lights, LightsLayer, Output, OutputLayer, Render, RenderLayer, SceneLayer, SceneSettings,
+    Source, check_applies,
 };
 
 /// Limits checked before any work starts (see [`crate::limits`]).
@@ -95,6 +105,24 @@ struct Spec {
 struct SceneSpec {
     builtin: Option<String>,
     file: Option<PathBuf>,
+    #[serde(default)]
+    catchers: Vec<String>,
+    // The settings of `SceneLayer` (`crate::settings`: their flags, defaults and checks), by
+    // name; serde cannot flatten a layer into a table that refuses unknown keys.
+    up: Option<crate::scene::Up>,
+    ground: Option<crate::scene::ground::Ground>,
+    shadow_catcher: Option<bool>,
+}
+
+impl SceneSpec {
+    /// The settings given in the spec's `[scene]`.
+    fn layer(&self) -> SceneLayer {
+        SceneLayer {
+            up: self.up,
+            ground: self.ground,
+            shadow_catcher: self.shadow_catcher,
+        }
+    }
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -245,6 +273,8 @@ pub struct AnimFlags {
     #[arg(long, value_name = "LIST")]
     pub frames: Option<FrameSet>,
     #[command(flatten)]
+    pub scene: SceneLayer,
+    #[command(flatten)]
     pub lights: LightsLayer,
     #[command(flatten)]
     pub render: RenderLayer,
@@ -260,9 +290,10 @@ impl AnimFlags {
             bail_input!("--frames", "does not apply to {command}");
         }
         let given = self
-            .lights
+            .scene
             .given()
             .into_iter()
+            .chain(self.lights.given())
             .chain(self.render.given())
             .chain(self.output.given());
         for (key, flag, _) in given {
@@ -281,6 +312,10 @@ pub struct Animation {
     pub spec_path: PathBuf,
     pub name: String,
     pub scene: SceneSource,
+    /// `[scene]`: the up axis, the ground, whether the ground catches shadows.
+    pub scene_settings: SceneSettings,
+    /// `[scene] catchers`: the glTF nodes (or meshes) that are shadow catchers.
+    pub catchers: Vec<String>,
     pub env: EnvSource,
     pub env_rotation_deg: f32,
     pub env_intensity: f32,
@@ -304,6 +339,13 @@ pub struct Animation {
 impl Animation {
     /// Reads and resolves a spec file with the command line's `flags` over it.
     pub fn load(path: &Path, flags: &AnimFlags) -> Result<Animation> {
+        if is_model(path) {
+            bail_input!(
+                path,
+                "is a glTF model, not an animation spec: `envshadow render {}` renders a default turntable of it, or name it in a spec's [scene] file",
+                path.display()
+            );
+        }
         limits::check_file_size(path, "animation spec")?;
         let text = std::fs::read_to_string(path)
             .map_err(|e| input_error(path, format!("cannot read animation spec: {e}")))?;
@@ -370,9 +412,12 @@ impl Animation {
             (None, None) => 360.0 / frame_count.max(1) as f32,
         };
         let (spec_source, flags_source) = (Source::Spec(path), Source::Flags);
+        let spec_scene = spec.scene.layer();
+        spec_scene.check(spec_source)?;
         spec.lights.check(spec_source)?;
         spec.render.check(spec_source)?;
         spec.output.check(spec_source)?;
+        flags.scene.check(flags_source)?;
         flags.lights.check(flags_source)?;
         flags.render.check(flags_source)?;
         flags.output.check(flags_source)?;
@@ -391,6 +436,13 @@ impl Animation {
         }
         if render.keyframe == 0 {
             render.keyframe = default_keyframe(motion);
+        }
+        check_background(&given, &flags.render, path)?;
+        if !spec.scene.catchers.is_empty() && scene == SceneSource::Shapes {
+            bail_input!(
+                path,
+                "[scene] catchers names glTF nodes; the built-in shapes scene has none"
+            );
         }
         let v3 = |a: [f32; 3]| Vec3::from_array(a);
         let camera = CameraRig {
@@ -411,6 +463,8 @@ impl Animation {
                     .unwrap_or_else(|| "animation".into())
             }),
             scene,
+            scene_settings: flags.scene.clone().over(spec_scene).resolve(),
+            catchers: spec.scene.catchers.clone(),
             env,
             env_rotation_deg: spec.environment.rotation,
             env_intensity: spec.environment.intensity,
@@ -439,6 +493,78 @@ impl Animation {
         }
         anim.validate(path)?;
         Ok(anim)
+    }
+
+    /// The default turntable of a model (`envshadow render model.glb`), `flags` over it: the
+    /// camera orbits the model in [`MODEL_FRAMES`] frames, framed as a spec without `[camera]`
+    /// target or distance frames it (the model's bounding sphere, 25° above the horizon); the
+    /// built-in sky at a quarter of its intensity (as the default animation has it) or the
+    /// map `env`; 200 lights; 640×480 at 4 samples per pixel; a ground if
+    /// the model has none (`[scene] ground = "auto"`); frames in `out/<model's name>/`.
+    pub fn of_model(model: &Path, env: Option<&Path>, flags: &AnimFlags) -> Result<Animation> {
+        let stem = model
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "model".into());
+        let quote = |s: &str| toml::Value::String(s.to_string()).to_string();
+        let absolute = |p: &Path| {
+            std::path::absolute(p)
+                .map_err(|e| input_error(p, format!("cannot resolve the path: {e}")))
+        };
+        let environment = match env {
+            Some(map) => format!("file = {}", quote(&absolute(map)?.to_string_lossy())),
+            // The built-in sun is bright: at a quarter (as the default animation has it) a
+            // white model does not clip at exposure 1.
+            None => "builtin = \"sky\"\nintensity = 0.25".to_string(),
+        };
+        let text = format!(
+            "name = {name}\n[scene]\nfile = {file}\n[environment]\n{environment}\n\
+             [lights]\ncount = 200\n[motion]\nkind = \"orbit\"\nframes = {MODEL_FRAMES}\n\
+             [render]\nwidth = 640\nheight = 480\nspp = 4\n[output]\ndir = {dir}\n",
+            name = quote(&stem),
+            file = quote(&absolute(model)?.to_string_lossy()),
+            dir = quote(&Path::new("out").join(&stem).to_string_lossy()),
+        );
+        Animation::parse(&text, model, flags)
+    }
+
+    /// The loaded `scene` as the spec asks for it: turned upright (`[scene] up`), its named
+    /// catchers marked (`[scene] catchers`), and a ground added below the model where
+    /// `[scene] ground` asks for one — a shadow catcher over a transparent background or with
+    /// `shadow_catcher = true`, else diffuse grey.
+    pub fn prepare_scene(&self, scene: Scene) -> Result<Scene> {
+        use crate::scene::ground::{Ground, add_ground, has_ground};
+        let settings = &self.scene_settings;
+        let mut scene = scene.stood_up(settings.up);
+        if let Err(name) = scene.mark_catchers(&self.catchers) {
+            let names: Vec<String> = scene
+                .parts
+                .iter()
+                .flat_map(|p| [p.node.clone(), p.mesh.clone()])
+                .flatten()
+                .collect();
+            bail_input!(
+                &self.spec_path,
+                "[scene] catchers: {} has no node or mesh named {name:?} (its names: {})",
+                scene.source,
+                if names.is_empty() {
+                    "none".to_string()
+                } else {
+                    names.join(", ")
+                }
+            );
+        }
+        let add = match settings.ground {
+            Ground::None => false,
+            Ground::Always => true,
+            Ground::Auto => !has_ground(&scene),
+        };
+        if add {
+            let catcher = settings.shadow_catcher
+                || self.render.background == crate::background::Background::Transparent;
+            add_ground(&mut scene, catcher);
+        }
+        Ok(scene)
     }
 
     /// This animation with the render settings of `layer` (one combination of a measuring
@@ -602,7 +728,8 @@ impl Animation {
     /// The camera at `frame`. `scene` is the unposed scene (bounds and file camera).
     pub fn camera(&self, scene: &Scene, frame: usize) -> Result<Camera> {
         let rig = &self.camera;
-        let (lo, hi) = scene.bounds();
+        // The model, not the ground envshadow may have added under it.
+        let (lo, hi) = scene.model_bounds();
         let centre = (lo + hi) * 0.5;
         let radius = ((hi - lo) * 0.5).length().max(1e-6);
         let (mut position, target, vfov) = if rig.from_file {
@@ -687,6 +814,17 @@ impl Animation {
             SceneSource::Shapes => put("[scene] builtin", "shapes".into()),
             SceneSource::File(p) => put("[scene] file", file(p)?),
         }
+        // [ours] Only what differs from the defaults, so folders rendered before these keys
+        // existed (and which they would not change) still resume.
+        let defaults = SceneSettings::default().layer().given();
+        for (key, flag, value) in self.scene_settings.layer().given() {
+            if !defaults.contains(&(key, flag, value.clone())) {
+                put(&format!("[{}] {key}", SceneSettings::TABLE), value);
+            }
+        }
+        if !self.catchers.is_empty() {
+            put("[scene] catchers", format!("{:?}", self.catchers));
+        }
         match &self.env {
             EnvSource::Sky => put("[environment] builtin", "sky".into()),
             EnvSource::File(p) => put("[environment] file", file(p)?),
@@ -718,9 +856,15 @@ impl Animation {
         for (key, _, value) in self.lights.layer().given() {
             put(&format!("[{}] {key}", Lights::TABLE), value);
         }
-        for (key, _, value) in self.render.layer().given() {
+        let render_defaults = Render::default().layer().given();
+        for (key, flag, value) in self.render.layer().given() {
             // [ours] Tiles and threads change no pixel (tiled == untiled, bit for bit): a
-            // resume may pick them for the machine it runs on.
+            // resume may pick them for the machine it runs on. The background settings are
+            // recorded when not the defaults, so folders from before them still resume.
+            let background = key.starts_with("background");
+            if background && render_defaults.contains(&(key, flag, value.clone())) {
+                continue;
+            }
             if key != "threads" && key != "tile" {
                 put(&format!("[{}] {key}", Render::TABLE), value);
             }
@@ -735,9 +879,56 @@ impl Animation {
     }
 }
 
+/// Refuses the background settings that the chosen background does not read: a colour
+/// without `background = "color"`, a blur without `"blurred"` (they would change nothing).
+fn check_background(given: &RenderLayer, flags: &RenderLayer, path: &Path) -> Result<()> {
+    use crate::background::Background;
+    let background = given.background.unwrap_or_default();
+    for (key, flag, set, wants) in [
+        (
+            "background_color",
+            "background-color",
+            given.background_color.is_some(),
+            Background::Color,
+        ),
+        (
+            "background_blur",
+            "background-blur",
+            given.background_blur.is_some(),
+            Background::Blurred,
+        ),
+    ] {
+        if set && background != wants {
+            let from_flag = match key {
+                "background_color" => flags.background_color.is_some(),
+                _ => flags.background_blur.is_some(),
+            };
+            let source = if from_flag {
+                Source::Flags
+            } else {
+                Source::Spec(path)
+            };
+            let message =
+                format!("applies only with background = \"{wants}\" (it is \"{background}\")");
+            return Err(source.error(Render::TABLE, key, flag, message));
+        }
+    }
+    Ok(())
+}
+
 /// A vector as a spec writes it: `[x, y, z]`.
 fn show(v: Vec3) -> String {
     format!("[{}, {}, {}]", v.x, v.y, v.z)
+}
+
+/// Frames of a model's default turntable ([`Animation::of_model`]): 5° per frame.
+pub const MODEL_FRAMES: usize = 72;
+
+/// Whether `path` names a glTF model (`.glb`, `.gltf`) rather than an animation spec.
+pub fn is_model(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("glb") || e.eq_ignore_ascii_case("gltf"))
 }
 
 /// Default key-frame interval for `motion` (docs/temporal.md has the measurements): with a

@@ -5,6 +5,7 @@
 use glam::Vec3;
 
 use crate::accel::{Accel, PACKET};
+use crate::background::{Backdrop, ENVIRONMENT};
 use crate::camera::Camera;
 use crate::envmap::EnvMap;
 use crate::lights::LightSet;
@@ -28,6 +29,8 @@ pub struct Surface {
     pub dir: Vec3,
     /// False for background pixels (the ray left the scene).
     pub hit: bool,
+    /// A shadow catcher: it shows only the shadows it receives (see the `catcher` module).
+    pub catcher: bool,
 }
 
 /// Everything a tile needs about its frame: shared, read-only, across threads.
@@ -37,6 +40,9 @@ pub struct FrameContext<'a> {
     pub camera: Camera,
     pub lights: &'a LightSet,
     pub env: &'a EnvMap,
+    /// What rays that leave the scene see (`[render] background`; the environment unless
+    /// [`with_backdrop`](Self::with_backdrop) says otherwise).
+    pub backdrop: &'a Backdrop,
     /// The directional lights' directions as a flat array, for shadow rays and warping (light
     /// j < `light_dir.len()`; the point and spot lights come after them, see
     /// [`shadow_ray`](Self::shadow_ray)).
@@ -73,6 +79,7 @@ impl<'a> FrameContext<'a> {
             camera,
             lights,
             env,
+            backdrop: &ENVIRONMENT,
             light_dir: lights.lights.iter().map(|l| l.dir).collect(),
             point_bits: {
                 let mut b = vec![0u64; lights.len().div_ceil(64)];
@@ -96,6 +103,11 @@ impl<'a> FrameContext<'a> {
             samples,
             ..self
         }
+    }
+
+    /// This context with rays that leave the scene seeing `backdrop`.
+    pub fn with_backdrop(self, backdrop: &'a Backdrop) -> FrameContext<'a> {
+        FrameContext { backdrop, ..self }
     }
 
     /// The unit direction of the primary ray of sample (x, y).
@@ -211,6 +223,7 @@ impl<'a> FrameContext<'a> {
             albedo,
             dir,
             hit: true,
+            catcher: self.scene.is_catcher(tri),
         }
     }
 
@@ -280,7 +293,10 @@ pub fn shadow_epsilon(scene: &Scene) -> f32 {
         return 1e-4;
     }
     let (lo, hi) = scene.bounds();
-    let diag = (hi - lo).length();
+    // [ours] Sized to the model, not to the wide ground envshadow may add under it (which
+    // would make it 30 times larger); the reach term still covers the ground's coordinates.
+    let (model_lo, model_hi) = scene.model_bounds();
+    let diag = (model_hi - model_lo).length();
     let reach = lo.abs().max(hi.abs()).max_element();
     (diag * 2e-5).max(reach * 1e-6).max(1e-7)
 }

@@ -15,6 +15,7 @@ use rayon::prelude::*;
 
 use crate::accel::Accel;
 use crate::anim::{Animation, EnvSource, MotionKind, SceneSource};
+use crate::background::Backdrop;
 use crate::cancel::Cancel;
 use crate::context::FrameContext;
 use crate::driver::{FrameWork, Slot};
@@ -210,9 +211,13 @@ pub fn exr_header<'a>(
 
 /// An animation's inputs, loaded once per run.
 pub struct Inputs {
+    /// The scene as the spec asks for it: stood up, its catchers marked, a ground added
+    /// ([`Animation::prepare_scene`]).
     pub scene: Scene,
     pub env: EnvMap,
     pub lights: LightSet,
+    /// What rays that leave the scene see.
+    pub backdrop: Backdrop,
     /// The BVH of the unposed scene, built by the first frame that needs it: frames whose
     /// geometry does not move (orbit turntables, still cameras) share one build per run.
     still: OnceLock<Accel>,
@@ -225,8 +230,14 @@ impl Inputs {
             scene,
             env,
             lights,
+            backdrop: Backdrop::Environment,
             still: OnceLock::new(),
         }
+    }
+
+    /// These inputs with rays that leave the scene seeing `backdrop`.
+    pub fn with_backdrop(self, backdrop: Backdrop) -> Inputs {
+        Inputs { backdrop, ..self }
     }
 
     /// The unposed scene's BVH, built once.
@@ -249,6 +260,7 @@ impl Inputs {
             SceneSource::File(p) => Scene::load_within(p, &mut budget)
                 .with_context(|| format!("while loading {}", anim.spec_path.display()))?,
         };
+        let scene = anim.prepare_scene(scene)?;
         // A spin poses the scene every frame: refused here if that could overflow (found by
         // fuzzing the posed scene: tests/data/fuzz/posed_scene/huge-pivot).
         if anim.motion == MotionKind::Spin {
@@ -269,7 +281,9 @@ impl Inputs {
         if anim.lights.scene_lights {
             lights = lights.with_scene_lights(&scene.lights, Path::new(&scene.source))?;
         }
-        Ok(Inputs::new(scene, env, lights))
+        let r = &anim.render;
+        let backdrop = Backdrop::new(r.background, r.background_color, r.background_blur, &env)?;
+        Ok(Inputs::new(scene, env, lights).with_backdrop(backdrop))
     }
 }
 
@@ -434,8 +448,9 @@ fn render_tile_list(
     let camera = anim.camera(&inputs.scene, frame)?;
     let samples = anim.render.samples();
     let side = samples.k;
-    let ctx =
-        FrameContext::new(scene, accel, camera, &inputs.lights, &inputs.env).with_samples(samples);
+    let ctx = FrameContext::new(scene, accel, camera, &inputs.lights, &inputs.env)
+        .with_samples(samples)
+        .with_backdrop(&inputs.backdrop);
     let prev = match temporal.prev {
         Some(carried) => {
             let prev_camera = anim.camera(&inputs.scene, carried.frame)?;
@@ -539,7 +554,8 @@ fn render_tile_list(
         anim.render.height,
         work.validate,
         side > 1,
-    );
+    )
+    .with_alpha(inputs.backdrop.is_transparent());
     for (r, patch) in &results {
         film.add(r);
         if let (Some(c), Some(p)) = (&mut carried, patch) {
@@ -614,6 +630,19 @@ pub fn render_animation(
     }
     if let Some(note) = scene_lights_note(anim, &inputs.scene) {
         progress.note(&note);
+    }
+    if inputs.scene.added_ground.is_some() {
+        let catcher = inputs.scene.catcher.last().copied().unwrap_or(false);
+        progress.note(&format!(
+            "{} has no ground under the model: added {} (`[scene] ground = \"none\"` or \
+             --ground none leaves it out)",
+            inputs.scene.source,
+            if catcher {
+                "a shadow-catcher ground"
+            } else {
+                "a grey ground"
+            }
+        ));
     }
     opts.cancel.check()?;
     std::fs::create_dir_all(dir)

@@ -51,7 +51,9 @@ pub struct Exported {
 }
 
 /// The settings an export reads; the others would change nothing it writes.
-const READS: [&str; 8] = [
+const READS: [&str; 10] = [
+    "up",
+    "ground",
     "count",
     "sampler",
     "width",

@@ -17,7 +17,7 @@ use ::gltf::mesh::{Mode, Semantic};
 use ::gltf::{Accessor, Document, Node, Primitive};
 
 use super::{
-    Alpha, AlphaMode, Material, Scene, SceneCamera, SceneLight, SceneLightKind, Texture,
+    Alpha, AlphaMode, Material, Part, Scene, SceneCamera, SceneLight, SceneLightKind, Texture,
     normal_matrix,
 };
 use crate::bail_input;
@@ -322,6 +322,23 @@ fn walk(
     Ok(())
 }
 
+/// Whether a node's or mesh's `extras` mark it a shadow catcher: `"shadow_catcher": true`, or
+/// a non-zero number (Blender exports an object's custom properties as its node's extras, and
+/// its boolean-looking properties as integers).
+fn catcher_flag(extras: &::gltf::json::Extras) -> bool {
+    let Some(raw) = extras else {
+        return false;
+    };
+    let Ok(serde_json::Value::Object(map)) = serde_json::from_str(raw.get()) else {
+        return false;
+    };
+    match map.get("shadow_catcher") {
+        Some(serde_json::Value::Bool(b)) => *b,
+        Some(serde_json::Value::Number(n)) => n.as_f64().is_some_and(|v| v != 0.0),
+        _ => false,
+    }
+}
+
 /// Whether a mesh placed by `world` is loaded: a singular transform (zero scale) flattens it.
 fn placeable(world: Mat4) -> bool {
     let det = world.determinant();
@@ -624,9 +641,19 @@ impl Loader<'_> {
                         mesh.index()
                     ));
                 } else {
+                    let first = self.scene.triangles.len();
                     for primitive in mesh.primitives() {
                         self.primitive(mesh.index(), &primitive, world)?;
                     }
+                    let triangles = first..self.scene.triangles.len();
+                    if catcher_flag(node.extras()) || catcher_flag(mesh.extras()) {
+                        self.scene.set_catcher(triangles.clone());
+                    }
+                    self.scene.parts.push(Part {
+                        node: node.name().map(str::to_string),
+                        mesh: mesh.name().map(str::to_string),
+                        triangles,
+                    });
                 }
             }
             Ok(())

@@ -11,10 +11,12 @@
 
 mod alpha;
 mod gltf;
+pub mod ground;
 mod shapes;
 mod texture;
 
 use glam::{Mat3, Mat4, Vec2, Vec3};
+use std::ops::Range;
 use std::path::Path;
 
 use crate::error::Result;
@@ -124,6 +126,53 @@ pub struct SceneCamera {
     pub vfov_deg: f32,
 }
 
+/// The triangles one glTF node brought into the scene, and its names (for `[scene] catchers`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Part {
+    /// The node's name, if it has one.
+    pub node: Option<String>,
+    /// Its mesh's name, if it has one.
+    pub mesh: Option<String>,
+    /// Its triangles (indices into [`Scene::triangles`]).
+    pub triangles: Range<usize>,
+}
+
+impl Part {
+    /// Whether `name` is the node's or its mesh's name.
+    pub fn is_named(&self, name: &str) -> bool {
+        self.node.as_deref() == Some(name) || self.mesh.as_deref() == Some(name)
+    }
+}
+
+/// Which way is up in a scene file: glTF's +Y, or +Z (CAD and many exported models), which
+/// [`Scene::stood_up`] turns to +Y.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Up {
+    #[default]
+    Y,
+    Z,
+}
+
+impl std::str::FromStr for Up {
+    type Err = String;
+    fn from_str(s: &str) -> std::result::Result<Up, String> {
+        match s {
+            "y" | "Y" => Ok(Up::Y),
+            "z" | "Z" => Ok(Up::Z),
+            _ => Err(format!("unknown up axis {s:?} (expected y or z)")),
+        }
+    }
+}
+
+impl std::fmt::Display for Up {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Up::Y => "y",
+            Up::Z => "z",
+        })
+    }
+}
+
 /// All triangles of the default scene in world space.
 #[derive(Clone, Debug, Default)]
 pub struct Scene {
@@ -151,6 +200,14 @@ pub struct Scene {
     pub camera: Option<SceneCamera>,
     /// The file's lights (`KHR_lights_punctual`), one per node that places one.
     pub lights: Vec<SceneLight>,
+    /// Per triangle: whether it is a shadow catcher (it receives shadows and shows only them,
+    /// as the tile services shade it). Empty when no triangle is.
+    pub catcher: Vec<bool>,
+    /// The glTF nodes that brought triangles, in file order (empty for built-in scenes).
+    pub parts: Vec<Part>,
+    /// The first triangle of the ground envshadow added below the model ([`ground`]), if it
+    /// added one: it is the scene's last triangles, and the model is everything before it.
+    pub added_ground: Option<usize>,
     /// Where it came from: a path, or `builtin:shapes`.
     pub source: String,
     /// Things skipped while loading (non-triangle primitives, …); each was also printed to
@@ -225,17 +282,78 @@ impl Scene {
     /// Axis-aligned bounds `(min, max)` of the vertices used by triangles; `(0, 0)` when there
     /// are no triangles.
     pub fn bounds(&self) -> (Vec3, Vec3) {
-        let mut lo = Vec3::splat(f32::INFINITY);
-        let mut hi = Vec3::splat(f32::NEG_INFINITY);
-        for &i in self.triangles.iter().flatten() {
-            let p = self.positions[i as usize];
-            lo = lo.min(p);
-            hi = hi.max(p);
+        bounds_of(&self.positions, &self.triangles)
+    }
+
+    /// Bounds of the model: [`bounds`](Self::bounds) without the ground envshadow added, if
+    /// any (what the camera frames and a spin turns about).
+    pub fn model_bounds(&self) -> (Vec3, Vec3) {
+        let model = self.added_ground.unwrap_or(self.triangles.len());
+        bounds_of(&self.positions, &self.triangles[..model])
+    }
+
+    /// Whether triangle `tri` is a shadow catcher.
+    #[inline]
+    pub fn is_catcher(&self, tri: usize) -> bool {
+        self.catcher.get(tri).copied().unwrap_or(false)
+    }
+
+    /// Makes the triangles `tris` shadow catchers.
+    pub fn set_catcher(&mut self, tris: Range<usize>) {
+        if tris.is_empty() {
+            return;
         }
-        if self.triangles.is_empty() {
-            (Vec3::ZERO, Vec3::ZERO)
-        } else {
-            (lo, hi)
+        self.catcher.resize(self.triangles.len(), false);
+        self.catcher[tris].fill(true);
+    }
+
+    /// Makes the nodes (or meshes) called `names` shadow catchers; the first name no node or
+    /// mesh has is returned as the error.
+    pub fn mark_catchers(&mut self, names: &[String]) -> std::result::Result<(), String> {
+        for name in names {
+            let tris: Vec<Range<usize>> = self
+                .parts
+                .iter()
+                .filter(|p| p.is_named(name))
+                .map(|p| p.triangles.clone())
+                .collect();
+            if tris.is_empty() {
+                return Err(name.clone());
+            }
+            for t in tris {
+                self.set_catcher(t);
+            }
+        }
+        Ok(())
+    }
+
+    /// The scene turned so that `up` points along +Y, the camera with it: for Z-up, the
+    /// rotation of −90° about +X (Blender's own glTF convention: +Z → +Y, +Y → −Z), exact
+    /// (no trigonometry), applied before anything else reads the scene.
+    pub fn stood_up(self, up: Up) -> Scene {
+        match up {
+            Up::Y => self,
+            Up::Z => {
+                let m = Mat4::from_cols(
+                    glam::Vec4::new(1.0, 0.0, 0.0, 0.0),
+                    glam::Vec4::new(0.0, 0.0, -1.0, 0.0),
+                    glam::Vec4::new(0.0, 1.0, 0.0, 0.0),
+                    glam::Vec4::W,
+                );
+                let mut out = self.transformed(m);
+                out.camera = self.camera.map(|c| SceneCamera {
+                    position: m.transform_point3(c.position),
+                    forward: m.transform_vector3(c.forward),
+                    up: m.transform_vector3(c.up),
+                    vfov_deg: c.vfov_deg,
+                });
+                // The file's lights live in the file's world, as its camera does.
+                for l in &mut out.lights {
+                    l.position = m.transform_point3(l.position);
+                    l.direction = m.transform_vector3(l.direction);
+                }
+                out
+            }
         }
     }
 
@@ -391,11 +509,37 @@ impl Scene {
             }));
         self.textures.extend(other.textures);
         self.alpha_maps.extend(other.alpha_maps);
+        let triangle_base = self.triangles.len() - other.triangles.len();
+        if !other.catcher.is_empty() {
+            self.catcher.resize(triangle_base, false);
+            self.catcher.extend(other.catcher);
+        }
+        self.parts.extend(other.parts.into_iter().map(|mut p| {
+            p.triangles = p.triangles.start + triangle_base..p.triangles.end + triangle_base;
+            p
+        }));
         if self.camera.is_none() {
             self.camera = other.camera;
         }
         self.lights.extend(other.lights);
         self.warnings.extend(other.warnings);
+    }
+}
+
+/// Axis-aligned bounds `(min, max)` of the vertices `triangles` use; `(0, 0)` when there are
+/// none.
+fn bounds_of(positions: &[Vec3], triangles: &[[u32; 3]]) -> (Vec3, Vec3) {
+    let mut lo = Vec3::splat(f32::INFINITY);
+    let mut hi = Vec3::splat(f32::NEG_INFINITY);
+    for &i in triangles.iter().flatten() {
+        let p = positions[i as usize];
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    if triangles.is_empty() {
+        (Vec3::ZERO, Vec3::ZERO)
+    } else {
+        (lo, hi)
     }
 }
 

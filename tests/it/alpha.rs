@@ -259,6 +259,7 @@ fn packets_blockers_and_single_rays_agree_on_cut_out_geometry() {
             albedo: Vec3::ONE,
             dir: -Vec3::Y,
             hit: true,
+            catcher: false,
         };
         let lights: Vec<u32> = (0..ctx.light_count() as u32)
             .filter(|&j| ctx.light_dir[j as usize].y > 0.0)

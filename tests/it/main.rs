@@ -13,6 +13,7 @@ mod alpha;
 mod chaos;
 mod cli;
 mod common;
+mod compositing;
 mod envmap;
 mod farm;
 mod frames;

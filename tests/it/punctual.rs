@@ -380,6 +380,7 @@ fn packets_and_single_rays_agree_on_point_lights() {
             albedo: Vec3::ONE,
             dir: -Vec3::Y,
             hit: true,
+            catcher: false,
         };
         // The file lights (the last three) with some map lights in one packet.
         let mut lights: Vec<u32> = all.iter().copied().step_by(7).take(29).collect();
