@@ -23,6 +23,7 @@ use crate::context::FrameContext;
 use crate::film::{Counts, TileResult};
 use crate::lattice::{Lattice, LatticePatch};
 use crate::predict::temporal::solve_temporal;
+use crate::predict::turning::solve_in_place;
 use crate::predict::{At, Order, Scratch, Shadows};
 use crate::shade::{light_sum, radiance, reflect, same};
 use crate::tile::Rect;
@@ -145,7 +146,12 @@ impl FrameWork<'_> {
             && !at.inside
         {
             let min_voters = self.shadows.params.min_voters;
-            if solve_temporal(ctx, bufs, scratch, prev, i, voters, min_voters, at) {
+            let solved = if prev.is_in_place() {
+                solve_in_place(ctx, bufs, scratch, prev, i, voters, min_voters, at)
+            } else {
+                solve_temporal(ctx, bufs, scratch, prev, i, voters, min_voters, at)
+            };
+            if solved {
                 return i;
             }
         }
@@ -339,7 +345,7 @@ fn shade(
                         counts.temporal_rays += bufs.rays[q] as u64;
                     }
                     if !s.hit {
-                        let r = ctx.env.radiance(s.dir);
+                        let r = ctx.background(s.dir);
                         lit += r;
                         exact += r;
                         continue;
