@@ -21,6 +21,7 @@ mod interrupt;
 mod lights;
 mod maths;
 mod memory;
+mod motion;
 mod predict;
 mod render;
 mod report;
