@@ -178,11 +178,11 @@ impl CarryPatch {
 /// Marks in `out`'s edge row (after the above and visible rows, `w` words each) the lights
 /// whose corridor ([`Tracks`]) meets both a visible light and a blocked or below-horizon one:
 /// a shadow edge (or the horizon, beyond which the previous frame knows nothing) lies across
-/// or just ahead of its way. Lights that leave their own cell in one turn are always marked.
+/// or just ahead of its way.
 fn track_edges(out: &mut [u64], w: usize, tracks: &Tracks) {
     let (head, edge) = out.split_at_mut(2 * w);
     let (above, vis) = head.split_at(w);
-    edge.copy_from_slice(tracks.always());
+    edge.fill(0);
     for j in 0..tracks.len() {
         let (mut lit, mut dark) = (false, false);
         for &c in tracks.cells(j) {
