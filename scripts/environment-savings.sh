@@ -10,12 +10,14 @@
 # ../shared/assets/corpus), MAP (the HDR map for the corpus, default the bunny spec's
 # rooitou_park_1k.hdr beside the corpus). The corpus specs (OUT/specs/) frame each model with
 # the default camera, 200 lights, 640×480, 3° per frame. Extra flags go to every render.
-# Prints one row per model: frames, % of queries traced without and with --temporal over the
-# frames predicted from their predecessor, their ratio (the share of the spatial rays traced),
-# the same ratio over all frames (key frames included), and the largest error %.
+# Prints one row per model: frames predicted from their predecessor, % of their queries traced
+# without and with --temporal, the ratio (the share of the spatial rays traced), the same ratio
+# over all frames (key frames included), the wrong pairs % of the first (spatial) key frame and
+# the largest over the predicted frames. A model the renderer refuses is noted and skipped.
+# Renders already in OUT are reused (delete OUT to measure again).
 set -euo pipefail
 if [[ $# -lt 1 ]]; then
-    sed -n '2,16p' "$0" >&2
+    sed -n '2,18p' "$0" >&2
     exit 2
 fi
 OUT="$1"; shift
@@ -49,11 +51,16 @@ dir = "$OUT/$name"
 EOF
     specs+=("$OUT/specs/$name.toml")
 done
-printf '%-28s %6s %10s %10s %8s %8s %9s\n' model frames spatial% temporal% share share_all max_err%
+printf '%-28s %6s %10s %10s %8s %9s %8s %8s\n' model frames spatial% temporal% share share_all key_err% max_err%
 for spec in "${specs[@]}"; do
     name="$(basename "$spec" .toml)"
-    "$BIN" render "$spec" --out "$OUT/$name" --temporal --validate --no-report -q "$@"
-    "$BIN" render "$spec" --out "$OUT/$name-spatial" --no-report -q "$@"
+    if [[ ! -f "$OUT/$name/stats.csv" || ! -f "$OUT/$name-spatial/stats.csv" ]]; then
+        if ! "$BIN" render "$spec" --out "$OUT/$name" --temporal --validate --no-report -q "$@" 2> "$OUT/$name.err"; then
+            echo "$name: refused ($(head -c 200 "$OUT/$name.err")), skipped"
+            continue
+        fi
+        "$BIN" render "$spec" --out "$OUT/$name-spatial" --no-report -q "$@"
+    fi
     # Columns of stats.csv by name: rays_traced, queries, error_percent, temporal_pixels.
     paste -d, "$OUT/$name/stats.csv" "$OUT/$name-spatial/stats.csv" | awk -F, -v name="$name" '
         NR == 1 { n = NF / 2; for (i = 1; i <= n; i++) col[$i] = i; next }
@@ -61,10 +68,11 @@ for spec in "${specs[@]}"; do
             rt = $col["rays_traced"]; rs = $(n + col["rays_traced"]); q = $col["queries"]
             all_t += rt; all_s += rs
             if ($col["temporal_pixels"] > 0) { t += rt; s += rs; qs += q; frames++ }
-            e = $col["error_percent"]; if (e > maxe) maxe = e
+            e = $col["error_percent"]
+            if ($col["temporal_pixels"] > 0) { if (e > maxe) maxe = e } else if (key == "") key = e
         }
         END {
-            printf "%-28s %6d %10.2f %10.2f %7.1f%% %7.1f%% %9.4f\n", name, frames,
-                100 * s / qs, 100 * t / qs, 100 * t / s, 100 * all_t / all_s, maxe
+            printf "%-28s %6d %10.2f %10.2f %7.1f%% %8.1f%% %8.4f %8.4f\n", name, frames,
+                100 * s / qs, 100 * t / qs, 100 * t / s, 100 * all_t / all_s, key, maxe
         }'
 done

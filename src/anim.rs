@@ -41,16 +41,19 @@
 //! # keyframe = 16               # with temporal: frames 0, 16, 32, … restart the chain
 //!                               # (0, the default: 16 for orbit, 4 for spin, 8 for
 //!                               # environment; docs/temporal.md)
-//! exposure = 1.0                # PNG preview exposure
+//! exposure = 1.0                # PNG preview exposure, before the view transform
+//! view = "agx"                  # PNG view transform: "agx", "filmic" or "standard"
 //! tile = 64
 //! threads = 0                   # 0: all cores
 //! [output]
 //! dir = "out/shapes"
+//! half = false                  # half-float EXR channels (counts and depth stay float)
+//! fps = 24.0                    # frame rate: the EXR's framesPerSecond, the video's
+//! video = false                 # encode DIR/video.mp4 with ffmpeg at the end
 //! ```
 //! Input paths are relative to the spec file's folder; the output folder is relative to the
 //! working directory. Unknown keys are errors.
 
-use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec3};
@@ -59,6 +62,7 @@ use serde::Deserialize;
 use crate::bail_input;
 use crate::camera::Camera;
 use crate::error::{Result, input_error};
+use crate::frames::FrameSet;
 use crate::motion::{Motion, MotionSpecs};
 use crate::output::record::{SettingsRecord, file_sha256};
 use crate::scene::Scene;
@@ -199,9 +203,11 @@ pub struct CameraRig {
 /// spec's (the binary flattens it into `render`, `plan`, `export`).
 #[derive(Clone, Debug, Default, clap::Args)]
 pub struct AnimFlags {
-    /// Frames to render: A..B (B excluded), A..=B, or A. Default: all of the animation.
-    #[arg(long, value_name = "RANGE")]
-    pub frames: Option<FrameRange>,
+    /// Frames to render, from 0: a list of pieces joined by commas, each N, A-B (B included,
+    /// as Blender's), A..B (B excluded), or A..=B, a range optionally with :STEP, e.g.
+    /// `1-10`, `1,5,9`, `1-10:2`, `0..24`, `1-3,7,10-20:5`. Default: all of the animation.
+    #[arg(long, value_name = "LIST")]
+    pub frames: Option<FrameSet>,
     #[command(flatten)]
     pub lights: LightsLayer,
     #[command(flatten)]
@@ -232,36 +238,6 @@ impl AnimFlags {
     }
 }
 
-/// A frame selection from `--frames`: `A..B` (B excluded), `A..=B`, or `A`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct FrameRange {
-    pub start: usize,
-    pub end: usize,
-}
-
-impl std::str::FromStr for FrameRange {
-    type Err = String;
-    fn from_str(s: &str) -> std::result::Result<FrameRange, String> {
-        let num = |t: &str| {
-            t.trim()
-                .parse::<usize>()
-                .map_err(|_| format!("{t:?} is not a frame number (expected A..B, A..=B or A)"))
-        };
-        let (start, end) = if let Some((a, b)) = s.split_once("..=") {
-            (num(a)?, num(b)? + 1)
-        } else if let Some((a, b)) = s.split_once("..") {
-            (num(a)?, num(b)?)
-        } else {
-            let a = num(s)?;
-            (a, a + 1)
-        };
-        if end <= start {
-            return Err(format!("frame range {s:?} is empty"));
-        }
-        Ok(FrameRange { start, end })
-    }
-}
-
 /// A resolved animation: the spec with defaults filled in and flags applied.
 #[derive(Clone, Debug)]
 pub struct Animation {
@@ -277,14 +253,14 @@ pub struct Animation {
     pub motion: Motion,
     /// Frames in the whole animation.
     pub frame_count: usize,
-    /// Frames this run renders.
-    pub frames: Range<usize>,
+    /// Frames this run renders (`--frames`).
+    pub frames: FrameSet,
     /// `[lights]`: how many lights, by which sampler.
     pub lights: Lights,
     /// `[render]`: size, method and its parameters, validation, temporal prediction (its
     /// `keyframe` resolved for the motion), tiles, threads.
     pub render: Render,
-    /// `[output]`: the output folder.
+    /// `[output]`: the output folder, the EXR's precision, the frame rate, the video.
     pub output: Output,
 }
 
@@ -384,23 +360,23 @@ impl Animation {
             camera,
             motion,
             frame_count,
-            frames: 0..frame_count,
+            frames: FrameSet::range(0..frame_count),
             lights: flags.lights.clone().over(spec.lights).resolve(),
             render,
             output: flags.output.clone().over(spec.output).resolve(),
         };
-        if let Some(r) = flags.frames {
-            if r.end > anim.frame_count {
+        if let Some(r) = &flags.frames {
+            let outside = r.at_or_after(anim.frame_count);
+            if !outside.is_empty() {
                 bail_input!(
                     "--frames",
-                    "{}..{} is outside the animation's {} frames (0..{})",
-                    r.start,
-                    r.end,
-                    anim.frame_count,
+                    "{r}: frame(s) {outside} are past the animation's last frame, {} (its {} \
+                     frames are numbered from 0)",
+                    anim.frame_count.saturating_sub(1),
                     anim.frame_count
                 );
             }
-            anim.frames = r.start..r.end;
+            anim.frames = r.clone();
         }
         anim.validate(path)?;
         Ok(anim)
@@ -632,7 +608,7 @@ impl Animation {
         ))
     }
 
-    /// The settings that decide this animation's frames and `stats.csv` rows, as
+    /// The settings that decide this animation's frames' bytes and `stats.csv` rows, as
     /// (`[table] key`, value) in spec order: what `render --resume` checks a folder against.
     /// The frames selected, the tile size, the thread count and the output folder change no
     /// pixel and are left out; input files are named by their content's SHA-256, so a moved spec still agrees.
@@ -676,6 +652,12 @@ impl Animation {
             // resume may pick them for the machine it runs on.
             if key != "threads" && key != "tile" {
                 put(&format!("[{}] {key}", Render::TABLE), value);
+            }
+        }
+        for (key, _, value) in self.output.layer().given() {
+            // The folder and the video change no frame's bytes.
+            if key != "dir" && key != "video" {
+                put(&format!("[{}] {key}", Output::TABLE), value);
             }
         }
         Ok(SettingsRecord { lines })
@@ -805,24 +787,6 @@ mod tests {
             .expect("the module doc has a toml block");
         let anim = Animation::parse(toml, Path::new("doc.toml"), &AnimFlags::default()).unwrap();
         assert_eq!((anim.render.width, anim.lights.count), (320, 100));
-    }
-
-    #[test]
-    fn frame_ranges() {
-        assert_eq!(
-            "2..5".parse::<FrameRange>().unwrap(),
-            FrameRange { start: 2, end: 5 }
-        );
-        assert_eq!(
-            "2..=5".parse::<FrameRange>().unwrap(),
-            FrameRange { start: 2, end: 6 }
-        );
-        assert_eq!(
-            "7".parse::<FrameRange>().unwrap(),
-            FrameRange { start: 7, end: 8 }
-        );
-        assert!("5..5".parse::<FrameRange>().is_err());
-        assert!("a..b".parse::<FrameRange>().is_err());
     }
 
     #[test]

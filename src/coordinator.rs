@@ -36,8 +36,8 @@ use crate::tile::{Rect, Tile};
 pub trait Progress: Sync {
     /// The run starts: `frames` to render, `tiles` per frame.
     fn begin(&self, _frames: usize, _tiles: usize) {}
-    /// A tile finished after tracing `rays` shadow rays.
-    fn tile_done(&self, _rays: u64) {}
+    /// A tile finished.
+    fn tile_done(&self, _tile: &TileDone) {}
     /// A frame finished rendering (it is being written).
     fn frame_done(&self, _stats: &FrameStats) {}
     /// A frame was skipped because its files exist (`--resume`).
@@ -46,8 +46,22 @@ pub trait Progress: Sync {
     fn note(&self, _msg: &str) {}
     /// Something the input had that is not rendered (a loader skipped it).
     fn warning(&self, _msg: &str) {}
+    /// A one-line note worth showing only to who asked for detail (`-v`): timings, sizes.
+    fn detail(&self, _msg: &str) {}
     /// The run ended.
     fn finish(&self) {}
+}
+
+/// One finished tile, as [`Progress::tile_done`] reports it.
+#[derive(Clone, Copy, Debug)]
+pub struct TileDone {
+    pub frame: usize,
+    /// The tile's number in the frame-anchored grid, and its pixels.
+    pub index: usize,
+    pub rect: Rect,
+    pub counts: Counts,
+    /// Wall-clock seconds of this tile alone (tiles run in parallel).
+    pub seconds: f64,
 }
 
 /// Reports nothing.
@@ -71,7 +85,10 @@ pub trait FrameSink: Send {
 /// record, `settings.txt`, and `stats.csv` rebuilt from the records ([`output::record`]).
 pub struct FrameFiles {
     dir: PathBuf,
-    exposure: f32,
+    format: output::FrameFormat,
+    fps: f32,
+    /// The settings record's lines, which each frame's EXR header repeats.
+    record: Vec<(String, String)>,
     /// What the settings record is made from (in `begin`: the inputs are loaded by then, so a
     /// missing file gets the loader's message).
     anim: Animation,
@@ -90,7 +107,9 @@ impl FrameFiles {
         FrameFiles {
             stats: StatsFile::open(&dir.join("stats.csv")),
             dir,
-            exposure: anim.render.exposure,
+            format: frame_format(anim),
+            fps: anim.output.fps,
+            record: Vec::new(),
             anim: anim.clone(),
             region: opts.region,
             resume: opts.resume,
@@ -126,6 +145,7 @@ impl FrameSink for FrameFiles {
             now.write(&self.dir)?;
         }
         self.settings = now.fingerprint();
+        self.record = now.lines;
         // A kill between a frame's commit and the stats.csv that follows it loses no row: the
         // committed frame's record has it.
         let mut restored = 0;
@@ -148,17 +168,44 @@ impl FrameSink for FrameFiles {
     }
 
     fn write(&mut self, film: &Film, stats: &FrameStats) -> Result<()> {
-        let row = stats.csv_row();
-        output::publish_frame(
-            &self.dir,
-            stats.frame,
-            film,
-            self.exposure,
-            &self.settings,
-            row.clone(),
-        )?;
-        self.stats.set_row(stats.frame, &row);
+        let header = exr_header(stats, self.fps, &self.record);
+        let rec = output::publish_frame(&self.dir, film, &header, &self.format, &self.settings)?;
+        self.stats.set_row(stats.frame, &rec.stats_row);
         self.stats.write(&self.dir.join("stats.csv"))
+    }
+}
+
+/// How `anim`'s frames are written: preview exposure and view, EXR precision.
+pub fn frame_format(anim: &Animation) -> output::FrameFormat {
+    output::FrameFormat {
+        exposure: anim.render.exposure,
+        view: anim.render.view,
+        half: anim.output.half,
+    }
+}
+
+/// A frame's EXR header: its camera (from `stats`, as the frame was rendered), the frame
+/// rate, the settings record's lines and its statistics.
+pub fn exr_header<'a>(
+    stats: &'a FrameStats,
+    fps: f32,
+    settings: &'a [(String, String)],
+) -> output::exr::FrameHeader<'a> {
+    let camera = crate::camera::Camera::look_at(
+        stats.camera_position,
+        stats.camera_target,
+        stats.camera_up,
+        stats.vfov_deg,
+        stats.width,
+        stats.height,
+    );
+    let (world_to_camera, world_to_ndc) = camera.exr_matrices();
+    output::exr::FrameHeader {
+        world_to_camera,
+        world_to_ndc,
+        fps,
+        settings,
+        stats,
     }
 }
 
@@ -460,12 +507,19 @@ fn render_tile_list(
                     break;
                 }
                 let t = &list[order[k]];
+                let began = Instant::now();
                 let r = with_slot(|slot| {
                     let r = work.tile(t.rect, slot, &lattice);
                     let patch = carry.then(|| CarryPatch::record(&slot.bufs, &lights, edges, side));
                     (r, patch)
                 });
-                progress.tile_done(r.0.counts.rays);
+                progress.tile_done(&TileDone {
+                    frame,
+                    index: t.index,
+                    rect: t.rect,
+                    counts: r.0.counts,
+                    seconds: began.elapsed().as_secs_f64(),
+                });
                 *slots[order[k]].lock().unwrap() = Some(r);
             }
         });
@@ -495,7 +549,7 @@ fn render_tile_list(
         height: anim.render.height,
         spp: anim.render.spp,
         counts: film.counts,
-        image_error: film.image_error(rendered, anim.render.exposure),
+        image_error: film.image_error(rendered, anim.render.exposure, anim.render.view),
         seconds: start.elapsed().as_secs_f64(),
         camera_position: camera.position,
         camera_target: camera.target,
@@ -531,10 +585,21 @@ pub fn render_animation(
         );
     }
     // Inputs first: a bad input leaves nothing behind, not even an empty folder.
+    let loading = Instant::now();
     let inputs = Inputs::load(anim)?;
+    progress.detail(&format!(
+        "inputs in {:.2} s: {} ({} triangles), {} ({}x{}), {} lights",
+        loading.elapsed().as_secs_f64(),
+        inputs.scene.source,
+        inputs.scene.triangles.len(),
+        inputs.env.source,
+        inputs.env.width,
+        inputs.env.height,
+        inputs.lights.len()
+    ));
     // Every frame's camera, so a spec whose camera breaks at some frame (an `up` along the
     // view) is refused before lights.json or any frame is written.
-    for f in anim.frames.clone() {
+    for f in anim.frames.iter() {
         anim.camera(&inputs.scene, f)?;
     }
     for w in &inputs.scene.warnings {
@@ -553,7 +618,7 @@ pub fn render_animation(
 
     let todo: Vec<usize> = anim
         .frames
-        .clone()
+        .iter()
         .filter(|&f| {
             let done = opts.resume && sink.frame_done(f);
             if done {
@@ -575,8 +640,9 @@ pub fn render_animation(
         .sum();
     if warmup > 0 {
         progress.note(&format!(
-            "temporal: {warmup} frame(s) before the first frame of a chain are rendered \
-             (not written) to warm it up from its key frame"
+            "temporal: {warmup} frame(s) not asked for are rendered (not written) so that each \
+             frame asked for is predicted from its predecessor, as in a run of every frame \
+             from its chain's key frame"
         ));
     }
     let (list, region) = selection(anim, opts);
@@ -598,7 +664,13 @@ pub fn render_animation(
         let writer = s.spawn(|| -> Result<RunSummary> {
             let mut done = RunSummary::default();
             for (film, stats) in rx {
+                let writing = Instant::now();
                 sink.write(&film, &stats)?;
+                progress.detail(&format!(
+                    "frame {}: written in {:.3} s",
+                    stats.frame,
+                    writing.elapsed().as_secs_f64()
+                ));
                 done.counts += stats.counts;
                 done.rendered += 1;
             }

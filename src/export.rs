@@ -73,11 +73,11 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
         ));
     };
     let anim = Animation::load(&args.spec, flags)?;
-    if !anim.frames.contains(&args.frame) {
+    if !anim.frames.contains(args.frame) {
         return Err(input_error(
             &args.spec,
             format!(
-                "frame {} is outside the animation's frames {:?}",
+                "frame {} is outside the animation's frames ({})",
                 args.frame, anim.frames
             ),
         ));

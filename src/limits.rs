@@ -70,23 +70,38 @@ pub fn check_file_size(path: &Path, what: &str) -> Result<()> {
 
 /// What a file that is not a regular file is, for messages; `None` for a regular file.
 fn not_regular(m: &std::fs::Metadata) -> Option<&'static str> {
-    use std::os::unix::fs::FileTypeExt;
     let t = m.file_type();
     if t.is_file() {
         None
     } else if t.is_dir() {
         Some("a folder")
-    } else if t.is_fifo() {
-        Some("a FIFO")
-    } else if t.is_char_device() {
-        Some("a character device")
-    } else if t.is_block_device() {
-        Some("a block device")
-    } else if t.is_socket() {
-        Some("a socket")
     } else {
-        Some("not a file")
+        Some(special_kind(&t))
     }
+}
+
+/// A file that is neither a regular file nor a folder, as Unix tells them apart.
+#[cfg(unix)]
+fn special_kind(t: &std::fs::FileType) -> &'static str {
+    use std::os::unix::fs::FileTypeExt;
+    if t.is_fifo() {
+        "a FIFO"
+    } else if t.is_char_device() {
+        "a character device"
+    } else if t.is_block_device() {
+        "a block device"
+    } else if t.is_socket() {
+        "a socket"
+    } else {
+        "not a file"
+    }
+}
+
+/// A file that is neither a regular file nor a folder: Windows metadata says no more of a
+/// device (`NUL`, `CON`) or a pipe.
+#[cfg(not(unix))]
+fn special_kind(_: &std::fs::FileType) -> &'static str {
+    "not a file"
 }
 
 /// Why [`read_regular`] read nothing.

@@ -118,6 +118,21 @@ pub fn bin() -> std::process::Command {
     std::process::Command::new(env!("CARGO_BIN_EXE_envshadow"))
 }
 
+/// The one line of a refusal on stderr: it starts with `error: ` and is the only line, unless
+/// clap wrote it (a flag's value its parser refused), which adds clap's usage and hints below.
+#[track_caller]
+pub fn error_line(err: &str) -> &str {
+    let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
+    assert!(
+        lines.first().is_some_and(|l| l.starts_with("error: ")),
+        "no error line: {err}"
+    );
+    if !err.contains("For more information, try '--help'.") {
+        assert_eq!(lines.len(), 1, "one line expected: {err}");
+    }
+    lines[0]
+}
+
 /// Whether this is CI's run: `.ci/run` runs with `CI=true` and installs every tool the tests
 /// need, so there a missing tool is a failure, never a skip. The one spelling of that check.
 pub fn on_ci() -> bool {

@@ -142,7 +142,7 @@ fn a_sequence_of_motions_renders_as_one_job_or_split() {
     anim.render.validate = false;
     let mut plain = anim.clone();
     plain.output.dir = one.join("plain");
-    plain.frames = 0..10;
+    plain.frames = (0..10).into();
     render_animation(
         &plain,
         &options,
@@ -151,7 +151,7 @@ fn a_sequence_of_motions_renders_as_one_job_or_split() {
     )
     .unwrap();
     for range in [0..3, 3..6, 6..10] {
-        anim.frames = range;
+        anim.frames = range.into();
         render_animation(
             &anim,
             &options,

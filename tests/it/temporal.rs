@@ -224,7 +224,7 @@ fn one_job_and_split_jobs_write_identical_frames() {
     let (one, split) = (root.path().join("one"), root.path().join("split"));
     let mut anim = bunny("spin", 64, 48, 32, &one);
     anim.render.validate = false;
-    anim.frames = 0..7;
+    anim.frames = (0..7).into();
     render_animation(
         &anim,
         &RunOptions::default(),
@@ -236,7 +236,7 @@ fn one_job_and_split_jobs_write_identical_frames() {
     // frame 0 without writing frames 0 and 1.
     anim.output.dir = split.clone();
     for range in [0..2, 2..7] {
-        anim.frames = range;
+        anim.frames = range.into();
         render_animation(
             &anim,
             &RunOptions::default(),
@@ -306,7 +306,7 @@ fn savings_plot_compares_two_renders() {
     let (with, without) = (root.path().join("t"), root.path().join("s"));
     let mut anim = bunny("orbit", 64, 48, 32, &with);
     anim.render.validate = false;
-    anim.frames = 0..3;
+    anim.frames = (0..3).into();
     render_animation(
         &anim,
         &RunOptions::default(),
