@@ -97,9 +97,10 @@ pub fn solve_in_place(
 
 /// Word `m` of what the spatial voters say, as the uncertainty rule reads them: (blocked,
 /// sure, contested) — at least `min_voters` of them see the light and all of those agree it
-/// is blocked; agree either way; disagree.
+/// is blocked; agree either way; disagree. Shared with the spin rule
+/// ([`super::temporal::solve_temporal`]).
 #[inline]
-fn spatial_word(
+pub(super) fn spatial_word(
     above: &[u64],
     vis: &[u64],
     spatial: &[usize],

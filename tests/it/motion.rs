@@ -178,36 +178,32 @@ fn a_sequence_of_motions_renders_as_one_job_or_split() {
 #[test]
 fn one_motion_table_keeps_its_settings_record() {
     let dir = tempfile::tempdir().unwrap();
-    let anim = bunny(
-        "[motion]\nkind = \"spin\"\nframes = 8\ndegrees_per_frame = 3.0",
-        32,
-        24,
-        8,
-        dir.path(),
-    );
-    let lines = anim.settings_record().unwrap().text();
-    for want in [
-        "[motion] kind = spin\n",
-        "[motion] frames = 8\n",
-        "[motion] degrees_per_frame = 3\n",
-        "[motion] pivot = auto\n",
+    for (motion, wants) in [
+        (
+            "[motion]\nkind = \"spin\"\nframes = 8\ndegrees_per_frame = 3.0",
+            &[
+                "[motion] kind = spin\n",
+                "[motion] frames = 8\n",
+                "[motion] degrees_per_frame = 3\n",
+                "[motion] pivot = auto\n",
+            ][..],
+        ),
+        (
+            "[[motion]]\nframes = 2\n[[motion]]\nkind = \"environment\"\nframes = 2\n",
+            &[
+                "[[motion]] 1 kind = orbit\n",
+                "[[motion]] 2 kind = environment\n",
+                "[[motion]] 2 frames = 2-3\n",
+            ][..],
+        ),
     ] {
-        assert!(lines.contains(want), "{want:?} not in\n{lines}");
-    }
-    let seq = bunny(
-        "[[motion]]\nframes = 2\n[[motion]]\nkind = \"environment\"\nframes = 2\n",
-        32,
-        24,
-        8,
-        dir.path(),
-    );
-    let lines = seq.settings_record().unwrap().text();
-    for want in [
-        "[[motion]] 1 kind = orbit\n",
-        "[[motion]] 2 kind = environment\n",
-        "[[motion]] 2 frames = 2-3\n",
-    ] {
-        assert!(lines.contains(want), "{want:?} not in\n{lines}");
+        let lines = bunny(motion, 32, 24, 8, dir.path())
+            .settings_record()
+            .unwrap()
+            .text();
+        for want in wants {
+            assert!(lines.contains(want), "{want:?} not in\n{lines}");
+        }
     }
 }
 
