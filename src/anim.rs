@@ -26,9 +26,11 @@
 //! # position = [x, y, z]        # instead of distance/elevation/azimuth
 //! # from_file = true            # use the glTF file's camera
 //! [motion]
-//! kind = "orbit"                # camera orbits the target; "spin": the scene turns; "none"
+//! kind = "orbit"                # camera orbits the target; "spin": the scene turns;
+//!                               # "environment": the lights and background turn; "none"
 //! frames = 24
 //! turn_degrees = 360.0          # the whole animation's turn; or degrees_per_frame = 3.0
+//! # A sequence instead: [[motion]] tables, one per motion in order (src/motion.rs)
 //! [render]
 //! width = 320
 //! height = 240
@@ -44,7 +46,8 @@
 //! # scan_block = 64             # scanline methods: the scan restarts every scan_block pixels
 //! temporal = false              # uncertainty methods: the previous frame votes too
 //! # keyframe = 16               # with temporal: frames 0, 16, 32, … restart the chain
-//!                               # (0, the default: 16 for orbit, 4 for spin; docs/temporal.md)
+//!                               # (0, the default: 16 for orbit, 4 for spin, 8 for
+//!                               # environment; docs/temporal.md)
 //! background = "environment"   # or "transparent", "color", "blurred"
 //! # background_color = [0.18, 0.18, 0.18]   # with "color": linear RGB
 //! # background_blur = 10.0      # with "blurred": degrees
@@ -70,6 +73,7 @@ use crate::bail_input;
 use crate::camera::Camera;
 use crate::error::{Result, input_error};
 use crate::frames::FrameSet;
+use crate::motion::{Motion, MotionSpecs};
 use crate::output::record::{SettingsRecord, file_sha256};
 use crate::scene::Scene;
 use crate::settings::{
@@ -93,7 +97,7 @@ struct Spec {
     #[serde(default)]
     camera: CameraSpec,
     #[serde(default)]
-    motion: MotionSpec,
+    motion: MotionSpecs,
     #[serde(default)]
     render: RenderLayer,
     #[serde(default)]
@@ -180,30 +184,6 @@ impl Default for CameraSpec {
     }
 }
 
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct MotionSpec {
-    #[serde(default = "default_kind")]
-    kind: String,
-    #[serde(default = "default_frames")]
-    frames: usize,
-    degrees_per_frame: Option<f32>,
-    turn_degrees: Option<f32>,
-    pivot: Option<[f32; 3]>,
-}
-
-impl Default for MotionSpec {
-    fn default() -> Self {
-        MotionSpec {
-            kind: default_kind(),
-            frames: default_frames(),
-            degrees_per_frame: None,
-            turn_degrees: None,
-            pivot: None,
-        }
-    }
-}
-
 fn one() -> f32 {
     1.0
 }
@@ -219,12 +199,6 @@ fn default_vfov() -> f32 {
 fn default_up() -> [f32; 3] {
     [0.0, 1.0, 0.0]
 }
-fn default_kind() -> String {
-    "orbit".into()
-}
-fn default_frames() -> usize {
-    1
-}
 /// Where the scene comes from.
 #[derive(Clone, Debug, PartialEq)]
 pub enum SceneSource {
@@ -239,16 +213,7 @@ pub enum EnvSource {
     File(PathBuf),
 }
 
-/// What moves from frame to frame.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum MotionKind {
-    /// The camera circles the target about the vertical axis; scene and environment fixed.
-    Orbit,
-    /// The scene turns about a vertical axis; camera and environment fixed.
-    Spin,
-    /// Nothing moves.
-    Still,
-}
+pub use crate::motion::MotionKind;
 
 /// How the camera is placed.
 #[derive(Clone, Debug, PartialEq)]
@@ -320,9 +285,8 @@ pub struct Animation {
     pub env_rotation_deg: f32,
     pub env_intensity: f32,
     pub camera: CameraRig,
-    pub motion: MotionKind,
-    pub degrees_per_frame: f32,
-    pub pivot: Option<Vec3>,
+    /// What moves, frame by frame: one motion or a sequence ([`Motion`]).
+    pub motion: Motion,
     /// Frames in the whole animation.
     pub frame_count: usize,
     /// Frames this run renders (`--frames`).
@@ -389,28 +353,8 @@ impl Animation {
             }
             (None, None) => EnvSource::Sky,
         };
-        let motion = match spec.motion.kind.as_str() {
-            "orbit" => MotionKind::Orbit,
-            "spin" => MotionKind::Spin,
-            "none" => MotionKind::Still,
-            k => bail_input!(
-                path,
-                "[motion] kind = {k:?}: expected \"orbit\", \"spin\" or \"none\""
-            ),
-        };
-        let frame_count = spec.motion.frames;
-        let degrees_per_frame = match (spec.motion.degrees_per_frame, spec.motion.turn_degrees) {
-            (Some(_), Some(_)) => bail_input!(
-                path,
-                "[motion] takes `degrees_per_frame` or `turn_degrees`, not both"
-            ),
-            (Some(d), None) => d,
-            (None, Some(t)) if !t.is_finite() => {
-                bail_input!(path, "[motion] turn_degrees = {t} is not a finite number")
-            }
-            (None, Some(t)) => t / frame_count.max(1) as f32,
-            (None, None) => 360.0 / frame_count.max(1) as f32,
-        };
+        let motion = Motion::from_spec(&spec.motion, path)?;
+        let frame_count = motion.frame_count();
         let (spec_source, flags_source) = (Source::Spec(path), Source::Flags);
         let spec_scene = spec.scene.layer();
         spec_scene.check(spec_source)?;
@@ -435,7 +379,7 @@ impl Animation {
             return Err(source.error(Render::TABLE, "keyframe", "keyframe", message));
         }
         if render.keyframe == 0 {
-            render.keyframe = default_keyframe(motion);
+            render.keyframe = default_keyframe(&motion);
         }
         check_background(&given, &flags.render, path)?;
         if !spec.scene.catchers.is_empty() && scene == SceneSource::Shapes {
@@ -470,8 +414,6 @@ impl Animation {
             env_intensity: spec.environment.intensity,
             camera,
             motion,
-            degrees_per_frame,
-            pivot: spec.motion.pivot.map(v3),
             frame_count,
             frames: FrameSet::range(0..frame_count),
             lights: flags.lights.clone().over(spec.lights).resolve(),
@@ -576,7 +518,7 @@ impl Animation {
         a.render = layer.clone().over(self.render.layer()).resolve();
         check_applies(layer, Source::Flags, &[a.render.method])?;
         if a.render.keyframe == 0 {
-            a.render.keyframe = default_keyframe(a.motion);
+            a.render.keyframe = default_keyframe(&a.motion);
         }
         a.validate(&self.spec_path)?;
         Ok(a)
@@ -599,9 +541,10 @@ impl Animation {
     /// The memory budget its inputs are loaded against: the request, and with a spin a posed
     /// copy of the scene (and its BVH) for each frame in flight.
     pub fn budget(&self) -> limits::Budget {
-        let posed = match self.motion {
-            MotionKind::Spin => self.frames.len().min(limits::FRAMES_IN_FLIGHT),
-            MotionKind::Orbit | MotionKind::Still => 0,
+        let posed = if self.motion.has(MotionKind::Spin) {
+            self.frames.len().min(limits::FRAMES_IN_FLIGHT)
+        } else {
+            0
         };
         limits::Budget::new(&self.request(), posed)
     }
@@ -651,7 +594,6 @@ impl Animation {
         let numbers = [
             ("[environment] rotation", self.env_rotation_deg),
             ("[environment] intensity", self.env_intensity),
-            ("[motion] degrees_per_frame", self.degrees_per_frame),
             ("[camera] vfov", self.camera.vfov_deg),
             ("[camera] elevation", self.camera.elevation_deg),
             ("[camera] azimuth", self.camera.azimuth_deg),
@@ -665,7 +607,6 @@ impl Animation {
             ("[camera] target", self.camera.target),
             ("[camera] position", self.camera.position),
             ("[camera] up", Some(self.camera.up)),
-            ("[motion] pivot", self.pivot),
         ];
         for (key, v) in vectors {
             if let Some(v) = v
@@ -699,27 +640,25 @@ impl Animation {
         Ok(())
     }
 
-    /// The scene's world transform at `frame` (spin only), about the vertical axis through the
-    /// pivot (default: the camera target).
+    /// The scene's world transform at `frame`: the spins done by then, each about the
+    /// vertical axis through its pivot (default: the camera target); `None` before any spin.
     pub fn scene_transform(&self, frame: usize, target: Vec3) -> Option<Mat4> {
-        if self.motion != MotionKind::Spin {
-            return None;
-        }
-        let pivot = self.pivot.unwrap_or(target);
-        let angle = (self.degrees_per_frame * frame as f32).to_radians();
-        Some(
-            Mat4::from_translation(pivot)
-                * Mat4::from_rotation_y(angle)
-                * Mat4::from_translation(-pivot),
-        )
+        self.motion.scene_transform(frame, target)
+    }
+
+    /// The key frame that starts the temporal chain holding `frame` (`--temporal`): frames
+    /// `0, K, 2K, …` of each motion of the sequence, K the key-frame interval.
+    pub fn key_frame_of(&self, frame: usize) -> usize {
+        self.motion.key_frame_of(frame, self.render.keyframe)
     }
 
     /// Frames a job's range should start on so that every frame it writes is rendered as the
     /// whole animation would render it: with `temporal`, the key-frame interval (a job
-    /// starting elsewhere first renders, without writing, the frames back to its key frame).
+    /// starting elsewhere first renders, without writing, the frames back to its key frame;
+    /// a sequence of motions: [`Motion::frame_alignment`]).
     pub fn frame_alignment(&self) -> usize {
         if self.render.temporal {
-            self.render.keyframe as usize
+            self.motion.frame_alignment(self.render.keyframe)
         } else {
             1
         }
@@ -762,8 +701,8 @@ impl Animation {
             };
             (position, target, rig.vfov_deg)
         };
-        if self.motion == MotionKind::Orbit {
-            let angle = (self.degrees_per_frame * frame as f32).to_radians();
+        if let Some(degrees) = self.motion.orbit_degrees(frame) {
+            let angle = degrees.to_radians();
             position = target + Mat4::from_rotation_y(angle).transform_vector3(position - target);
         }
         if (position - target).length() < 1e-9 {
@@ -841,18 +780,9 @@ impl Animation {
         put("[camera] up", show(c.up));
         put("[camera] position", auto(c.position.map(show)));
         put("[camera] from_file", c.from_file.to_string());
-        let kind = match self.motion {
-            MotionKind::Orbit => "orbit",
-            MotionKind::Spin => "spin",
-            MotionKind::Still => "none",
-        };
-        put("[motion] kind", kind.into());
-        put("[motion] frames", self.frame_count.to_string());
-        put(
-            "[motion] degrees_per_frame",
-            self.degrees_per_frame.to_string(),
-        );
-        put("[motion] pivot", auto(self.pivot.map(show)));
+        for (key, value) in self.motion.record(show) {
+            put(&key, value);
+        }
         for (key, _, value) in self.lights.layer().given() {
             put(&format!("[{}] {key}", Lights::TABLE), value);
         }
@@ -931,15 +861,13 @@ pub fn is_model(path: &Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("glb") || e.eq_ignore_ascii_case("gltf"))
 }
 
-/// Default key-frame interval for `motion` (docs/temporal.md has the measurements): with a
-/// camera orbit the wrong pairs fall along a chain (0.0045 % after one frame, 0.0015 % after
-/// 15: bunny, 640×480, 200 lights), so chains are long; with a spinning object they grow
-/// (0.034 % after one frame, 0.051 % after four, 0.07 % after eight), so the chain restarts
-/// every 4 frames to stay within 0.05 %.
-pub fn default_keyframe(motion: MotionKind) -> u32 {
-    match motion {
-        MotionKind::Spin => 4,
-        MotionKind::Orbit | MotionKind::Still => 16,
+/// Default key-frame interval for `motion` ([`MotionKind::default_keyframe`]): one motion's
+/// own; 0 for a sequence, whose motions each take their own default.
+pub fn default_keyframe(motion: &Motion) -> u32 {
+    if motion.is_single() {
+        motion.segments()[0].kind.default_keyframe()
+    } else {
+        0
     }
 }
 

@@ -28,7 +28,7 @@ use crate::shade::{light_sum, same};
 /// transparent background) and alpha.
 #[inline]
 pub fn miss(ctx: &FrameContext, dir: Vec3) -> (Vec3, f32) {
-    (ctx.backdrop.radiance(ctx.env, dir), ctx.backdrop.alpha())
+    (ctx.background(dir), ctx.backdrop.alpha())
 }
 
 /// A thread's shading of catcher samples: the last catcher normal's unshadowed light, which
@@ -55,7 +55,7 @@ impl Catchers {
         if ctx.backdrop.is_transparent() {
             (Vec3::ZERO, shadow)
         } else {
-            (ctx.backdrop.radiance(ctx.env, s.dir) * (1.0 - shadow), 1.0)
+            (ctx.background(s.dir) * (1.0 - shadow), 1.0)
         }
     }
 

@@ -63,6 +63,9 @@ pub struct FrameContext<'a> {
     /// point-sampled textures (level-0 bilinear lookups). Set by
     /// [`with_samples`](Self::with_samples), see [`texture_footprint`].
     pub texture_footprint: f32,
+    /// The environment's turn this frame beyond the map's own rotation (`[motion] kind =
+    /// "environment"`), as (sin, cos): the background turns with the lights.
+    pub env_turn: Option<(f32, f32)>,
 }
 
 impl<'a> FrameContext<'a> {
@@ -92,7 +95,28 @@ impl<'a> FrameContext<'a> {
             shadow_eps: shadow_epsilon(scene),
             samples: Samples::one(),
             texture_footprint: 0.0,
+            env_turn: None,
         }
+    }
+
+    /// This context with the environment turned by `degrees` about the up axis beyond the
+    /// map's rotation, as its lights are ([`LightSet::turned`](crate::lights::LightSet::turned)).
+    pub fn with_environment_turn(self, degrees: Option<f32>) -> FrameContext<'a> {
+        FrameContext {
+            env_turn: degrees.map(|d| libm::sincosf(d.to_radians())),
+            ..self
+        }
+    }
+
+    /// The environment's radiance seen along unit direction `dir` (a background sample):
+    /// the map turned as this frame's lights are.
+    #[inline]
+    pub fn background(&self, dir: Vec3) -> Vec3 {
+        let dir = match self.env_turn {
+            None => dir,
+            Some((s, c)) => crate::envmap::rotate_y(dir, (-s, c)),
+        };
+        self.backdrop.radiance(self.env, dir)
     }
 
     /// This context with the pixels' samples at `samples`, and textures filtered to what one

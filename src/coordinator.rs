@@ -4,6 +4,7 @@
 //! thread that writes them while rendering goes on. Memory stays bounded by the frames in
 //! flight and the channel's capacity.
 
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Mutex, OnceLock};
@@ -22,8 +23,8 @@ use crate::driver::{FrameWork, Slot};
 use crate::envmap::EnvMap;
 use crate::error::{Interrupted, Result, input_error};
 use crate::film::{Counts, Film};
-use crate::history::{Carried, CarryPatch};
-use crate::lights::LightSet;
+use crate::history::{Carried, CarryPatch, Edges};
+use crate::lights::{LightSet, Tracks};
 use crate::output;
 use crate::output::lock::FolderLock;
 use crate::output::record::{FrameRecord, SettingsRecord};
@@ -240,6 +241,15 @@ impl Inputs {
         Inputs { backdrop, ..self }
     }
 
+    /// The lights of `frame`: the sampled set, turned by the environment's turn at that frame
+    /// (`[motion] kind = "environment"`).
+    pub fn lights_at(&self, anim: &Animation, frame: usize) -> Cow<'_, LightSet> {
+        match anim.motion.environment_degrees(frame) {
+            None => Cow::Borrowed(&self.lights),
+            Some(degrees) => Cow::Owned(self.lights.turned(degrees)),
+        }
+    }
+
     /// The unposed scene's BVH, built once.
     pub fn still_accel(&self) -> &Accel {
         self.still.get_or_init(|| self.scene.accel())
@@ -263,8 +273,11 @@ impl Inputs {
         let scene = anim.prepare_scene(scene)?;
         // A spin poses the scene every frame: refused here if that could overflow (found by
         // fuzzing the posed scene: tests/data/fuzz/posed_scene/huge-pivot).
-        if anim.motion == MotionKind::Spin {
-            let pivot = anim.pivot.unwrap_or(anim.camera(&scene, 0)?.target);
+        for s in anim.motion.segments() {
+            if s.kind != MotionKind::Spin {
+                continue;
+            }
+            let pivot = s.pivot.unwrap_or(anim.camera(&scene, 0)?.target);
             if let Some(why) = scene.turn_problem(pivot) {
                 crate::bail_input!(&anim.spec_path, "[motion] kind = \"spin\": {why}");
             }
@@ -448,12 +461,16 @@ fn render_tile_list(
     let camera = anim.camera(&inputs.scene, frame)?;
     let samples = anim.render.samples();
     let side = samples.k;
-    let ctx = FrameContext::new(scene, accel, camera, &inputs.lights, &inputs.env)
+    let lights = inputs.lights_at(anim, frame);
+    let ctx = FrameContext::new(scene, accel, camera, &lights, &inputs.env)
         .with_samples(samples)
-        .with_backdrop(&inputs.backdrop);
+        .with_backdrop(&inputs.backdrop)
+        .with_environment_turn(anim.motion.environment_degrees(frame));
+    let prev_lights;
     let prev = match temporal.prev {
         Some(carried) => {
             let prev_camera = anim.camera(&inputs.scene, carried.frame)?;
+            prev_lights = inputs.lights_at(anim, carried.frame);
             Some(prev_view(
                 anim,
                 carried,
@@ -461,7 +478,7 @@ fn render_tile_list(
                 prev_camera,
                 &camera,
                 camera0.target,
-                &inputs.lights,
+                (&prev_lights, &lights),
             ))
         }
         None => None,
@@ -476,16 +493,24 @@ fn render_tile_list(
         shadows: &shadows,
         validate: anim.render.validate && !temporal.no_validate,
     };
-    // A spinning object turns the lights relative to itself: keep the edges of each pixel's
-    // shadow in light space, which the turn may carry across a light.
-    let edges = anim.motion == MotionKind::Spin;
+    // A spinning object or a turning environment turns the lights relative to the scene:
+    // keep the edges of each pixel's shadow in light space, which the turn may carry across
+    // a light.
+    let segment = anim.motion.segment_at(frame);
+    let tracks = (temporal.carry && segment.kind == MotionKind::Environment)
+        .then(|| Tracks::new(&lights, segment.degrees_per_frame));
+    let edges = match (&tracks, segment.kind) {
+        (Some(t), _) => Edges::Track(t),
+        (None, MotionKind::Spin) => Edges::Adjacent,
+        _ => Edges::None,
+    };
     let mut carried = temporal.carry.then(|| {
         Carried::new(
             frame,
             anim.render.width,
             anim.render.height,
             ctx.words(),
-            edges,
+            edges.kept(),
         )
     });
     // Shared phases (the grid's coarse levels) run over every tile the rendered tiles' halos
@@ -531,8 +556,7 @@ fn render_tile_list(
                 let began = Instant::now();
                 let r = with_slot(|slot| {
                     let r = work.tile(t.rect, slot, &lattice);
-                    let patch =
-                        carry.then(|| CarryPatch::record(&slot.bufs, &inputs.lights, edges, side));
+                    let patch = carry.then(|| CarryPatch::record(&slot.bufs, &lights, edges, side));
                     (r, patch)
                 });
                 progress.tile_done(&TileDone {
@@ -567,7 +591,7 @@ fn render_tile_list(
     let stats = FrameStats {
         frame,
         method: anim.render.method.name().to_string(),
-        lights: inputs.lights.len(),
+        lights: lights.len(),
         width: anim.render.width,
         height: anim.render.height,
         spp: anim.render.spp,
@@ -672,7 +696,7 @@ pub fn render_animation(
     };
     // With temporal prediction, frames come in chains from a key frame, each frame reading
     // its predecessor; a chain's frames outside this run are rendered, not written.
-    let work = chains(&todo, anim.render.temporal, anim.render.keyframe);
+    let work = chains(&todo, anim.render.temporal, |f| anim.key_frame_of(f));
     let warmup: usize = work
         .iter()
         .map(|c| c.frames.iter().filter(|f| !f.1).count())

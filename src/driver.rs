@@ -24,6 +24,7 @@ use crate::context::FrameContext;
 use crate::film::{BACKGROUND_DEPTH, Counts, TileResult};
 use crate::lattice::{Lattice, LatticePatch};
 use crate::predict::temporal::solve_temporal;
+use crate::predict::turning::solve_in_place;
 use crate::predict::{At, Order, Scratch, Shadows};
 use crate::shade::{light_sum, point_lights, reflect, same};
 use crate::tile::Rect;
@@ -146,7 +147,12 @@ impl FrameWork<'_> {
             && !at.inside
         {
             let min_voters = self.shadows.params.min_voters;
-            if solve_temporal(ctx, bufs, scratch, prev, i, voters, min_voters, at) {
+            let solved = if prev.is_in_place() {
+                solve_in_place(ctx, bufs, scratch, prev, i, voters, min_voters, at)
+            } else {
+                solve_temporal(ctx, bufs, scratch, prev, i, voters, min_voters, at)
+            };
+            if solved {
                 return i;
             }
         }

@@ -167,7 +167,10 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
         Ok(())
     })?;
 
-    inputs.lights.write_json(&dir.join("lights.json"))?;
+    // The frame's lights: turned with the environment where it turns.
+    inputs
+        .lights_at(&anim, args.frame)
+        .write_json(&dir.join("lights.json"))?;
     let meta = json!({
         "spec": anim.spec_path.display().to_string(),
         "frame": args.frame,

@@ -40,6 +40,7 @@ pub mod history;
 pub mod lattice;
 pub mod lights;
 pub mod limits;
+pub mod motion;
 pub mod output;
 pub mod predict;
 pub mod raydump;

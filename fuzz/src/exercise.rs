@@ -61,8 +61,12 @@ pub fn posed_scene(text: &str, path: &Path, scene: &Scene) -> Result<()> {
     let anim = Animation::parse(text, path, &AnimFlags::default())?;
     let target = anim.camera(scene, 0)?.target;
     // As `Inputs::load` refuses a spin that could overflow.
-    if let Some(why) = scene.turn_problem(anim.pivot.unwrap_or(target)) {
-        return Err(envshadow::error::input_error(path, why));
+    for s in anim.motion.segments() {
+        if s.kind == envshadow::motion::MotionKind::Spin
+            && let Some(why) = scene.turn_problem(s.pivot.unwrap_or(target))
+        {
+            return Err(envshadow::error::input_error(path, why));
+        }
     }
     for frame in [0, anim.frame_count / 2, anim.frame_count - 1] {
         anim.camera(scene, frame)?;

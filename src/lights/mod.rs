@@ -13,6 +13,7 @@ pub mod median_cut;
 pub mod picture;
 pub mod punctual;
 pub mod sis;
+pub mod track;
 
 use glam::Vec3;
 use std::path::Path;
@@ -24,6 +25,7 @@ use lookup::CellTable;
 
 pub use json::{parse_json, read_json};
 pub use punctual::{Cone, FileLight, PointLight};
+pub use track::Tracks;
 
 /// One directional light: the spherical Voronoi cell of `dir` with the map's radiance integrated over it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -114,8 +116,14 @@ pub struct LightSet {
     pub sampler: Option<Sampler>,
     /// The map they came from; `None` for hand-placed lights.
     pub environment: Option<EnvSummary>,
-    /// Unit directions, a copy of `lights[j].dir` packed for the lookup.
+    /// Unit directions the cell table was built for: `lights[j].dir` before [`turned`]
+    /// (`turn`) turned them.
+    ///
+    /// [`turned`]: LightSet::turned
     dirs: Vec<Vec3>,
+    /// The turn about +Y applied to `lights` since the table was built: degrees, and its
+    /// (sin, cos). A looked-up direction is turned back first.
+    turn: Option<(f32, (f32, f32))>,
     table: CellTable,
     /// CSR adjacency: `adj_ids[adj_offsets[j]..adj_offsets[j + 1]]`, ascending.
     adj_offsets: Vec<u32>,
@@ -177,6 +185,7 @@ impl LightSet {
                 CellTable::build(&dirs)
             },
             dirs,
+            turn: None,
             adj_offsets: Vec::new(),
             adj_ids: Vec::new(),
             adj_bits: Vec::new(),
@@ -291,7 +300,38 @@ impl LightSet {
     /// O(1): a cube-map texel lookup and an exact argmax over its few candidates.
     #[inline]
     pub fn cell_of(&self, dir: Vec3) -> u32 {
-        self.table.nearest(&self.dirs, dir)
+        self.table.nearest(&self.dirs, self.unturn(dir))
+    }
+
+    /// `dir` in the frame the cell table was built in (the set's turn undone).
+    #[inline]
+    fn unturn(&self, dir: Vec3) -> Vec3 {
+        match self.turn {
+            None => dir,
+            Some((_, (s, c))) => crate::envmap::rotate_y(dir, (-s, c)),
+        }
+    }
+
+    /// The set turned about the up axis (+Y) by `degrees` beyond its own turn, in the sense
+    /// of `[environment] rotation` (+90 moves what was seen along +Z to be seen along +X):
+    /// the environment turning rigidly (`[motion] kind = "environment"`). Each direction is
+    /// the sampled one turned by the total angle (libm's sine and cosine: the same bits on
+    /// every host); energies and solid angles are kept, since the cells turn with their lights.
+    /// `cell_of` turns the looked-up direction back and asks the table built for the sampled
+    /// directions, so a direction falls in the cell its unturned direction fell in when the
+    /// energies were integrated; the adjacency, which a rotation does not change, is kept.
+    pub fn turned(&self, degrees: f32) -> LightSet {
+        let total = self.turn.map_or(0.0, |t| t.0) + degrees;
+        let sc = libm::sincosf(total.to_radians());
+        let mut set = self.clone();
+        for (l, &d) in set.lights.iter_mut().zip(&self.dirs) {
+            l.dir = crate::envmap::rotate_y(d, sc);
+        }
+        set.turn = Some((total, sc));
+        if let Some(e) = &mut set.environment {
+            e.rotation_deg += degrees;
+        }
+        set
     }
 
     /// [`cell_of`](Self::cell_of) for a direction likely to lie near light `j`'s (a blocker of
@@ -299,16 +339,18 @@ impl LightSet {
     /// when `dir` lies in a cap around light j so small that no other light can be as near.
     #[inline]
     pub fn cell_of_near(&self, dir: Vec3, j: usize) -> u32 {
+        let dir = self.unturn(dir);
         if self.dirs[j].dot(dir) >= self.inner_cos[j] {
             j as u32
         } else {
-            self.cell_of(dir)
+            self.table.nearest(&self.dirs, dir)
         }
     }
 
     /// The nearest light by brute force over all lights (same rule as [`LightSet::cell_of`]);
     /// for tests and checks.
     pub fn cell_of_brute_force(&self, dir: Vec3) -> u32 {
+        let dir = self.unturn(dir);
         let mut best = 0u32;
         let mut best_dot = f32::NEG_INFINITY;
         for (k, d) in self.dirs.iter().enumerate() {

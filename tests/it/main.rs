@@ -24,6 +24,7 @@ mod interrupt;
 mod lights;
 mod maths;
 mod memory;
+mod motion;
 mod outputs;
 mod predict;
 mod punctual;
