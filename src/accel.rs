@@ -1304,6 +1304,33 @@ mod tests {
         );
     }
 
+    /// The scalar leaf kernel's hit for `mask` of the group at `base`, after checking that
+    /// the SSE2 and (where the CPU has it) AVX2 kernels give the same bits.
+    fn leaf_kernels<C: Cutout>(
+        accel: &Accel,
+        base: usize,
+        mask: u32,
+        ray: &Ray,
+        test: &C,
+        k: usize,
+    ) -> (f32, usize) {
+        let cut = accel.cut_with(test);
+        let scalar = leaf::hit_scalar(&accel.planes, base, mask, ray, &cut);
+        #[cfg(target_arch = "x86_64")]
+        {
+            let bitwise = |(t, i): (f32, usize)| (t.to_bits(), i);
+            // SAFETY: base + 24 lies within the padded planes.
+            let sse = unsafe { leaf::hit_sse2(&accel.planes, base, mask, ray, &cut) };
+            assert_eq!(bitwise(sse), bitwise(scalar), "ray {k}");
+            if is_x86_feature_detected!("avx2") {
+                // SAFETY: as above, and AVX2 was detected.
+                let avx = unsafe { leaf::hit_avx2(&accel.planes, base, mask, ray, &cut) };
+                assert_eq!(bitwise(avx), bitwise(scalar), "ray {k}");
+            }
+        }
+        scalar
+    }
+
     #[test]
     fn leaf_kernels_agree_with_obvhs_and_each_other_bit_for_bit() {
         // Rays aimed at points of a dense soup (so many hit, some on edges), each leaf group of
@@ -1342,23 +1369,10 @@ mod tests {
                     }
                 }
             }
-            let opaque = accel.cut_with(&Opaque);
-            let scalar = leaf::hit_scalar(&accel.planes, base, mask, &ray, &opaque);
+            let scalar = leaf_kernels(&accel, base, mask, &ray, &Opaque, k);
             assert_eq!(scalar.0.to_bits(), reference.to_bits(), "ray {k}");
             if scalar.0 < f32::INFINITY {
                 assert_eq!(accel.tris[scalar.1].intersect(&ray), scalar.0);
-            }
-            let bitwise = |(t, i): (f32, usize)| (t.to_bits(), i);
-            #[cfg(target_arch = "x86_64")]
-            {
-                // SAFETY: base + 24 lies within the padded planes.
-                let sse = unsafe { leaf::hit_sse2(&accel.planes, base, mask, &ray, &opaque) };
-                assert_eq!(bitwise(sse), bitwise(scalar), "ray {k}");
-                if is_x86_feature_detected!("avx2") {
-                    // SAFETY: as above, and AVX2 was detected.
-                    let avx = unsafe { leaf::hit_avx2(&accel.planes, base, mask, &ray, &opaque) };
-                    assert_eq!(bitwise(avx), bitwise(scalar), "ray {k}");
-                }
             }
             hits += usize::from(scalar.0 < f32::INFINITY);
         }
@@ -1499,20 +1513,12 @@ mod tests {
                     any_hit |= accel.tris[base + b].intersect(&ray) < f32::INFINITY;
                 }
             }
-            let bitwise = |(t, i): (f32, usize)| (t.to_bits(), i);
-            let scalar = leaf::hit_scalar(&accel.planes, base, mask, &ray, &cut);
-            assert_eq!(bitwise(scalar), bitwise(reference), "ray {k}");
-            #[cfg(target_arch = "x86_64")]
-            {
-                // SAFETY: base + 24 lies within the padded planes.
-                let sse = unsafe { leaf::hit_sse2(&accel.planes, base, mask, &ray, &cut) };
-                assert_eq!(bitwise(sse), bitwise(scalar), "ray {k}");
-                if is_x86_feature_detected!("avx2") {
-                    // SAFETY: as above, and AVX2 was detected.
-                    let avx = unsafe { leaf::hit_avx2(&accel.planes, base, mask, &ray, &cut) };
-                    assert_eq!(bitwise(avx), bitwise(scalar), "ray {k}");
-                }
-            }
+            let scalar = leaf_kernels(&accel, base, mask, &ray, &Stripes, k);
+            assert_eq!(
+                (scalar.0.to_bits(), scalar.1),
+                (reference.0.to_bits(), reference.1),
+                "ray {k}"
+            );
             hits += usize::from(scalar.0 < f32::INFINITY);
             passed += usize::from(any_hit && scalar.0 == f32::INFINITY);
         }
