@@ -10,7 +10,7 @@
 # For each model (every .glb and .gltf in --corpus, default ../shared/assets/corpus or $CORPUS)
 # and each map (default grace.hdr, rooitou_park_1k.hdr and studio_small_03_1k.hdr from
 # ../shared/assets or $ENVSHADOW_ASSETS) one `envshadow bench --scene MODEL --env MAP --csv`:
-# the model auto-framed (Animation::model_turntable), frame 0, one process, the methods
+# the model auto-framed (Animation::of_model), frame 0, one process, the methods
 # interleaved round robin over --repeat renders of the frame and the median time of each kept
 # (bench's rule), then each method rendered once more with --validate (untimed: --accuracy).
 # A model envshadow cannot load is a row saying why, not a gap in the table.

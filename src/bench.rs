@@ -189,7 +189,7 @@ pub fn is_model(scene: &Path) -> bool {
 }
 
 /// [`load`] for a spec or a glTF model (an auto-framed turntable,
-/// [`Animation::model_turntable`]), lit by `env` when given (`sky`: the built-in sky).
+/// [`Animation::of_model`]), lit by `env` when given (`sky`: the built-in sky).
 pub fn load_scene(
     scene: &Path,
     env: Option<&Path>,
@@ -200,7 +200,7 @@ pub fn load_scene(
         ..Default::default()
     };
     let mut anim = if is_model(scene) {
-        Animation::model_turntable(scene, None, &flags)?
+        Animation::of_model(scene, None, &flags)?
     } else {
         Animation::load(scene, &flags)?
     };
@@ -317,9 +317,9 @@ fn frame_accel(anim: &Animation, inputs: &Inputs, frame: usize) -> Result<Accel>
     Ok(match anim.scene_transform(frame, pivot) {
         Some(m) => {
             let posed = inputs.scene.transformed(m);
-            Accel::build(&posed.positions, &posed.triangles)
+            posed.accel()
         }
-        None => Accel::build(&inputs.scene.positions, &inputs.scene.triangles),
+        None => inputs.scene.accel(),
     })
 }
 

@@ -136,6 +136,10 @@ impl TileBuffers {
                     &mut self.above[i * w..(i + 1) * w],
                 ),
             }
+            if ctx.has_points() {
+                // Point and spot lights: from this point, whatever the normal.
+                ctx.point_lights_above(&s, &mut self.above[i * w..(i + 1) * w]);
+            }
             self.last_begun = Some(i);
         }
         i

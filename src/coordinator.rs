@@ -4,7 +4,8 @@
 //! thread that writes them while rendering goes on. Memory stays bounded by the frames in
 //! flight and the channel's capacity.
 
-use std::path::PathBuf;
+use std::borrow::Cow;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Mutex, OnceLock};
 use std::time::Instant;
@@ -15,14 +16,15 @@ use rayon::prelude::*;
 
 use crate::accel::Accel;
 use crate::anim::{Animation, EnvSource, MotionKind, SceneSource};
+use crate::background::Backdrop;
 use crate::cancel::Cancel;
 use crate::context::FrameContext;
 use crate::driver::{FrameWork, Slot};
 use crate::envmap::EnvMap;
 use crate::error::{Interrupted, Result, input_error};
 use crate::film::{Counts, Film};
-use crate::history::{Carried, CarryPatch};
-use crate::lights::LightSet;
+use crate::history::{Carried, CarryPatch, Edges};
+use crate::lights::{LightSet, Tracks};
 use crate::output;
 use crate::output::lock::FolderLock;
 use crate::output::record::{FrameRecord, SettingsRecord};
@@ -230,9 +232,13 @@ pub fn exr_header<'a>(
 
 /// An animation's inputs, loaded once per run.
 pub struct Inputs {
+    /// The scene as the spec asks for it: stood up, its catchers marked, a ground added
+    /// ([`Animation::prepare_scene`]).
     pub scene: Scene,
     pub env: EnvMap,
     pub lights: LightSet,
+    /// What rays that leave the scene see.
+    pub backdrop: Backdrop,
     /// The BVH of the unposed scene, built by the first frame that needs it: frames whose
     /// geometry does not move (orbit turntables, still cameras) share one build per run.
     still: OnceLock<Accel>,
@@ -245,14 +251,28 @@ impl Inputs {
             scene,
             env,
             lights,
+            backdrop: Backdrop::Environment,
             still: OnceLock::new(),
+        }
+    }
+
+    /// These inputs with rays that leave the scene seeing `backdrop`.
+    pub fn with_backdrop(self, backdrop: Backdrop) -> Inputs {
+        Inputs { backdrop, ..self }
+    }
+
+    /// The lights of `frame`: the sampled set, turned by the environment's turn at that frame
+    /// (`[motion] kind = "environment"`).
+    pub fn lights_at(&self, anim: &Animation, frame: usize) -> Cow<'_, LightSet> {
+        match anim.motion.environment_degrees(frame) {
+            None => Cow::Borrowed(&self.lights),
+            Some(degrees) => Cow::Owned(self.lights.turned(degrees)),
         }
     }
 
     /// The unposed scene's BVH, built once.
     pub fn still_accel(&self) -> &Accel {
-        self.still
-            .get_or_init(|| Accel::build(&self.scene.positions, &self.scene.triangles))
+        self.still.get_or_init(|| self.scene.accel())
     }
 
     /// Loads the scene and environment and samples the lights. Each file is counted against
@@ -270,10 +290,17 @@ impl Inputs {
             SceneSource::File(p) => Scene::load_within(p, &mut budget)
                 .with_context(|| format!("while loading {}", anim.spec_path.display()))?,
         };
+        let scene = anim.prepare_scene(scene)?;
         // A spin poses the scene every frame: refused here if that could overflow (found by
         // fuzzing the posed scene: tests/data/fuzz/posed_scene/huge-pivot).
-        if anim.motion == MotionKind::Spin {
-            let pivot = anim.pivot(&scene)?;
+        for s in anim.motion.segments() {
+            if s.kind != MotionKind::Spin {
+                continue;
+            }
+            let pivot = match s.pivot {
+                Some(p) => scene.to_local(p),
+                None => anim.camera(&scene, 0)?.target,
+            };
             if let Some(why) = scene.turn_problem(pivot) {
                 crate::bail_input!(&anim.spec_path, "[motion] kind = \"spin\": {why}");
             }
@@ -286,9 +313,43 @@ impl Inputs {
         let env = env
             .with_rotation(anim.env_rotation_deg)
             .with_intensity(anim.env_intensity)?;
-        let lights = LightSet::build(&env, anim.lights.count, anim.lights.sampler)?;
-        Ok(Inputs::new(scene, env, lights))
+        let mut lights = LightSet::build(&env, anim.lights.count, anim.lights.sampler)?;
+        if anim.lights.scene_lights {
+            lights = lights.with_scene_lights(&scene.lights, Path::new(&scene.source))?;
+        }
+        let r = &anim.render;
+        let backdrop = Backdrop::new(r.background, r.background_color, r.background_blur, &env)?;
+        Ok(Inputs::new(scene, env, lights).with_backdrop(backdrop))
     }
+}
+
+/// What became of the scene file's lights, for the user: lit by them, or ignored.
+pub fn scene_lights_note(anim: &Animation, scene: &Scene) -> Option<String> {
+    if scene.lights.is_empty() {
+        return None;
+    }
+    let names: Vec<String> = scene
+        .lights
+        .iter()
+        .map(|l| format!("{} '{}'", l.kind.name(), l.name))
+        .collect();
+    let n = scene.lights.len();
+    let (lights, join) = if n == 1 {
+        ("light", "joins")
+    } else {
+        ("lights", "join")
+    };
+    Some(if anim.lights.scene_lights {
+        format!(
+            "the scene file's {n} {lights} {join} the map's: {}",
+            names.join(", ")
+        )
+    } else {
+        format!(
+            "the scene file's {n} {lights} ignored ([lights] scene_lights = false): {}",
+            names.join(", ")
+        )
+    })
 }
 
 /// Frames rendered at once (see `render_animation`); the memory estimate counts them.
@@ -427,7 +488,7 @@ fn render_tile_list(
     let (scene, accel) = match anim.scene_transform(frame, pivot) {
         Some(m) => {
             posed = inputs.scene.transformed(m);
-            built = Accel::build(&posed.positions, &posed.triangles);
+            built = posed.accel();
             (&posed, &built)
         }
         None => (&inputs.scene, inputs.still_accel()),
@@ -435,11 +496,16 @@ fn render_tile_list(
     let camera = anim.camera(&inputs.scene, frame)?;
     let samples = anim.render.samples();
     let side = samples.k;
-    let ctx =
-        FrameContext::new(scene, accel, camera, &inputs.lights, &inputs.env).with_samples(samples);
+    let lights = inputs.lights_at(anim, frame);
+    let ctx = FrameContext::new(scene, accel, camera, &lights, &inputs.env)
+        .with_samples(samples)
+        .with_backdrop(&inputs.backdrop)
+        .with_environment_turn(anim.motion.environment_degrees(frame));
+    let prev_lights;
     let prev = match temporal.prev {
         Some(carried) => {
             let prev_camera = anim.camera(&inputs.scene, carried.frame)?;
+            prev_lights = inputs.lights_at(anim, carried.frame);
             Some(prev_view(
                 anim,
                 carried,
@@ -447,7 +513,7 @@ fn render_tile_list(
                 prev_camera,
                 &camera,
                 pivot,
-                &inputs.lights,
+                (&prev_lights, &lights),
             ))
         }
         None => None,
@@ -462,16 +528,24 @@ fn render_tile_list(
         shadows: &shadows,
         validate: anim.render.validate && !temporal.no_validate,
     };
-    // A spinning object turns the lights relative to itself: keep the edges of each pixel's
-    // shadow in light space, which the turn may carry across a light.
-    let edges = anim.motion == MotionKind::Spin;
+    // A spinning object or a turning environment turns the lights relative to the scene:
+    // keep the edges of each pixel's shadow in light space, which the turn may carry across
+    // a light.
+    let segment = anim.motion.segment_at(frame);
+    let tracks = (temporal.carry && segment.kind == MotionKind::Environment)
+        .then(|| Tracks::new(&lights, segment.degrees_per_frame));
+    let edges = match (&tracks, segment.kind) {
+        (Some(t), _) => Edges::Track(t),
+        (None, MotionKind::Spin) => Edges::Adjacent,
+        _ => Edges::None,
+    };
     let mut carried = temporal.carry.then(|| {
         Carried::new(
             frame,
             anim.render.width,
             anim.render.height,
             ctx.words(),
-            edges,
+            edges.kept(),
         )
     });
     // Shared phases (the grid's coarse levels) run over every tile the rendered tiles' halos
@@ -524,8 +598,8 @@ fn render_tile_list(
                 let r = tasks.time(|| {
                     with_slot(|slot| {
                         let r = work.tile(t.rect, slot, &lattice);
-                        let patch = carry
-                            .then(|| CarryPatch::record(&slot.bufs, &inputs.lights, edges, side));
+                        let patch =
+                            carry.then(|| CarryPatch::record(&slot.bufs, &lights, edges, side));
                         (r, patch)
                     })
                 });
@@ -549,7 +623,8 @@ fn render_tile_list(
         anim.render.height,
         work.validate,
         side > 1,
-    );
+    )
+    .with_alpha(inputs.backdrop.is_transparent());
     for (r, patch) in &results {
         film.add(r);
         if let (Some(c), Some(p)) = (&mut carried, patch) {
@@ -561,7 +636,7 @@ fn render_tile_list(
     let stats = FrameStats {
         frame,
         method: anim.render.method.name().to_string(),
-        lights: inputs.lights.len(),
+        lights: lights.len(),
         width: anim.render.width,
         height: anim.render.height,
         spp: anim.render.spp,
@@ -645,6 +720,22 @@ pub fn render_animation(
     for w in &inputs.scene.warnings {
         progress.warning(w);
     }
+    if let Some(note) = scene_lights_note(anim, &inputs.scene) {
+        progress.note(&note);
+    }
+    if inputs.scene.added_ground.is_some() {
+        let catcher = inputs.scene.catcher.last().copied().unwrap_or(false);
+        progress.note(&format!(
+            "{} has no ground under the model: added {} (`[scene] ground = \"none\"` or \
+             --ground none leaves it out)",
+            inputs.scene.source,
+            if catcher {
+                "a shadow-catcher ground"
+            } else {
+                "a grey ground"
+            }
+        ));
+    }
     opts.cancel.check()?;
     std::fs::create_dir_all(dir)
         .with_context(|| format!("creating output folder {}", dir.display()))?;
@@ -674,7 +765,7 @@ pub fn render_animation(
     };
     // With temporal prediction, frames come in chains from a key frame, each frame reading
     // its predecessor; a chain's frames outside this run are rendered, not written.
-    let work = chains(&todo, anim.render.temporal, anim.render.keyframe);
+    let work = chains(&todo, anim.render.temporal, |f| anim.key_frame_of(f));
     let warmup: usize = work
         .iter()
         .map(|c| c.frames.iter().filter(|f| !f.1).count())

@@ -51,7 +51,9 @@ pub struct Exported {
 }
 
 /// The settings an export reads; the others would change nothing it writes.
-const READS: [&str; 8] = [
+const READS: [&str; 10] = [
+    "up",
+    "ground",
     "count",
     "sampler",
     "width",
@@ -165,7 +167,10 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
         Ok(())
     })?;
 
-    inputs.lights.write_json(&dir.join("lights.json"))?;
+    // The frame's lights: turned with the environment where it turns.
+    inputs
+        .lights_at(&anim, args.frame)
+        .write_json(&dir.join("lights.json"))?;
     let meta = json!({
         "spec": anim.spec_path.display().to_string(),
         "frame": args.frame,

@@ -249,6 +249,7 @@ mod tests {
                 albedo: Vec3::splat(0.1 * s),
                 dir: Vec3::new(0.0, -s, 1.0).normalize(),
                 hit: true,
+                catcher: seed % 2 == 1,
             },
             bits: [
                 vec![0xf0f0 ^ k, 0x3 << k],

@@ -7,6 +7,8 @@
 //!   [`lights`] reduces a map to N directional lights with O(1) cell lookup.
 //! - [`accel`] wraps the BVH; [`camera`] makes primary rays.
 //! - [`predict`] decides each (pixel, light) visibility: traced or predicted.
+//! - [`background`] is what rays leaving the scene see; [`catcher`] shades the background's
+//!   and shadow catchers' share of a pixel (its alpha too).
 //! - [`tile`] splits a frame; [`frame`] renders one tile; [`film`] assembles tiles;
 //!   [`coordinator`] schedules frames × tiles over threads and streams them to the writer.
 //! - [`output`] writes EXR/PNG/CSV/JSON atomically; [`anim`] parses animation specs;
@@ -17,12 +19,14 @@
 
 pub mod accel;
 pub mod anim;
+pub mod background;
 pub mod bench;
 pub mod bits;
 pub mod blockers;
 pub mod buffers;
 pub mod camera;
 pub mod cancel;
+pub mod catcher;
 pub mod context;
 pub mod coordinator;
 pub mod driver;
@@ -36,6 +40,7 @@ pub mod history;
 pub mod lattice;
 pub mod lights;
 pub mod limits;
+pub mod motion;
 pub mod offset;
 pub mod output;
 pub mod predict;

@@ -316,6 +316,12 @@ const READ_VERTEX: u128 = 160;
 const READ_INDEX: u128 = 24;
 /// Bytes per texel of a decoded texture: linear RGB f32 and its mip pyramid (a third more).
 const TEXTURE_TEXEL: u128 = 16;
+/// Bytes per texel of a base colour texture's alpha, kept (level 0 only, f32) when a
+/// non-opaque material uses it.
+const TEXTURE_ALPHA_TEXEL: u128 = 4;
+/// Bytes per vertex of `COLOR_0` alpha, kept for every vertex once a non-opaque material's
+/// primitive has one.
+const VERTEX_ALPHA: u128 = 4;
 /// Bytes per texel while a texture is decoded, beyond what it keeps: the decoder's pixels (up
 /// to 16 for RGBA f32) and the rows of the pyramid's first halving (6).
 const TEXTURE_DECODE_TEXEL: u128 = 24;
@@ -359,6 +365,13 @@ pub struct SceneSize {
     pub textures: u64,
     pub texels: u64,
     pub largest_texels: u64,
+    /// Texels of the images whose alpha is kept (non-opaque materials' base colour).
+    pub alpha_texels: u64,
+    /// Some non-opaque material's primitive has `COLOR_0` alpha: every vertex keeps one.
+    pub vertex_alpha: bool,
+    /// Lights the file places (`KHR_lights_punctual`): each a bit of every sample's bitsets
+    /// when they join the map's.
+    pub lights: u64,
 }
 
 /// An upper estimate of a render's memory, by what holds it.
@@ -394,6 +407,8 @@ impl Estimate {
 pub struct Budget {
     limit: u64,
     render: u128,
+    /// The render's request, if any: the scene's own lights are added to its lights.
+    request: Option<Request>,
     /// Posed copies of the scene alive at once (a spin: one per frame in flight).
     posed: u64,
     /// BVHs alive at once: the still scene's, or each posed copy's.
@@ -411,6 +426,7 @@ impl Default for Budget {
         Budget {
             limit: MAX_MEMORY_BYTES,
             render: 0,
+            request: None,
             posed: 0,
             accels: 1,
             scene: SceneSize::default(),
@@ -428,6 +444,7 @@ impl Budget {
         let threads = u128::from(worker_threads(request.threads)) + OTHER_THREADS;
         Budget {
             render: estimate_bytes(request) + threads * THREAD_BYTES + PROCESS_BYTES,
+            request: Some(*request),
             running: PROCESS_BYTES,
             posed: posed as u64,
             accels: (posed as u64).max(1),
@@ -444,8 +461,8 @@ impl Budget {
     /// The estimate of what has been counted so far.
     pub fn estimate(&self) -> Estimate {
         let s = &self.scene;
-        let arrays =
-            u128::from(s.vertices) * SCENE_VERTEX + u128::from(s.triangles) * SCENE_TRIANGLE;
+        let vertex = SCENE_VERTEX + if s.vertex_alpha { VERTEX_ALPHA } else { 0 };
+        let arrays = u128::from(s.vertices) * vertex + u128::from(s.triangles) * SCENE_TRIANGLE;
         let read = u128::from(s.largest_vertices) * READ_VERTEX
             + u128::from(s.largest_indices) * READ_INDEX;
         let decode = u128::from(s.largest_texels) * TEXTURE_DECODE_TEXEL;
@@ -454,10 +471,26 @@ impl Budget {
         Estimate {
             scene: arrays * (1 + u128::from(self.posed)),
             bvh: u128::from(s.triangles) * BVH_TRIANGLE * u128::from(self.accels),
-            textures: u128::from(s.texels) * TEXTURE_TEXEL,
+            textures: u128::from(s.texels) * TEXTURE_TEXEL
+                + u128::from(s.alpha_texels) * TEXTURE_ALPHA_TEXEL,
             map: u128::from(self.map_texels) * MAP_TEXEL,
-            render: self.render,
+            render: self.render + self.scene_lights_bytes(),
             loading: scene_loading.max(map_loading),
+        }
+    }
+
+    /// What the scene file's lights add to the render's own estimate: their bits in every
+    /// sample's bitsets and their per-light tables.
+    fn scene_lights_bytes(&self) -> u128 {
+        match self.request {
+            Some(r) if self.scene.lights > 0 => {
+                let more = Request {
+                    lights: r.lights.saturating_add(self.scene.lights as usize),
+                    ..r
+                };
+                estimate_bytes(&more) - estimate_bytes(&r)
+            }
+            _ => 0,
         }
     }
 
@@ -696,6 +729,17 @@ mod tests {
         b.expect_map(8 << 20, 1000);
         let e = b.estimate();
         assert_eq!(e.textures, (3 << 20) * TEXTURE_TEXEL);
+        // An image whose alpha a cut-out material keeps counts its alpha too.
+        let mut cut = b.clone();
+        cut.scene.alpha_texels = 1 << 20;
+        let with_alpha = cut.estimate().textures;
+        assert_eq!(with_alpha, e.textures + (1 << 20) * TEXTURE_ALPHA_TEXEL);
+        // Vertex alpha: four bytes more per vertex.
+        let mut va = b.clone();
+        va.scene.vertices = 1000;
+        let without = va.estimate().scene;
+        va.scene.vertex_alpha = true;
+        assert_eq!(va.estimate().scene, without + 1000 * VERTEX_ALPHA);
         assert_eq!(e.map, (8 << 20) * MAP_TEXEL);
         // Loading: the larger of decoding the largest image and decoding or sampling the map.
         let image = (2 << 20) * TEXTURE_DECODE_TEXEL;

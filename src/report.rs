@@ -348,7 +348,8 @@ fn scan_frame(dir: &Path, out: &Path, frame: usize, gif: bool) -> Scan {
     let png = frame_path(dir, frame, "png");
     match image::open(&png) {
         Ok(img) => {
-            let img = img.to_rgb8();
+            // A transparent frame is shown over a checkerboard.
+            let img = output::png::over_checkerboard(&img.to_rgba8(), 8);
             let name = format!("thumb_{frame:04}.jpg");
             match save_jpeg(&out.join(&name), &scaled(&img, THUMB_WIDTH)) {
                 Ok(()) => scan.thumb = Some(name),

@@ -15,10 +15,13 @@
 use std::fmt::Debug;
 use std::path::{Path, PathBuf};
 
+use crate::background::{Background, Rgb, check_rgb};
 use crate::error::{Result, input_error};
 use crate::lights::Sampler;
 use crate::predict::{FloodTo, Method};
 use crate::samples::{Filter, Samples};
+use crate::scene::Up;
+use crate::scene::ground::Ground;
 use crate::view::View;
 
 /// A setting's value as flags, specs and messages spell it.
@@ -35,7 +38,9 @@ macro_rules! value_by_display {
         }
     )*};
 }
-value_by_display!(u32, usize, bool, f32, Method, FloodTo, Filter, View);
+value_by_display!(
+    u32, usize, bool, f32, Method, FloodTo, Filter, Background, Rgb, Ground, Up, View
+);
 
 impl Value for Sampler {
     fn show(&self) -> String {
@@ -60,7 +65,9 @@ macro_rules! deserialize_by_from_str {
         }
     )*};
 }
-deserialize_by_from_str!(Method, FloodTo, Sampler, Filter, View);
+deserialize_by_from_str!(
+    Method, FloodTo, Sampler, Filter, Background, Ground, Up, View
+);
 
 /// Where a layer of settings came from, so a message names a value as the user wrote it.
 #[derive(Clone, Copy, Debug)]
@@ -311,6 +318,14 @@ fn check_tile(v: &u32) -> std::result::Result<(), String> {
     }
 }
 
+fn check_blur(v: &f32) -> std::result::Result<(), String> {
+    if v.is_finite() && (1.0..=90.0).contains(v) {
+        Ok(())
+    } else {
+        Err("must be 1 to 90 degrees".into())
+    }
+}
+
 /// Highest frame rate: a turntable is watched, not sampled.
 pub const MAX_FPS: f32 = 240.0;
 
@@ -338,6 +353,11 @@ settings! {
             check any;
         /// Light sampler: sis (structured importance sampling, the default) or median-cut.
         sampler: Sampler = Sampler::Sis, flag "sampler" [value_name = "NAME"], check any;
+        /// Light the scene with the lights its glTF file places (KHR_lights_punctual:
+        /// directional, point and spot) besides the map's (default true); false ignores them.
+        scene_lights: bool = true,
+            flag "scene-lights" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
+                default_missing_value = "true"], check any;
     }
 }
 
@@ -419,6 +439,19 @@ settings! {
         /// starting between key frames first renders, without writing, the frames back to the
         /// key frame before it.
         keyframe: u32 = 0, flag "keyframe" [value_name = "N"], check check_keyframe;
+        /// What rays that leave the scene see: environment (the default: the map, as it
+        /// lights the scene), transparent (alpha 0: the EXR's RGBA is premultiplied, the PNG
+        /// has straight alpha), color (--background-color) or blurred (the map blurred by
+        /// --background-blur). The lights always come from the map.
+        background: Background = Background::Environment,
+            flag "background" [value_name = "KIND"], check any;
+        /// With --background color: the colour, linear RGB (default 0.18,0.18,0.18).
+        background_color: Rgb = Rgb([0.18; 3]),
+            flag "background-color" [value_name = "R,G,B"], check check_rgb;
+        /// With --background blurred: the blur's standard deviation in degrees, 1 to 90
+        /// (default 10).
+        background_blur: f32 = 10.0,
+            flag "background-blur" [value_name = "DEGREES"], check check_blur;
         /// Exposure of the PNG previews, a multiplier applied before the view transform (the
         /// EXR keeps linear radiance; default 1).
         exposure: f32 = 1.0, flag "exposure" [value_name = "X"], check check_finite;
@@ -430,6 +463,25 @@ settings! {
         tile: u32 = 64, flag "tile" [value_name = "N"], check check_tile;
         /// Worker threads (0, the default: one per core).
         threads: usize = 0, flag "threads" [value_name = "N"], check any;
+    }
+}
+
+settings! {
+    /// What is done to the loaded scene (`[scene]`, beside the file it comes from).
+    ["scene"] SceneSettings, SceneLayer, SceneSweep {
+        /// The file's up axis: y (glTF's, the default) or z (the scene, its cameras included,
+        /// is turned so that +Z points up, before anything else reads it).
+        up: Up = Up::Y, flag "up" [value_name = "AXIS"], check any;
+        /// A ground below the model: auto (the default: when the scene has no surface the model
+        /// stands on), none, or always. The ground is a disc at the model's lowest point, 32
+        /// bounding-sphere radii wide, diffuse grey (albedo 0.5) or, over a transparent
+        /// background or with --shadow-catcher, a shadow catcher.
+        ground: Ground = Ground::Auto, flag "ground" [value_name = "WHEN"], check any;
+        /// Make the added ground a shadow catcher over any background (it always is over a
+        /// transparent one): it shows only the shadows on it.
+        shadow_catcher: bool = false,
+            flag "shadow-catcher" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
+                default_missing_value = "true"], check any;
     }
 }
 

@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use crate::lights::{Light, LightSet};
+use crate::lights::{Light, LightSet, PointLight};
 
 /// Light directions and energies as padded flat arrays (length a multiple of 64, zero lights at
 /// the end), so shading runs over 8 lights at a time without bounds checks.
@@ -19,8 +19,10 @@ pub struct ShadeLights {
 }
 
 impl ShadeLights {
+    /// The set's directional lights, then zero lights in the point and spot lights' places and
+    /// up to a whole word (their light comes from [`point_lights`]).
     pub fn new(lights: &LightSet) -> ShadeLights {
-        let n = lights.lights.len().div_ceil(64) * 64;
+        let n = lights.len().div_ceil(64) * 64;
         let pad = |f: &dyn Fn(&Light) -> f32| {
             let mut v: Vec<f32> = lights.lights.iter().map(f).collect();
             v.resize(n, 0.0);
@@ -68,6 +70,24 @@ pub fn radiance(sl: &ShadeLights, n: Vec3, albedo: Vec3, bits: &[u64]) -> Vec3 {
 #[inline]
 pub fn reflect(albedo: Vec3, sum: Vec3) -> Vec3 {
     albedo * std::f32::consts::FRAC_1_PI * sum
+}
+
+/// The cosine-weighted irradiance at point `p` of normal `n` of the point and spot lights whose bits are
+/// set in `bits` (light k of `points` has bit `first + k`): Σ E_k · max(0, N·ω_k), the
+/// inverse-square, range and cone falloff in E_k ([`PointLight::at`]). What [`reflect`] turns
+/// into Lambertian radiance, as [`light_sum`] is for the directional lights; in light order,
+/// one light at a time (a scene file places a handful).
+pub fn point_lights(points: &[PointLight], first: usize, p: Vec3, n: Vec3, bits: &[u64]) -> Vec3 {
+    let mut sum = Vec3::ZERO;
+    for (k, l) in points.iter().enumerate() {
+        if !crate::bits::get(bits, first + k) {
+            continue;
+        }
+        if let Some(i) = l.at(p) {
+            sum += i.irradiance * n.dot(i.dir).max(0.0);
+        }
+    }
+    sum
 }
 
 /// Whether two normals are the same bits (so every kernel gives them the same answer).
@@ -266,14 +286,7 @@ pub fn above_both_horizons(sl: &ShadeLights, n: Vec3, ng: Vec3, out: &mut [u64])
 /// # Safety
 /// `x`, `y`, `z` hold at least `out.len() * 64` values.
 #[cfg(target_arch = "x86_64")]
-unsafe fn above_horizon_sse2(
-    x: &[f32],
-    y: &[f32],
-    z: &[f32],
-    n: Vec3,
-    h: f32,
-    out: &mut [u64],
-) {
+unsafe fn above_horizon_sse2(x: &[f32], y: &[f32], z: &[f32], n: Vec3, h: f32, out: &mut [u64]) {
     use std::arch::x86_64::*;
     unsafe {
         let (nx, ny, nz) = (_mm_set1_ps(n.x), _mm_set1_ps(n.y), _mm_set1_ps(n.z));
@@ -300,14 +313,7 @@ unsafe fn above_horizon_sse2(
 /// As [`above_horizon_sse2`], on a CPU with AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn above_horizon_avx2(
-    x: &[f32],
-    y: &[f32],
-    z: &[f32],
-    n: Vec3,
-    h: f32,
-    out: &mut [u64],
-) {
+unsafe fn above_horizon_avx2(x: &[f32], y: &[f32], z: &[f32], n: Vec3, h: f32, out: &mut [u64]) {
     use std::arch::x86_64::*;
     unsafe {
         let (nx, ny, nz) = (

@@ -143,6 +143,10 @@ pub struct AssembleArgs {
     /// SHA-256 — and on stderr why. What scripts/farm.sh and slurm.sh re-run.
     #[arg(long, conflicts_with = "no_report")]
     pub pending: bool,
+    /// Also encode DIR/video.mp4 once every frame is assembled (as `envshadow video DIR`);
+    /// a plan made with `[output] video` or `--video` asks for it without this flag.
+    #[arg(long, conflicts_with = "pending")]
+    pub video: bool,
 }
 
 #[derive(Args, Debug)]
@@ -176,8 +180,14 @@ pub struct ReportArgs {
 
 #[derive(Args, Debug)]
 pub struct RenderArgs {
-    /// The animation spec, e.g. anims/shapes-turntable.toml.
+    /// The animation spec, e.g. anims/shapes-turntable.toml; or a glTF model (.glb, .gltf)
+    /// for a default turntable of it: 72 frames orbiting the model, auto-framed, built-in
+    /// sky (or --env), a ground if it has none, 640x480 at 4 spp, into out/<model name>/.
     pub spec: PathBuf,
+    /// With a model instead of a spec: light it with this lat-long map (.exr, .hdr) instead
+    /// of the built-in sky.
+    #[arg(long, value_name = "MAP")]
+    pub env: Option<PathBuf>,
     #[command(flatten)]
     pub flags: AnimFlags,
     /// Skip frames whose EXR and PNG already exist in the output folder.
@@ -420,6 +430,10 @@ fn table_command(args: TableArgs, talk: Talk) -> Result<()> {
 
 fn plan(args: PlanArgs, talk: Talk) -> Result<()> {
     let anim = Animation::load(&args.spec, &args.flags)?;
+    // The video is encoded where the jobs are assembled: say so before any job runs.
+    if anim.output.video {
+        envshadow::video::check_ffmpeg()?;
+    }
     let jobs = envshadow::farm::write_plan(&anim, &args.spec, args.jobs, args.by)?;
     // The job lines echo jobs.txt: shown unless -q.
     if talk.level() >= Level::Normal {
@@ -455,6 +469,10 @@ fn assemble(args: AssembleArgs, talk: Talk) -> Result<()> {
     }
     let start = Instant::now();
     let done = envshadow::farm::assemble::assemble(&args.dir)?;
+    let video_fps = done.video_fps.or(args.video.then(|| {
+        envshadow::video::recorded_fps(&args.dir)
+            .unwrap_or(envshadow::settings::Output::default().fps)
+    }));
     // The problems are what the error below refers to: printed even with -q.
     for p in &done.problems {
         say(p);
@@ -476,6 +494,20 @@ fn assemble(args: AssembleArgs, talk: Talk) -> Result<()> {
             ),
         ));
     }
+    if let Some(fps) = video_fps.filter(|_| done.written > 0) {
+        let v = envshadow::video::write_video(&args.dir, fps, None).with_context(|| {
+            format!(
+                "the frames are assembled, but not the video (retry with envshadow video {})",
+                args.dir.display()
+            )
+        })?;
+        talk.info(&format!(
+            "video: {} ({} frames at {} fps)",
+            v.path.display(),
+            v.frames,
+            v.fps
+        ));
+    }
     if !args.no_report && done.written > 0 {
         envshadow::report::write_report(&args.dir)?;
     }
@@ -483,7 +515,16 @@ fn assemble(args: AssembleArgs, talk: Talk) -> Result<()> {
 }
 
 fn render(args: RenderArgs, talk: Talk) -> Result<()> {
-    let anim = Animation::load(&args.spec, &args.flags)?;
+    let anim = if envshadow::anim::is_model(&args.spec) {
+        Animation::of_model(&args.spec, args.env.as_deref(), &args.flags)?
+    } else if args.env.is_some() {
+        return Err(input_error(
+            "--env",
+            "applies to a model (envshadow render model.glb); a spec names its map in [environment]",
+        ));
+    } else {
+        Animation::load(&args.spec, &args.flags)?
+    };
     let selection = match (args.job, args.of, &args.tiles) {
         (Some(index), Some(of), _) => Some(envshadow::farm::JobSelection::Planned {
             index,

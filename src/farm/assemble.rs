@@ -36,6 +36,8 @@ pub struct Assembled {
     pub problems: Vec<String>,
     /// The expected jobs that owe frames (in plan order): what a re-run must render.
     pub pending: Vec<Job>,
+    /// The plan asked for a video (`[output] video`) at this frame rate.
+    pub video_fps: Option<f32>,
 }
 
 /// A valid job folder.
@@ -260,6 +262,7 @@ fn examine(dir: &Path, write: bool) -> Result<Assembled> {
     let mut result = Assembled {
         frames: frames.len(),
         jobs: expected.len(),
+        video_fps: plan_file.as_ref().and_then(|p| p.video_fps),
         ..Default::default()
     };
     let stats_path = dir.join("stats.csv");
@@ -286,6 +289,7 @@ fn examine(dir: &Path, write: bool) -> Result<Assembled> {
                 settings.validate,
                 settings.spp > 1,
             )
+            .with_alpha(settings.alpha)
         });
         let mut covered = vec![false; grid.len()];
         let mut counts = Counts::default();

@@ -4,7 +4,7 @@
 //! |---|---|
 //! | `job.json` | the manifest: format, build identity, host, settings fingerprint, frame and tile grid, the plan it belongs to, the job's frames and tiles |
 //! | `lights.json` | the lights, as a one-process render writes them |
-//! | `tiles_0003.exr` | frame 3's pixels of the job's tiles, over the tiles' bounding rectangle (float channels `R G B rays visible`, with validation also `wrong ref.R ref.G ref.B`, with samples per pixel `coverage`) |
+//! | `tiles_0003.exr` | frame 3's pixels of the job's tiles, over the tiles' bounding rectangle (float channels `R G B rays visible`, with validation also `wrong ref.R ref.G ref.B`, with samples per pixel `coverage`, over a transparent background `A`) |
 //! | `tiles_0003.json` | frame 3's statistics for those tiles (counts, thread-seconds, camera) and the EXR's size and SHA-256; written after the EXR, so it marks the frame done |
 //!
 //! Every file is published atomically (`crate::output`), so a crashed or duplicated attempt
@@ -54,6 +54,10 @@ pub struct Settings {
     /// before samples per pixel: 1).
     #[serde(default = "one")]
     pub spp: u32,
+    /// A transparent background: tile images carry `A` (absent in manifests written before
+    /// backgrounds: opaque).
+    #[serde(default)]
+    pub alpha: bool,
     /// The run's frames (for an explicit job: its own).
     pub frames: FrameSet,
     pub alignment: usize,
@@ -78,6 +82,7 @@ impl Settings {
             fps: anim.output.fps,
             validate: anim.render.validate,
             spp: anim.render.spp,
+            alpha: anim.render.background == crate::background::Background::Transparent,
             frames: anim.frames.clone(),
             alignment: anim.frame_alignment(),
             record: anim.settings_record()?.lines,

@@ -1,5 +1,5 @@
 //! EXR frames as Nuke, Blender and OpenImageIO read them: one part, the film's channels
-//! ([`Channel`](crate::film::Channel): beauty `R G B`, depth `Z`, `N.X N.Y N.Z`, `albedo.R albedo.G albedo.B`, the
+//! ([`Channel`](crate::film::Channel): beauty `R G B A` (premultiplied; alpha 1 over an opaque background), depth `Z`, `N.X N.Y N.Z`, `albedo.R albedo.G albedo.B`, the
 //! shadow method's `shadow.rays`, `shadow.visible`, `shadow.wrong`, `shadow.coverage`), and a
 //! header with the standard attributes a compositor uses — `worldToCamera` and `worldToNDC`
 //! (OpenEXR's conventions, see [`FrameHeader`]), `framesPerSecond`, `chromaticities`

@@ -134,6 +134,7 @@ fn encode_files(
         film.width,
         film.height,
         &film.beauty,
+        film.alpha.as_deref(),
         format.exposure,
         format.view,
     )?;

@@ -71,6 +71,24 @@ fn queue_predicted(sc: &mut Scratch) {
     bits::for_each(&sc.queued, |j| sc.queue.push(j as u32));
 }
 
+/// [`correct`] that floods only into lights outside `closed` (`closed` ⊆ the pixel's
+/// above-horizon lights, disjoint from `sc.queued`): lights whose prediction is trusted are
+/// never queued by a neighbour's trace.
+pub fn correct_closed<F: Flood>(
+    ctx: &FrameContext,
+    bufs: &mut TileBuffers,
+    sc: &mut Scratch,
+    i: usize,
+    at: At,
+    closed: &[u64],
+) {
+    queue_predicted(sc);
+    for (q, &c) in sc.queued.iter_mut().zip(closed) {
+        *q |= c;
+    }
+    trace_queue::<F>(ctx, bufs, sc, i, at);
+}
+
 /// [`correct`] from an initial queue already in `sc.queue`: the lights of `sc.queued`, in any
 /// order (the tests permute it; the traced set must not change).
 // Word loops index several parallel bitsets at once; iterator chains would hide that.

@@ -27,6 +27,7 @@ mod scratch;
 pub mod temporal;
 #[cfg(test)]
 mod testkit;
+pub mod turning;
 mod uncertainty;
 mod vote;
 mod warp;

@@ -124,6 +124,10 @@ impl<V: Vote, F: Flood> Rule for Predict<V, F> {
             let enough = bits::at_least(&above[..nv], min_voters);
             let my = bufs.above[i * w + m];
             let (mut blocked, mut unsure) = F::predict(my, enough, any, all);
+            // [ours] A point or spot light has no neighbours, so no light-space edge to trace
+            // or flood along: where its voters disagree it is traced, whatever the flood rule
+            // (for uncertainty flooding this is already so).
+            unsure |= my & ctx.point_bits[m] & any & !all;
             if at.majority && nv == 4 && unsure != 0 {
                 let (b, v) = majority(bufs, voters, m, &above);
                 blocked |= unsure & b;

@@ -17,6 +17,7 @@
 //! data and the reprojection are [`Prev`]'s; key frames and chains are decided above.
 
 use super::correct::{At, correct};
+use super::turning::spatial_word;
 use super::{Scratch, Uncertainty};
 use crate::bits;
 use crate::buffers::TileBuffers;
@@ -111,17 +112,7 @@ pub fn solve_temporal(
         // pixel, so they bracket an edge the turn moved); otherwise they are traced, and
         // unlike uncertain lights flood only when the trace disagrees: the turn moves an edge
         // by a fraction of a cell, so a trace that confirms the prediction confirms its side.
-        let (mut s_all, mut s_any, mut s_above) = (!0u64, 0u64, [0u64; 4]);
-        for (k, &q) in spatial.iter().enumerate() {
-            let a = above[q * w + m];
-            let b = a & !vis[q * w + m];
-            s_above[k] = a;
-            s_all &= !a | b;
-            s_any |= b;
-        }
-        let s_enough = bits::at_least(&s_above[..spatial.len()], min_voters);
-        let s_blocked = s_enough & s_all & s_any;
-        let s_sure = s_blocked | (s_enough & !s_any);
+        let (s_blocked, s_sure, _) = spatial_word(above, vis, spatial, w, m, min_voters);
         let e = if spin {
             my & (ext[edge + m] | !ext[graze + m])
         } else {

@@ -56,6 +56,7 @@ pub fn origin() -> Surface {
         albedo: Vec3::splat(0.5),
         dir: Vec3::NEG_Y,
         hit: true,
+        catcher: false,
     }
 }
 
@@ -93,7 +94,7 @@ impl Frame {
         }
         scene.triangles = vec![[0, 1, 2], [0, 2, 3]];
         scene.tri_material = vec![0, 0];
-        let accel = Accel::build(&scene.positions, &scene.triangles);
+        let accel = scene.accel();
         let lights = LightSet::from_lights(
             dirs.iter()
                 .map(|&dir| Light {

@@ -16,7 +16,10 @@ use ::gltf::accessor::{DataType, Dimensions};
 use ::gltf::mesh::{Mode, Semantic};
 use ::gltf::{Accessor, Document, Node, Primitive};
 
-use super::{Material, Scene, SceneCamera, Texture, normal_matrix};
+use super::{
+    Alpha, AlphaMode, Material, Part, Scene, SceneCamera, SceneLight, SceneLightKind, Texture,
+    normal_matrix,
+};
 use crate::bail_input;
 use crate::error::{Result, input_error};
 use crate::limits::{Budget, MAX_FILE_BYTES, NoMemory, SceneSize, read_regular, try_vec};
@@ -85,6 +88,12 @@ pub(super) fn load_bytes(bytes: &[u8], path: &Path, budget: &mut Budget) -> Resu
     size.file_bytes = bytes.len() as u64 + read + images.owned_bytes();
     size.textures = images.distinct.len() as u64;
     size.texels = images.distinct.iter().map(|d| d.texels).sum();
+    size.alpha_texels = images
+        .distinct
+        .iter()
+        .filter(|d| d.alpha)
+        .map(|d| d.texels)
+        .sum();
     size.largest_texels = images.distinct.iter().map(|d| d.texels).max().unwrap_or(0);
     budget.scene(path, size, size.file_bytes)?;
     let mut loader = Loader {
@@ -318,6 +327,23 @@ fn walk(
     Ok(())
 }
 
+/// Whether a node's or mesh's `extras` mark it a shadow catcher: `"shadow_catcher": true`, or
+/// a non-zero number (Blender exports an object's custom properties as its node's extras, and
+/// its boolean-looking properties as integers).
+fn catcher_flag(extras: &::gltf::json::Extras) -> bool {
+    let Some(raw) = extras else {
+        return false;
+    };
+    let Ok(serde_json::Value::Object(map)) = serde_json::from_str(raw.get()) else {
+        return false;
+    };
+    match map.get("shadow_catcher") {
+        Some(serde_json::Value::Bool(b)) => *b,
+        Some(serde_json::Value::Number(n)) => n.as_f64().is_some_and(|v| v != 0.0),
+        _ => false,
+    }
+}
+
 /// Whether a mesh placed by `world` is loaded: a singular transform (zero scale) flattens it.
 fn placeable(world: DMat4) -> bool {
     let det = world.determinant();
@@ -341,18 +367,33 @@ fn tex_coord_set(primitive: &Primitive) -> u32 {
         .map_or(0, |info| info.tex_coord())
 }
 
-/// [`count`]'s answer, in the order its comment gives.
-type Counted = (SceneSize, Vec<(usize, usize)>, DVec3);
+/// The `COLOR_0` accessor whose alpha a primitive's coverage reads: a four-component one, on
+/// a primitive whose material is not opaque (an opaque material ignores alpha, and a
+/// three-component colour has alpha 1).
+fn vertex_alpha_accessor<'a>(primitive: &Primitive<'a>) -> Option<Accessor<'a>> {
+    if primitive.material().alpha_mode() == ::gltf::material::AlphaMode::Opaque {
+        return None;
+    }
+    primitive
+        .get(&Semantic::Colors(0))
+        .filter(|a| a.dimensions() == Dimensions::Vec4)
+}
+
+/// [`count`]'s answer, in the order its comment gives, and the render origin
+/// ([`super::render_origin`]) of the placed positions' bounds.
+type Counted = (SceneSize, Vec<ImageUse>, DVec3);
 
 /// What the default scene will hold, from the JSON alone: the vertices and (at most) triangles
 /// of every primitive the loader will read, once per node that places its mesh, and the
-/// largest of them; and the images their materials use, as (material, image) in the order the
-/// loader meets them. Accessors too large to read are refused here, as the loader would.
+/// largest of them; and the images their materials use, as (material, image, whether its alpha
+/// is kept) in the order the loader meets them. Accessors too large to read are refused here,
+/// as the loader would.
 fn count(path: &Path, document: &Document) -> Result<Counted> {
     let mut size = SceneSize::default();
     let mut used = Vec::new();
     let mut bounds = Some((DVec3::INFINITY, DVec3::NEG_INFINITY));
     walk(path, document, |node, world| {
+        size.lights += u64::from(node.light().is_some());
         let Some(mesh) = node.mesh() else {
             return Ok(());
         };
@@ -370,11 +411,14 @@ fn count(path: &Path, document: &Document) -> Result<Counted> {
                 continue;
             };
             let set = tex_coord_set(&primitive);
+            let colors = vertex_alpha_accessor(&primitive);
+            size.vertex_alpha |= colors.is_some();
             let attributes = [
                 Some(positions.clone()),
                 primitive.get(&Semantic::Normals),
                 primitive.get(&Semantic::TexCoords(set)),
                 primitive.indices(),
+                colors,
             ];
             for acc in attributes.iter().flatten() {
                 check_values(path, &at, acc)?;
@@ -395,7 +439,11 @@ fn count(path: &Path, document: &Document) -> Result<Counted> {
                 material.index(),
                 material.pbr_metallic_roughness().base_color_texture(),
             ) {
-                used.push((m, info.texture().source().index()));
+                used.push(ImageUse {
+                    material: m,
+                    image: info.texture().source().index(),
+                    alpha: material.alpha_mode() != ::gltf::material::AlphaMode::Opaque,
+                });
             }
         }
         Ok(())
@@ -469,11 +517,24 @@ enum Encoded {
     Gone,
 }
 
-/// One distinct image: its bytes until decoded, its texels, its scene texture once decoded.
+/// A material's use of an image as its base colour texture.
+#[derive(Clone, Copy)]
+struct ImageUse {
+    material: usize,
+    image: usize,
+    /// The material is not opaque: its alpha channel is kept.
+    alpha: bool,
+}
+
+/// One distinct image: its bytes until decoded, its texels, its scene texture (and alpha map)
+/// once decoded.
 struct DistinctImage {
     encoded: Encoded,
     texels: u64,
+    /// Some non-opaque material uses it: its alpha is kept.
+    alpha: bool,
     texture: Option<usize>,
+    alpha_map: Option<usize>,
 }
 
 /// The images the materials use, read and identified before any is decoded. Images with the
@@ -486,22 +547,28 @@ struct Images {
 }
 
 impl Images {
-    /// Reads the `used` images (material, image) and their sizes from their headers; errors
-    /// name the first material that uses an image.
+    /// Reads the `used` images and their sizes from their headers; errors name the first
+    /// material that uses an image.
     fn read(
         path: &Path,
         base: &Path,
         document: &Document,
         buffers: &[Vec<u8>],
-        used: &[(usize, usize)],
+        used: &[ImageUse],
     ) -> Result<Images> {
         let mut images = Images {
             of_index: HashMap::new(),
             distinct: Vec::new(),
         };
         let mut by_digest: HashMap<[u8; 32], usize> = HashMap::new();
-        for &(material, index) in used {
-            if images.of_index.contains_key(&index) {
+        for &ImageUse {
+            material,
+            image: index,
+            alpha,
+        } in used
+        {
+            if let Some(&d) = images.of_index.get(&index) {
+                images.distinct[d].alpha |= alpha;
                 continue;
             }
             let at = format!("material {material}: image {index}");
@@ -533,6 +600,7 @@ impl Images {
             let digest: [u8; 32] = Sha256::digest(bytes).into();
             if let Some(&d) = by_digest.get(&digest) {
                 images.of_index.insert(index, d);
+                images.distinct[d].alpha |= alpha;
                 continue;
             }
             let (w, h) = Texture::dimensions(bytes)
@@ -542,7 +610,9 @@ impl Images {
             images.distinct.push(DistinctImage {
                 encoded,
                 texels: u64::from(w) * u64::from(h),
+                alpha,
                 texture: None,
+                alpha_map: None,
             });
         }
         Ok(images)
@@ -598,6 +668,9 @@ impl Loader<'_> {
             if let Some(camera) = node.camera() {
                 self.camera(n, &camera, world);
             }
+            if let Some(light) = node.light() {
+                self.light(n, &light, world)?;
+            }
             if let Some(mesh) = node.mesh() {
                 if !placeable(world) {
                     self.warn(format!(
@@ -605,9 +678,19 @@ impl Loader<'_> {
                         mesh.index()
                     ));
                 } else {
+                    let first = self.scene.triangles.len();
                     for primitive in mesh.primitives() {
                         self.primitive(mesh.index(), &primitive, world)?;
                     }
+                    let triangles = first..self.scene.triangles.len();
+                    if catcher_flag(node.extras()) || catcher_flag(mesh.extras()) {
+                        self.scene.set_catcher(triangles.clone());
+                    }
+                    self.scene.parts.push(Part {
+                        node: node.name().map(str::to_string),
+                        mesh: mesh.name().map(str::to_string),
+                        triangles,
+                    });
                 }
             }
             Ok(())
@@ -646,6 +729,81 @@ impl Loader<'_> {
             up,
             vfov_deg,
         });
+    }
+
+    /// Keeps a `KHR_lights_punctual` light placed by node `node`: at the node's origin,
+    /// shining along its −Z. Values the extension forbids (negative or non-finite intensity or
+    /// colour, a range ≤ 0, cone angles outside 0 ≤ inner < outer ≤ π/2) are refused; a light
+    /// whose node flattens its direction (zero scale) is skipped with a warning.
+    fn light(
+        &mut self,
+        node: usize,
+        light: &::gltf::khr_lights_punctual::Light,
+        world: DMat4,
+    ) -> Result<()> {
+        use ::gltf::khr_lights_punctual::Kind;
+        let index = light.index();
+        let name = light
+            .name()
+            .map_or_else(|| format!("light {index}"), str::to_string);
+        let at = format!("node {node}: light {index} ('{name}')");
+        let color = Vec3::from_array(light.color());
+        if !color.is_finite() || color.min_element() < 0.0 {
+            bail_input!(self.path, "{at}: color {color} is not finite and ≥ 0");
+        }
+        let intensity = light.intensity();
+        if !(intensity.is_finite() && intensity >= 0.0) {
+            bail_input!(
+                self.path,
+                "{at}: intensity {intensity} is not finite and ≥ 0"
+            );
+        }
+        let range = light.range();
+        if let Some(r) = range
+            && !(r.is_finite() && r > 0.0)
+        {
+            bail_input!(self.path, "{at}: range {r} is not a finite number > 0");
+        }
+        let kind = match light.kind() {
+            Kind::Directional => SceneLightKind::Directional,
+            Kind::Point => SceneLightKind::Point,
+            Kind::Spot {
+                inner_cone_angle: inner,
+                outer_cone_angle: outer,
+            } => {
+                let right = std::f32::consts::FRAC_PI_2;
+                if !(inner >= 0.0 && inner < outer && outer <= right) {
+                    bail_input!(
+                        self.path,
+                        "{at}: spot cone angles inner {inner}, outer {outer}: they must be 0 ≤ inner < outer ≤ π/2"
+                    );
+                }
+                SceneLightKind::Spot { inner, outer }
+            }
+        };
+        // Counted from the render origin, as the positions are.
+        let position = (world.transform_point3(DVec3::ZERO) - self.scene.origin).as_vec3();
+        let direction = world
+            .as_mat4()
+            .transform_vector3(Vec3::NEG_Z)
+            .normalize_or_zero();
+        let needs_direction = kind != SceneLightKind::Point;
+        if !position.is_finite() || (needs_direction && direction == Vec3::ZERO) {
+            self.warn(format!(
+                "{at}: its node's transform leaves it no position or direction (zero scale), ignored"
+            ));
+            return Ok(());
+        }
+        self.scene.lights.push(SceneLight {
+            name,
+            kind,
+            position,
+            direction,
+            color,
+            intensity,
+            range,
+        });
+        Ok(())
     }
 
     /// Appends one primitive, transformed by `world`, to the scene.
@@ -708,6 +866,28 @@ impl Loader<'_> {
                 }
                 None
             }
+        };
+
+        // COLOR_0's alpha, for a non-opaque material's coverage (clamped to [0, 1]).
+        let vertex_alpha = match vertex_alpha_accessor(primitive) {
+            Some(acc) => {
+                let colors = self.read_floats::<4>(&at, &acc)?;
+                self.check_count(&at, &acc, "COLOR_0", colors.len(), &pos_acc, count)?;
+                if let Some(i) = colors.iter().position(|c| !c[3].is_finite()) {
+                    bail_input!(
+                        self.path,
+                        "{at}: accessor {} (COLOR_0): element {i} is not finite",
+                        acc.index()
+                    );
+                }
+                Some(
+                    colors
+                        .iter()
+                        .map(|c| c[3].clamp(0.0, 1.0))
+                        .collect::<Vec<f32>>(),
+                )
+            }
+            None => None,
         };
 
         let indices: Vec<u32> = match primitive.indices() {
@@ -804,6 +984,21 @@ impl Loader<'_> {
                 crate::limits::MAX_TRIANGLES
             );
         }
+        let has_alpha = vertex_alpha.is_some() || !self.scene.vertex_alpha.is_empty();
+        if vertex_alpha.is_some() && self.scene.vertex_alpha.is_empty() {
+            // The first primitive with vertex alpha: room for every vertex the scene will
+            // hold (the positions were reserved for them all), 1 for those before it.
+            let all = self.scene.positions.capacity().max(vertex_base + count);
+            self.scene.vertex_alpha = try_vec(all, "the scene's vertex alphas")
+                .map_err(|e| anyhow::Error::new(e).context(self.path.display().to_string()))?;
+            self.scene.vertex_alpha.resize(vertex_base, 1.0);
+        }
+        if has_alpha {
+            match vertex_alpha {
+                Some(a) => self.scene.vertex_alpha.extend(a),
+                None => self.scene.vertex_alpha.resize(vertex_base + count, 1.0),
+            }
+        }
         let vertex_base = vertex_base as u32;
         self.scene.positions.extend(world_pos);
         self.scene.normals.extend(world_nrm);
@@ -858,30 +1053,62 @@ impl Loader<'_> {
             return Ok(i);
         }
         let pbr = material.pbr_metallic_roughness();
-        let [r, g, b, _alpha] = pbr.base_color_factor();
+        let [r, g, b, factor_alpha] = pbr.base_color_factor();
         let base_color = Vec3::new(r, g, b);
-        if !base_color.is_finite() {
+        if !base_color.is_finite() || !factor_alpha.is_finite() {
             bail_input!(self.path, "material {index}: baseColorFactor is not finite");
         }
-        let texture = match pbr.base_color_texture() {
-            Some(info) => Some(self.texture(index, info.texture().source())?),
-            None => None,
+        let name = material
+            .name()
+            .map_or_else(|| format!("material {index}"), str::to_string);
+        let mode = match material.alpha_mode() {
+            ::gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
+            ::gltf::material::AlphaMode::Mask => {
+                let cutoff = material.alpha_cutoff().unwrap_or(0.5);
+                if !(cutoff.is_finite() && cutoff >= 0.0) {
+                    bail_input!(
+                        self.path,
+                        "material {index}: alphaCutoff {cutoff} is not a finite number ≥ 0"
+                    );
+                }
+                AlphaMode::Mask { cutoff }
+            }
+            ::gltf::material::AlphaMode::Blend => {
+                self.warn(format!(
+                    "material {index} ('{name}'): alphaMode BLEND is rendered as coverage (each \
+                     camera sample sees the surface where its alpha exceeds the sample's \
+                     threshold: use --spp 4 or more for smooth transparency) and as a mask at \
+                     alpha 0.5 for shadows"
+                ));
+                AlphaMode::Blend
+            }
+        };
+        let (texture, alpha_map) = match pbr.base_color_texture() {
+            Some(info) => {
+                let (t, a) = self.texture(index, info.texture().source())?;
+                (Some(t), a)
+            }
+            None => (None, None),
         };
         let i = self.scene.materials.len() as u32;
         self.scene.materials.push(Material {
-            name: material
-                .name()
-                .map_or_else(|| format!("material {index}"), str::to_string),
+            name,
             base_color,
             texture,
+            alpha: Alpha {
+                mode,
+                factor: factor_alpha,
+                map: alpha_map.filter(|_| mode != AlphaMode::Opaque),
+            },
         });
         self.material_map.insert(index, i);
         Ok(i)
     }
 
-    /// Decodes an image once and returns its scene texture index; an image with the same bytes
-    /// as one already decoded returns that one's.
-    fn texture(&mut self, material: usize, image: ::gltf::Image) -> Result<usize> {
+    /// Decodes an image once and returns its scene texture index, and its alpha map's if some
+    /// non-opaque material uses it and it has alpha; an image with the same bytes as one
+    /// already decoded returns that one's.
+    fn texture(&mut self, material: usize, image: ::gltf::Image) -> Result<(usize, Option<usize>)> {
         let index = image.index();
         let Some(&d) = self.images.of_index.get(&index) else {
             // `count` saw every primitive the loader reads, and with it every image.
@@ -889,21 +1116,25 @@ impl Loader<'_> {
         };
         let distinct = &mut self.images.distinct[d];
         if let Some(t) = distinct.texture {
-            return Ok(t);
+            return Ok((t, distinct.alpha_map));
         }
         let at = format!("material {material}: image {index}");
-        let texture =
-            Texture::decode(bytes_of(&distinct.encoded, &self.buffers)).map_err(|e| match e
-                .downcast::<NoMemory>()
-            {
+        let bytes = bytes_of(&distinct.encoded, &self.buffers);
+        let (texture, alpha) = Texture::decode_with_alpha(bytes, distinct.alpha).map_err(|e| {
+            match e.downcast::<NoMemory>() {
                 Ok(e) => anyhow::Error::new(e).context(format!("{}: {at}", self.path.display())),
                 Err(e) => input_error(self.path, format!("{at}: cannot decode: {e}")),
-            })?;
+            }
+        })?;
         distinct.encoded = Encoded::Gone;
         let t = self.scene.textures.len();
         self.scene.textures.push(texture);
         distinct.texture = Some(t);
-        Ok(t)
+        if let Some(alpha) = alpha {
+            distinct.alpha_map = Some(self.scene.alpha_maps.len());
+            self.scene.alpha_maps.push(alpha);
+        }
+        Ok((t, distinct.alpha_map))
     }
 
     /// Reads a float attribute of `N` components (VEC2/VEC3); integer components are converted,

@@ -9,17 +9,21 @@
 //! to, so the geometric normal `(p1 − p0) × (p2 − p0)` agrees with the vertex normals.
 //! Barycentric coordinates `(u, v)` name the point `(1 − u − v)·p0 + u·p1 + v·p2`.
 
+mod alpha;
 mod gltf;
+pub mod ground;
 mod origin;
 mod shapes;
 mod texture;
 
 use glam::{DVec3, Mat3, Mat4, Vec2, Vec3};
+use std::ops::Range;
 use std::path::Path;
 
 use crate::error::Result;
 use crate::limits::Budget;
 
+pub use alpha::{Alpha, AlphaMap, AlphaMode, AlphaTest, coverage_threshold};
 pub use origin::render_origin;
 pub use texture::srgb_to_linear;
 
@@ -46,6 +50,8 @@ pub struct Material {
     pub base_color: Vec3,
     /// Index into [`Scene::textures`] of the base colour texture, if any.
     pub texture: Option<usize>,
+    /// Coverage: glTF's alpha mode and the base colour alpha it reads.
+    pub alpha: Alpha,
 }
 
 impl Material {
@@ -55,6 +61,7 @@ impl Material {
             name: "default".to_string(),
             base_color: Vec3::splat(0.8),
             texture: None,
+            alpha: Alpha::OPAQUE,
         }
     }
 }
@@ -63,6 +70,50 @@ impl Material {
 /// largest f32, so that the turn's translation (pivot − R·pivot, up to three coordinates
 /// summed) plus a turned point (two) cannot reach infinity.
 pub const MAX_TURNED_COORDINATE: f32 = f32::MAX / 8.0;
+
+/// A light placed by the scene file (glTF's `KHR_lights_punctual`), in world space, with its
+/// photometric intensity as the file gives it. File lights stay where the file puts them: a
+/// spin turns the geometry, not them (they light the turning object like the map does).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneLight {
+    /// The file's name for the light, or `light N` (N its index in the file's list).
+    pub name: String,
+    pub kind: SceneLightKind,
+    /// World-space position (unused by a directional light).
+    pub position: Vec3,
+    /// Unit world-space direction the light shines along: its node's −Z (unused by a point
+    /// light).
+    pub direction: Vec3,
+    /// Linear RGB colour, a multiplier of the intensity.
+    pub color: Vec3,
+    /// Lux (lm/m²) for a directional light, candela (lm/sr) for point and spot lights.
+    pub intensity: f32,
+    /// Distance at which a point or spot light's influence ends, if the file sets one.
+    pub range: Option<f32>,
+}
+
+/// The three kinds of `KHR_lights_punctual` light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SceneLightKind {
+    Directional,
+    Point,
+    /// A cone: full intensity within `inner` radians of its axis, none beyond `outer`.
+    Spot {
+        inner: f32,
+        outer: f32,
+    },
+}
+
+impl SceneLightKind {
+    /// `directional`, `point` or `spot`, as the extension spells them.
+    pub fn name(self) -> &'static str {
+        match self {
+            SceneLightKind::Directional => "directional",
+            SceneLightKind::Point => "point",
+            SceneLightKind::Spot { .. } => "spot",
+        }
+    }
+}
 
 /// A perspective camera found in a scene file.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -75,6 +126,53 @@ pub struct SceneCamera {
     pub up: Vec3,
     /// Vertical field of view, degrees.
     pub vfov_deg: f32,
+}
+
+/// The triangles one glTF node brought into the scene, and its names (for `[scene] catchers`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Part {
+    /// The node's name, if it has one.
+    pub node: Option<String>,
+    /// Its mesh's name, if it has one.
+    pub mesh: Option<String>,
+    /// Its triangles (indices into [`Scene::triangles`]).
+    pub triangles: Range<usize>,
+}
+
+impl Part {
+    /// Whether `name` is the node's or its mesh's name.
+    pub fn is_named(&self, name: &str) -> bool {
+        self.node.as_deref() == Some(name) || self.mesh.as_deref() == Some(name)
+    }
+}
+
+/// Which way is up in a scene file: glTF's +Y, or +Z (CAD and many exported models), which
+/// [`Scene::stood_up`] turns to +Y.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Up {
+    #[default]
+    Y,
+    Z,
+}
+
+impl std::str::FromStr for Up {
+    type Err = String;
+    fn from_str(s: &str) -> std::result::Result<Up, String> {
+        match s {
+            "y" | "Y" => Ok(Up::Y),
+            "z" | "Z" => Ok(Up::Z),
+            _ => Err(format!("unknown up axis {s:?} (expected y or z)")),
+        }
+    }
+}
+
+impl std::fmt::Display for Up {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Up::Y => "y",
+            Up::Z => "z",
+        })
+    }
 }
 
 /// All triangles of the default scene in world space, counted from [`Scene::origin`].
@@ -94,8 +192,24 @@ pub struct Scene {
     pub materials: Vec<Material>,
     /// Textures referenced by [`Material::texture`].
     pub textures: Vec<Texture>,
+    /// Base colour alphas referenced by [`Alpha::map`] (the alpha of textures that non-opaque
+    /// materials use).
+    pub alpha_maps: Vec<AlphaMap>,
+    /// `COLOR_0` alpha per vertex, or empty: kept only when a non-opaque material's primitive
+    /// has one (1 for every other vertex then).
+    pub vertex_alpha: Vec<f32>,
     /// The first perspective camera of the file, if any.
     pub camera: Option<SceneCamera>,
+    /// The file's lights (`KHR_lights_punctual`), one per node that places one.
+    pub lights: Vec<SceneLight>,
+    /// Per triangle: whether it is a shadow catcher (it receives shadows and shows only them,
+    /// as the tile services shade it). Empty when no triangle is.
+    pub catcher: Vec<bool>,
+    /// The glTF nodes that brought triangles, in file order (empty for built-in scenes).
+    pub parts: Vec<Part>,
+    /// The first triangle of the ground envshadow added below the model ([`ground`]), if it
+    /// added one: it is the scene's last triangles, and the model is everything before it.
+    pub added_ground: Option<usize>,
     /// Where it came from: a path, or `builtin:shapes`.
     pub source: String,
     /// The world-space point the positions (and the file's camera) count from: zero unless
@@ -173,17 +287,80 @@ impl Scene {
     /// Axis-aligned bounds `(min, max)` of the vertices used by triangles; `(0, 0)` when there
     /// are no triangles.
     pub fn bounds(&self) -> (Vec3, Vec3) {
-        let mut lo = Vec3::splat(f32::INFINITY);
-        let mut hi = Vec3::splat(f32::NEG_INFINITY);
-        for &i in self.triangles.iter().flatten() {
-            let p = self.positions[i as usize];
-            lo = lo.min(p);
-            hi = hi.max(p);
+        bounds_of(&self.positions, &self.triangles)
+    }
+
+    /// Bounds of the model: [`bounds`](Self::bounds) without the ground envshadow added, if
+    /// any (what the camera frames and a spin turns about).
+    pub fn model_bounds(&self) -> (Vec3, Vec3) {
+        let model = self.added_ground.unwrap_or(self.triangles.len());
+        bounds_of(&self.positions, &self.triangles[..model])
+    }
+
+    /// Whether triangle `tri` is a shadow catcher.
+    #[inline]
+    pub fn is_catcher(&self, tri: usize) -> bool {
+        self.catcher.get(tri).copied().unwrap_or(false)
+    }
+
+    /// Makes the triangles `tris` shadow catchers.
+    pub fn set_catcher(&mut self, tris: Range<usize>) {
+        if tris.is_empty() {
+            return;
         }
-        if self.triangles.is_empty() {
-            (Vec3::ZERO, Vec3::ZERO)
-        } else {
-            (lo, hi)
+        self.catcher.resize(self.triangles.len(), false);
+        self.catcher[tris].fill(true);
+    }
+
+    /// Makes the nodes (or meshes) called `names` shadow catchers; the first name no node or
+    /// mesh has is returned as the error.
+    pub fn mark_catchers(&mut self, names: &[String]) -> std::result::Result<(), String> {
+        for name in names {
+            let tris: Vec<Range<usize>> = self
+                .parts
+                .iter()
+                .filter(|p| p.is_named(name))
+                .map(|p| p.triangles.clone())
+                .collect();
+            if tris.is_empty() {
+                return Err(name.clone());
+            }
+            for t in tris {
+                self.set_catcher(t);
+            }
+        }
+        Ok(())
+    }
+
+    /// The scene turned so that `up` points along +Y, the camera with it: for Z-up, the
+    /// rotation of −90° about +X (Blender's own glTF convention: +Z → +Y, +Y → −Z), exact
+    /// (no trigonometry), applied before anything else reads the scene.
+    pub fn stood_up(self, up: Up) -> Scene {
+        match up {
+            Up::Y => self,
+            Up::Z => {
+                let m = Mat4::from_cols(
+                    glam::Vec4::new(1.0, 0.0, 0.0, 0.0),
+                    glam::Vec4::new(0.0, 0.0, -1.0, 0.0),
+                    glam::Vec4::new(0.0, 1.0, 0.0, 0.0),
+                    glam::Vec4::W,
+                );
+                let mut out = self.transformed(m);
+                out.camera = self.camera.map(|c| SceneCamera {
+                    position: m.transform_point3(c.position),
+                    forward: m.transform_vector3(c.forward),
+                    up: m.transform_vector3(c.up),
+                    vfov_deg: c.vfov_deg,
+                });
+                // The file's lights live in the file's world, as its camera does.
+                for l in &mut out.lights {
+                    l.position = m.transform_point3(l.position);
+                    l.direction = m.transform_vector3(l.direction);
+                }
+                // The positions count from the origin, which turns with them.
+                out.origin = m.as_dmat4().transform_point3(self.origin);
+                out
+            }
         }
     }
 
@@ -280,8 +457,9 @@ impl Scene {
     }
 
     /// A copy with every vertex moved by `m` (normals by its inverse transpose). Winding is
-    /// flipped when `m` mirrors, so geometric and shading normals keep agreeing. The camera is
-    /// left where it was: this moves the objects, not the viewer.
+    /// flipped when `m` mirrors, so geometric and shading normals keep agreeing. The camera and
+    /// the file's lights are left where they were: this moves the objects, not the viewer or
+    /// the lights.
     pub fn transformed(&self, m: Mat4) -> Scene {
         let mut out = self.clone();
         let normal_matrix = normal_matrix(m);
@@ -326,6 +504,16 @@ impl Scene {
         let vertex_base = self.positions.len() as u32;
         let material_base = self.materials.len() as u32;
         let texture_base = self.textures.len();
+        let alpha_base = self.alpha_maps.len();
+        if !self.vertex_alpha.is_empty() || !other.vertex_alpha.is_empty() {
+            self.vertex_alpha.resize(self.positions.len(), 1.0);
+            if other.vertex_alpha.is_empty() {
+                let n = self.positions.len() + other.positions.len();
+                self.vertex_alpha.resize(n, 1.0);
+            } else {
+                self.vertex_alpha.extend(&other.vertex_alpha);
+            }
+        }
         let shift = other.origin - self.origin;
         if shift == DVec3::ZERO {
             self.positions.extend(other.positions);
@@ -346,16 +534,48 @@ impl Scene {
         self.materials
             .extend(other.materials.into_iter().map(|mut m| {
                 m.texture = m.texture.map(|t| t + texture_base);
+                m.alpha.map = m.alpha.map.map(|a| a + alpha_base);
                 m
             }));
         self.textures.extend(other.textures);
+        self.alpha_maps.extend(other.alpha_maps);
+        let triangle_base = self.triangles.len() - other.triangles.len();
+        if !other.catcher.is_empty() {
+            self.catcher.resize(triangle_base, false);
+            self.catcher.extend(other.catcher);
+        }
+        self.parts.extend(other.parts.into_iter().map(|mut p| {
+            p.triangles = p.triangles.start + triangle_base..p.triangles.end + triangle_base;
+            p
+        }));
         if self.camera.is_none() {
             self.camera = other.camera.map(|mut c| {
                 c.position = (c.position.as_dvec3() + shift).as_vec3();
                 c
             });
         }
+        self.lights.extend(other.lights.into_iter().map(|mut l| {
+            l.position = (l.position.as_dvec3() + shift).as_vec3();
+            l
+        }));
         self.warnings.extend(other.warnings);
+    }
+}
+
+/// Axis-aligned bounds `(min, max)` of the vertices `triangles` use; `(0, 0)` when there are
+/// none.
+fn bounds_of(positions: &[Vec3], triangles: &[[u32; 3]]) -> (Vec3, Vec3) {
+    let mut lo = Vec3::splat(f32::INFINITY);
+    let mut hi = Vec3::splat(f32::NEG_INFINITY);
+    for &i in triangles.iter().flatten() {
+        let p = positions[i as usize];
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    if triangles.is_empty() {
+        (Vec3::ZERO, Vec3::ZERO)
+    } else {
+        (lo, hi)
     }
 }
 

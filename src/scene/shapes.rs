@@ -92,6 +92,7 @@ impl Builder {
             name: name.to_string(),
             base_color: color,
             texture: None,
+            alpha: super::Alpha::OPAQUE,
         });
         self.xf = xf;
         self.nm = normal_matrix(xf);

@@ -6,7 +6,7 @@
 use glam::{Vec2, Vec3};
 use image::ImageDecoder;
 
-use super::Texture;
+use super::{AlphaMap, Texture};
 
 /// The sRGB electro-optical transfer function: an sRGB-encoded value in [0, 1] to linear.
 pub fn srgb_to_linear(c: f32) -> f32 {
@@ -104,6 +104,16 @@ impl Texture {
     /// system refuses a buffer (the decoder's pixels, the texels, a pyramid level): each is
     /// asked for before it is filled, so a refusal is an error rather than an abort.
     pub fn decode(bytes: &[u8]) -> crate::error::Result<Texture> {
+        Ok(Texture::decode_with_alpha(bytes, false)?.0)
+    }
+
+    /// [`Texture::decode`], and with `keep_alpha` the image's alpha channel as an
+    /// [`AlphaMap`] (linear, as stored; `None` for an image without alpha). The texture's
+    /// texels are the same bits either way.
+    pub fn decode_with_alpha(
+        bytes: &[u8],
+        keep_alpha: bool,
+    ) -> crate::error::Result<(Texture, Option<AlphaMap>)> {
         let (w, h) = Texture::dimensions(bytes)?;
         let decoder = reader(bytes)?.into_decoder()?;
         let color = decoder.color_type();
@@ -120,7 +130,13 @@ impl Texture {
         decoder.read_image(&mut pixels)?;
         let n = w as usize * h as usize;
         let mut texels = crate::limits::try_vec(n, "a texture's texels")?;
-        if !linear_texels(color, &pixels, &mut texels) || texels.len() != n {
+        let mut alpha = if keep_alpha && color.has_alpha() {
+            Some(crate::limits::try_vec(n, "a texture's alpha")?)
+        } else {
+            None
+        };
+        let decoded = linear_texels(color, &pixels, &mut texels, alpha.as_mut());
+        if !decoded || texels.len() != n || alpha.as_ref().is_some_and(|a| a.len() != n) {
             return Err(
                 image::ImageError::Parameter(image::error::ParameterError::from_kind(
                     image::error::ParameterErrorKind::DimensionMismatch,
@@ -130,7 +146,9 @@ impl Texture {
         }
         // The decoder's pixels are gone before the pyramid is built: a lower peak.
         drop(pixels);
-        Ok(Texture::try_from_linear(w as usize, h as usize, texels)?)
+        let (w, h) = (w as usize, h as usize);
+        let alpha = alpha.and_then(|a| AlphaMap::new(w, h, a));
+        Ok((Texture::try_from_linear(w, h, texels)?, alpha))
     }
 
     /// Width in texels (of level 0).
@@ -212,9 +230,15 @@ fn reader(bytes: &[u8]) -> image::ImageResult<image::ImageReader<std::io::Cursor
 /// Appends the linear RGB texels of decoded `pixels` of colour type `color` (native-endian
 /// samples, as the decoder wrote them) to `out`: samples scaled to [0, 1] exactly as the
 /// `image` crate's `to_rgb32f` does (the textures are then the same bits as when it decoded
-/// them, without its second copy of every pixel), grey copied to R, G and B, alpha ignored;
-/// then sRGB decoded. `false` for a colour type it does not know.
-fn linear_texels(color: image::ColorType, pixels: &[u8], out: &mut Vec<Vec3>) -> bool {
+/// them, without its second copy of every pixel), grey copied to R, G and B; then sRGB
+/// decoded. Alpha, where the colour type has it, is appended to `alpha` if given (scaled the
+/// same way, not decoded: glTF's alpha is linear). `false` for a colour type it does not know.
+fn linear_texels(
+    color: image::ColorType,
+    pixels: &[u8],
+    out: &mut Vec<Vec3>,
+    mut alpha: Option<&mut Vec<f32>>,
+) -> bool {
     use image::ColorType as C;
     let (size, channels) = match color {
         C::L8 | C::La8 | C::Rgb8 | C::Rgba8 => (1, color.channel_count() as usize),
@@ -241,6 +265,11 @@ fn linear_texels(color: image::ColorType, pixels: &[u8], out: &mut Vec<Vec3>) ->
             Vec3::new(sample(p), sample(&p[size..]), sample(&p[2 * size..]))
         };
         out.push(rgb.map(srgb_to_linear));
+        if let Some(a) = alpha.as_deref_mut()
+            && color.has_alpha()
+        {
+            a.push(sample(&p[(channels - 1) * size..]).clamp(0.0, 1.0));
+        }
     }
     true
 }
@@ -739,6 +768,69 @@ mod tests {
                 .all(|(a, b)| bits(*a) == bits(*b));
             assert!(same, "{name}: texels differ from to_rgb32f's");
         }
+    }
+
+    #[test]
+    fn alpha_is_kept_as_stored_and_leaves_the_colour_alone() {
+        use image::{DynamicImage, ImageBuffer, ImageFormat};
+        let (w, h) = (16u32, 8u32);
+        let a8 = |n: u32| (n * 37 % 256) as u8;
+        let a16 = |n: u32| (n * 9091 % 65536) as u16;
+        let images: Vec<(&str, DynamicImage, Vec<f32>)> = vec![
+            (
+                "Rgba8",
+                DynamicImage::ImageRgba8(ImageBuffer::from_fn(w, h, |x, y| {
+                    image::Rgba([10, 20, 30, a8(y * w + x)])
+                })),
+                (0..w * h).map(|n| f32::from(a8(n)) / 255.0).collect(),
+            ),
+            (
+                "La8",
+                DynamicImage::ImageLumaA8(ImageBuffer::from_fn(w, h, |x, y| {
+                    image::LumaA([90, a8(y * w + x)])
+                })),
+                (0..w * h).map(|n| f32::from(a8(n)) / 255.0).collect(),
+            ),
+            (
+                "Rgba16",
+                DynamicImage::ImageRgba16(ImageBuffer::from_fn(w, h, |x, y| {
+                    image::Rgba([1000, 2000, 3000, a16(y * w + x)])
+                })),
+                (0..w * h).map(|n| f32::from(a16(n)) / 65535.0).collect(),
+            ),
+        ];
+        for (name, img, want) in images {
+            let mut bytes = std::io::Cursor::new(Vec::new());
+            img.write_to(&mut bytes, ImageFormat::Png).unwrap();
+            let bytes = bytes.into_inner();
+            let (t, alpha) = Texture::decode_with_alpha(&bytes, true).unwrap();
+            let alpha = alpha.expect(name);
+            assert_eq!(alpha.size(), (w as usize, h as usize), "{name}");
+            for (n, want) in want.iter().enumerate() {
+                let (x, y) = (n % w as usize, n / w as usize);
+                let uv = Vec2::new((x as f32 + 0.5) / w as f32, (y as f32 + 0.5) / h as f32);
+                assert_eq!(alpha.sample(uv), *want, "{name} texel {n}");
+            }
+            let plain = Texture::decode(&bytes).unwrap();
+            assert_eq!(t.texels(), plain.texels(), "{name}: colour changed");
+            assert!(
+                Texture::decode_with_alpha(&bytes, false)
+                    .unwrap()
+                    .1
+                    .is_none()
+            );
+        }
+        // No alpha channel: no map.
+        let rgb = DynamicImage::ImageRgb8(ImageBuffer::from_fn(4, 4, |_, _| image::Rgb([1, 2, 3])));
+        let mut bytes = std::io::Cursor::new(Vec::new());
+        rgb.write_to(&mut bytes, ImageFormat::Png).unwrap();
+        let bytes = bytes.into_inner();
+        assert!(
+            Texture::decode_with_alpha(&bytes, true)
+                .unwrap()
+                .1
+                .is_none()
+        );
     }
 
     #[test]

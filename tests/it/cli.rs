@@ -565,6 +565,58 @@ fn resume_removes_the_temporaries_a_killed_render_left() {
     }
 }
 
+#[test]
+fn scene_lights_flag_lights_the_frame_with_the_files_lights_or_ignores_them() {
+    // The circuit board places a sun: by default a note names it and lights.json lists it;
+    // --scene-lights=false says it is ignored and lights.json has the map's lights alone.
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = tmp.path().join("board.toml");
+    let glb = common::assets_dir().join("corpus/objects_on_circuit_board.glb");
+    fs::write(
+        &spec,
+        format!(
+            "[scene]\nfile = \"{}\"\n[lights]\ncount = 20\n[motion]\nframes = 1\n\
+             [render]\nwidth = 32\nheight = 24\n",
+            glb.display()
+        ),
+    )
+    .unwrap();
+    let mut failures = Failures::new();
+    for (flag, note, lights) in [
+        (
+            None,
+            "the scene file's 1 light joins the map's: directional 'Sun'",
+            21,
+        ),
+        (
+            Some("--scene-lights=false"),
+            "the scene file's 1 light ignored ([lights] scene_lights = false)",
+            20,
+        ),
+    ] {
+        failures.case(flag.unwrap_or("default"), || {
+            let out = tmp.path().join(format!("out-{lights}"));
+            let o = common::bin()
+                .arg("render")
+                .arg(&spec)
+                .args(flag)
+                .arg("--out")
+                .arg(&out)
+                .arg("--no-report")
+                .output()
+                .unwrap();
+            let stderr = String::from_utf8_lossy(&o.stderr);
+            assert!(o.status.success(), "{stderr}");
+            assert!(stderr.contains(note), "{stderr}");
+            let json: serde_json::Value =
+                serde_json::from_slice(&fs::read(out.join("lights.json")).unwrap()).unwrap();
+            let listed = json["lights"].as_array().unwrap().len();
+            assert_eq!(listed, lights);
+            assert_eq!(json.get("scene_lights").is_some(), lights == 21);
+        });
+    }
+    failures.assert_none();
+}
 /// `envshadow ARGS`: (exit code, stdout, stderr).
 fn run_bin(args: &[&str]) -> (Option<i32>, String, String) {
     let o = common::bin().args(args).output().unwrap();

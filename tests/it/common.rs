@@ -96,6 +96,7 @@ pub fn scene_with_materials(albedos: &[f32]) -> Scene {
                 name: format!("m{i}"),
                 base_color: Vec3::splat(a),
                 texture: None,
+                alpha: envshadow::scene::Alpha::OPAQUE,
             })
             .collect(),
         source: "test".into(),
@@ -375,11 +376,12 @@ impl Gltf {
         self.views.len() - 1
     }
 
-    /// A float accessor of `type_` ("VEC2", "VEC3") over `data`.
+    /// A float accessor of `type_` ("VEC2", "VEC3", "VEC4") over `data`.
     pub fn floats(&mut self, type_: &str, data: &[f32]) -> usize {
         let n = match type_ {
             "VEC2" => 2,
             "VEC3" => 3,
+            "VEC4" => 4,
             _ => 1,
         };
         let bytes: Vec<u8> = data.iter().flat_map(|f| f.to_le_bytes()).collect();

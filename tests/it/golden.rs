@@ -10,6 +10,11 @@
 //! passes and a header (camera matrices, settings, counts), and the PNGs made through a view
 //! transform (AgX by default) and tagged sRGB — every EXR and PNG changed, and the validated
 //! renders' stats.csv, whose PSNR is now measured on the AgX previews.
+//! The EXR hashes changed once more when every EXR gained its alpha channel `A` (issue 22: all
+//! ones over these opaque backgrounds; every other channel, the PNGs and the statistics kept
+//! their bits).
+//! And once more when the header gained the `[lights] scene_lights` setting (issue 24: the
+//! file's own lights; its attribute `envshadow/lights.scene_lights`), the rest unchanged.
 
 use crate::common;
 

@@ -9,9 +9,11 @@
 //! keeps out of the crate): they are compared within tolerances, never written as output.
 #![allow(clippy::disallowed_methods)]
 
+mod alpha;
 mod chaos;
 mod cli;
 mod common;
+mod compositing;
 mod envmap;
 mod farm;
 mod figures;
@@ -23,8 +25,10 @@ mod interrupt;
 mod lights;
 mod maths;
 mod memory;
+mod motion;
 mod outputs;
 mod predict;
+mod punctual;
 mod render;
 mod report;
 mod resume;

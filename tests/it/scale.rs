@@ -13,6 +13,7 @@ use crate::common::{self, Failures, Gltf};
 use envshadow::anim::{AnimFlags, Animation};
 use envshadow::coordinator::{Inputs, Silent, render_frame, thread_pool};
 use envshadow::film::Film;
+use envshadow::motion::{Motion, MotionKind};
 use envshadow::scene::Scene;
 use envshadow::settings::{LightsLayer, RenderLayer};
 use serde_json::json;
@@ -78,14 +79,16 @@ fn render(model: &Path, spin: bool, frame: usize) -> Film {
         render: RenderLayer {
             width: Some(200),
             height: Some(150),
+            spp: Some(1),
             ..Default::default()
         },
         ..Default::default()
     };
     let env = common::asset("studio_small_03_1k.hdr");
-    let mut anim = Animation::model_turntable(model, Some(&env), &flags).unwrap();
+    let mut anim = Animation::of_model(model, Some(&env), &flags).unwrap();
     if spin {
-        anim.motion = envshadow::anim::MotionKind::Spin;
+        let orbit = &anim.motion.segments()[0];
+        anim.motion = Motion::single(MotionKind::Spin, orbit.frames.end, orbit.degrees_per_frame);
     }
     let inputs = Inputs::load(&anim).unwrap();
     let pool = thread_pool(2).unwrap();

@@ -253,7 +253,10 @@ fn a_spinning_flat_panelled_truck_keeps_temporal_wrong_pairs_within_the_bound() 
             let err = r.counts.error_percent();
             assert!(err <= 0.05, "{err:.4} % wrong pairs");
             if r.frame > 0 {
-                assert!(r.counts.temporal_pixels > 0, "no pixel predicted from the last frame");
+                assert!(
+                    r.counts.temporal_pixels > 0,
+                    "no pixel predicted from the last frame"
+                );
             }
         });
     }
