@@ -148,7 +148,9 @@ impl FrameWork<'_> {
         {
             let min_voters = self.shadows.params.min_voters;
             let solved = if prev.is_in_place() {
-                solve_in_place(ctx, bufs, scratch, prev, i, voters, min_voters, at)
+                // [ours] The spatial voters count as the spatial rule counts them (busy voters).
+                let spatial_min = self.shadows.rule.min_voters(bufs, voters);
+                solve_in_place(ctx, bufs, scratch, prev, i, voters, spatial_min, at)
             } else {
                 solve_temporal(ctx, bufs, scratch, prev, i, voters, min_voters, at)
             };

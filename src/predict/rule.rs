@@ -25,6 +25,14 @@ pub trait Rule: Send + Sync {
         &[]
     }
 
+    /// How many of a pixel's `voters` (region pixels, evaluated) must see a light for the
+    /// rule to predict it. The temporal rules read their spatial voters with it, so they
+    /// trust those voters no more than the rule itself does.
+    fn min_voters(&self, bufs: &TileBuffers, voters: &[usize]) -> u32 {
+        let _ = (bufs, voters);
+        1
+    }
+
     /// Decides region pixel `i` (begun: surface and above-horizon lights set) from the region
     /// pixels `voters` (valid: evaluated, not background; at most four): sets its `vis`,
     /// `traced`, `rays` and `split`, and its blockers when `at.keep_blockers`.
@@ -78,6 +86,19 @@ impl<V: Vote, F: Flood> Rule for Predict<V, F> {
         F::READS
     }
 
+    /// `--min-voters`, raised to all of them with `--all-voters` and to `--busy-voters` where a
+    /// voter's flooding caught a wrong prediction.
+    fn min_voters(&self, bufs: &TileBuffers, voters: &[usize]) -> u32 {
+        let mut min_voters = self.min_voters;
+        if self.all_voters {
+            min_voters = min_voters.max(voters.len() as u32);
+        }
+        if self.busy_voters > 0 && voters.iter().any(|&q| bufs.split[q].fixes > 0) {
+            min_voters = min_voters.max(self.busy_voters);
+        }
+        min_voters
+    }
+
     fn solve(
         &self,
         ctx: &FrameContext,
@@ -104,14 +125,7 @@ impl<V: Vote, F: Flood> Rule for Predict<V, F> {
         debug_assert!(voters.len() <= 4);
         let at = at.for_voters(bufs, voters);
         let (w, nv) = (bufs.words, voters.len());
-        // How many voters must see a light for it to be predicted.
-        let mut min_voters = self.min_voters;
-        if self.all_voters {
-            min_voters = min_voters.max(nv as u32);
-        }
-        if self.busy_voters > 0 && voters.iter().any(|&q| bufs.split[q].fixes > 0) {
-            min_voters = min_voters.max(self.busy_voters);
-        }
+        let min_voters = Rule::min_voters(self, bufs, voters);
         // 1. What the votes need (warp: the voters' blockers re-aimed from this point).
         V::gather(ctx, bufs, sc, i, voters);
         // 2. The prediction, word by word: `any` = some vote, `all` = every voter's vote.
