@@ -7,9 +7,10 @@ use glam::Vec3;
 use crate::accel::{Accel, PACKET};
 use crate::camera::Camera;
 use crate::envmap::EnvMap;
+use crate::glossy::Glossy;
 use crate::lights::LightSet;
 use crate::samples::Samples;
-use crate::scene::{Scene, footprint_width};
+use crate::scene::{MaterialSample, Scene, footprint_width};
 use crate::shade::ShadeLights;
 
 /// What a primary ray found at a pixel centre.
@@ -17,16 +18,21 @@ use crate::shade::ShadeLights;
 pub struct Surface {
     /// Hit point.
     pub p: Vec3,
-    /// Unit shading normal, on the side facing the camera.
+    /// Unit shading normal (after the normal map), on the side facing the camera: it decides
+    /// which lights are above the horizon, and shades.
     pub n: Vec3,
     /// Unit geometric normal, on the side facing the camera: shadow rays start off it.
     pub ng: Vec3,
-    /// Linear RGB albedo.
+    /// Linear RGB albedo: the material's base colour there (texture and vertex colour
+    /// included).
     pub albedo: Vec3,
-    /// The primary ray's unit direction: where a background sample looks up the map.
+    /// The primary ray's unit direction: where a background sample looks up the map, and the
+    /// view direction (its opposite) for specular.
     pub dir: Vec3,
     /// False for background pixels (the ray left the scene).
     pub hit: bool,
+    /// The rest of the material there: metallic, roughness, occlusion, emission, specular.
+    pub material: MaterialSample,
 }
 
 /// Everything a tile needs about its frame: shared, read-only, across threads.
@@ -51,6 +57,9 @@ pub struct FrameContext<'a> {
     /// point-sampled textures (level-0 bilinear lookups). Set by
     /// [`with_samples`](Self::with_samples), see [`texture_footprint`].
     pub texture_footprint: f32,
+    /// The prefiltered environment for lobes too narrow for the lights (none: the lights
+    /// alone); see [`with_glossy`](Self::with_glossy).
+    pub glossy: Option<&'a Glossy>,
 }
 
 impl<'a> FrameContext<'a> {
@@ -72,7 +81,13 @@ impl<'a> FrameContext<'a> {
             shadow_eps: shadow_epsilon(scene),
             samples: Samples::one(),
             texture_footprint: 0.0,
+            glossy: None,
         }
+    }
+
+    /// This context with glossy lobes too narrow for the lights shaded from `glossy`.
+    pub fn with_glossy(self, glossy: Option<&'a Glossy>) -> FrameContext<'a> {
+        FrameContext { glossy, ..self }
     }
 
     /// This context with the pixels' samples at `samples`, and textures filtered to what one
@@ -119,7 +134,19 @@ impl<'a> FrameContext<'a> {
         let [p0, p1, p2] = self.scene.triangle(tri);
         let p = p0 * (1.0 - hit.u - hit.v) + p1 * hit.u + p2 * hit.v;
         let mut ng = (p1 - p0).cross(p2 - p0).normalize_or_zero();
-        let mut n = self.scene.shading_normal(tri, (hit.u, hit.v));
+        let bary = (hit.u, hit.v);
+        let footprint = if self.texture_footprint > 0.0 {
+            let angle = self.camera.pixel_angle(dir) * self.texture_footprint;
+            footprint_width(hit.t, angle, ng.dot(dir))
+        } else {
+            0.0
+        };
+        // The material there, and the interpolated normal bent by its normal map (in the
+        // mesh's own orientation, before either normal turns to the camera).
+        let at = self
+            .scene
+            .material_at(tri, bary, footprint, self.scene.shading_normal(tri, bary));
+        let mut n = at.normal;
         // Shade the side the camera sees: both normals turn towards the viewer.
         if ng.dot(dir) > 0.0 {
             ng = -ng;
@@ -130,20 +157,14 @@ impl<'a> FrameContext<'a> {
         if n.dot(ng) <= 0.0 || !n.is_finite() {
             n = ng;
         }
-        let albedo = if self.texture_footprint > 0.0 {
-            let angle = self.camera.pixel_angle(dir) * self.texture_footprint;
-            let width = footprint_width(hit.t, angle, ng.dot(dir));
-            self.scene.albedo_footprint(tri, (hit.u, hit.v), width)
-        } else {
-            self.scene.albedo(tri, (hit.u, hit.v))
-        };
         Surface {
             p,
             n,
             ng,
-            albedo,
+            albedo: at.base_color,
             dir,
             hit: true,
+            material: at.sample,
         }
     }
 

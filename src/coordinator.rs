@@ -27,7 +27,8 @@ use crate::output;
 use crate::output::lock::FolderLock;
 use crate::output::record::{FrameRecord, SettingsRecord};
 use crate::output::stats::{FrameStats, StatsFile};
-use crate::scene::Scene;
+use crate::glossy::Glossy;
+use crate::scene::{Model, Scene};
 use crate::temporal::{chains, prev_view};
 use crate::tile::{Rect, Tile};
 
@@ -169,6 +170,9 @@ pub struct Inputs {
     /// The BVH of the unposed scene, built by the first frame that needs it: frames whose
     /// geometry does not move (orbit turntables, still cameras) share one build per run.
     still: OnceLock<Accel>,
+    /// The prefiltered environment, made by the first frame that needs it: only when some
+    /// material is glossier than the lights resolve (see [`Glossy`]).
+    glossy: OnceLock<Option<Glossy>>,
 }
 
 impl Inputs {
@@ -179,7 +183,24 @@ impl Inputs {
             env,
             lights,
             still: OnceLock::new(),
+            glossy: OnceLock::new(),
         }
+    }
+
+    /// The environment prefiltered for glossy lobes, if any material may need it: one whose
+    /// roughness factor (its texture can only lower it) is below what the lights resolve.
+    pub fn glossy(&self) -> Option<&Glossy> {
+        self.glossy
+            .get_or_init(|| {
+                let (_, rough_lights) = Glossy::roughness_range(self.lights.len());
+                let needed = self
+                    .scene
+                    .materials
+                    .iter()
+                    .any(|m| m.model == Model::MetallicRoughness && m.roughness < rough_lights);
+                needed.then(|| Glossy::build(&self.env, self.lights.len()))
+            })
+            .as_ref()
     }
 
     /// The unposed scene's BVH, built once.
@@ -356,8 +377,9 @@ fn render_tile_list(
     let camera = anim.camera(&inputs.scene, frame)?;
     let samples = anim.render.samples();
     let side = samples.k;
-    let ctx =
-        FrameContext::new(scene, accel, camera, &inputs.lights, &inputs.env).with_samples(samples);
+    let ctx = FrameContext::new(scene, accel, camera, &inputs.lights, &inputs.env)
+        .with_samples(samples)
+        .with_glossy(inputs.glossy());
     let prev = match temporal.prev {
         Some(carried) => {
             let prev_camera = anim.camera(&inputs.scene, carried.frame)?;

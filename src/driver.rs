@@ -24,7 +24,7 @@ use crate::film::{Counts, TileResult};
 use crate::lattice::{Lattice, LatticePatch};
 use crate::predict::temporal::solve_temporal;
 use crate::predict::{At, Order, Scratch, Shadows};
-use crate::shade::{light_sum, radiance, reflect, same};
+use crate::shade::{LambertCache, radiance_at};
 use crate::tile::Rect;
 use glam::Vec3;
 
@@ -310,10 +310,9 @@ fn shade(
     let mut reference = validate.then(|| Vec::with_capacity(n));
     let mut coverage = (k > 1).then(|| Vec::with_capacity(n));
     let mut truth = vec![0u64; w];
-    // The last light sum shaded: (normal, sample, sum). A sample with the same normal and the
-    // same visible lights has the same sum, bit for bit — neighbouring samples of a flat or
-    // finely tessellated surface mostly do — and is shaded without the per-light loop.
-    let mut last: Option<(Vec3, usize, Vec3)> = None;
+    // Lambertian samples with the normal and visible lights of the last one reuse its sum.
+    let (mut cache, mut exact_cache) = (LambertCache::default(), LambertCache::default());
+    let (lights, glossy) = (&ctx.shade_lights, ctx.glossy);
     for py in pixels.y0..pixels.y1 {
         for px in pixels.x0..pixels.x1 {
             let mut lit = Vec3::ZERO;
@@ -347,16 +346,7 @@ fn shade(
                     hits += 1;
                     let vis = TileBuffers::row(&bufs.vis, q, w);
                     let above = TileBuffers::row(&bufs.above, q, w);
-                    let sum = match last {
-                        Some((n, l, sum))
-                            if same(n, s.n) && TileBuffers::row(&bufs.vis, l, w) == vis =>
-                        {
-                            sum
-                        }
-                        _ => light_sum(&ctx.shade_lights, s.n, vis),
-                    };
-                    last = Some((s.n, q, sum));
-                    lit += reflect(s.albedo, sum);
+                    lit += radiance_at(lights, glossy, &s, vis, above, &mut cache);
                     let n_above = bits::count(above);
                     counts.queries += n_above as u64;
                     if n_above > 0 {
@@ -390,7 +380,7 @@ fn shade(
                     counts.wrong_blocked += wb;
                     counts.wrong_pixels += u64::from(wv + wb > 0);
                     mistakes += (wv + wb) as f32;
-                    exact += radiance(&ctx.shade_lights, s.n, s.albedo, &truth);
+                    exact += radiance_at(lights, glossy, &s, &truth, above, &mut exact_cache);
                 }
             }
             beauty.push((lit / spp).to_array());

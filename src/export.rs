@@ -83,15 +83,6 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
         ));
     }
     let inputs = Inputs::load(&anim)?;
-    if let Some(m) = inputs.scene.materials.iter().find(|m| m.texture.is_some()) {
-        return Err(input_error(
-            &args.spec,
-            format!(
-                "material {:?} is textured; export writes per-face base colours only",
-                m.name
-            ),
-        ));
-    }
     let camera0 = anim.camera(&inputs.scene, 0)?;
     let posed;
     let scene = match anim.scene_transform(args.frame, camera0.target) {

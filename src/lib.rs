@@ -6,6 +6,8 @@
 //! - [`scene`] loads glTF or builds the `shapes` scene; [`envmap`] loads lat-long maps;
 //!   [`lights`] reduces a map to N directional lights with O(1) cell lookup.
 //! - [`accel`] wraps the BVH; [`camera`] makes primary rays.
+//! - [`brdf`] is the glTF metallic-roughness BRDF; [`shade`] sums it over the visible lights
+//!   (SIMD kernels); [`glossy`] prefilters the map for lobes too narrow for the lights.
 //! - [`predict`] decides each (pixel, light) visibility: traced or predicted.
 //! - [`tile`] splits a frame; [`frame`] renders one tile; [`film`] assembles tiles;
 //!   [`coordinator`] schedules frames × tiles over threads and streams them to the writer.
@@ -19,6 +21,7 @@ pub mod accel;
 pub mod anim;
 pub mod bench;
 pub mod bits;
+pub mod brdf;
 pub mod blockers;
 pub mod buffers;
 pub mod camera;
@@ -31,6 +34,7 @@ pub mod error;
 pub mod export;
 pub mod farm;
 pub mod film;
+pub mod glossy;
 pub mod history;
 pub mod lattice;
 pub mod lights;

@@ -299,8 +299,9 @@ const READ_VERTEX: u128 = 160;
 /// Bytes per index while one primitive is read: as f64 and u32, and the triangles assembled
 /// and kept (20).
 const READ_INDEX: u128 = 24;
-/// Bytes per texel of a decoded texture: linear RGB f32 and its mip pyramid (a third more).
-const TEXTURE_TEXEL: u128 = 16;
+/// Bytes per texel of a decoded texture: linear RGB f32, its alpha when the image has one, and
+/// their mip pyramid (a third more).
+const TEXTURE_TEXEL: u128 = 22;
 /// Bytes per texel while a texture is decoded, beyond what it keeps: the decoder's pixels (up
 /// to 16 for RGBA f32) and the rows of the pyramid's first halving (6).
 const TEXTURE_DECODE_TEXEL: u128 = 24;
@@ -344,6 +345,9 @@ pub struct SceneSize {
     pub textures: u64,
     pub texels: u64,
     pub largest_texels: u64,
+    /// Bytes of the optional vertex arrays (second texture coordinates, tangents, colours)
+    /// over every vertex, when any primitive has them (then every vertex gets them).
+    pub extra_vertex_bytes: u64,
 }
 
 /// An upper estimate of a render's memory, by what holds it.
@@ -429,8 +433,9 @@ impl Budget {
     /// The estimate of what has been counted so far.
     pub fn estimate(&self) -> Estimate {
         let s = &self.scene;
-        let arrays =
-            u128::from(s.vertices) * SCENE_VERTEX + u128::from(s.triangles) * SCENE_TRIANGLE;
+        let arrays = u128::from(s.vertices) * SCENE_VERTEX
+            + u128::from(s.extra_vertex_bytes)
+            + u128::from(s.triangles) * SCENE_TRIANGLE;
         let read = u128::from(s.largest_vertices) * READ_VERTEX
             + u128::from(s.largest_indices) * READ_INDEX;
         let decode = u128::from(s.largest_texels) * TEXTURE_DECODE_TEXEL;

@@ -1,9 +1,15 @@
-//! Shading kernels: which lights are above a surface's horizon, and the Lambertian sum over
-//! the visible ones (ALGORITHM.md §2), as SSE2/AVX2 kernels that give the same bits as the
-//! scalar reference (the lane order is fixed, so neither thread nor tile changes a sum).
+//! Shading kernels: which lights are above a surface's horizon, the Lambertian sum over the
+//! visible ones (ALGORITHM.md §2), and the glTF metallic-roughness sums (`crate::brdf`), as
+//! SSE2/AVX2 kernels that give the same bits as the scalar reference (the lane order is fixed,
+//! so neither thread nor tile changes a sum); and a sample's radiance from them
+//! ([`radiance_at`]).
 
 use glam::Vec3;
 
+use crate::brdf::{Lobe, MAX_DV, Sums, Weights, light_terms};
+use crate::context::Surface;
+use crate::envmap::LUMINANCE;
+use crate::glossy::Glossy;
 use crate::lights::{Light, LightSet};
 
 /// Light directions and energies as padded flat arrays (length a multiple of 64, zero lights at
@@ -16,6 +22,8 @@ pub struct ShadeLights {
     r: Vec<f32>,
     g: Vec<f32>,
     b: Vec<f32>,
+    /// Luminance of the energy: the weight of a light in a lobe's visible fraction.
+    lum: Vec<f32>,
 }
 
 impl ShadeLights {
@@ -33,9 +41,26 @@ impl ShadeLights {
             r: pad(&|l| l.energy.x),
             g: pad(&|l| l.energy.y),
             b: pad(&|l| l.energy.z),
+            lum: pad(&|l| l.energy.dot(LUMINANCE)),
         }
     }
 }
+
+/// For each byte value, its eight bits as all-ones / zero lane masks, lowest bit first: a lane
+/// outside the set is cleared by a bitwise and, whatever (NaN, infinite) it held.
+const BYTE_BITS: [[u32; 8]; 256] = {
+    let mut t = [[0u32; 8]; 256];
+    let mut v = 0;
+    while v < 256 {
+        let mut l = 0;
+        while l < 8 {
+            t[v][l] = if (v >> l) & 1 == 1 { u32::MAX } else { 0 };
+            l += 1;
+        }
+        v += 1;
+    }
+    t
+};
 
 /// For each byte value, its eight bits as 0.0 / 1.0 multipliers, lowest bit first.
 const BYTE_MASK: [[f32; 8]; 256] = {
@@ -204,6 +229,403 @@ unsafe fn radiance_avx2(sl: &ShadeLights, n: Vec3, bits: &[u64]) -> [[f32; 8]; 3
         }
         for ch in 0..3 {
             _mm256_storeu_ps(out[ch].as_mut_ptr(), acc[ch]);
+        }
+    }
+    out
+}
+
+/// A sample's radiance (its background aside): the visible lights in `vis` (those above its
+/// horizon in `above`) reflected by its material — Lambertian, or glTF metallic-roughness
+/// (`crate::brdf`) with, where `glossy` says the lights are too few for the lobe, the
+/// prefiltered environment weighted by the lobe's visible fraction — times its occlusion,
+/// plus its emission. Lambertian samples with the normal and visible lights of the last one
+/// `cache` saw reuse its light sum (the same bits).
+pub fn radiance_at(
+    sl: &ShadeLights,
+    glossy: Option<&Glossy>,
+    s: &Surface,
+    vis: &[u64],
+    above: &[u64],
+    cache: &mut LambertCache,
+) -> Vec3 {
+    let m = &s.material;
+    let mut lit = if m.lambert {
+        reflect(s.albedo, cache.light_sum(sl, s.n, vis))
+    } else {
+        metallic_roughness(sl, glossy, s, vis, above)
+    };
+    // Occlusion darkens the environment's light (all of the light set's); 1 and no emission
+    // leave the bits alone.
+    if m.occlusion != 1.0 {
+        lit *= m.occlusion;
+    }
+    if m.emission != Vec3::ZERO {
+        lit += m.emission;
+    }
+    lit
+}
+
+/// The glTF metallic-roughness radiance of sample `s` (see [`radiance_at`]).
+fn metallic_roughness(
+    sl: &ShadeLights,
+    glossy: Option<&Glossy>,
+    s: &Surface,
+    vis: &[u64],
+    above: &[u64],
+) -> Vec3 {
+    let m = &s.material;
+    let v = -s.dir;
+    let weights = Weights::new(s.albedo, m);
+    let share = glossy.map_or(1.0, |g| g.light_share(m.roughness));
+    if share >= 1.0 {
+        // [ours] The lights resolve the lobe: exact over them, visibility included.
+        let lobe = Lobe::new(s.n, v, m.roughness);
+        let (sums, _) = specular_sums(sl, &lobe, vis, above, false);
+        return weights.radiance(&sums);
+    }
+    let Some(g) = glossy else {
+        unreachable!("share < 1 comes from a glossy environment")
+    };
+    // [ours] Too few lights for the lobe: the environment prefiltered for the roughness, seen
+    // along the mirror direction, times the lobe's share of visible light (measured with a
+    // lobe at least as wide as the lights can resolve), blended with the lights' own specular
+    // between the two roughnesses `Glossy` names.
+    let lobe = Lobe::new(s.n, v, g.visibility_roughness(m.roughness));
+    let (sums, unshadowed) = specular_sums(sl, &lobe, vis, above, true);
+    let visible = if unshadowed > 0.0 {
+        (crate::envmap::luminance(sums.s2) / unshadowed).min(1.0)
+    } else {
+        1.0
+    };
+    let (i2, i3) = g.dfg(lobe.n_dot_v, m.roughness);
+    let mirror = s.n * (2.0 * lobe.n_dot_v) - v;
+    let env = g.radiance(mirror, m.roughness) * visible;
+    let from_env = weights.specular(env * i2, env * i3);
+    let specular = if share > 0.0 {
+        weights.specular(sums.s2, sums.s3) * share + from_env * (1.0 - share)
+    } else {
+        from_env
+    };
+    weights.diffuse(&sums) + specular
+}
+
+/// The Lambertian light sum of the last sample shaded with it, so that a sample with the same
+/// normal and visible lights — neighbouring samples of a flat or finely tessellated surface
+/// mostly have them — is shaded without the per-light loop, to the same bits. One per tile.
+#[derive(Clone, Debug, Default)]
+pub struct LambertCache {
+    n: Vec3,
+    bits: Vec<u64>,
+    sum: Vec3,
+    valid: bool,
+}
+
+impl LambertCache {
+    /// [`light_sum`] of `n` and `vis`, or the last one's when they are the same.
+    pub fn light_sum(&mut self, sl: &ShadeLights, n: Vec3, vis: &[u64]) -> Vec3 {
+        if self.valid && same(n, self.n) && self.bits == vis {
+            return self.sum;
+        }
+        self.sum = light_sum(sl, n, vis);
+        self.n = n;
+        self.bits.clear();
+        self.bits.extend_from_slice(vis);
+        self.valid = true;
+        self.sum
+    }
+}
+
+/// Clears a lane whose mask bits are zero.
+#[inline]
+fn and(x: f32, mask: u32) -> f32 {
+    f32::from_bits(x.to_bits() & mask)
+}
+
+/// The light sums of the metallic-roughness BRDF (`crate::brdf::Sums`) over the lights of
+/// `vis` for `lobe`, and, with `unshadowed`, `Σ Y cos D Vis` over every light of `above`
+/// (Y the energy's luminance; else 0). Eight lights at a time into eight lanes, added in a
+/// fixed order, as [`light_sum`].
+pub fn specular_sums(
+    sl: &ShadeLights,
+    lobe: &Lobe,
+    vis: &[u64],
+    above: &[u64],
+    unshadowed: bool,
+) -> (Sums, f32) {
+    assert!(vis.len() * 64 <= sl.x.len() && above.len() == vis.len());
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: the light planes hold every light of the bitsets (asserted); AVX2 where detected.
+    let lanes = unsafe {
+        match (crate::simd::has_avx2(), unshadowed) {
+            (true, false) => specular_avx2::<false>(sl, lobe, vis, above),
+            (true, true) => specular_avx2::<true>(sl, lobe, vis, above),
+            (false, false) => specular_sse2::<false>(sl, lobe, vis, above),
+            (false, true) => specular_sse2::<true>(sl, lobe, vis, above),
+        }
+    };
+    #[cfg(not(target_arch = "x86_64"))]
+    let lanes = if unshadowed {
+        specular_lanes::<true>(sl, lobe, vis, above)
+    } else {
+        specular_lanes::<false>(sl, lobe, vis, above)
+    };
+    let sum = |a: &[f32; 8]| ((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]));
+    let rgb = |k: usize| Vec3::new(sum(&lanes[k]), sum(&lanes[k + 1]), sum(&lanes[k + 2]));
+    let sums = Sums {
+        s0: rgb(0),
+        s1: rgb(3),
+        s2: rgb(6),
+        s3: rgb(9),
+    };
+    (sums, sum(&lanes[12]))
+}
+
+/// The 13 × 8 lane sums of [`specular_sums`] (s0, s1, s2, s3 as r, g, b each, then the
+/// unshadowed one), one light at a time: the reference the SIMD kernels follow operation for
+/// operation. `U`: also the unshadowed sum, walking `above` (else `vis`).
+#[cfg_attr(all(target_arch = "x86_64", not(test)), allow(dead_code))]
+fn specular_lanes<const U: bool>(
+    sl: &ShadeLights,
+    lobe: &Lobe,
+    vis: &[u64],
+    above: &[u64],
+) -> [[f32; 8]; 13] {
+    let mut acc = [[0.0f32; 8]; 13];
+    for k in 0..vis.len() {
+        let mut wv = vis[k];
+        let mut wa = if U { above[k] } else { wv };
+        let mut base = k * 64;
+        while wa != 0 {
+            let (bv, ba) = ((wv & 0xff) as usize, (wa & 0xff) as usize);
+            if ba != 0 {
+                for l in 0..8 {
+                    let j = base + l;
+                    let t = light_terms(lobe, Vec3::new(sl.x[j], sl.y[j], sl.z[j]));
+                    let mv = BYTE_BITS[bv][l];
+                    let (cos, w, dv) = (and(t.cos, mv), and(t.w, mv), and(t.dv, mv));
+                    for (c, e) in [&sl.r, &sl.g, &sl.b].into_iter().enumerate() {
+                        let ec = e[j] * cos;
+                        acc[c][l] += ec;
+                        acc[3 + c][l] += ec * w;
+                        let ecd = ec * dv;
+                        acc[6 + c][l] += ecd;
+                        acc[9 + c][l] += ecd * w;
+                    }
+                    if U {
+                        let ma = BYTE_BITS[ba][l];
+                        acc[12][l] += sl.lum[j] * and(t.cos, ma) * and(t.dv, ma);
+                    }
+                }
+            }
+            wv >>= 8;
+            wa >>= 8;
+            base += 8;
+        }
+    }
+    acc
+}
+
+/// [`specular_lanes`] with SSE2, lanes 0–3 and 4–7 in two registers per sum.
+///
+/// # Safety
+/// The light planes hold at least `vis.len() * 64` lights; `above` is as long as `vis`.
+#[cfg(target_arch = "x86_64")]
+unsafe fn specular_sse2<const U: bool>(
+    sl: &ShadeLights,
+    lobe: &Lobe,
+    vis: &[u64],
+    above: &[u64],
+) -> [[f32; 8]; 13] {
+    use std::arch::x86_64::*;
+    let mut out = [[0.0f32; 8]; 13];
+    unsafe {
+        let set = _mm_set1_ps;
+        let (nx, ny, nz) = (set(lobe.n.x), set(lobe.n.y), set(lobe.n.z));
+        let (vx, vy, vz) = (set(lobe.v.x), set(lobe.v.y), set(lobe.v.z));
+        let (nv, a2, a2m1, oma2) = (
+            set(lobe.n_dot_v),
+            set(lobe.a2),
+            set(lobe.a2_minus_1),
+            set(lobe.one_minus_a2),
+        );
+        let (kv, c, half, one, max_dv) = (
+            set(lobe.kv),
+            set(lobe.c),
+            set(0.5),
+            set(1.0),
+            set(MAX_DV),
+        );
+        let mut acc = [_mm_setzero_ps(); 26];
+        for k in 0..vis.len() {
+            let mut wv = vis[k];
+            let mut wa = if U { above[k] } else { wv };
+            let mut base = k * 64;
+            while wa != 0 {
+                let (bv, ba) = ((wv & 0xff) as usize, (wa & 0xff) as usize);
+                if ba != 0 {
+                    for h in 0..2 {
+                        let j = base + 4 * h;
+                        let ld = |v: &[f32]| _mm_loadu_ps(v.as_ptr().add(j));
+                        let mask = |b: usize| {
+                            _mm_castsi128_ps(_mm_loadu_si128(
+                                BYTE_BITS[b].as_ptr().add(4 * h) as *const __m128i
+                            ))
+                        };
+                        let (lx, ly, lz) = (ld(&sl.x), ld(&sl.y), ld(&sl.z));
+                        let cos = _mm_add_ps(
+                            _mm_add_ps(_mm_mul_ps(nx, lx), _mm_mul_ps(ny, ly)),
+                            _mm_mul_ps(nz, lz),
+                        );
+                        let vl = _mm_add_ps(
+                            _mm_add_ps(_mm_mul_ps(vx, lx), _mm_mul_ps(vy, ly)),
+                            _mm_mul_ps(vz, lz),
+                        );
+                        let s = _mm_add_ps(one, vl);
+                        let vh = _mm_sqrt_ps(_mm_mul_ps(s, half));
+                        let t = _mm_sub_ps(one, vh);
+                        let t2 = _mm_mul_ps(t, t);
+                        let w = _mm_mul_ps(_mm_mul_ps(t2, t2), t);
+                        let sum = _mm_add_ps(nv, cos);
+                        let q = _mm_add_ps(_mm_mul_ps(_mm_mul_ps(sum, sum), a2m1), _mm_add_ps(s, s));
+                        let kl = _mm_sqrt_ps(_mm_add_ps(_mm_mul_ps(_mm_mul_ps(cos, cos), oma2), a2));
+                        let den = _mm_mul_ps(
+                            _mm_mul_ps(q, q),
+                            _mm_add_ps(_mm_mul_ps(cos, kv), _mm_mul_ps(nv, kl)),
+                        );
+                        let dv = _mm_div_ps(_mm_mul_ps(c, _mm_mul_ps(s, s)), den);
+                        let dv = _mm_min_ps(dv, max_dv);
+                        let mv = mask(bv);
+                        let (cm, wm, dm) = (_mm_and_ps(cos, mv), _mm_and_ps(w, mv), _mm_and_ps(dv, mv));
+                        for (ch, e) in [&sl.r, &sl.g, &sl.b].into_iter().enumerate() {
+                            let ec = _mm_mul_ps(ld(e), cm);
+                            let a = |k: usize| 2 * k + h;
+                            acc[a(ch)] = _mm_add_ps(acc[a(ch)], ec);
+                            acc[a(3 + ch)] = _mm_add_ps(acc[a(3 + ch)], _mm_mul_ps(ec, wm));
+                            let ecd = _mm_mul_ps(ec, dm);
+                            acc[a(6 + ch)] = _mm_add_ps(acc[a(6 + ch)], ecd);
+                            acc[a(9 + ch)] = _mm_add_ps(acc[a(9 + ch)], _mm_mul_ps(ecd, wm));
+                        }
+                        if U {
+                            let ma = mask(ba);
+                            let y = _mm_mul_ps(ld(&sl.lum), _mm_and_ps(cos, ma));
+                            acc[24 + h] = _mm_add_ps(acc[24 + h], _mm_mul_ps(y, _mm_and_ps(dv, ma)));
+                        }
+                    }
+                }
+                wv >>= 8;
+                wa >>= 8;
+                base += 8;
+            }
+        }
+        for k in 0..13 {
+            _mm_storeu_ps(out[k].as_mut_ptr(), acc[2 * k]);
+            _mm_storeu_ps(out[k].as_mut_ptr().add(4), acc[2 * k + 1]);
+        }
+    }
+    out
+}
+
+/// [`specular_lanes`] with AVX2 (no FMA), eight lanes in one register per sum.
+///
+/// # Safety
+/// As [`specular_sse2`], on a CPU with AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn specular_avx2<const U: bool>(
+    sl: &ShadeLights,
+    lobe: &Lobe,
+    vis: &[u64],
+    above: &[u64],
+) -> [[f32; 8]; 13] {
+    use std::arch::x86_64::*;
+    let mut out = [[0.0f32; 8]; 13];
+    unsafe {
+        let set = |x: f32| _mm256_set1_ps(x);
+        let (nx, ny, nz) = (set(lobe.n.x), set(lobe.n.y), set(lobe.n.z));
+        let (vx, vy, vz) = (set(lobe.v.x), set(lobe.v.y), set(lobe.v.z));
+        let (nv, a2, a2m1, oma2) = (
+            set(lobe.n_dot_v),
+            set(lobe.a2),
+            set(lobe.a2_minus_1),
+            set(lobe.one_minus_a2),
+        );
+        let (kv, c, half, one, max_dv) = (
+            set(lobe.kv),
+            set(lobe.c),
+            set(0.5),
+            set(1.0),
+            set(MAX_DV),
+        );
+        let mut acc = [_mm256_setzero_ps(); 13];
+        for k in 0..vis.len() {
+            let mut wv = vis[k];
+            let mut wa = if U { above[k] } else { wv };
+            let mut base = k * 64;
+            while wa != 0 {
+                let (bv, ba) = ((wv & 0xff) as usize, (wa & 0xff) as usize);
+                if ba != 0 {
+                    let ld = |v: &[f32]| _mm256_loadu_ps(v.as_ptr().add(base));
+                    let mask = |b: usize| {
+                        _mm256_castsi256_ps(_mm256_loadu_si256(
+                            BYTE_BITS[b].as_ptr() as *const __m256i
+                        ))
+                    };
+                    let (lx, ly, lz) = (ld(&sl.x), ld(&sl.y), ld(&sl.z));
+                    let cos = _mm256_add_ps(
+                        _mm256_add_ps(_mm256_mul_ps(nx, lx), _mm256_mul_ps(ny, ly)),
+                        _mm256_mul_ps(nz, lz),
+                    );
+                    let vl = _mm256_add_ps(
+                        _mm256_add_ps(_mm256_mul_ps(vx, lx), _mm256_mul_ps(vy, ly)),
+                        _mm256_mul_ps(vz, lz),
+                    );
+                    let s = _mm256_add_ps(one, vl);
+                    let vh = _mm256_sqrt_ps(_mm256_mul_ps(s, half));
+                    let t = _mm256_sub_ps(one, vh);
+                    let t2 = _mm256_mul_ps(t, t);
+                    let w = _mm256_mul_ps(_mm256_mul_ps(t2, t2), t);
+                    let sum = _mm256_add_ps(nv, cos);
+                    let q = _mm256_add_ps(
+                        _mm256_mul_ps(_mm256_mul_ps(sum, sum), a2m1),
+                        _mm256_add_ps(s, s),
+                    );
+                    let kl = _mm256_sqrt_ps(_mm256_add_ps(
+                        _mm256_mul_ps(_mm256_mul_ps(cos, cos), oma2),
+                        a2,
+                    ));
+                    let den = _mm256_mul_ps(
+                        _mm256_mul_ps(q, q),
+                        _mm256_add_ps(_mm256_mul_ps(cos, kv), _mm256_mul_ps(nv, kl)),
+                    );
+                    let dv = _mm256_div_ps(_mm256_mul_ps(c, _mm256_mul_ps(s, s)), den);
+                    let dv = _mm256_min_ps(dv, max_dv);
+                    let mv = mask(bv);
+                    let (cm, wm, dm) = (
+                        _mm256_and_ps(cos, mv),
+                        _mm256_and_ps(w, mv),
+                        _mm256_and_ps(dv, mv),
+                    );
+                    for (ch, e) in [&sl.r, &sl.g, &sl.b].into_iter().enumerate() {
+                        let ec = _mm256_mul_ps(ld(e), cm);
+                        acc[ch] = _mm256_add_ps(acc[ch], ec);
+                        acc[3 + ch] = _mm256_add_ps(acc[3 + ch], _mm256_mul_ps(ec, wm));
+                        let ecd = _mm256_mul_ps(ec, dm);
+                        acc[6 + ch] = _mm256_add_ps(acc[6 + ch], ecd);
+                        acc[9 + ch] = _mm256_add_ps(acc[9 + ch], _mm256_mul_ps(ecd, wm));
+                    }
+                    if U {
+                        let ma = mask(ba);
+                        let y = _mm256_mul_ps(ld(&sl.lum), _mm256_and_ps(cos, ma));
+                        acc[12] = _mm256_add_ps(acc[12], _mm256_mul_ps(y, _mm256_and_ps(dv, ma)));
+                    }
+                }
+                wv >>= 8;
+                wa >>= 8;
+                base += 8;
+            }
+        }
+        for k in 0..13 {
+            _mm256_storeu_ps(out[k].as_mut_ptr(), acc[k]);
         }
     }
     out

@@ -1,0 +1,421 @@
+//! Materials: the glTF 2.0 metallic-roughness model's parameters and textures, and what they
+//! are at one surface point ([`Scene::material_at`]): base colour, metallic, roughness,
+//! occlusion, emission, the dielectric specular (`KHR_materials_ior`, `KHR_materials_specular`)
+//! and the normal-mapped shading normal. The BRDF that uses them is `crate::brdf`.
+
+use glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
+
+use super::texture::Sampler;
+use super::Scene;
+
+/// The reflection model a material is shaded with.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Model {
+    /// glTF 2.0 metallic-roughness (its appendix B): Lambert diffuse for the dielectric part,
+    /// GGX microfacet specular with Smith height-correlated masking and Schlick Fresnel,
+    /// metals tinted by the base colour. Every glTF material.
+    #[default]
+    MetallicRoughness,
+    /// Lambert only: `albedo / π`, no specular. The built-in `shapes` scene's materials, and
+    /// every material under `[material] lambert = true` (`--lambert`).
+    Lambert,
+}
+
+/// A 2-D affine map of texture coordinates (`KHR_texture_transform`): `uv' = M · (u, v, 1)`
+/// with `M = translation × rotation × scale` as the extension defines it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UvTransform {
+    /// Rows of the 2 × 3 matrix: `u' = m[0] u + m[1] v + m[2]`, `v' = m[3] u + m[4] v + m[5]`.
+    pub m: [f32; 6],
+}
+
+impl UvTransform {
+    /// The extension's `offset`, `rotation` (radians, counter-clockwise in UV space as the
+    /// extension draws it) and `scale`.
+    pub fn new(offset: [f32; 2], rotation: f32, scale: [f32; 2]) -> UvTransform {
+        let (s, c) = libm::sincosf(rotation);
+        // translation × rotation × scale, with the extension's rotation matrix
+        // [cos sin; −sin cos].
+        UvTransform {
+            m: [
+                c * scale[0],
+                s * scale[1],
+                offset[0],
+                -s * scale[0],
+                c * scale[1],
+                offset[1],
+            ],
+        }
+    }
+
+    #[inline]
+    pub fn apply(&self, uv: Vec2) -> Vec2 {
+        let m = &self.m;
+        Vec2::new(
+            m[0] * uv.x + m[1] * uv.y + m[2],
+            m[3] * uv.x + m[4] * uv.y + m[5],
+        )
+    }
+
+    /// How much the map stretches lengths, as one number: `sqrt(|det|)` (a footprint in the
+    /// file's coordinates times this is one in the transformed coordinates).
+    pub fn scale(&self) -> f32 {
+        let det = self.m[0] * self.m[4] - self.m[1] * self.m[3];
+        libm::sqrtf(det.abs())
+    }
+}
+
+/// One texture as a material uses it: which texture, read with which texture coordinate set
+/// and transform, through which sampler.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TextureSlot {
+    /// Index into [`Scene::textures`].
+    pub texture: usize,
+    /// `TEXCOORD_0` or `TEXCOORD_1` (after `KHR_texture_transform`'s `texCoord` override).
+    pub tex_coord: u8,
+    pub transform: Option<UvTransform>,
+    pub sampler: Sampler,
+}
+
+impl TextureSlot {
+    /// Texture `texture`, `TEXCOORD_0`, no transform, the default sampler.
+    pub fn plain(texture: usize) -> TextureSlot {
+        TextureSlot {
+            texture,
+            tex_coord: 0,
+            transform: None,
+            sampler: Sampler::default(),
+        }
+    }
+}
+
+/// A material: the glTF metallic-roughness parameters, each a factor times its texture.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    /// The file's material name, or `material N`, or `default` for primitives without one.
+    pub name: String,
+    pub model: Model,
+    /// Linear RGB base colour factor.
+    pub base_color: Vec3,
+    /// The base colour factor's alpha (coverage; the alpha modes use it with the texture's).
+    pub base_alpha: f32,
+    /// Base colour (sRGB) texture: RGB multiplies `base_color`, A `base_alpha`.
+    pub base_color_texture: Option<TextureSlot>,
+    pub metallic: f32,
+    /// Perceptual roughness: the GGX α is its square.
+    pub roughness: f32,
+    /// Linear; B scales `metallic`, G `roughness`.
+    pub metallic_roughness_texture: Option<TextureSlot>,
+    /// Tangent-space normal map (linear), its X and Y scaled by `normal_scale`.
+    pub normal_texture: Option<TextureSlot>,
+    pub normal_scale: f32,
+    /// Linear; R is the occlusion, blended in by `occlusion_strength`.
+    pub occlusion_texture: Option<TextureSlot>,
+    pub occlusion_strength: f32,
+    /// Linear RGB emission: the factor times `KHR_materials_emissive_strength`.
+    pub emissive: Vec3,
+    /// Emissive (sRGB) texture, multiplying `emissive`.
+    pub emissive_texture: Option<TextureSlot>,
+    /// Index of refraction of the dielectric part (`KHR_materials_ior`; 1.5: F0 = 0.04).
+    pub ior: f32,
+    /// `KHR_materials_specular`: the dielectric specular's strength (and F90) …
+    pub specular: f32,
+    /// … its texture (linear, A channel) …
+    pub specular_texture: Option<TextureSlot>,
+    /// … its F0 colour (linear) …
+    pub specular_color: Vec3,
+    /// … and that colour's texture (sRGB).
+    pub specular_color_texture: Option<TextureSlot>,
+}
+
+impl Default for Material {
+    /// glTF's defaults for every field, with a 0.8 grey base colour (see
+    /// [`default_grey`](Self::default_grey)).
+    fn default() -> Material {
+        Material {
+            name: "default".to_string(),
+            model: Model::MetallicRoughness,
+            base_color: Vec3::splat(0.8),
+            base_alpha: 1.0,
+            base_color_texture: None,
+            metallic: 0.0,
+            roughness: 1.0,
+            metallic_roughness_texture: None,
+            normal_texture: None,
+            normal_scale: 1.0,
+            occlusion_texture: None,
+            occlusion_strength: 1.0,
+            emissive: Vec3::ZERO,
+            emissive_texture: None,
+            ior: 1.5,
+            specular: 1.0,
+            specular_texture: None,
+            specular_color: Vec3::ONE,
+            specular_color_texture: None,
+        }
+    }
+}
+
+impl Material {
+    /// The material given to primitives that have none: a 0.8 grey rough dielectric
+    /// (metallic 0, roughness 1), untextured. [ours] glTF's own default material is metallic
+    /// 1, a white rough metal that looks black under most maps; a primitive left without a
+    /// material is more likely meant as plain grey, as Blender imports it.
+    pub fn default_grey() -> Material {
+        Material::default()
+    }
+
+    /// A Lambertian material of `albedo` (no specular), named `name`.
+    pub fn lambert(name: &str, albedo: Vec3) -> Material {
+        Material {
+            name: name.to_string(),
+            model: Model::Lambert,
+            base_color: albedo,
+            ..Material::default()
+        }
+    }
+
+    /// Every texture slot the material has, with what it is for (in messages).
+    pub fn slots(&self) -> [(&'static str, Option<TextureSlot>); 7] {
+        [
+            ("baseColorTexture", self.base_color_texture),
+            ("metallicRoughnessTexture", self.metallic_roughness_texture),
+            ("normalTexture", self.normal_texture),
+            ("occlusionTexture", self.occlusion_texture),
+            ("emissiveTexture", self.emissive_texture),
+            ("specularTexture", self.specular_texture),
+            ("specularColorTexture", self.specular_color_texture),
+        ]
+    }
+
+    /// The slots as mutable references (merging scenes shifts their texture indices).
+    pub fn slots_mut(&mut self) -> [&mut Option<TextureSlot>; 7] {
+        [
+            &mut self.base_color_texture,
+            &mut self.metallic_roughness_texture,
+            &mut self.normal_texture,
+            &mut self.occlusion_texture,
+            &mut self.emissive_texture,
+            &mut self.specular_texture,
+            &mut self.specular_color_texture,
+        ]
+    }
+}
+
+/// A material at one surface point, textures read: what shading needs beside the base colour
+/// (the surface's albedo) and the shading normal. Flat and `Copy`: one per sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MaterialSample {
+    /// Lambert only (no specular term).
+    pub lambert: bool,
+    /// Base colour alpha (factor × texture × vertex colour).
+    pub alpha: f32,
+    pub metallic: f32,
+    /// Perceptual roughness in [0, 1].
+    pub roughness: f32,
+    /// Environment-light occlusion in [0, 1] (1: none).
+    pub occlusion: f32,
+    /// Emitted radiance, linear RGB.
+    pub emission: Vec3,
+    /// The dielectric part's specular reflectance at normal incidence (RGB) and at grazing
+    /// incidence: `((ior − 1)/(ior + 1))² × specular colour × specular`, and `specular`.
+    pub f0: Vec3,
+    pub f90: f32,
+}
+
+impl Default for MaterialSample {
+    /// A Lambertian surface, nothing else.
+    fn default() -> MaterialSample {
+        MaterialSample {
+            lambert: true,
+            alpha: 1.0,
+            metallic: 0.0,
+            roughness: 1.0,
+            occlusion: 1.0,
+            emission: Vec3::ZERO,
+            f0: Vec3::splat(0.04),
+            f90: 1.0,
+        }
+    }
+}
+
+/// What [`Scene::material_at`] gives: the base colour (the surface's albedo), the rest of the
+/// material, and the shading normal after the normal map.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceMaterial {
+    pub base_color: Vec3,
+    pub sample: MaterialSample,
+    pub normal: Vec3,
+}
+
+/// The dielectric F0 of an index of refraction: `((ior − 1)/(ior + 1))²` (0.04 at 1.5).
+pub fn ior_f0(ior: f32) -> f32 {
+    let r = (ior - 1.0) / (ior + 1.0);
+    r * r
+}
+
+impl Scene {
+    /// Interpolated texture coordinates of set `set` (0 or 1) at barycentric `(u, v)` of
+    /// triangle `tri`; set 1 where the scene has none reads set 0's.
+    pub fn uv_of_set(&self, set: u8, tri: usize, bary: (f32, f32)) -> Vec2 {
+        if set == 0 || self.uvs1.is_empty() {
+            return self.uv(tri, bary);
+        }
+        let [i0, i1, i2] = self.triangles[tri].map(|i| i as usize);
+        let (u, v) = bary;
+        self.uvs1[i0] * (1.0 - u - v) + self.uvs1[i1] * u + self.uvs1[i2] * v
+    }
+
+    /// [`uv_density`](Self::uv_density) of texture coordinate set `set`.
+    pub fn uv_density_of_set(&self, set: u8, tri: usize) -> f32 {
+        if set == 0 || self.uvs1.is_empty() {
+            return self.uv_density(tri);
+        }
+        let [a, b, c] = self.triangle(tri);
+        let world = (b - a).cross(c - a).length();
+        let [ta, tb, tc] = self.triangles[tri].map(|i| self.uvs1[i as usize]);
+        let uv = (tb - ta).perp_dot(tc - ta).abs();
+        let density = (uv / world).sqrt();
+        if density.is_finite() { density } else { 0.0 }
+    }
+
+    /// Interpolated vertex colour (`COLOR_0`, linear RGBA) at barycentric `(u, v)` of triangle
+    /// `tri`; white where the scene has none.
+    pub fn vertex_color(&self, tri: usize, bary: (f32, f32)) -> Vec4 {
+        if self.colors.is_empty() {
+            return Vec4::ONE;
+        }
+        let [i0, i1, i2] = self.triangles[tri].map(|i| i as usize);
+        let (u, v) = bary;
+        self.colors[i0] * (1.0 - u - v) + self.colors[i1] * u + self.colors[i2] * v
+    }
+
+    /// Texture `slot` read at barycentric `bary` of `tri` over a footprint `footprint_world`
+    /// wide on the surface (0: point-sampled), RGBA.
+    fn read(&self, slot: &TextureSlot, tri: usize, bary: (f32, f32), footprint_world: f32) -> Vec4 {
+        let Some(texture) = self.textures.get(slot.texture) else {
+            return Vec4::ONE;
+        };
+        let mut uv = self.uv_of_set(slot.tex_coord, tri, bary);
+        let mut footprint = 0.0;
+        if footprint_world > 0.0 {
+            footprint = footprint_world * self.uv_density_of_set(slot.tex_coord, tri);
+        }
+        if let Some(t) = &slot.transform {
+            uv = t.apply(uv);
+            footprint *= t.scale();
+        }
+        texture.lookup(uv, footprint, &slot.sampler)
+    }
+
+    /// The base colour (linear RGB, times the vertex colour) and its alpha at barycentric
+    /// `bary` of triangle `tri`, the texture filtered over `footprint_world` (0: point-sampled).
+    pub fn base_color_at(&self, tri: usize, bary: (f32, f32), footprint_world: f32) -> Vec4 {
+        let m = &self.materials[self.tri_material[tri] as usize];
+        let mut c = m.base_color.extend(m.base_alpha);
+        if let Some(slot) = &m.base_color_texture {
+            // With the default sampler, the colour is the bits textured albedos always had
+            // (`Texture::lookup` is `sample_footprint` then).
+            let t = self.read(slot, tri, bary, footprint_world);
+            c = (c.xyz() * t.xyz()).extend(c.w * t.w);
+        }
+        if !self.colors.is_empty() {
+            c *= self.vertex_color(tri, bary);
+        }
+        c
+    }
+
+    /// Everything shading needs of the material at barycentric `bary` of triangle `tri`, its
+    /// textures filtered over a footprint `footprint_world` wide on the surface (world units;
+    /// 0: point-sampled): base colour, metallic, roughness, occlusion, emission, the dielectric
+    /// specular, and the shading normal `n` (unit, interpolated) bent by the normal map.
+    ///
+    /// A normal map whose texel is the tangent-space +Z leaves `n` as it is, bit for bit;
+    /// without tangents (no UVs to make them from) the normal map is not applied.
+    pub fn material_at(
+        &self,
+        tri: usize,
+        bary: (f32, f32),
+        footprint_world: f32,
+        n: Vec3,
+    ) -> SurfaceMaterial {
+        let m = &self.materials[self.tri_material[tri] as usize];
+        let base = self.base_color_at(tri, bary, footprint_world);
+        let read = |slot: &Option<TextureSlot>| {
+            slot.as_ref()
+                .map(|s| self.read(s, tri, bary, footprint_world))
+        };
+        let (mut metallic, mut roughness) = (m.metallic, m.roughness);
+        if let Some(t) = read(&m.metallic_roughness_texture) {
+            metallic *= t.z;
+            roughness *= t.y;
+        }
+        let occlusion = match read(&m.occlusion_texture) {
+            Some(t) => 1.0 + m.occlusion_strength * (t.x - 1.0),
+            None => 1.0,
+        };
+        let mut emission = m.emissive;
+        if let Some(t) = read(&m.emissive_texture) {
+            emission *= t.xyz();
+        }
+        let mut specular = m.specular;
+        if let Some(t) = read(&m.specular_texture) {
+            specular *= t.w;
+        }
+        let mut specular_color = m.specular_color;
+        if let Some(t) = read(&m.specular_color_texture) {
+            specular_color *= t.xyz();
+        }
+        let f0 = (specular_color * ior_f0(m.ior)).min(Vec3::ONE) * specular;
+        let mut normal = n;
+        if let Some(slot) = &m.normal_texture
+            && !self.tangents.is_empty()
+        {
+            let t = self.read(slot, tri, bary, footprint_world);
+            normal = self.bend(tri, bary, n, t.xyz(), m.normal_scale);
+        }
+        SurfaceMaterial {
+            base_color: base.xyz(),
+            sample: MaterialSample {
+                lambert: m.model == Model::Lambert,
+                alpha: base.w,
+                metallic: metallic.clamp(0.0, 1.0),
+                roughness: roughness.clamp(0.0, 1.0),
+                occlusion: occlusion.clamp(0.0, 1.0),
+                emission,
+                f0,
+                f90: specular,
+            },
+            normal,
+        }
+    }
+
+    /// The shading normal `n` bent by normal-map texel `texel` (linear, in [0, 1]) with its X
+    /// and Y scaled by `scale`, in the tangent frame at barycentric `bary` of `tri`: the
+    /// interpolated tangent made orthogonal to `n`, the bitangent `n × t` times the tangent's
+    /// handedness. A tangent-space normal of (0, 0, z > 0) returns `n` itself.
+    fn bend(&self, tri: usize, bary: (f32, f32), n: Vec3, texel: Vec3, scale: f32) -> Vec3 {
+        let x = (texel.x * 2.0 - 1.0) * scale;
+        let y = (texel.y * 2.0 - 1.0) * scale;
+        let z = texel.z * 2.0 - 1.0;
+        if x == 0.0 && y == 0.0 && z > 0.0 {
+            return n;
+        }
+        let [i0, i1, i2] = self.triangles[tri].map(|i| i as usize);
+        let (u, v) = bary;
+        let t4 = self.tangents[i0] * (1.0 - u - v) + self.tangents[i1] * u + self.tangents[i2] * v;
+        let t = t4.xyz();
+        let t = (t - n * n.dot(t)).normalize_or_zero();
+        if t == Vec3::ZERO {
+            return n;
+        }
+        let sign = if self.tangents[i0].w < 0.0 { -1.0 } else { 1.0 };
+        let b = n.cross(t) * sign;
+        let bent = (t * x + b * y + n * z).normalize_or_zero();
+        if bent == Vec3::ZERO || !bent.is_finite() {
+            n
+        } else {
+            bent
+        }
+    }
+}
