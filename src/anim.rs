@@ -43,6 +43,14 @@
 //! threads = 0                   # 0: all cores
 //! [output]
 //! dir = "out/shapes"
+//! # [material]                  # overrides every material (docs/materials.md)
+//! # base_color = [0.5, 0.5, 0.5]   # linear; replaces factor, texture colour, vertex colours
+//! # roughness = 0.5 ; metallic = 0.0 ; emissive = [0, 0, 0]
+//! # lambert = false             # true: diffuse only (no specular)
+//! # textures = true             # false: no textures but normal maps (and base colour alpha)
+//! # normal_maps = true          # false: no normal maps
+//! # [material.named."Floor"]    # the same keys, for the materials of one name
+//! # roughness = 0.9
 //! ```
 //! Input paths are relative to the spec file's folder; the output folder is relative to the
 //! working directory. Unknown keys are errors.
@@ -57,7 +65,7 @@ use crate::bail_input;
 use crate::camera::Camera;
 use crate::error::{Result, input_error};
 use crate::output::record::{SettingsRecord, file_sha256};
-use crate::scene::Scene;
+use crate::scene::{MaterialOverride, Scene};
 use crate::settings::{
     Lights, LightsLayer, Output, OutputLayer, Render, RenderLayer, Source, check_applies,
 };
@@ -83,6 +91,8 @@ struct Spec {
     render: RenderLayer,
     #[serde(default)]
     output: OutputLayer,
+    #[serde(default)]
+    material: MaterialOverride,
 }
 
 #[derive(Debug, Clone, Default, Deserialize)]
@@ -243,6 +253,48 @@ pub struct AnimFlags {
     pub render: RenderLayer,
     #[command(flatten)]
     pub output: OutputLayer,
+    #[command(flatten)]
+    pub material: MaterialFlags,
+}
+
+/// Material overrides from the command line, over the spec's `[material]` table.
+#[derive(Clone, Debug, Default, clap::Args)]
+pub struct MaterialFlags {
+    /// Lookdev: every material a grey clay — base colour 0.5, roughness 0.5, metallic 0, no
+    /// emission, no textures but normal maps (docs/materials.md).
+    #[arg(long)]
+    pub clay: bool,
+    /// Every material Lambertian (diffuse only, no specular), as envshadow shaded before glTF
+    /// materials.
+    #[arg(long)]
+    pub lambert: bool,
+}
+
+impl MaterialFlags {
+    /// The overrides these flags stand for.
+    pub fn overrides(&self) -> MaterialOverride {
+        let mut o = if self.clay {
+            MaterialOverride::clay()
+        } else {
+            MaterialOverride::default()
+        };
+        if self.lambert {
+            o.lambert = Some(true);
+        }
+        o
+    }
+
+    /// The flags given: (name, spelled).
+    fn given(&self) -> Vec<(&'static str, &'static str, String)> {
+        let mut v = Vec::new();
+        if self.clay {
+            v.push(("clay", "clay", "true".to_string()));
+        }
+        if self.lambert {
+            v.push(("lambert", "lambert", "true".to_string()));
+        }
+        v
+    }
 }
 
 impl AnimFlags {
@@ -257,7 +309,8 @@ impl AnimFlags {
             .given()
             .into_iter()
             .chain(self.render.given())
-            .chain(self.output.given());
+            .chain(self.output.given())
+            .chain(self.material.given());
         for (key, flag, _) in given {
             if !reads.contains(&key) {
                 bail_input!(format!("--{flag}"), "does not apply to {command}");
@@ -322,6 +375,10 @@ pub struct Animation {
     pub render: Render,
     /// `[output]`: the output folder.
     pub output: Output,
+    /// `[material]`: the spec's material overrides …
+    pub materials: MaterialOverride,
+    /// … and the command line's (`--clay`, `--lambert`), applied over them.
+    pub material_flags: MaterialOverride,
 }
 
 impl Animation {
@@ -446,7 +503,12 @@ impl Animation {
             lights: flags.lights.clone().over(spec.lights).resolve(),
             render,
             output: flags.output.clone().over(spec.output).resolve(),
+            materials: spec.material.clone(),
+            material_flags: flags.material.overrides(),
         };
+        if let Some(why) = anim.materials.problem() {
+            bail_input!(path, "[material] {why}");
+        }
         if let Some(r) = flags.frames {
             if r.end > anim.frame_count {
                 bail_input!(
@@ -747,6 +809,13 @@ impl Animation {
             if key != "threads" && key != "tile" {
                 put(&format!("[{}] {key}", Render::TABLE), value);
             }
+        }
+        // Material overrides change pixels: the spec's, then the command line's.
+        for (key, value) in self.materials.given() {
+            put(&format!("[material] {key}"), value);
+        }
+        for (key, value) in self.material_flags.given() {
+            put(&format!("[material] (command line) {key}"), value);
         }
         Ok(SettingsRecord { lines })
     }

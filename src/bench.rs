@@ -17,7 +17,7 @@ use clap::Args;
 use rayon::prelude::*;
 
 use crate::accel::{self, Accel, PACKET, ShadowRay};
-use crate::anim::{AnimFlags, Animation};
+use crate::anim::{AnimFlags, Animation, MaterialFlags};
 use crate::coordinator::{Inputs, Silent, render_frame, thread_pool};
 use crate::error::{Result, input_error};
 use crate::film::Counts;
@@ -59,6 +59,9 @@ pub struct BenchArgs {
     /// Render settings.
     #[command(flatten)]
     pub render: RenderSweep,
+    /// Material overrides (`--lambert`: diffuse only, to measure what specular costs).
+    #[command(flatten)]
+    pub material: MaterialFlags,
 }
 
 /// The light counts a measuring command renders when none are given.
@@ -163,9 +166,14 @@ pub fn tuning(sweep: &RenderSweep) -> String {
 }
 
 /// The animation `spec` with the inputs of one light layer (count, sampler) loaded.
-pub fn load(spec: &Path, lights: &LightsLayer) -> Result<(Animation, Inputs)> {
+pub fn load(
+    spec: &Path,
+    lights: &LightsLayer,
+    material: &MaterialFlags,
+) -> Result<(Animation, Inputs)> {
     let flags = AnimFlags {
         lights: lights.clone(),
+        material: material.clone(),
         ..Default::default()
     };
     let anim = Animation::load(spec, &flags)?;
@@ -321,7 +329,7 @@ pub fn measure(args: &BenchArgs, mut log: impl FnMut(Log)) -> Result<Vec<BenchRo
     };
     let mut rows = Vec::new();
     for lights in light_layers(&args.lights)? {
-        let (base, inputs) = load(&spec, &lights)?;
+        let (base, inputs) = load(&spec, &lights, &args.material)?;
         for w in &inputs.scene.warnings {
             log(Log::Warning(w));
         }

@@ -224,6 +224,14 @@ impl Inputs {
             SceneSource::File(p) => Scene::load_within(p, &mut budget)
                 .with_context(|| format!("while loading {}", anim.spec_path.display()))?,
         };
+        let mut scene = scene;
+        let source = match &anim.scene {
+            SceneSource::File(p) => p.display().to_string(),
+            SceneSource::Shapes => "builtin:shapes".to_string(),
+        };
+        anim.materials
+            .apply(&anim.material_flags, &mut scene.materials)
+            .map_err(|why| input_error(&anim.spec_path, format!("[material] {why} (in {source})")))?;
         // A spin poses the scene every frame: refused here if that could overflow (found by
         // fuzzing the posed scene: tests/data/fuzz/posed_scene/huge-pivot).
         if anim.motion == MotionKind::Spin {
@@ -379,7 +387,11 @@ fn render_tile_list(
     let side = samples.k;
     let ctx = FrameContext::new(scene, accel, camera, &inputs.lights, &inputs.env)
         .with_samples(samples)
-        .with_glossy(inputs.glossy());
+        .with_glossy(if anim.render.glossy_env {
+            inputs.glossy()
+        } else {
+            None
+        });
     let prev = match temporal.prev {
         Some(carried) => {
             let prev_camera = anim.camera(&inputs.scene, carried.frame)?;

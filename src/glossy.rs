@@ -20,23 +20,31 @@ use crate::brdf::alpha;
 use crate::envmap::{EnvMap, dir_to_uv, uv_to_dir};
 
 /// Roughness step between prefiltered levels.
-const STEP: f32 = 0.125;
+const STEP: f32 = 0.05;
 /// Widest prefiltered level, texels (height half of it).
-const MAX_WIDTH: usize = 512;
+const MAX_WIDTH: usize = 256;
 /// Narrowest prefiltered level.
 const MIN_WIDTH: usize = 32;
-/// The lobe is cut where GGX's D falls to this share of its peak.
+/// Around its centre a lobe is summed over the level's own texels, out to where GGX's D falls
+/// to this share of its peak but no further than `NEAR_RADIUS`; beyond, over a coarse copy
+/// of the map (`FAR_WIDTH` texels wide). GGX's tails are long, and a small bright source far
+/// from the centre (a studio light, the sun) can outweigh all of the lobe's core.
 const CUTOFF: f32 = 1e-3;
+const NEAR_RADIUS: f32 = 25.0 * std::f32::consts::PI / 180.0;
+const FAR_WIDTH: usize = 32;
 /// Resolution of the lobe-integral table, per axis (n·v and roughness).
 const DFG_SIZE: usize = 32;
 /// Samples per entry of that table (a Hammersley set).
 const DFG_SAMPLES: u32 = 1024;
 
-/// [ours] The lights resolve a lobe whose α is at least `LIGHTS_EXACT × δ`, δ = √(4π/N) the
-/// lights' mean spacing (radians); below `LIGHTS_NONE × δ` the lights' own specular is not used
-/// at all. Measured (docs/materials.md, `glossy::` tests).
-const LIGHTS_EXACT: f32 = 1.0;
-const LIGHTS_NONE: f32 = 0.5;
+/// [ours] The lights give the specular of a lobe whose α is at least `LIGHTS_EXACT × δ`,
+/// δ = √(4π/N) the lights' mean spacing (radians); below `LIGHTS_NONE × δ` the lights' own
+/// specular is not used at all. Where the two estimates' errors against the whole map cross
+/// on a studio map with small bright lights (docs/materials.md,
+/// `materials::glossy_estimates_against_the_whole_map`): at 400 lights, roughness 0.21 and
+/// 0.15.
+const LIGHTS_EXACT: f32 = 0.25;
+const LIGHTS_NONE: f32 = 0.12;
 
 /// One prefiltered lat-long map (the map's own frame, as [`EnvMap`]'s texels).
 struct Level {
@@ -73,11 +81,16 @@ impl Glossy {
     /// texel summed alone: the same bits whatever the threads.
     pub fn build(env: &EnvMap, lights: usize) -> Glossy {
         let (rough_none, rough_lights) = Glossy::roughness_range(lights);
+        let far_width = FAR_WIDTH.min(env.width.max(2));
+        let far = (
+            downsample(env, far_width, (far_width / 2).max(1)),
+            Source::new(far_width, (far_width / 2).max(1)),
+        );
         let mut levels = Vec::new();
         let mut k = 1;
         loop {
             let roughness = STEP * k as f32;
-            levels.push(prefilter(env, roughness));
+            levels.push(prefilter(env, roughness, &far));
             if roughness >= rough_lights || roughness >= 1.0 {
                 break;
             }
@@ -204,9 +217,10 @@ fn downsample(env: &EnvMap, width: usize, height: usize) -> Vec<Vec3> {
 }
 
 /// The map convolved with the GGX lobe of `roughness` around each texel's direction R, with
-/// n = v = R: each source texel ω weighted by `D(h) (R·ω) dω`, `(n·h)² = (1 + R·ω)/2`, over
-/// the texels where D is above [`CUTOFF`] of its peak, normalised by the weights' sum.
-fn prefilter(env: &EnvMap, roughness: f32) -> Level {
+/// n = v = R: each source texel ω weighted by `D(h) (R·ω) dω`, `(n·h)² = (1 + R·ω)/2`,
+/// normalised by the weights' sum, over the whole hemisphere around R: the level's own texels
+/// near R (see [`CUTOFF`]), the coarse `far` copy of the map beyond.
+fn prefilter(env: &EnvMap, roughness: f32, far: &(Vec<Vec3>, Source)) -> Level {
     let a = alpha(roughness);
     let a2 = a * a;
     // Texels about α wide (the lobe's half-vector spread), within the bounds, a power of two.
@@ -220,38 +234,49 @@ fn prefilter(env: &EnvMap, roughness: f32) -> Level {
     let src = Source::new(width, height);
     // Where D falls to CUTOFF of its peak: (n·h)²(α² − 1) + 1 = α² / √CUTOFF.
     let limit = a2 / libm::sqrtf(CUTOFF);
-    let min_cos = if limit >= 1.0 {
+    let cutoff_cos = if limit >= 1.0 {
         0.0
     } else {
         // (n·h)² = (1 − limit)/(1 − α²), and R·ω = 2(n·h)² − 1.
         (2.0 * (1.0 - limit) / (1.0 - a2) - 1.0).max(0.0)
     };
-    let radius = libm::acosf(min_cos);
+    let near_cos = cutoff_cos.max(libm::cosf(NEAR_RADIUS));
+    let radius = libm::acosf(near_cos);
+    let weight = |cos: f32, dw: f32| {
+        let nh2 = (1.0 + cos) * 0.5;
+        let q = nh2 * (a2 - 1.0) + 1.0;
+        cos * dw / (q * q)
+    };
+    let (far_texels, far_src) = far;
     let texels: Vec<Vec3> = (0..height)
         .into_par_iter()
         .flat_map_iter(|y| {
-            let source = &source;
-            let src = &src;
+            let (source, src) = (&source, &src);
             (0..width).map(move |x| {
                 let r = src.dir[y * width + x];
                 let mut sum = Vec3::ZERO;
                 let mut total = 0.0f32;
-                let lat = std::f32::consts::FRAC_PI_2 - (y as f32 + 0.5) / height as f32 * std::f32::consts::PI;
+                let lat = std::f32::consts::FRAC_PI_2
+                    - (y as f32 + 0.5) / height as f32 * std::f32::consts::PI;
                 let (rows, cols) = src.window(lat, radius, x);
                 for row in rows {
                     let dw = src.solid_angle[row];
                     for c in cols.clone() {
                         let col = c.rem_euclid(width as i64) as usize;
-                        let w = src.dir[row * width + col];
-                        let cos = r.dot(w);
-                        if cos <= min_cos {
-                            continue;
+                        let cos = r.dot(src.dir[row * width + col]);
+                        if cos > near_cos {
+                            let w = weight(cos, dw);
+                            sum += source[row * width + col] * w;
+                            total += w;
                         }
-                        let nh2 = (1.0 + cos) * 0.5;
-                        let q = nh2 * (a2 - 1.0) + 1.0;
-                        let weight = cos * dw / (q * q);
-                        sum += source[row * width + col] * weight;
-                        total += weight;
+                    }
+                }
+                for (i, d) in far_src.dir.iter().enumerate() {
+                    let cos = r.dot(*d);
+                    if cos > 0.0 && cos <= near_cos {
+                        let w = weight(cos, far_src.solid_angle[i / far_src.width]);
+                        sum += far_texels[i] * w;
+                        total += w;
                     }
                 }
                 if total > 0.0 {

@@ -248,6 +248,7 @@ mod tests {
                 albedo: Vec3::splat(0.1 * s),
                 dir: Vec3::new(0.0, -s, 1.0).normalize(),
                 hit: true,
+                ..Surface::default()
             },
             bits: [
                 vec![0xf0f0 ^ k, 0x3 << k],

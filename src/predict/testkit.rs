@@ -55,6 +55,7 @@ pub fn origin() -> Surface {
         albedo: Vec3::splat(0.5),
         dir: Vec3::NEG_Y,
         hit: true,
+        ..Surface::default()
     }
 }
 

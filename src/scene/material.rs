@@ -101,11 +101,16 @@ pub struct Material {
     pub base_alpha: f32,
     /// Base colour (sRGB) texture: RGB multiplies `base_color`, A `base_alpha`.
     pub base_color_texture: Option<TextureSlot>,
+    /// The base colour is `base_color` alone: the texture gives only its alpha, vertex colours
+    /// are not used (a `[material] base_color` override).
+    pub plain_base_color: bool,
     pub metallic: f32,
     /// Perceptual roughness: the GGX α is its square.
     pub roughness: f32,
-    /// Linear; B scales `metallic`, G `roughness`.
+    /// Linear; B scales `metallic`, G `roughness` (each unless an override took it).
     pub metallic_roughness_texture: Option<TextureSlot>,
+    pub metallic_from_texture: bool,
+    pub roughness_from_texture: bool,
     /// Tangent-space normal map (linear), its X and Y scaled by `normal_scale`.
     pub normal_texture: Option<TextureSlot>,
     pub normal_scale: f32,
@@ -138,9 +143,12 @@ impl Default for Material {
             base_color: Vec3::splat(0.8),
             base_alpha: 1.0,
             base_color_texture: None,
+            plain_base_color: false,
             metallic: 0.0,
             roughness: 1.0,
             metallic_roughness_texture: None,
+            metallic_from_texture: true,
+            roughness_from_texture: true,
             normal_texture: None,
             normal_scale: 1.0,
             occlusion_texture: None,
@@ -199,6 +207,200 @@ impl Material {
             &mut self.specular_texture,
             &mut self.specular_color_texture,
         ]
+    }
+}
+
+/// What a spec's `[material]` table, or `--clay` and `--lambert`, change in the scene's
+/// materials: each key given replaces what the file says, for every material (or, under
+/// `[material.named."NAME"]`, for the materials of that name).
+#[derive(Clone, Debug, Default, PartialEq, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialOverride {
+    /// Linear RGB base colour, replacing the factor, the texture's colour (its alpha stays)
+    /// and vertex colours.
+    pub base_color: Option<[f32; 3]>,
+    /// Metallic in [0, 1], replacing the factor and the texture's B channel.
+    pub metallic: Option<f32>,
+    /// Perceptual roughness in [0, 1], replacing the factor and the texture's G channel.
+    pub roughness: Option<f32>,
+    /// Linear RGB emission, replacing the factor, its strength and its texture.
+    pub emissive: Option<[f32; 3]>,
+    /// `true`: Lambert only (no specular), as envshadow shaded before glTF materials.
+    pub lambert: Option<bool>,
+    /// `false`: no texture but the normal maps (and the base colour texture's alpha).
+    pub textures: Option<bool>,
+    /// `false`: no normal maps.
+    pub normal_maps: Option<bool>,
+    /// Overrides for the materials of one name, over those above (only at the top level).
+    #[serde(default)]
+    pub named: std::collections::BTreeMap<String, MaterialOverride>,
+}
+
+impl MaterialOverride {
+    /// `--clay`: a mid-grey, half-rough dielectric without textures but normal maps, and
+    /// without emission: the form alone, for lookdev turntables.
+    pub fn clay() -> MaterialOverride {
+        MaterialOverride {
+            base_color: Some([0.5, 0.5, 0.5]),
+            metallic: Some(0.0),
+            roughness: Some(0.5),
+            emissive: Some([0.0, 0.0, 0.0]),
+            textures: Some(false),
+            ..MaterialOverride::default()
+        }
+    }
+
+    /// The keys given here over those of `base` (`named` merged, this one's entries winning).
+    pub fn over(&self, base: &MaterialOverride) -> MaterialOverride {
+        let mut named = base.named.clone();
+        named.extend(self.named.clone());
+        MaterialOverride {
+            base_color: self.base_color.or(base.base_color),
+            metallic: self.metallic.or(base.metallic),
+            roughness: self.roughness.or(base.roughness),
+            emissive: self.emissive.or(base.emissive),
+            lambert: self.lambert.or(base.lambert),
+            textures: self.textures.or(base.textures),
+            normal_maps: self.normal_maps.or(base.normal_maps),
+            named,
+        }
+    }
+
+    /// Whether nothing is overridden.
+    pub fn is_empty(&self) -> bool {
+        *self == MaterialOverride::default()
+    }
+
+    /// Why the values given are out of range, naming the key (`base_color`, `named."x".roughness`).
+    pub fn problem(&self) -> Option<String> {
+        self.problem_at("")
+    }
+
+    fn problem_at(&self, prefix: &str) -> Option<String> {
+        let unit = |v: f32| v.is_finite() && (0.0..=1.0).contains(&v);
+        let colour = |c: [f32; 3]| c.iter().all(|v| v.is_finite() && *v >= 0.0);
+        if let Some(c) = self.base_color
+            && !c.iter().all(|&v| unit(v))
+        {
+            return Some(format!("{prefix}base_color = {c:?}: each component must be in [0, 1]"));
+        }
+        for (key, v) in [("metallic", self.metallic), ("roughness", self.roughness)] {
+            if let Some(v) = v
+                && !unit(v)
+            {
+                return Some(format!("{prefix}{key} = {v}: must be in [0, 1]"));
+            }
+        }
+        if let Some(c) = self.emissive
+            && !colour(c)
+        {
+            return Some(format!("{prefix}emissive = {c:?}: each component must be finite and ≥ 0"));
+        }
+        for (name, o) in &self.named {
+            if !prefix.is_empty() || !o.named.is_empty() {
+                return Some(format!("{prefix}named.{name:?}: named overrides do not nest"));
+            }
+            if let Some(p) = o.problem_at(&format!("named.{name:?}.")) {
+                return Some(p);
+            }
+        }
+        None
+    }
+
+    /// The keys given, as `(key, value)` spelled as a spec writes them (`named."x".roughness`).
+    pub fn given(&self) -> Vec<(String, String)> {
+        let mut out = Vec::new();
+        let c = |c: [f32; 3]| format!("[{}, {}, {}]", c[0], c[1], c[2]);
+        if let Some(v) = self.base_color {
+            out.push(("base_color".to_string(), c(v)));
+        }
+        if let Some(v) = self.metallic {
+            out.push(("metallic".to_string(), v.to_string()));
+        }
+        if let Some(v) = self.roughness {
+            out.push(("roughness".to_string(), v.to_string()));
+        }
+        if let Some(v) = self.emissive {
+            out.push(("emissive".to_string(), c(v)));
+        }
+        for (key, v) in [
+            ("lambert", self.lambert),
+            ("textures", self.textures),
+            ("normal_maps", self.normal_maps),
+        ] {
+            if let Some(v) = v {
+                out.push((key.to_string(), v.to_string()));
+            }
+        }
+        for (name, o) in &self.named {
+            for (k, v) in o.given() {
+                out.push((format!("named.{name:?}.{k}"), v));
+            }
+        }
+        out
+    }
+
+    /// This override's keys applied to `m` (not `named`).
+    fn apply_to(&self, m: &mut Material) {
+        if let Some(c) = self.base_color {
+            m.base_color = Vec3::from_array(c);
+            m.plain_base_color = true;
+        }
+        if let Some(v) = self.metallic {
+            m.metallic = v;
+            m.metallic_from_texture = false;
+        }
+        if let Some(v) = self.roughness {
+            m.roughness = v;
+            m.roughness_from_texture = false;
+        }
+        if let Some(c) = self.emissive {
+            m.emissive = Vec3::from_array(c);
+            m.emissive_texture = None;
+        }
+        match self.lambert {
+            Some(true) => m.model = Model::Lambert,
+            Some(false) => m.model = Model::MetallicRoughness,
+            None => {}
+        }
+        if self.textures == Some(false) {
+            // The base colour texture stays for its alpha (cut-outs keep their shape).
+            m.plain_base_color = true;
+            m.metallic_roughness_texture = None;
+            m.occlusion_texture = None;
+            m.emissive_texture = None;
+            m.specular_texture = None;
+            m.specular_color_texture = None;
+        }
+        if self.normal_maps == Some(false) {
+            m.normal_texture = None;
+        }
+    }
+
+    /// Applies the overrides to `materials`: the top level's to every one, then the named
+    /// ones' to theirs; `over` (the command line) last, over both. A name that no material
+    /// has is an error naming the materials there are.
+    pub fn apply(&self, over: &MaterialOverride, materials: &mut [Material]) -> Result<(), String> {
+        for name in self.named.keys().chain(over.named.keys()) {
+            if !materials.iter().any(|m| &m.name == name) {
+                let names: Vec<String> = materials.iter().map(|m| format!("{:?}", m.name)).collect();
+                return Err(format!(
+                    "named.{name:?}: no material has that name (the scene's: {})",
+                    names.join(", ")
+                ));
+            }
+        }
+        for m in materials.iter_mut() {
+            self.apply_to(m);
+            if let Some(o) = self.named.get(&m.name) {
+                o.apply_to(m);
+            }
+            over.apply_to(m);
+            if let Some(o) = over.named.get(&m.name) {
+                o.apply_to(m);
+            }
+        }
+        Ok(())
     }
 }
 
@@ -317,9 +519,13 @@ impl Scene {
             // With the default sampler, the colour is the bits textured albedos always had
             // (`Texture::lookup` is `sample_footprint` then).
             let t = self.read(slot, tri, bary, footprint_world);
-            c = (c.xyz() * t.xyz()).extend(c.w * t.w);
+            if m.plain_base_color {
+                c.w *= t.w;
+            } else {
+                c = (c.xyz() * t.xyz()).extend(c.w * t.w);
+            }
         }
-        if !self.colors.is_empty() {
+        if !self.colors.is_empty() && !m.plain_base_color {
             c *= self.vertex_color(tri, bary);
         }
         c
@@ -347,8 +553,12 @@ impl Scene {
         };
         let (mut metallic, mut roughness) = (m.metallic, m.roughness);
         if let Some(t) = read(&m.metallic_roughness_texture) {
-            metallic *= t.z;
-            roughness *= t.y;
+            if m.metallic_from_texture {
+                metallic *= t.z;
+            }
+            if m.roughness_from_texture {
+                roughness *= t.y;
+            }
         }
         let occlusion = match read(&m.occlusion_texture) {
             Some(t) => 1.0 + m.occlusion_strength * (t.x - 1.0),

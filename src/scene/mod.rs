@@ -22,7 +22,8 @@ use crate::error::Result;
 use crate::limits::Budget;
 
 pub use material::{
-    Material, MaterialSample, Model, SurfaceMaterial, TextureSlot, UvTransform, ior_f0,
+    Material, MaterialOverride, MaterialSample, Model, SurfaceMaterial, TextureSlot, UvTransform,
+    ior_f0,
 };
 pub use texture::{Encoding, Sampler, Wrap, srgb_to_linear};
 

@@ -19,6 +19,7 @@ mod golden;
 mod hostile;
 mod interrupt;
 mod lights;
+mod materials;
 mod maths;
 mod memory;
 mod predict;

@@ -14,14 +14,14 @@ use std::path::{Path, PathBuf};
 // `.gltf` with a `data:` URI, or as `.glb`.
 
 #[derive(Clone, Default)]
-struct Gltf {
+pub(crate) struct Gltf {
     bin: Vec<u8>,
     views: Vec<Value>,
     accessors: Vec<Value>,
 }
 
 impl Gltf {
-    fn view(&mut self, bytes: &[u8]) -> usize {
+    pub(crate) fn view(&mut self, bytes: &[u8]) -> usize {
         while !self.bin.len().is_multiple_of(4) {
             self.bin.push(0);
         }
@@ -31,11 +31,12 @@ impl Gltf {
         self.views.len() - 1
     }
 
-    /// A float accessor of `type_` ("VEC2", "VEC3") over `data`.
-    fn floats(&mut self, type_: &str, data: &[f32]) -> usize {
+    /// A float accessor of `type_` ("VEC2", "VEC3", "VEC4") over `data`.
+    pub(crate) fn floats(&mut self, type_: &str, data: &[f32]) -> usize {
         let n = match type_ {
             "VEC2" => 2,
             "VEC3" => 3,
+            "VEC4" => 4,
             _ => 1,
         };
         let bytes: Vec<u8> = data.iter().flat_map(|f| f.to_le_bytes()).collect();
@@ -58,7 +59,7 @@ impl Gltf {
         self.accessors.len() - 1
     }
 
-    fn indices(&mut self, data: &[u32]) -> usize {
+    pub(crate) fn indices(&mut self, data: &[u32]) -> usize {
         let bytes: Vec<u8> = data.iter().flat_map(|i| i.to_le_bytes()).collect();
         let view = self.view(&bytes);
         self.accessors.push(json!({"bufferView": view, "componentType": 5125, "count": data.len(), "type": "SCALAR"}));
@@ -102,7 +103,7 @@ impl Gltf {
     }
 
     /// Writes `name.glb` into `dir`.
-    fn write_glb(&self, dir: &Path, name: &str, rest: Value) -> PathBuf {
+    pub(crate) fn write_glb(&self, dir: &Path, name: &str, rest: Value) -> PathBuf {
         let mut json = serde_json::to_vec(&self.json(rest, None)).unwrap();
         while !json.len().is_multiple_of(4) {
             json.push(b' ');
@@ -442,10 +443,16 @@ fn textured_file(g: &mut Gltf, image: Value, extra_view: Option<&[u8]>) -> Value
     })
 }
 
-/// Finds a triangle and barycentrics whose interpolated UV is `uv`.
+/// Finds a triangle and barycentrics whose interpolated UV is `uv` (of TEXCOORD_1 where the
+/// scene has it: the textured files here read that set).
 fn locate(scene: &Scene, uv: Vec2) -> (usize, (f32, f32)) {
+    let uvs = if scene.uvs1.is_empty() {
+        &scene.uvs
+    } else {
+        &scene.uvs1
+    };
     for t in 0..scene.triangle_count() {
-        let [a, b, c] = scene.triangles[t].map(|i| scene.uvs[i as usize]);
+        let [a, b, c] = scene.triangles[t].map(|i| uvs[i as usize]);
         let (e1, e2, d) = (b - a, c - a, uv - a);
         let det = e1.perp_dot(e2);
         let u = d.perp_dot(e2) / det;
@@ -552,9 +559,8 @@ impl CheckerGround {
             triangles: vec![[0, 2, 1], [0, 3, 2]],
             tri_material: vec![0, 0],
             materials: vec![Material {
-                name: "checker".into(),
-                base_color: Vec3::ONE,
-                texture: Some(0),
+                base_color_texture: Some(envshadow::scene::TextureSlot::plain(0)),
+                ..Material::lambert("checker", Vec3::ONE)
             }],
             textures: vec![texture],
             ..Scene::default()
