@@ -98,7 +98,11 @@ pub fn light_terms(lobe: &Lobe, l: Vec3) -> LightTerms {
     let t = 1.0 - vh;
     let t2 = t * t;
     let w = t2 * t2 * t;
-    let (cx, cy, cz) = (n.y * hz - n.z * hy, n.z * hx - n.x * hz, n.x * hy - n.y * hx);
+    let (cx, cy, cz) = (
+        n.y * hz - n.z * hy,
+        n.z * hx - n.x * hz,
+        n.x * hy - n.y * hx,
+    );
     let cross = cx * cx + cy * cy + cz * cz;
     let sum = lobe.n_dot_v + cos;
     let q = sum * sum * lobe.a2 + cross;
@@ -206,9 +210,11 @@ mod tests {
 
     /// The spec's formulas written the plain way, in f64: h normalised, D and Vis apart.
     fn reference(n: Vec3, v: Vec3, l: Vec3, base: Vec3, m: &MaterialSample) -> [f64; 3] {
-        let d = |a: Vec3, b: Vec3| f64::from(a.x) * f64::from(b.x)
-            + f64::from(a.y) * f64::from(b.y)
-            + f64::from(a.z) * f64::from(b.z);
+        let d = |a: Vec3, b: Vec3| {
+            f64::from(a.x) * f64::from(b.x)
+                + f64::from(a.y) * f64::from(b.y)
+                + f64::from(a.z) * f64::from(b.z)
+        };
         let (nl, nv) = (d(n, l), d(n, v).max(f64::from(MIN_COS_VIEW)));
         let h = (v + l).normalize();
         let (nh, vh) = (d(n, h), d(v, h));
@@ -250,7 +256,14 @@ mod tests {
         let base = Vec3::new(0.9, 0.6, 0.2);
         let ds = dirs();
         // A near-mirror too: its peak must not lose precision.
-        let cases = [(0.0, 0.3), (0.0, 1.0), (1.0, 0.5), (0.5, 0.7), (0.25, 0.15), (1.0, 0.02)];
+        let cases = [
+            (0.0, 0.3),
+            (0.0, 1.0),
+            (1.0, 0.5),
+            (0.5, 0.7),
+            (0.25, 0.15),
+            (1.0, 0.02),
+        ];
         for &(metallic, roughness) in &cases {
             let m = material(metallic, roughness);
             for v in ds.iter().filter(|v| n.dot(**v) > 0.05) {

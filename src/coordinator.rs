@@ -21,13 +21,13 @@ use crate::driver::{FrameWork, Slot};
 use crate::envmap::EnvMap;
 use crate::error::{Interrupted, Result, input_error};
 use crate::film::{Counts, Film};
+use crate::glossy::Glossy;
 use crate::history::{Carried, CarryPatch};
 use crate::lights::LightSet;
 use crate::output;
 use crate::output::lock::FolderLock;
 use crate::output::record::{FrameRecord, SettingsRecord};
 use crate::output::stats::{FrameStats, StatsFile};
-use crate::glossy::Glossy;
 use crate::scene::{Model, Scene};
 use crate::temporal::{chains, prev_view};
 use crate::tile::{Rect, Tile};
@@ -231,7 +231,9 @@ impl Inputs {
         };
         anim.materials
             .apply(&anim.material_flags, &mut scene.materials)
-            .map_err(|why| input_error(&anim.spec_path, format!("[material] {why} (in {source})")))?;
+            .map_err(|why| {
+                input_error(&anim.spec_path, format!("[material] {why} (in {source})"))
+            })?;
         // A spin poses the scene every frame: refused here if that could overflow (found by
         // fuzzing the posed scene: tests/data/fuzz/posed_scene/huge-pivot).
         if anim.motion == MotionKind::Spin {

@@ -17,13 +17,13 @@ use anyhow::Context;
 use clap::Args;
 use serde_json::json;
 
-use crate::anim::{AnimFlags, Animation};
 use crate::accel::Accel;
+use crate::anim::{AnimFlags, Animation};
 use crate::context::{FrameContext, shadow_epsilon};
-use crate::scene::Model;
 use crate::coordinator::Inputs;
 use crate::error::{Result, input_error};
 use crate::output::write_atomic_with;
+use crate::scene::Model;
 
 #[derive(Args, Debug)]
 pub struct ExportArgs {

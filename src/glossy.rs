@@ -45,6 +45,10 @@ const DFG_SAMPLES: u32 = 1024;
 /// 0.15.
 const LIGHTS_EXACT: f32 = 0.25;
 const LIGHTS_NONE: f32 = 0.12;
+/// [ours] The lobe a glossy reflection's visible share of light is measured with is at least
+/// `LIGHTS_VISIBILITY × δ` wide (α): wide enough to hold several lights, so the share is a
+/// smooth soft shadow rather than blotches where one or two lights drop in and out.
+const LIGHTS_VISIBILITY: f32 = 1.0;
 
 /// One prefiltered lat-long map (the map's own frame, as [`EnvMap`]'s texels).
 struct Level {
@@ -66,6 +70,8 @@ pub struct Glossy {
     rough_lights: f32,
     /// At and below this one they give none of it (only the lobe's visible fraction).
     rough_none: f32,
+    /// The narrowest lobe the visible fraction is measured with.
+    rough_visibility: f32,
 }
 
 impl Glossy {
@@ -75,6 +81,12 @@ impl Glossy {
         let spacing = (4.0 * std::f32::consts::PI / lights.max(1) as f32).sqrt();
         let rough = |a: f32| a.sqrt().min(1.0);
         (rough(LIGHTS_NONE * spacing), rough(LIGHTS_EXACT * spacing))
+    }
+
+    /// The narrowest roughness whose lobe the lights sample well enough for a visible share.
+    fn visibility_floor(lights: usize) -> f32 {
+        let spacing = (4.0 * std::f32::consts::PI / lights.max(1) as f32).sqrt();
+        (LIGHTS_VISIBILITY * spacing).sqrt().min(1.0)
     }
 
     /// Prefilters `env` for a light set of `lights` lights. Parallel over texel rows, each
@@ -102,6 +114,7 @@ impl Glossy {
             dfg: dfg_table(),
             rough_lights,
             rough_none,
+            rough_visibility: Glossy::visibility_floor(lights),
         }
     }
 
@@ -112,9 +125,9 @@ impl Glossy {
     }
 
     /// The roughness the lobe's visible fraction is measured at: the material's, or the
-    /// narrowest lobe the lights still sample.
+    /// narrowest lobe that holds several lights.
     pub fn visibility_roughness(&self, roughness: f32) -> f32 {
-        roughness.max(self.rough_none)
+        roughness.max(self.rough_visibility)
     }
 
     /// The environment's radiance along world direction `dir`, averaged over the GGX lobe of
@@ -198,9 +211,15 @@ fn downsample(env: &EnvMap, width: usize, height: usize) -> Vec<Vec3> {
     let (sw, sh) = (env.width, env.height);
     let mut out = Vec::with_capacity(width * height);
     for y in 0..height {
-        let (r0, r1) = (y * sh / height, ((y + 1) * sh / height).max(y * sh / height + 1));
+        let (r0, r1) = (
+            y * sh / height,
+            ((y + 1) * sh / height).max(y * sh / height + 1),
+        );
         for x in 0..width {
-            let (c0, c1) = (x * sw / width, ((x + 1) * sw / width).max(x * sw / width + 1));
+            let (c0, c1) = (
+                x * sw / width,
+                ((x + 1) * sw / width).max(x * sw / width + 1),
+            );
             let mut sum = Vec3::ZERO;
             let mut weight = 0.0f32;
             for r in r0..r1 {
@@ -210,7 +229,11 @@ fn downsample(env: &EnvMap, width: usize, height: usize) -> Vec<Vec3> {
                     weight += dw;
                 }
             }
-            out.push(if weight > 0.0 { sum / weight } else { Vec3::ZERO });
+            out.push(if weight > 0.0 {
+                sum / weight
+            } else {
+                Vec3::ZERO
+            });
         }
     }
     out
@@ -427,7 +450,8 @@ mod tests {
                         libm::sin(theta) * libm::sin(phi),
                         libm::cos(theta),
                     ];
-                    let dw = libm::sin(theta) * (std::f64::consts::FRAC_PI_2 / nt as f64)
+                    let dw = libm::sin(theta)
+                        * (std::f64::consts::FRAC_PI_2 / nt as f64)
                         * (std::f64::consts::TAU / np as f64);
                     let hs = [v[0] + l[0], v[1] + l[1], v[2] + l[2]];
                     let len = libm::sqrt(hs[0] * hs[0] + hs[1] * hs[1] + hs[2] * hs[2]);
@@ -464,7 +488,10 @@ mod tests {
         for r in [0.0, 0.1, 0.2, 0.3, 0.55, 0.8] {
             for d in [Vec3::Y, Vec3::X, Vec3::new(0.3, -0.8, 0.5).normalize()] {
                 let got = g.radiance(d, r);
-                assert!((got - Vec3::splat(2.0)).abs().max_element() < 1e-4, "{r} {d}: {got}");
+                assert!(
+                    (got - Vec3::splat(2.0)).abs().max_element() < 1e-4,
+                    "{r} {d}: {got}"
+                );
             }
         }
     }

@@ -288,25 +288,25 @@ fn metallic_roughness(
     };
     // [ours] Too few lights for the lobe: the environment prefiltered for the roughness, seen
     // along the mirror direction, times the lobe's share of visible light (measured with a
-    // lobe at least as wide as the lights can resolve), blended with the lights' own specular
-    // between the two roughnesses `Glossy` names.
-    let lobe = Lobe::new(s.n, v, g.visibility_roughness(m.roughness));
-    let (sums, unshadowed) = specular_sums(sl, &lobe, vis, above, true);
+    // lobe wide enough to hold several lights), blended with the lights' own specular between
+    // the two roughnesses `Glossy` names. The diffuse sums do not depend on the roughness.
+    let wide = Lobe::new(s.n, v, g.visibility_roughness(m.roughness));
+    let (wide_sums, unshadowed) = specular_sums(sl, &wide, vis, above, true);
     let visible = if unshadowed > 0.0 {
-        (crate::envmap::luminance(sums.s2) / unshadowed).min(1.0)
+        (crate::envmap::luminance(wide_sums.s2) / unshadowed).min(1.0)
     } else {
         1.0
     };
+    let lobe = Lobe::new(s.n, v, m.roughness);
     let (i2, i3) = g.dfg(lobe.n_dot_v, m.roughness);
     let mirror = s.n * (2.0 * lobe.n_dot_v) - v;
     let env = g.radiance(mirror, m.roughness) * visible;
     let from_env = weights.specular(env * i2, env * i3);
-    let specular = if share > 0.0 {
-        weights.specular(sums.s2, sums.s3) * share + from_env * (1.0 - share)
-    } else {
-        from_env
-    };
-    weights.diffuse(&sums) + specular
+    if share <= 0.0 {
+        return weights.diffuse(&wide_sums) + from_env;
+    }
+    let (sums, _) = specular_sums(sl, &lobe, vis, above, false);
+    weights.diffuse(&sums) + weights.specular(sums.s2, sums.s3) * share + from_env * (1.0 - share)
 }
 
 /// The Lambertian light sum of the last sample shaded with it, so that a sample with the same
@@ -443,13 +443,8 @@ unsafe fn specular_sse2<const U: bool>(
         let (nx, ny, nz) = (set(lobe.n.x), set(lobe.n.y), set(lobe.n.z));
         let (vx, vy, vz) = (set(lobe.v.x), set(lobe.v.y), set(lobe.v.z));
         let (nv, a2, oma2) = (set(lobe.n_dot_v), set(lobe.a2), set(lobe.one_minus_a2));
-        let (kv, c, quarter, one, max_dv) = (
-            set(lobe.kv),
-            set(lobe.c),
-            set(0.25),
-            set(1.0),
-            set(MAX_DV),
-        );
+        let (kv, c, quarter, one, max_dv) =
+            (set(lobe.kv), set(lobe.c), set(0.25), set(1.0), set(MAX_DV));
         let mut acc = [_mm_setzero_ps(); 26];
         for k in 0..vis.len() {
             let mut wv = vis[k];
@@ -490,7 +485,8 @@ unsafe fn specular_sse2<const U: bool>(
                         let dv = _mm_div_ps(mul(c, mul(hh, hh)), den);
                         let dv = _mm_min_ps(dv, max_dv);
                         let mv = mask(bv);
-                        let (cm, wm, dm) = (_mm_and_ps(cos, mv), _mm_and_ps(w, mv), _mm_and_ps(dv, mv));
+                        let (cm, wm, dm) =
+                            (_mm_and_ps(cos, mv), _mm_and_ps(w, mv), _mm_and_ps(dv, mv));
                         for (ch, e) in [&sl.r, &sl.g, &sl.b].into_iter().enumerate() {
                             let ec = _mm_mul_ps(ld(e), cm);
                             let a = |k: usize| 2 * k + h;
@@ -503,7 +499,8 @@ unsafe fn specular_sse2<const U: bool>(
                         if U {
                             let ma = mask(ba);
                             let y = _mm_mul_ps(ld(&sl.lum), _mm_and_ps(cos, ma));
-                            acc[24 + h] = _mm_add_ps(acc[24 + h], _mm_mul_ps(y, _mm_and_ps(dv, ma)));
+                            acc[24 + h] =
+                                _mm_add_ps(acc[24 + h], _mm_mul_ps(y, _mm_and_ps(dv, ma)));
                         }
                     }
                 }
@@ -539,13 +536,8 @@ unsafe fn specular_avx2<const U: bool>(
         let (nx, ny, nz) = (set(lobe.n.x), set(lobe.n.y), set(lobe.n.z));
         let (vx, vy, vz) = (set(lobe.v.x), set(lobe.v.y), set(lobe.v.z));
         let (nv, a2, oma2) = (set(lobe.n_dot_v), set(lobe.a2), set(lobe.one_minus_a2));
-        let (kv, c, quarter, one, max_dv) = (
-            set(lobe.kv),
-            set(lobe.c),
-            set(0.25),
-            set(1.0),
-            set(MAX_DV),
-        );
+        let (kv, c, quarter, one, max_dv) =
+            (set(lobe.kv), set(lobe.c), set(0.25), set(1.0), set(MAX_DV));
         let mut acc = [_mm256_setzero_ps(); 13];
         for k in 0..vis.len() {
             let mut wv = vis[k];

@@ -88,7 +88,11 @@ pub(super) fn load_bytes(bytes: &[u8], path: &Path, budget: &mut Budget) -> Resu
     // An image read both as sRGB and as linear data is decoded once for each.
     let decodings = |d: &DistinctImage| d.encodings.iter().filter(|&&e| e).count() as u64;
     size.textures = images.distinct.iter().map(decodings).sum();
-    size.texels = images.distinct.iter().map(|d| d.texels * decodings(d)).sum();
+    size.texels = images
+        .distinct
+        .iter()
+        .map(|d| d.texels * decodings(d))
+        .sum();
     size.largest_texels = images.distinct.iter().map(|d| d.texels).max().unwrap_or(0);
     budget.scene(path, size, size.file_bytes)?;
     let mut loader = Loader {
@@ -380,7 +384,11 @@ fn transform_of_json(value: Option<&::gltf::json::Value>) -> (Option<UvTransform
         .get("texCoord")
         .and_then(|t| t.as_u64())
         .map(|t| t.min(u64::from(u32::MAX)) as u32);
-    let transform = UvTransform::new(pair("offset", [0.0, 0.0]), rotation, pair("scale", [1.0, 1.0]));
+    let transform = UvTransform::new(
+        pair("offset", [0.0, 0.0]),
+        rotation,
+        pair("scale", [1.0, 1.0]),
+    );
     (Some(transform), tex_coord)
 }
 
@@ -409,7 +417,11 @@ fn texture_refs<'a>(material: &::gltf::Material<'a>) -> Vec<TextureRef<'a>> {
         pbr.metallic_roughness_texture(),
         Encoding::Linear,
     );
-    info("emissiveTexture", material.emissive_texture(), Encoding::Srgb);
+    info(
+        "emissiveTexture",
+        material.emissive_texture(),
+        Encoding::Srgb,
+    );
     if let Some(spec) = material.specular() {
         info("specularTexture", spec.specular_texture(), Encoding::Linear);
         info(
@@ -864,7 +876,9 @@ impl Loader<'_> {
             self.warn_material(
                 material,
                 "color1",
-                format!("{at}: COLOR_1 and later vertex colours are not supported (COLOR_0 is read)"),
+                format!(
+                    "{at}: COLOR_1 and later vertex colours are not supported (COLOR_0 is read)"
+                ),
             );
         }
         let normal_slot = self.scene.materials[material as usize].normal_texture;
@@ -1269,7 +1283,10 @@ impl Loader<'_> {
             }
         }
         if !unsupported.is_empty() {
-            self.warn(format!("material {index} ({name:?}): {}", unsupported.join("; ")));
+            self.warn(format!(
+                "material {index} ({name:?}): {}",
+                unsupported.join("; ")
+            ));
         }
         let i = self.scene.materials.len() as u32;
         self.scene.materials.push(m);

@@ -5,8 +5,8 @@
 
 use glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
 
-use super::texture::Sampler;
 use super::Scene;
+use super::texture::Sampler;
 
 /// The reflection model a material is shaded with.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -282,7 +282,9 @@ impl MaterialOverride {
         if let Some(c) = self.base_color
             && !c.iter().all(|&v| unit(v))
         {
-            return Some(format!("{prefix}base_color = {c:?}: each component must be in [0, 1]"));
+            return Some(format!(
+                "{prefix}base_color = {c:?}: each component must be in [0, 1]"
+            ));
         }
         for (key, v) in [("metallic", self.metallic), ("roughness", self.roughness)] {
             if let Some(v) = v
@@ -294,11 +296,15 @@ impl MaterialOverride {
         if let Some(c) = self.emissive
             && !colour(c)
         {
-            return Some(format!("{prefix}emissive = {c:?}: each component must be finite and ≥ 0"));
+            return Some(format!(
+                "{prefix}emissive = {c:?}: each component must be finite and ≥ 0"
+            ));
         }
         for (name, o) in &self.named {
             if !prefix.is_empty() || !o.named.is_empty() {
-                return Some(format!("{prefix}named.{name:?}: named overrides do not nest"));
+                return Some(format!(
+                    "{prefix}named.{name:?}: named overrides do not nest"
+                ));
             }
             if let Some(p) = o.problem_at(&format!("named.{name:?}.")) {
                 return Some(p);
@@ -383,7 +389,8 @@ impl MaterialOverride {
     pub fn apply(&self, over: &MaterialOverride, materials: &mut [Material]) -> Result<(), String> {
         for name in self.named.keys().chain(over.named.keys()) {
             if !materials.iter().any(|m| &m.name == name) {
-                let names: Vec<String> = materials.iter().map(|m| format!("{:?}", m.name)).collect();
+                let names: Vec<String> =
+                    materials.iter().map(|m| format!("{:?}", m.name)).collect();
                 return Err(format!(
                     "named.{name:?}: no material has that name (the scene's: {})",
                     names.join(", ")

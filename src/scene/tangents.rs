@@ -174,7 +174,11 @@ mod tests {
         let mut triangles = [[0, 1, 2], [0, 2, 3], [1, 4, 5], [1, 5, 2]];
         let mut split = Vec::new();
         let t = generate(&positions, &normals, &uvs, &mut triangles, &mut split).unwrap();
-        assert_eq!(split, vec![1, 2], "the shared edge's two vertices are split");
+        assert_eq!(
+            split,
+            vec![1, 2],
+            "the shared edge's two vertices are split"
+        );
         assert_eq!(t.len(), 8);
         for (k, tri) in triangles.iter().enumerate() {
             let expected = if k < 2 { Vec3::X } else { Vec3::NEG_X };

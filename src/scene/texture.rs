@@ -538,9 +538,8 @@ impl Level {
         // Alpha the same way, as the fourth channel it is.
         let mut alpha = Vec::new();
         if !self.alpha.is_empty() {
-            let buffers = crate::limits::try_vec(w2 * h, "a texture's pyramid").and_then(|r| {
-                Ok((r, crate::limits::try_vec(w2 * h2, "a texture's pyramid")?))
-            });
+            let buffers = crate::limits::try_vec(w2 * h, "a texture's pyramid")
+                .and_then(|r| Ok((r, crate::limits::try_vec(w2 * h2, "a texture's pyramid")?)));
             let (mut rows, out) = match buffers {
                 Ok(b) => b,
                 Err(e) => return Some(Err(e)),

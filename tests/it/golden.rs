@@ -104,6 +104,14 @@ fn renders() -> Vec<Render> {
     ] {
         v.push(render(name, BUNNY, &format!("{SMALL} {flags}")));
     }
+    // Lambertian materials keep the bits they had before glTF materials: the bunny with
+    // --lambert against bunny-brute's hashes as recorded before materials (its materials,
+    // metallic 0 and roughness 1, have had specular since).
+    v.push(render(
+        "bunny-brute-lambert",
+        BUNNY,
+        &format!("{SMALL} --frames 0..2 --method brute --lambert"),
+    ));
     // Spin: votes pulled through the turn, light-space edges.
     v.push(render(
         "bunny-temporal-spin",
@@ -143,6 +151,12 @@ bunny-brute frame_0001.exr 733e7dbda04473ce0a54b4c6b892241bd1cacabb11e3a909656bf
 bunny-brute frame_0001.png 00ca72651904f1a277017363da8265f9a72af1d9c6feb3177762b676aa991bc6
 bunny-brute lights.json c9783aa9a6641edc30d129c59f46519eb054a7a73fcb76955bf0c34d7e4435a1
 bunny-brute stats.csv dea59863af088772662dec0ee729feb3124e433f2c3d7e51e43b4e88de4d2b02
+bunny-brute-lambert frame_0000.exr 1a66e8f817d259b26385e771eea9595def3f339c302798db9a20e0c8e9c89658
+bunny-brute-lambert frame_0000.png 38ab726c7a051e7b217cc7dc6128bf9bf10de3d4fe56a5151ddede1affef1b2b
+bunny-brute-lambert frame_0001.exr 733e7dbda04473ce0a54b4c6b892241bd1cacabb11e3a909656bfe7bf689d4f0
+bunny-brute-lambert frame_0001.png 00ca72651904f1a277017363da8265f9a72af1d9c6feb3177762b676aa991bc6
+bunny-brute-lambert lights.json c9783aa9a6641edc30d129c59f46519eb054a7a73fcb76955bf0c34d7e4435a1
+bunny-brute-lambert stats.csv dea59863af088772662dec0ee729feb3124e433f2c3d7e51e43b4e88de4d2b02
 bunny-scan-warp-boundary frame_0000.exr ebae30733cb008f3d53fc243f648186ab098679c9808d35c719139ffe5552ae0
 bunny-scan-warp-boundary frame_0000.png d0246a493cd874e2a9015f2fe265b36d823f3c860d3f5a0f8bfba2b2187ba5dd
 bunny-scan-warp-boundary frame_0001.exr 3eb585e53051746d26276962eb05533d6a57e7c2318cebfeda2b152d0c72ca76
