@@ -216,8 +216,18 @@ mod tests {
                 + f64::from(a.z) * f64::from(b.z)
         };
         let (nl, nv) = (d(n, l), d(n, v).max(f64::from(MIN_COS_VIEW)));
-        let h = (v + l).normalize();
-        let (nh, vh) = (d(n, h), d(v, h));
+        // h in f64 too: an f32 half vector's rounding moves a sharp peak's D by more than
+        // the tolerance.
+        let hs = [
+            f64::from(v.x) + f64::from(l.x),
+            f64::from(v.y) + f64::from(l.y),
+            f64::from(v.z) + f64::from(l.z),
+        ];
+        let len = (hs[0] * hs[0] + hs[1] * hs[1] + hs[2] * hs[2]).sqrt();
+        let dh = |a: Vec3| {
+            (f64::from(a.x) * hs[0] + f64::from(a.y) * hs[1] + f64::from(a.z) * hs[2]) / len
+        };
+        let (nh, vh) = (dh(n), dh(v));
         let a = f64::from(alpha(m.roughness));
         let a2 = a * a;
         let dd = a2 / (std::f64::consts::PI * (nh * nh * (a2 - 1.0) + 1.0).powi(2));
@@ -273,7 +283,9 @@ mod tests {
                     for c in 0..3 {
                         let err = (f64::from(got[c]) - want[c]).abs();
                         assert!(
-                            err <= 5e-5 * want[c].abs().max(1.0),
+                            // f32 inputs: `v + l`'s rounding alone moves a sharp peak's
+                            // D by up to ~6·10⁻⁵ (r 0.15); a wrong term moves it by percents.
+                            err <= 2e-4 * want[c].abs().max(1.0),
                             "m {metallic} r {roughness} v {v} l {l}: {got} vs {want:?}"
                         );
                     }
