@@ -38,11 +38,15 @@
 //! temporal = false              # uncertainty methods: the previous frame votes too
 //! # keyframe = 16               # with temporal: frames 0, 16, 32, … restart the chain
 //!                               # (0, the default: 16 for orbit, 4 for spin; docs/temporal.md)
-//! exposure = 1.0                # PNG preview exposure
+//! exposure = 1.0                # PNG preview exposure, before the view transform
+//! view = "agx"                  # PNG view transform: "agx", "filmic" or "standard"
 //! tile = 64
 //! threads = 0                   # 0: all cores
 //! [output]
 //! dir = "out/shapes"
+//! half = false                  # half-float EXR channels (counts and depth stay float)
+//! fps = 24.0                    # frame rate: the EXR's framesPerSecond, the video's
+//! video = false                 # encode DIR/video.mp4 with ffmpeg at the end
 //! # [material]                  # overrides every material (docs/materials.md)
 //! # base_color = [0.5, 0.5, 0.5]   # linear; replaces factor, texture colour, vertex colours
 //! # roughness = 0.5 ; metallic = 0.0 ; emissive = [0, 0, 0]
@@ -373,7 +377,7 @@ pub struct Animation {
     /// `[render]`: size, method and its parameters, validation, temporal prediction (its
     /// `keyframe` resolved for the motion), tiles, threads.
     pub render: Render,
-    /// `[output]`: the output folder.
+    /// `[output]`: the output folder, the EXR's precision, the frame rate, the video.
     pub output: Output,
     /// `[material]`: the spec's material overrides …
     pub materials: MaterialOverride,
@@ -755,7 +759,7 @@ impl Animation {
         ))
     }
 
-    /// The settings that decide this animation's frames and `stats.csv` rows, as
+    /// The settings that decide this animation's frames' bytes and `stats.csv` rows, as
     /// (`[table] key`, value) in spec order: what `render --resume` checks a folder against.
     /// The frames selected, the tile size, the thread count and the output folder change no
     /// pixel and are left out; input files are named by their content's SHA-256, so a moved spec still agrees.
@@ -816,6 +820,12 @@ impl Animation {
         }
         for (key, value) in self.material_flags.given() {
             put(&format!("[material] (command line) {key}"), value);
+        }
+        for (key, _, value) in self.output.layer().given() {
+            // The folder and the video change no frame's bytes.
+            if key != "dir" && key != "video" {
+                put(&format!("[{}] {key}", Output::TABLE), value);
+            }
         }
         Ok(SettingsRecord { lines })
     }

@@ -103,6 +103,39 @@ impl Camera {
     pub fn forward(&self) -> Vec3 {
         self.forward
     }
+
+    /// OpenEXR's `worldToCamera` and `worldToNDC` attributes for this camera, as OpenEXR
+    /// stores an M44f: a matrix applied to row vectors on its left (`p' = p·M`), flattened row
+    /// by row. Camera space is OpenEXR's: left-handed, x to the right of the image, y up, z
+    /// along the view (points in front have z > 0), origin at the eye. NDC is OpenEXR's too:
+    /// after the division by w, (0, 0) is the top-left corner of the image and (1, 1) its
+    /// bottom-right corner, so a point shows at pixel (x · width, y · height) — where
+    /// [`project`](Self::project) puts it; z (here 1 / depth) is to be discarded.
+    pub fn exr_matrices(&self) -> ([f32; 16], [f32; 16]) {
+        use glam::{Mat4, Vec4};
+        let (r, u, f, e) = (self.right, self.true_up, self.forward, self.position);
+        // Column-vector matrices (glam's), whose column-major flattening is the row-vector
+        // matrix flattened by rows.
+        let to_camera = Mat4::from_cols(
+            Vec4::new(r.x, u.x, f.x, 0.0),
+            Vec4::new(r.y, u.y, f.y, 0.0),
+            Vec4::new(r.z, u.z, f.z, 0.0),
+            Vec4::new(-r.dot(e), -u.dot(e), -f.dot(e), 1.0),
+        );
+        // Camera (x, y, z) → homogeneous NDC: x_ndc·w = (x / (t·a) + z) / 2,
+        // y_ndc·w = (z − y / t) / 2, z_ndc·w = 1, w = z.
+        let (t, a) = (self.tan_half, self.aspect);
+        let to_ndc = Mat4::from_cols(
+            Vec4::new(0.5 / (t * a), 0.0, 0.0, 0.0),
+            Vec4::new(0.0, -0.5 / t, 0.0, 0.0),
+            Vec4::new(0.5, 0.5, 0.0, 1.0),
+            Vec4::new(0.0, 0.0, 1.0, 0.0),
+        );
+        (
+            to_camera.to_cols_array(),
+            (to_ndc * to_camera).to_cols_array(),
+        )
+    }
 }
 
 #[cfg(test)]
@@ -163,6 +196,47 @@ mod tests {
                     "{across} {down} {a}"
                 );
             }
+        }
+    }
+
+    /// A point multiplied as OpenEXR does, by a row-vector matrix stored row by row.
+    fn row_times(p: Vec3, m: &[f32; 16]) -> [f32; 4] {
+        let v = [p.x, p.y, p.z, 1.0];
+        std::array::from_fn(|c| (0..4).map(|r| v[r] * m[r * 4 + c]).sum())
+    }
+
+    #[test]
+    fn exr_matrices_follow_openexrs_conventions() {
+        let cam = Camera::look_at(
+            Vec3::new(3.0, 2.0, 5.0),
+            Vec3::new(0.0, 0.5, 0.0),
+            Vec3::Y,
+            35.0,
+            160,
+            90,
+        );
+        let (to_camera, to_ndc) = cam.exr_matrices();
+        // The eye is the origin, the target straight ahead at its distance.
+        let eye = row_times(cam.position, &to_camera);
+        assert!(eye[..3].iter().all(|c| c.abs() < 1e-5), "{eye:?}");
+        let t = row_times(cam.target, &to_camera);
+        let dist = (cam.target - cam.position).length();
+        assert!(t[0].abs() < 1e-5 && t[1].abs() < 1e-5 && (t[2] - dist).abs() < 1e-4);
+        // Right and up in the image are +x and +y.
+        let right = row_times(cam.position + cam.right + cam.forward, &to_camera);
+        let up = row_times(cam.position + cam.true_up + cam.forward, &to_camera);
+        assert!(right[0] > 0.99 && up[1] > 0.99, "{right:?} {up:?}");
+        // NDC: every point lands where project() puts it, over width and height.
+        for (px, py) in [(0.5, 0.5), (159.5, 0.5), (40.25, 70.75), (80.0, 45.0)] {
+            let sx = (px / 160.0 * 2.0 - 1.0) * cam.tan_half * cam.aspect;
+            let sy = (1.0 - py / 90.0 * 2.0) * cam.tan_half;
+            let p = cam.position + (cam.forward + cam.right * sx + cam.true_up * sy) * 4.0;
+            let h = row_times(p, &to_ndc);
+            let (nx, ny) = (h[0] / h[3], h[1] / h[3]);
+            assert!(
+                (nx * 160.0 - px).abs() < 1e-3 && (ny * 90.0 - py).abs() < 1e-3,
+                "pixel ({px}, {py}) -> NDC ({nx}, {ny})"
+            );
         }
     }
 }

@@ -71,7 +71,10 @@ pub trait FrameSink: Send {
 /// record, `settings.txt`, and `stats.csv` rebuilt from the records ([`output::record`]).
 pub struct FrameFiles {
     dir: PathBuf,
-    exposure: f32,
+    format: output::FrameFormat,
+    fps: f32,
+    /// The settings record's lines, which each frame's EXR header repeats.
+    record: Vec<(String, String)>,
     /// What the settings record is made from (in `begin`: the inputs are loaded by then, so a
     /// missing file gets the loader's message).
     anim: Animation,
@@ -90,7 +93,9 @@ impl FrameFiles {
         FrameFiles {
             stats: StatsFile::open(&dir.join("stats.csv")),
             dir,
-            exposure: anim.render.exposure,
+            format: frame_format(anim),
+            fps: anim.output.fps,
+            record: Vec::new(),
             anim: anim.clone(),
             region: opts.region,
             resume: opts.resume,
@@ -126,6 +131,7 @@ impl FrameSink for FrameFiles {
             now.write(&self.dir)?;
         }
         self.settings = now.fingerprint();
+        self.record = now.lines;
         // A kill between a frame's commit and the stats.csv that follows it loses no row: the
         // committed frame's record has it.
         let mut restored = 0;
@@ -148,17 +154,44 @@ impl FrameSink for FrameFiles {
     }
 
     fn write(&mut self, film: &Film, stats: &FrameStats) -> Result<()> {
-        let row = stats.csv_row();
-        output::publish_frame(
-            &self.dir,
-            stats.frame,
-            film,
-            self.exposure,
-            &self.settings,
-            row.clone(),
-        )?;
-        self.stats.set_row(stats.frame, &row);
+        let header = exr_header(stats, self.fps, &self.record);
+        let rec = output::publish_frame(&self.dir, film, &header, &self.format, &self.settings)?;
+        self.stats.set_row(stats.frame, &rec.stats_row);
         self.stats.write(&self.dir.join("stats.csv"))
+    }
+}
+
+/// How `anim`'s frames are written: preview exposure and view, EXR precision.
+pub fn frame_format(anim: &Animation) -> output::FrameFormat {
+    output::FrameFormat {
+        exposure: anim.render.exposure,
+        view: anim.render.view,
+        half: anim.output.half,
+    }
+}
+
+/// A frame's EXR header: its camera (from `stats`, as the frame was rendered), the frame
+/// rate, the settings record's lines and its statistics.
+pub fn exr_header<'a>(
+    stats: &'a FrameStats,
+    fps: f32,
+    settings: &'a [(String, String)],
+) -> output::exr::FrameHeader<'a> {
+    let camera = crate::camera::Camera::look_at(
+        stats.camera_position,
+        stats.camera_target,
+        stats.camera_up,
+        stats.vfov_deg,
+        stats.width,
+        stats.height,
+    );
+    let (world_to_camera, world_to_ndc) = camera.exr_matrices();
+    output::exr::FrameHeader {
+        world_to_camera,
+        world_to_ndc,
+        fps,
+        settings,
+        stats,
     }
 }
 
@@ -507,7 +540,7 @@ fn render_tile_list(
         height: anim.render.height,
         spp: anim.render.spp,
         counts: film.counts,
-        image_error: film.image_error(rendered, anim.render.exposure),
+        image_error: film.image_error(rendered, anim.render.exposure, anim.render.view),
         seconds: start.elapsed().as_secs_f64(),
         camera_position: camera.position,
         camera_target: camera.target,

@@ -20,7 +20,7 @@
 use crate::bits;
 use crate::buffers::TileBuffers;
 use crate::context::FrameContext;
-use crate::film::{Counts, TileResult};
+use crate::film::{BACKGROUND_DEPTH, Counts, TileResult};
 use crate::lattice::{Lattice, LatticePatch};
 use crate::predict::temporal::solve_temporal;
 use crate::predict::{At, Order, Scratch, Shadows};
@@ -289,7 +289,9 @@ fn count_halo(bufs: &TileBuffers) -> Counts {
 /// Shades the samples of the tile's `pixels`, counts their queries and rays into `counts`,
 /// and gathers each pixel's own — the mean of their radiance (in stratum order, so the sum
 /// does not depend on the tile), the sum of their rays and wrong pairs, the mean of their
-/// visible fractions and, with several samples, the fraction that hit. With `validate`, every query is traced again to count the method's
+/// visible fractions and, with several samples, the fraction that hit; for the compositor,
+/// the nearest depth, and the mean normal and albedo (background samples counting 0). With
+/// `validate`, every query is traced again to count the method's
 /// mistakes and shade the brute-force reference. With one sample per pixel this is the pixel
 /// as it always was: adding to zero and dividing by one change no bit.
 fn shade(
@@ -309,6 +311,10 @@ fn shade(
     let mut wrong = validate.then(|| Vec::with_capacity(n));
     let mut reference = validate.then(|| Vec::with_capacity(n));
     let mut coverage = (k > 1).then(|| Vec::with_capacity(n));
+    let mut depth = Vec::with_capacity(n);
+    let mut normal = Vec::with_capacity(n);
+    let mut albedo = Vec::with_capacity(n);
+    let (eye, forward) = (ctx.camera.position, ctx.camera.forward());
     let mut truth = vec![0u64; w];
     // Lambertian samples with the normal and visible lights of the last one reuse its sum.
     let (mut cache, mut exact_cache) = (LambertCache::default(), LambertCache::default());
@@ -321,6 +327,9 @@ fn shade(
             let mut mistakes = 0.0f32;
             let mut exact = Vec3::ZERO;
             let mut hits = 0u32;
+            let mut nearest = f32::INFINITY;
+            let mut n_sum = Vec3::ZERO;
+            let mut a_sum = Vec3::ZERO;
             for j in 0..k {
                 for i in 0..k {
                     let (x, y) = (px * k + i, py * k + j);
@@ -344,6 +353,9 @@ fn shade(
                         continue;
                     }
                     hits += 1;
+                    nearest = nearest.min((s.p - eye).dot(forward));
+                    n_sum += s.n;
+                    a_sum += s.albedo;
                     let vis = TileBuffers::row(&bufs.vis, q, w);
                     let above = TileBuffers::row(&bufs.above, q, w);
                     lit += radiance_at(lights, glossy, &s, vis, above, &mut cache);
@@ -393,6 +405,9 @@ fn shade(
             if let Some(c) = &mut coverage {
                 c.push(hits as f32 / spp);
             }
+            depth.push(if hits > 0 { nearest } else { BACKGROUND_DEPTH });
+            normal.push((n_sum / spp).to_array());
+            albedo.push((a_sum / spp).to_array());
         }
     }
     TileResult {
@@ -403,6 +418,9 @@ fn shade(
         wrong,
         reference,
         coverage,
+        depth,
+        normal,
+        albedo,
         counts,
     }
 }

@@ -4,6 +4,7 @@
 use std::ops::AddAssign;
 
 use crate::tile::Rect;
+use crate::view::View;
 
 /// A finished tile: beauty and AOVs for the tile's pixels, and its counts.
 #[derive(Clone, Debug)]
@@ -21,6 +22,10 @@ pub struct TileResult {
     pub reference: Option<Vec<[f32; 3]>>,
     /// With several samples per pixel: the fraction of them that hit the scene.
     pub coverage: Option<Vec<f32>>,
+    /// The compositor's passes ([`Film::depth`], [`Film::normal`], [`Film::albedo`]).
+    pub depth: Vec<f32>,
+    pub normal: Vec<[f32; 3]>,
+    pub albedo: Vec<[f32; 3]>,
     pub counts: Counts,
 }
 
@@ -108,20 +113,14 @@ pub struct ImageError {
     pub rmse: f64,
     /// `rmse` / the mean of the brute-force image over pixels that hit the scene.
     pub rel_rmse: f64,
-    /// PSNR of the tone-mapped previews (sRGB in [0, 1], peak 1), dB; infinite when equal.
+    /// PSNR of the previews (the view transform's sRGB in [0, 1], peak 1), dB; infinite when
+    /// equal.
     pub psnr_db: f64,
 }
 
-/// Linear → sRGB-encoded value in [0, 1].
-#[inline]
-pub fn srgb_encode(x: f32) -> f32 {
-    let x = x.clamp(0.0, 1.0);
-    if x <= 0.003_130_8 {
-        12.92 * x
-    } else {
-        1.055 * libm::powf(x, 1.0 / 2.4) - 0.055
-    }
-}
+/// The depth (`Z`) of a pixel none of whose samples hit the scene: far beyond any scene,
+/// finite so that a compositor's depth filters do not turn it into NaN.
+pub const BACKGROUND_DEPTH: f32 = 1e10;
 
 /// One frame's pixels: linear RGB beauty and the per-pixel AOVs, row-major, full frame.
 #[derive(Clone, Debug, PartialEq)]
@@ -139,6 +138,16 @@ pub struct Film {
     /// With several samples per pixel: the fraction of each pixel's samples that hit the
     /// scene (at one sample it would be the hit mask, and is not kept).
     pub coverage: Option<Vec<f32>>,
+    /// Camera depth: the distance along the view direction to the nearest surface any of
+    /// the pixel's samples hit ([ours], as Arnold's "closest" filter: a mean across a
+    /// silhouette would be a depth where nothing is); [`BACKGROUND_DEPTH`] where none hit.
+    pub depth: Vec<f32>,
+    /// World-space shading normal (turned towards the camera), the mean over the pixel's
+    /// samples with background samples counting 0, not renormalised (as Cycles' Normal pass).
+    pub normal: Vec<[f32; 3]>,
+    /// Surface albedo (linear RGB base colour, textured), the mean over the pixel's samples
+    /// with background samples counting 0.
+    pub albedo: Vec<[f32; 3]>,
     /// Sum of the tiles' counts.
     pub counts: Counts,
 }
@@ -157,6 +166,9 @@ impl Film {
             wrong: validated.then(|| vec![0.0; n]),
             reference: validated.then(|| vec![[0.0; 3]; n]),
             coverage: coverage.then(|| vec![0.0; n]),
+            depth: vec![BACKGROUND_DEPTH; n],
+            normal: vec![[0.0; 3]; n],
+            albedo: vec![[0.0; 3]; n],
             counts: Counts::default(),
         }
     }
@@ -171,6 +183,9 @@ impl Film {
             self.beauty[dst..dst + w].copy_from_slice(&tile.beauty[src..src + w]);
             self.rays[dst..dst + w].copy_from_slice(&tile.rays[src..src + w]);
             self.visible[dst..dst + w].copy_from_slice(&tile.visible[src..src + w]);
+            self.depth[dst..dst + w].copy_from_slice(&tile.depth[src..src + w]);
+            self.normal[dst..dst + w].copy_from_slice(&tile.normal[src..src + w]);
+            self.albedo[dst..dst + w].copy_from_slice(&tile.albedo[src..src + w]);
             if let (Some(d), Some(s)) = (&mut self.wrong, &tile.wrong) {
                 d[dst..dst + w].copy_from_slice(&s[src..src + w]);
             }
@@ -184,19 +199,105 @@ impl Film {
         self.counts += tile.counts;
     }
 
+    /// The channels this film holds, in the order files list them: beauty, the compositor's
+    /// passes, the shadow method's; with `reference` also the brute-force image (farm tile
+    /// images carry it, frames do not).
+    pub fn channels(&self, reference: bool) -> Vec<Channel> {
+        use Channel::*;
+        let mut v = vec![
+            R, G, B, Z, NX, NY, NZ, AlbedoR, AlbedoG, AlbedoB, Rays, Visible,
+        ];
+        if self.wrong.is_some() {
+            v.push(Wrong);
+        }
+        if self.coverage.is_some() {
+            v.push(Coverage);
+        }
+        if reference && self.reference.is_some() {
+            v.extend([RefR, RefG, RefB]);
+        }
+        v
+    }
+
+    /// Channel `c` of pixel `i` (0 for a channel the film does not hold).
+    #[inline]
+    pub fn get(&self, c: Channel, i: usize) -> f32 {
+        use Channel::*;
+        let opt = |v: &Option<Vec<f32>>| v.as_ref().map_or(0.0, |v| v[i]);
+        let opt3 = |v: &Option<Vec<[f32; 3]>>, k: usize| v.as_ref().map_or(0.0, |v| v[i][k]);
+        match c {
+            R => self.beauty[i][0],
+            G => self.beauty[i][1],
+            B => self.beauty[i][2],
+            Z => self.depth[i],
+            NX => self.normal[i][0],
+            NY => self.normal[i][1],
+            NZ => self.normal[i][2],
+            AlbedoR => self.albedo[i][0],
+            AlbedoG => self.albedo[i][1],
+            AlbedoB => self.albedo[i][2],
+            Rays => self.rays[i],
+            Visible => self.visible[i],
+            Wrong => opt(&self.wrong),
+            Coverage => opt(&self.coverage),
+            RefR => opt3(&self.reference, 0),
+            RefG => opt3(&self.reference, 1),
+            RefB => opt3(&self.reference, 2),
+        }
+    }
+
+    /// Sets channel `c` of pixel `i` (nothing for a channel the film does not hold).
+    #[inline]
+    pub fn set(&mut self, c: Channel, i: usize, v: f32) {
+        use Channel::*;
+        fn put(o: &mut Option<Vec<f32>>, i: usize, v: f32) {
+            if let Some(o) = o {
+                o[i] = v;
+            }
+        }
+        fn put3(o: &mut Option<Vec<[f32; 3]>>, i: usize, k: usize, v: f32) {
+            if let Some(o) = o {
+                o[i][k] = v;
+            }
+        }
+        match c {
+            R => self.beauty[i][0] = v,
+            G => self.beauty[i][1] = v,
+            B => self.beauty[i][2] = v,
+            Z => self.depth[i] = v,
+            NX => self.normal[i][0] = v,
+            NY => self.normal[i][1] = v,
+            NZ => self.normal[i][2] = v,
+            AlbedoR => self.albedo[i][0] = v,
+            AlbedoG => self.albedo[i][1] = v,
+            AlbedoB => self.albedo[i][2] = v,
+            Rays => self.rays[i] = v,
+            Visible => self.visible[i] = v,
+            Wrong => put(&mut self.wrong, i, v),
+            Coverage => put(&mut self.coverage, i, v),
+            RefR => put3(&mut self.reference, i, 0, v),
+            RefG => put3(&mut self.reference, i, 1, v),
+            RefB => put3(&mut self.reference, i, 2, v),
+        }
+    }
+
     /// With validation: the beauty against the brute-force image over `region` (the rendered
     /// pixels); the relative RMSE is relative to the brute-force image's mean.
-    pub fn image_error(&self, region: Rect, exposure: f32) -> Option<ImageError> {
+    pub fn image_error(&self, region: Rect, exposure: f32, view: View) -> Option<ImageError> {
         let reference = self.reference.as_ref()?;
         let (mut se, mut sum_ref, mut n, mut se_ldr) = (0f64, 0f64, 0u64, 0f64);
         for y in region.y0..region.y1 {
             for x in region.x0..region.x1 {
                 let i = y as usize * self.width as usize + x as usize;
                 let (b, r) = (self.beauty[i], reference[i]);
+                let (bl, rl) = (
+                    view.display(b.map(|c| c * exposure)),
+                    view.display(r.map(|c| c * exposure)),
+                );
                 for c in 0..3 {
                     let d = (b[c] - r[c]) as f64;
                     se += d * d;
-                    let dl = (srgb_encode(b[c] * exposure) - srgb_encode(r[c] * exposure)) as f64;
+                    let dl = (bl[c] - rl[c]) as f64;
                     se_ldr += dl * dl;
                 }
                 n += 3;
@@ -215,5 +316,69 @@ impl Film {
                 f64::INFINITY
             },
         })
+    }
+}
+
+/// A channel of the film, named as Nuke, Blender and OpenImageIO read them: the beauty as
+/// `R G B`, the depth as `Z`, the other passes as `layer.channel` (`N.X`, `albedo.R`,
+/// `shadow.rays`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Channel {
+    R,
+    G,
+    B,
+    /// Camera depth ([`Film::depth`]).
+    Z,
+    /// World-space normal ([`Film::normal`]).
+    NX,
+    NY,
+    NZ,
+    /// Albedo ([`Film::albedo`]).
+    AlbedoR,
+    AlbedoG,
+    AlbedoB,
+    /// The shadow method's work and answers: rays traced at the pixel (all its samples),
+    /// the fraction of above-horizon lights visible, wrong pairs (validation), the fraction
+    /// of samples that hit the scene (several samples per pixel).
+    Rays,
+    Visible,
+    Wrong,
+    Coverage,
+    /// The brute-force image (validation; farm tile images only).
+    RefR,
+    RefG,
+    RefB,
+}
+
+impl Channel {
+    /// The channel's name in an EXR file.
+    pub fn name(self) -> &'static str {
+        use Channel::*;
+        match self {
+            R => "R",
+            G => "G",
+            B => "B",
+            Z => "Z",
+            NX => "N.X",
+            NY => "N.Y",
+            NZ => "N.Z",
+            AlbedoR => "albedo.R",
+            AlbedoG => "albedo.G",
+            AlbedoB => "albedo.B",
+            Rays => "shadow.rays",
+            Visible => "shadow.visible",
+            Wrong => "shadow.wrong",
+            Coverage => "shadow.coverage",
+            RefR => "reference.R",
+            RefG => "reference.G",
+            RefB => "reference.B",
+        }
+    }
+
+    /// Whether the channel stays 32-bit float in a half-float EXR (`--half`) [ours]: counts
+    /// (rays up to 4096 lights × 64 samples, wrong pairs) are whole numbers beyond half's
+    /// 2048, and depth needs more than half's 11 bits (and its range: the background's 1e10).
+    pub fn exact(self) -> bool {
+        matches!(self, Channel::Z | Channel::Rays | Channel::Wrong)
     }
 }

@@ -52,3 +52,5 @@ pub mod simd;
 pub mod table;
 pub mod temporal;
 pub mod tile;
+pub mod video;
+pub mod view;

@@ -1,8 +1,15 @@
 //! The render report: `DIR/report.html`, one self-contained page about a finished render, built
 //! only from what the render left in its folder (`stats.csv`, `frame_NNNN.exr`/`.png`,
-//! `lights.json`). Generated pictures go to `DIR/report/`; the page references them and the
-//! frame PNGs by relative paths, uses no JavaScript and nothing from the network, so it works
-//! opened from disk.
+//! `lights.json`, `video.mp4`). Generated pictures go to `DIR/report/`; the page references
+//! them, the frame PNGs and the video by relative paths, uses no JavaScript and nothing from
+//! the network, so it works opened from disk.
+//!
+//! The page leads with what a person opens it for: the animation (the video when the folder
+//! has one, else an animated GIF) beside the run's settings and totals, the savings plot, and
+//! a contact sheet of numbered thumbnails (JPEG); then the lights; the per-frame detail (heat
+//! maps, figures) and the other plots come collapsed (`<details>`), their images loaded only
+//! when opened. Thumbnails and heat maps are JPEG, so the report's folder stays small: about
+//! 3.5 MB for the default animation's 144 frames at 640×480 (5.2 MB with the GIF).
 //!
 //! Plots are drawn without text (plotters' bitmap backend with no font feature) and labelled
 //! in HTML, so the report needs no system fonts.
@@ -17,16 +24,21 @@ use rayon::prelude::*;
 
 use crate::envmap::EnvMap;
 use crate::error::{Result, input_error};
+use crate::film::Channel;
 use crate::lights::{self, LightSet};
 use crate::output::{self, frame_path};
 use crate::predict::Method;
+use crate::video::VIDEO_FILE;
 
-/// Widest thumbnail on the contact sheet, pixels.
-const THUMB_WIDTH: u32 = 120;
+/// Widest thumbnail (contact sheet and per-frame table), pixels.
+const THUMB_WIDTH: u32 = 160;
 /// Widest frame of the animated preview, pixels.
 const GIF_WIDTH: u32 = 320;
-/// Frames on one row of the contact sheet.
-const SHEET_COLUMNS: usize = 6;
+/// Widest heat map, pixels: larger frames are shown scaled down (a 640×480 frame's map is
+/// 105 kB as a JPEG at full size, 15 MB for 144 frames; at 320 pixels wide, a quarter).
+const MAP_WIDTH: u32 = 320;
+/// JPEG quality of thumbnails and heat maps.
+const JPEG_QUALITY: u8 = 85;
 /// Animated preview: milliseconds per frame (12.5 frames per second).
 const GIF_FRAME_MS: u32 = 80;
 /// Plot size in pixels and its margin around the plotting area (the HTML labels rely on it).
@@ -148,6 +160,14 @@ fn save_png(path: &Path, img: &RgbImage) -> Result<()> {
     output::write_atomic(path, &png_bytes(img)?)
 }
 
+fn save_jpeg(path: &Path, img: &RgbImage) -> Result<()> {
+    let mut bytes = Vec::new();
+    image::codecs::jpeg::JpegEncoder::new_with_quality(&mut bytes, JPEG_QUALITY)
+        .encode_image(img)
+        .context("encoding JPEG")?;
+    output::write_atomic(path, &bytes)
+}
+
 fn scaled(img: &RgbImage, max_width: u32) -> RgbImage {
     if img.width() <= max_width {
         return img.clone();
@@ -186,6 +206,8 @@ struct Series {
     unit: &'static str,
     points: Vec<(f64, f64)>,
     colour: [u8; 3],
+    /// Shown at the top (the savings, the error); the others are collapsed.
+    lead: bool,
 }
 
 /// Draws a text-free line plot of `s` (frames on x, from 0 on y) and returns its y axis.
@@ -293,17 +315,17 @@ fn histogram_percentile(hist: &[u64], p: f64) -> f32 {
 
 /// What the report found about one frame's files.
 struct FrameImages {
-    png: bool,
+    thumb: Option<String>,
     rays_map: Option<String>,
     wrong_map: Option<String>,
     problem: Option<String>,
 }
 
-/// A first look at one frame: its preview at the sizes the report shows, and what its EXR
-/// holds for the colour scales (shared by all frames). Only small images are kept, so memory
-/// does not grow with the frames' resolution.
+/// A first look at one frame: its thumbnail (written), its preview at the GIF's size, and
+/// what its EXR holds for the colour scales (shared by all frames). Only small images are
+/// kept, so memory does not grow with the frames' resolution.
 struct Scan {
-    thumb: Option<RgbImage>,
+    thumb: Option<String>,
     gif: Option<RgbImage>,
     exr_ok: bool,
     rays_hist: Vec<u64>,
@@ -311,7 +333,7 @@ struct Scan {
     problem: Option<String>,
 }
 
-fn scan_frame(dir: &Path, frame: usize) -> Scan {
+fn scan_frame(dir: &Path, out: &Path, frame: usize, gif: bool) -> Scan {
     let mut scan = Scan {
         thumb: None,
         gif: None,
@@ -325,8 +347,14 @@ fn scan_frame(dir: &Path, frame: usize) -> Scan {
     match image::open(&png) {
         Ok(img) => {
             let img = img.to_rgb8();
-            scan.thumb = Some(scaled(&img, THUMB_WIDTH));
-            scan.gif = Some(scaled(&img, GIF_WIDTH));
+            let name = format!("thumb_{frame:04}.jpg");
+            match save_jpeg(&out.join(&name), &scaled(&img, THUMB_WIDTH)) {
+                Ok(()) => scan.thumb = Some(name),
+                Err(e) => problems.push(format!("{name}: {e:#}")),
+            }
+            if gif {
+                scan.gif = Some(scaled(&img, GIF_WIDTH));
+            }
         }
         Err(e) => problems.push(format!("{}: {e}", file_name(&png))),
     }
@@ -334,10 +362,10 @@ fn scan_frame(dir: &Path, frame: usize) -> Scan {
     match output::exr::read_frame(&exr) {
         Ok(f) => {
             scan.exr_ok = true;
-            if let Some(r) = f.channel("rays") {
+            if let Some(r) = f.channel(Channel::Rays.name()) {
                 scan.rays_hist = count_histogram(r);
             }
-            scan.wrong_max = f.channel("wrong").map(|w| {
+            scan.wrong_max = f.channel(Channel::Wrong.name()).map(|w| {
                 w.iter()
                     .copied()
                     .filter(|v| v.is_finite())
@@ -352,8 +380,9 @@ fn scan_frame(dir: &Path, frame: usize) -> Scan {
     scan
 }
 
-/// Writes one frame's heat maps (`rays_NNNN.png`, and `wrong_NNNN.png` when the EXR has a
-/// `wrong` channel) into `out`; returns their file names.
+/// Writes one frame's heat maps (`rays_NNNN.jpg`, and `wrong_NNNN.png` when the EXR has a
+/// `wrong` channel: single wrong pixels would smear in a JPEG) into `out`, at most
+/// [`MAP_WIDTH`] wide; returns their file names.
 fn heat_maps(
     dir: &Path,
     out: &Path,
@@ -364,16 +393,16 @@ fn heat_maps(
     let f = output::exr::read_frame(&frame_path(dir, frame, "exr"))?;
     let (w, h) = (f.width as u32, f.height as u32);
     let mut names = (None, None);
-    if let Some(rays) = f.channel("rays") {
+    if let Some(rays) = f.channel(Channel::Rays.name()) {
         let mut img = RgbImage::new(w, h);
         for (p, v) in img.pixels_mut().zip(rays) {
             *p = Rgb(ramp(if rays_top > 0.0 { v / rays_top } else { 0.0 }));
         }
-        let name = format!("rays_{frame:04}.png");
-        save_png(&out.join(&name), &img)?;
+        let name = format!("rays_{frame:04}.jpg");
+        save_jpeg(&out.join(&name), &scaled(&img, MAP_WIDTH))?;
         names.0 = Some(name);
     }
-    if let Some(wrong) = f.channel("wrong") {
+    if let Some(wrong) = f.channel(Channel::Wrong.name()) {
         let mut img = RgbImage::new(w, h);
         let (rr, gg, bb) = (f.channel("R"), f.channel("G"), f.channel("B"));
         for (k, (p, v)) in img.pixels_mut().zip(wrong).enumerate() {
@@ -386,12 +415,12 @@ fn heat_maps(
                     (Some(r), Some(g), Some(b)) => 0.2126 * r[k] + 0.7152 * g[k] + 0.0722 * b[k],
                     _ => 0.0,
                 };
-                let g = (crate::film::srgb_encode(lum) * 90.0) as u8;
+                let g = (crate::view::srgb_encode(lum) * 90.0) as u8;
                 Rgb([g, g, g])
             };
         }
         let name = format!("wrong_{frame:04}.png");
-        save_png(&out.join(&name), &img)?;
+        save_png(&out.join(&name), &scaled(&img, MAP_WIDTH))?;
         names.1 = Some(name);
     }
     Ok(names)
@@ -411,9 +440,15 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
     let rows = read_stats(&dir.join("stats.csv"))?;
     let out = dir.join("report");
     std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
+    remove_old_pictures(&out)?;
+    let video = dir.join(VIDEO_FILE).is_file().then_some(VIDEO_FILE);
 
-    // Pass 1: previews at display size, and the colour scales' ranges over all frames.
-    let scans: Vec<Scan> = rows.par_iter().map(|r| scan_frame(dir, r.frame)).collect();
+    // Pass 1: thumbnails, previews for the GIF (when there is no video), and the colour
+    // scales' ranges over all frames.
+    let scans: Vec<Scan> = rows
+        .par_iter()
+        .map(|r| scan_frame(dir, &out, r.frame, video.is_none()))
+        .collect();
     let mut rays_hist: Vec<u64> = Vec::new();
     for s in &scans {
         if s.rays_hist.len() > rays_hist.len() {
@@ -443,16 +478,14 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
         })
         .collect::<Result<_>>()?;
     let mut images = Vec::new();
-    let mut thumbs = Vec::new();
     let mut previews = Vec::new();
     for (s, (rays_map, wrong_map)) in scans.into_iter().zip(maps) {
         images.push(FrameImages {
-            png: s.thumb.is_some(),
+            thumb: s.thumb,
             rays_map,
             wrong_map,
             problem: s.problem,
         });
-        thumbs.extend(s.thumb);
         previews.extend(s.gif);
     }
 
@@ -467,31 +500,15 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
         save_png(&out.join("scale_wrong.png"), &scale(WRONG_RAMP_START))?;
     }
 
-    // Contact sheet and animated preview.
-    let has_previews = !previews.is_empty();
-    if has_previews {
-        let tw = thumbs.iter().map(|t| t.width()).max().unwrap_or(1);
-        let th = thumbs.iter().map(|t| t.height()).max().unwrap_or(1);
-        let cols = SHEET_COLUMNS.min(thumbs.len()) as u32;
-        let rows_n = thumbs.len().div_ceil(cols as usize) as u32;
-        let gap = 4;
-        let mut sheet = RgbImage::from_pixel(
-            cols * (tw + gap) + gap,
-            rows_n * (th + gap) + gap,
-            Rgb([32, 32, 32]),
-        );
-        for (k, t) in thumbs.iter().enumerate() {
-            let (cx, cy) = ((k as u32 % cols), (k as u32 / cols));
-            image::imageops::replace(
-                &mut sheet,
-                t,
-                (gap + cx * (tw + gap)) as i64,
-                (gap + cy * (th + gap)) as i64,
-            );
+    // The animation: the video, else an animated preview.
+    let animation = match video {
+        Some(v) => Animation::Video(v),
+        None if !previews.is_empty() => {
+            write_gif(&out.join("turntable.gif"), &previews)?;
+            Animation::Gif
         }
-        save_png(&out.join("contact_sheet.png"), &sheet)?;
-        write_gif(&out.join("turntable.gif"), &previews)?;
-    }
+        None => Animation::None,
+    };
 
     // Savings plot, one panel per quantity.
     let fx = |f: fn(&Row) -> Option<f64>| -> Vec<(f64, f64)> {
@@ -506,6 +523,7 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
             unit: "%",
             points: fx(|r| Some(r.percent)),
             colour: [31, 119, 180],
+            lead: true,
         },
         Series {
             file: "plot_rays_per_pixel.png",
@@ -513,6 +531,7 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
             unit: "rays",
             points: fx(|r| Some(r.rays_per_pixel())),
             colour: [44, 160, 44],
+            lead: false,
         },
         Series {
             file: "plot_seconds.png",
@@ -520,6 +539,7 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
             unit: "s",
             points: fx(|r| Some(r.seconds)),
             colour: [255, 127, 14],
+            lead: false,
         },
     ];
     let error_points = fx(|r| r.error_percent);
@@ -530,6 +550,7 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
             unit: "% of queries",
             points: error_points,
             colour: [214, 39, 40],
+            lead: true,
         });
     }
     let frames = (rows[0].frame as f64, rows[rows.len() - 1].frame as f64);
@@ -545,7 +566,7 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
         dir,
         &rows,
         &images,
-        has_previews,
+        animation,
         (rays_max, wrong_max, any_wrong_channel),
         &series,
         &axes,
@@ -554,6 +575,37 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
     let path = dir.join("report.html");
     output::write_atomic(&path, html.as_bytes())?;
     Ok(path)
+}
+
+/// The animation the page leads with.
+#[derive(Clone, Copy)]
+enum Animation {
+    /// The folder's video (its file name).
+    Video(&'static str),
+    /// `report/turntable.gif`.
+    Gif,
+    /// No frame could be read.
+    None,
+}
+
+/// Removes the pictures an earlier report left in `out` (a report rebuilt after the video
+/// was made has no GIF; renamed frames leave no stale maps). Only our own names go.
+fn remove_old_pictures(out: &Path) -> Result<()> {
+    let ours = |n: &str| {
+        let stem = ["thumb_", "rays_", "wrong_", "plot_", "scale_"]
+            .iter()
+            .any(|p| n.starts_with(p));
+        let whole = ["turntable.gif", "contact_sheet.png", "lights.png"].contains(&n);
+        (stem && (n.ends_with(".png") || n.ends_with(".jpg"))) || whole
+    };
+    let rd = std::fs::read_dir(out).with_context(|| format!("listing {}", out.display()))?;
+    for e in rd.flatten() {
+        if e.file_name().to_str().is_some_and(ours) && e.path().is_file() {
+            std::fs::remove_file(e.path())
+                .with_context(|| format!("removing {}", e.path().display()))?;
+        }
+    }
+    Ok(())
 }
 
 fn file_name(p: &Path) -> String {
@@ -646,26 +698,72 @@ fn with_commas(n: u64) -> String {
 
 const CSS: &str = "\
 body{font-family:system-ui,sans-serif;margin:1.5em auto;max-width:1150px;padding:0 1em;color:#222;background:#fafafa}\
-h1{font-size:1.5em}h2{font-size:1.2em;margin-top:1.6em;border-bottom:1px solid #ccc}\
+h1{font-size:1.5em;margin-bottom:.2em}h2{font-size:1.2em;margin-top:1.6em;border-bottom:1px solid #ccc}\
+.lead{font-size:1.05em;margin:.2em 0 1em}\
 table{border-collapse:collapse;font-size:.9em}td,th{border:1px solid #ccc;padding:.2em .5em;text-align:right}\
 th{background:#eee}td.l,th.l{text-align:left}\
-.pics{display:flex;flex-wrap:wrap;gap:1em;align-items:flex-start}\
+.top{display:flex;flex-wrap:wrap;gap:1.5em;align-items:flex-start}.top>figure{flex:0 1 640px}.top>div{flex:1 1 360px}\
+.top video,.top img.anim{max-width:640px;width:100%;background:#000;display:block}\
 figure{margin:0}figcaption{font-size:.85em;color:#555}\
 .plot{display:grid;grid-template-columns:3em 640px;width:max-content;column-gap:.4em;margin-bottom:1em}\
 .plot figcaption{grid-column:1/3;font-weight:bold;color:#222}\
 .ylab{display:flex;flex-direction:column;justify-content:space-between;height:180px;padding:8px 0;box-sizing:border-box;font-size:.75em;text-align:right}\
 .ylab span{line-height:0}\
 .xlab{grid-column:2;display:flex;justify-content:space-between;padding:0 8px;font-size:.75em}\
+.sheet{display:grid;grid-template-columns:repeat(auto-fill,minmax(160px,1fr));gap:6px}\
+.sheet figure{background:#202020;position:relative}.sheet img{width:100%;display:block}\
+.sheet figcaption{position:absolute;left:0;top:0;background:rgba(0,0,0,.6);color:#fff;font-size:.8em;padding:0 .3em}\
+details{margin-top:1.2em}summary{font-size:1.1em;font-weight:bold;cursor:pointer}\
 .frames td{vertical-align:top;text-align:center;white-space:nowrap}.frames td.l{white-space:normal}.frames img{width:160px;display:block}\
 .scale{display:flex;align-items:center;gap:.4em;font-size:.85em}\
 .note{color:#a33}";
+
+/// Writes the lines of a two-column table (`kv` rows).
+fn kv_table(h: &mut String, rows: &[(&str, String)]) {
+    h.push_str("<table>\n");
+    for (k, v) in rows {
+        let _ = writeln!(
+            h,
+            "<tr><th class=\"l\">{}</th><td class=\"l\">{}</td></tr>",
+            esc(k),
+            esc(v)
+        );
+    }
+    h.push_str("</table>\n");
+}
+
+/// One plot with its HTML axis labels.
+fn plot_figure(h: &mut String, s: &Series, (top, step): (f64, f64), rows: &[Row], lazy: bool) {
+    let _ = write!(
+        h,
+        "<figure class=\"plot\"><figcaption>{} ({})</figcaption><div class=\"ylab\">",
+        esc(s.title),
+        esc(s.unit)
+    );
+    let steps = (top / step).round() as usize;
+    for k in (0..=steps).rev() {
+        let _ = write!(h, "<span>{}</span>", tick(k as f64 * step));
+    }
+    let _ = writeln!(
+        h,
+        "</div><img src=\"report/{}\" width=\"{}\" height=\"{}\" alt=\"{}\"{}>\
+         <div class=\"xlab\"><span>frame {}</span><span>frame {}</span></div></figure>",
+        s.file,
+        PLOT_SIZE.0,
+        PLOT_SIZE.1,
+        esc(s.title),
+        if lazy { " loading=\"lazy\"" } else { "" },
+        rows[0].frame,
+        rows[rows.len() - 1].frame
+    );
+}
 
 #[allow(clippy::too_many_arguments)]
 fn page(
     dir: &Path,
     rows: &[Row],
     images: &[FrameImages],
-    has_previews: bool,
+    animation: Animation,
     (rays_max, wrong_max, any_wrong): (f32, f32, bool),
     series: &[Series],
     axes: &[(f64, f64)],
@@ -685,7 +783,7 @@ fn page(
         esc(&title)
     );
 
-    // Settings and totals.
+    // Totals and settings.
     let queries: u64 = rows.iter().map(|r| r.queries).sum();
     let rays: u64 = rows.iter().map(|r| r.rays).sum();
     let seconds: f64 = rows.iter().map(|r| r.seconds).sum();
@@ -711,65 +809,104 @@ fn page(
         },
         Err(e) => format!("lights.json unreadable: {e:#}"),
     };
-    h.push_str("<h2>Run</h2>\n<table>\n");
-    let mut kv = |k: &str, v: &str| {
-        let _ = writeln!(
-            h,
-            "<tr><th class=\"l\">{}</th><td class=\"l\">{}</td></tr>",
-            esc(k),
-            esc(v)
-        );
-    };
-    kv("folder", &dir.display().to_string());
-    kv(
-        "frames",
-        &format!(
-            "{} ({}–{})",
-            rows.len(),
-            rows[0].frame,
-            rows[rows.len() - 1].frame
+    let frames_line = format!(
+        "{} ({}–{})",
+        rows.len(),
+        rows[0].frame,
+        rows[rows.len() - 1].frame
+    );
+    let _ = writeln!(
+        h,
+        "<p class=\"lead\">{} frames at {}, {} lights, {}: <b>{percent:.2} %</b> of the shadow \
+         queries traced, the rest predicted; {seconds:.1} s of rendering.</p>",
+        rows.len(),
+        esc(&res),
+        esc(&nlights),
+        esc(&method)
+    );
+    let mut run: Vec<(&str, String)> = vec![
+        ("frames", frames_line),
+        ("shadow method", method.clone()),
+        ("lights", nlights.clone()),
+        ("environment", env_line),
+        ("resolution", res),
+        (
+            "validated",
+            if validated.is_empty() {
+                "no".to_string()
+            } else {
+                format!("{} of {} frames", validated.len(), rows.len())
+            },
         ),
-    );
-    kv("shadow method", &method);
-    kv("lights", &nlights);
-    kv("environment", &env_line);
-    kv("resolution", &res);
-    kv(
-        "validated",
-        &if validated.is_empty() {
-            "no".to_string()
-        } else {
-            format!("{} of {} frames", validated.len(), rows.len())
-        },
-    );
-    kv("shadow queries", &with_commas(queries));
-    kv(
-        "shadow rays traced",
-        &format!("{} ({percent:.2} % of the queries)", with_commas(rays)),
-    );
-    kv(
-        "render time",
-        &format!(
-            "{seconds:.2} s (sum of the frames' seconds; two frames are rendered at once, so the run's wall time is shorter)"
+        ("shadow queries", with_commas(queries)),
+        (
+            "shadow rays traced",
+            format!("{} ({percent:.2} % of the queries)", with_commas(rays)),
         ),
-    );
-    kv(
-        "shadow rays per second",
-        &format!("{:.2} M", rays as f64 / seconds.max(1e-9) / 1e6),
-    );
+        (
+            "render time",
+            format!("{seconds:.2} s (the frames' sum; two render at once)"),
+        ),
+        (
+            "shadow rays per second",
+            format!("{:.2} M", rays as f64 / seconds.max(1e-9) / 1e6),
+        ),
+    ];
     if !validated.is_empty() {
         let vq: u64 = validated.iter().map(|r| r.queries).sum();
         let vw: u64 = validated.iter().filter_map(|r| r.wrong).sum();
-        kv(
+        run.push((
             "wrong predictions",
-            &format!(
+            format!(
                 "{} pairs, {:.4} % of the validated frames' queries",
                 with_commas(vw),
                 100.0 * vw as f64 / (vq.max(1)) as f64
             ),
-        );
+        ));
     }
-    h.push_str("</table>\n");
+    run.push(("folder", dir.display().to_string()));
+
+    // The animation beside the totals.
+    h.push_str("<div class=\"top\">\n");
+    match animation {
+        Animation::Video(file) => {
+            let _ = writeln!(
+                h,
+                "<figure><video src=\"{0}\" controls loop muted playsinline preload=\"metadata\" \
+                 poster=\"{1}\"></video><figcaption>The frames as a video ({0}, H.264).</figcaption></figure>",
+                esc(file),
+                images
+                    .iter()
+                    .zip(rows)
+                    .find(|(i, _)| i.thumb.is_some())
+                    .map(|(_, r)| format!("frame_{:04}.png", r.frame))
+                    .unwrap_or_default()
+            );
+        }
+        Animation::Gif => h.push_str(
+            "<figure><img class=\"anim\" src=\"report/turntable.gif\" alt=\"animated preview\">\
+             <figcaption>Animated preview (GIF, 12.5 frames per second); \
+             <code>envshadow video DIR</code> makes a video.</figcaption></figure>\n",
+        ),
+        Animation::None => h.push_str(
+            "<p class=\"note\">No frame PNG could be read: no animation or contact sheet.</p>\n",
+        ),
+    }
+    h.push_str("<div>\n");
+    kv_table(&mut h, &run);
+    h.push_str("</div>\n</div>\n");
+
+    // The savings: percent traced per frame (and the error, validated).
+    h.push_str("<h2>Shadow rays traced per frame</h2>\n");
+    let lead: Vec<usize> = series
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.lead)
+        .map(|(k, _)| k)
+        .collect();
+    for &k in &lead {
+        plot_figure(&mut h, &series[k], axes[k], rows, false);
+    }
 
     // The paper's Table 1 beside ours.
     let one_method = rows.iter().all(|r| r.method == rows[0].method);
@@ -792,52 +929,61 @@ fn page(
         );
     }
 
-    // Frames.
-    h.push_str("<h2>Frames</h2>\n");
-    if has_previews {
-        h.push_str(
-            "<div class=\"pics\">\n<figure><img src=\"report/contact_sheet.png\" alt=\"contact sheet of the frames\">\
-             <figcaption>Contact sheet: every frame, left to right, top to bottom.</figcaption></figure>\n\
-             <figure><img src=\"report/turntable.gif\" alt=\"animated preview\">\
-             <figcaption>Animated preview (GIF, 12.5 frames per second).</figcaption></figure>\n</div>\n",
-        );
-    } else {
-        h.push_str(
-            "<p class=\"note\">No frame PNG could be read: no contact sheet or preview.</p>\n",
-        );
-    }
-
-    // Savings plot.
-    h.push_str("<h2>Savings per frame</h2>\n");
-    for (s, &(top, step)) in series.iter().zip(axes) {
-        let _ = write!(
-            h,
-            "<figure class=\"plot\"><figcaption>{} ({})</figcaption><div class=\"ylab\">",
-            esc(s.title),
-            esc(s.unit)
-        );
-        let steps = (top / step).round() as usize;
-        for k in (0..=steps).rev() {
-            let _ = write!(h, "<span>{}</span>", tick(k as f64 * step));
+    // Contact sheet: every frame, numbered.
+    if images.iter().any(|i| i.thumb.is_some()) {
+        h.push_str("<h2>Frames</h2>\n<div class=\"sheet\">\n");
+        for (r, fi) in rows.iter().zip(images) {
+            if let Some(t) = &fi.thumb {
+                let _ = writeln!(
+                    h,
+                    "<figure><a href=\"frame_{0:04}.png\"><img src=\"report/{t}\" alt=\"frame {0}\" loading=\"lazy\"></a>\
+                     <figcaption>{0}</figcaption></figure>",
+                    r.frame
+                );
+            }
         }
-        let _ = writeln!(
-            h,
-            "</div><img src=\"report/{}\" width=\"{}\" height=\"{}\" alt=\"{}\">\
-             <div class=\"xlab\"><span>frame {}</span><span>frame {}</span></div></figure>",
-            s.file,
-            PLOT_SIZE.0,
-            PLOT_SIZE.1,
-            esc(s.title),
-            rows[0].frame,
-            rows[rows.len() - 1].frame
-        );
+        h.push_str("</div>\n");
     }
 
-    // Heat maps.
-    h.push_str("<h2>Where the rays went</h2>\n");
+    // Lights.
+    h.push_str("<h2>Lights over the environment map</h2>\n");
+    match lights_note {
+        Ok(source) => {
+            let _ = writeln!(
+                h,
+                "<figure><img src=\"report/lights.png\" alt=\"lights over the environment map\" style=\"max-width:100%\" loading=\"lazy\">\
+                 <figcaption>{} lights from {}: cell borders in magenta, each light a cross, yellow for the dimmest to red for the brightest.</figcaption></figure>",
+                esc(&nlights),
+                esc(source)
+            );
+        }
+        Err(why) => {
+            let _ = writeln!(
+                h,
+                "<p class=\"note\">No picture of the lights: {}</p>",
+                esc(why)
+            );
+        }
+    }
+
+    // The other plots, collapsed.
+    h.push_str("<details>\n<summary>More per-frame plots: rays per pixel, seconds</summary>\n");
+    for (k, s) in series.iter().enumerate() {
+        if !lead.contains(&k) {
+            plot_figure(&mut h, s, axes[k], rows, true);
+        }
+    }
+    h.push_str("</details>\n");
+
+    // Per-frame detail, collapsed.
     let _ = writeln!(
         h,
-        "<div class=\"scale\">shadow rays traced per pixel: 0 <img src=\"report/scale_rays.png\" alt=\"colour scale\" width=\"256\" height=\"14\"> {} or more ({RAYS_SCALE_PERCENTILE}th percentile over all frames; click a map for full size)</div>",
+        "<details>\n<summary>Per-frame detail: where the rays went ({} frames)</summary>",
+        rows.len()
+    );
+    let _ = writeln!(
+        h,
+        "<div class=\"scale\">shadow rays traced per pixel: 0 <img src=\"report/scale_rays.png\" alt=\"colour scale\" width=\"256\" height=\"14\"> {} or more ({RAYS_SCALE_PERCENTILE}th percentile over all frames; click a map for a larger view)</div>",
         tick(rays_max as f64)
     );
     if any_wrong {
@@ -856,39 +1002,30 @@ fn page(
         h.push_str("<th>error</th><th>wrong pixels</th><th>PSNR</th>");
     }
     h.push_str("<th class=\"l\">camera → target, vertical fov</th></tr>\n");
-    for (r, fi) in rows.iter().zip(images) {
-        let _ = write!(h, "<tr><td>{}</td>", r.frame);
-        let frame_png = format!("frame_{:04}.png", r.frame);
-        if fi.png {
+    let cell = |h: &mut String, map: &Option<String>, what: &str, frame: usize| match map {
+        Some(m) => {
             let _ = write!(
                 h,
-                "<td><a href=\"{0}\"><img src=\"{0}\" alt=\"frame {1}\"></a></td>",
-                frame_png, r.frame
+                "<td><a href=\"report/{m}\"><img src=\"report/{m}\" alt=\"{what} of frame {frame}\" loading=\"lazy\"></a></td>"
             );
-        } else {
-            h.push_str("<td>—</td>");
         }
-        match &fi.rays_map {
-            Some(m) => {
+        None => h.push_str("<td>—</td>"),
+    };
+    for (r, fi) in rows.iter().zip(images) {
+        let _ = write!(h, "<tr><td>{}</td>", r.frame);
+        match &fi.thumb {
+            Some(t) => {
                 let _ = write!(
                     h,
-                    "<td><a href=\"report/{m}\"><img src=\"report/{m}\" alt=\"rays of frame {}\"></a></td>",
+                    "<td><a href=\"frame_{0:04}.png\"><img src=\"report/{t}\" alt=\"frame {0}\" loading=\"lazy\"></a></td>",
                     r.frame
                 );
             }
             None => h.push_str("<td>—</td>"),
         }
+        cell(&mut h, &fi.rays_map, "rays", r.frame);
         if any_wrong {
-            match &fi.wrong_map {
-                Some(m) => {
-                    let _ = write!(
-                        h,
-                        "<td><a href=\"report/{m}\"><img src=\"report/{m}\" alt=\"wrong predictions of frame {}\"></a></td>",
-                        r.frame
-                    );
-                }
-                None => h.push_str("<td>—</td>"),
-            }
+            cell(&mut h, &fi.wrong_map, "wrong predictions", r.frame);
         }
         let _ = write!(h, "<td>{:.2} %</td><td>{:.3}</td>", r.percent, r.seconds);
         if any_wrong {
@@ -917,28 +1054,7 @@ fn page(
         }
         h.push_str("</td></tr>\n");
     }
-    h.push_str("</table>\n");
-
-    // Lights.
-    h.push_str("<h2>Lights over the environment map</h2>\n");
-    match lights_note {
-        Ok(source) => {
-            let _ = writeln!(
-                h,
-                "<figure><img src=\"report/lights.png\" alt=\"lights over the environment map\" style=\"max-width:100%\">\
-                 <figcaption>{} lights from {}: cell borders in magenta, each light a cross, yellow for the dimmest to red for the brightest.</figcaption></figure>",
-                esc(&nlights),
-                esc(source)
-            );
-        }
-        Err(why) => {
-            let _ = writeln!(
-                h,
-                "<p class=\"note\">No picture of the lights: {}</p>",
-                esc(why)
-            );
-        }
-    }
+    h.push_str("</table>\n</details>\n");
     h.push_str("<p><small>Written by envshadow report from stats.csv, the frames and lights.json in this folder.</small></p>\n</body>\n</html>\n");
     h
 }

@@ -19,6 +19,7 @@ use crate::error::{Result, input_error};
 use crate::lights::Sampler;
 use crate::predict::{FloodTo, Method};
 use crate::samples::{Filter, Samples};
+use crate::view::View;
 
 /// A setting's value as flags, specs and messages spell it.
 pub trait Value: Clone + Debug + Send + Sync + 'static {
@@ -34,7 +35,7 @@ macro_rules! value_by_display {
         }
     )*};
 }
-value_by_display!(u32, usize, bool, f32, Method, FloodTo, Filter);
+value_by_display!(u32, usize, bool, f32, Method, FloodTo, Filter, View);
 
 impl Value for Sampler {
     fn show(&self) -> String {
@@ -59,7 +60,7 @@ macro_rules! deserialize_by_from_str {
         }
     )*};
 }
-deserialize_by_from_str!(Method, FloodTo, Sampler, Filter);
+deserialize_by_from_str!(Method, FloodTo, Sampler, Filter, View);
 
 /// Where a layer of settings came from, so a message names a value as the user wrote it.
 #[derive(Clone, Copy, Debug)]
@@ -302,6 +303,17 @@ fn check_tile(v: &u32) -> std::result::Result<(), String> {
     }
 }
 
+/// Highest frame rate: a turntable is watched, not sampled.
+pub const MAX_FPS: f32 = 240.0;
+
+fn check_fps(v: &f32) -> std::result::Result<(), String> {
+    if v.is_finite() && (1.0..=MAX_FPS).contains(v) {
+        Ok(())
+    } else {
+        Err(format!("must be a frame rate from 1 to {MAX_FPS}"))
+    }
+}
+
 fn check_finite(v: &f32) -> std::result::Result<(), String> {
     if v.is_finite() {
         Ok(())
@@ -389,8 +401,13 @@ settings! {
         /// starting between key frames first renders, without writing, the frames back to the
         /// key frame before it.
         keyframe: u32 = 0, flag "keyframe" [value_name = "N"], check check_keyframe;
-        /// Exposure of the PNG previews (the EXR keeps linear radiance; default 1).
+        /// Exposure of the PNG previews, a multiplier applied before the view transform (the
+        /// EXR keeps linear radiance; default 1).
         exposure: f32 = 1.0, flag "exposure" [value_name = "X"], check check_finite;
+        /// View transform of the PNG previews, after the exposure: agx (the default, as
+        /// Blender 4's: highlights roll off and desaturate), filmic (Hable's curve) or
+        /// standard (the sRGB curve, clipped at 1). The EXR stays linear.
+        view: View = View::Agx, flag "view" [value_name = "NAME"], check any;
         /// Tile size in pixels: 0 (the whole frame is one tile) or at least 8 (default 64).
         tile: u32 = 64, flag "tile" [value_name = "N"], check check_tile;
         /// Worker threads (0, the default: one per core).
@@ -403,6 +420,20 @@ settings! {
     ["output"] Output, OutputLayer, OutputSweep {
         /// Output folder (default `out`; relative to the working directory).
         dir: PathBuf = PathBuf::from("out"), flag "out" [value_name = "DIR"], check any;
+        /// Write the EXR's channels as 16-bit half floats where they suffice (beauty, normal,
+        /// albedo, fractions; ray counts, wrong pairs and depth stay 32-bit): about a third of
+        /// the size. Default false.
+        half: bool = false,
+            flag "half" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
+                default_missing_value = "true"], check any;
+        /// Frames per second of the animation: the EXR's `framesPerSecond`, the video's rate
+        /// (default 24).
+        fps: f32 = 24.0, flag "fps" [value_name = "FPS"], check check_fps;
+        /// At the end of a render, encode the frames' PNGs into DIR/video.mp4 (H.264) with
+        /// the system's ffmpeg, as `envshadow video DIR` does. Default false.
+        video: bool = false,
+            flag "video" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
+                default_missing_value = "true"], check any;
     }
 }
 

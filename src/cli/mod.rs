@@ -43,7 +43,8 @@ Examples:
   envshadow render anims/shapes-turntable.toml
   envshadow render anims/bunny-turntable.toml --frames 0..8 --lights 400 --out out/bunny
   envshadow lights assets/grace.hdr -n 200 --json lights.json --png cells.png
-  envshadow report out/shapes-turntable";
+  envshadow report out/shapes-turntable
+  envshadow video out/shapes-turntable";
 
 /// Batch renderer for turntable animations of glTF scenes lit by HDR environment maps, with
 /// shadows from every light direction (Ben-Artzi, Ramamoorthi & Agrawala 2004).
@@ -86,6 +87,21 @@ pub enum Command {
     /// Plot percent traced per frame with and without --temporal (DIR/savings.png) from two
     /// renders of the same frames (scripts/temporal-savings.sh makes both).
     Savings(SavingsArgs),
+    /// Encode a render's frame PNGs into DIR/video.mp4 (H.264) with the system's ffmpeg, at
+    /// the animation's frame rate; DIR/report.html, if there, is rebuilt to show it.
+    Video(VideoArgs),
+}
+
+#[derive(Args, Debug)]
+pub struct VideoArgs {
+    /// A render's output folder (with frame_NNNN.png).
+    pub dir: PathBuf,
+    /// Frames per second (default: the render's `[output] fps`, from DIR/settings.txt, else 24).
+    #[arg(long, value_name = "FPS")]
+    pub fps: Option<f32>,
+    /// Where to write the video (default: DIR/video.mp4; the report shows only that one).
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
 }
 
 #[derive(Args, Debug)]
@@ -286,6 +302,7 @@ pub fn run(cli: Cli) -> Result<()> {
             );
             Ok(())
         }
+        Command::Video(args) => video(args),
         Command::Report(args) => {
             let start = Instant::now();
             let page = envshadow::report::write_report(&args.dir)?;
@@ -454,6 +471,10 @@ fn render(args: RenderArgs) -> Result<()> {
         (_, _, Some(t)) => Some(envshadow::farm::JobSelection::Tiles(t.clone())),
         _ => None,
     };
+    // A render that ends in a video needs ffmpeg: say so before the frames, not after.
+    if anim.output.video && selection.is_none() {
+        envshadow::video::check_ffmpeg()?;
+    }
     let progress = progress(args.quiet);
     if let Some(sel) = selection {
         let (job, dir, summary) = envshadow::farm::render_job(
@@ -507,6 +528,22 @@ fn render(args: RenderArgs) -> Result<()> {
             dir.display()
         );
     }
+    if anim.output.video {
+        let v = envshadow::video::write_video(dir, anim.output.fps, None).with_context(|| {
+            format!(
+                "the frames are written, but not the video (retry with envshadow video {})",
+                dir.display()
+            )
+        })?;
+        if !args.quiet {
+            eprintln!(
+                "video: {} ({} frames at {} fps)",
+                v.path.display(),
+                v.frames,
+                v.fps
+            );
+        }
+    }
     if !args.no_report {
         let start = Instant::now();
         let page = envshadow::report::write_report(dir).with_context(|| {
@@ -522,6 +559,32 @@ fn render(args: RenderArgs) -> Result<()> {
                 start.elapsed().as_secs_f64()
             );
         }
+    }
+    Ok(())
+}
+
+fn video(args: VideoArgs) -> Result<()> {
+    let fps = args
+        .fps
+        .or_else(|| envshadow::video::recorded_fps(&args.dir))
+        .unwrap_or(envshadow::settings::Output::default().fps);
+    let start = Instant::now();
+    let v = envshadow::video::write_video(&args.dir, fps, args.out.as_deref())?;
+    println!(
+        "wrote {}: {} frames ({}–{}), {}x{}, {} fps, {:.1} s of video, in {:.1} s",
+        v.path.display(),
+        v.frames,
+        v.first,
+        v.last,
+        v.width,
+        v.height,
+        v.fps,
+        v.frames as f32 / v.fps,
+        start.elapsed().as_secs_f64()
+    );
+    if args.out.is_none() && args.dir.join("report.html").is_file() {
+        let page = envshadow::report::write_report(&args.dir)?;
+        println!("rebuilt {} to show it", page.display());
     }
     Ok(())
 }

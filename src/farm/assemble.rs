@@ -9,6 +9,7 @@ use std::path::Path;
 
 use glam::Vec3;
 
+use crate::coordinator::exr_header;
 use crate::error::{Result, input_error};
 use crate::farm::PlanFile;
 use crate::farm::job::{
@@ -17,7 +18,7 @@ use crate::farm::job::{
 use crate::farm::plan::{Job, PlanRequest, plan};
 use crate::film::Counts;
 use crate::film::Film;
-use crate::output::exr::read_frame;
+use crate::output::exr::{fill_film, read_frame};
 use crate::output::record::SettingsRecord;
 use crate::output::stats::{FrameStats, StatsFile};
 use crate::output::write_atomic;
@@ -297,7 +298,7 @@ fn examine(dir: &Path, write: bool) -> Result<Assembled> {
             if s.tiles.iter().any(|t| covered[t.index]) {
                 continue; // another job already gave these tiles
             }
-            match read_piece(&jobs_dir.join(&s.folder), f, s, &settings, film.as_mut()) {
+            match read_piece(&jobs_dir.join(&s.folder), f, s, film.as_mut()) {
                 Ok(tf) => {
                     for t in &s.tiles {
                         covered[t.index] = true;
@@ -328,19 +329,20 @@ fn examine(dir: &Path, write: bool) -> Result<Assembled> {
                 height: settings.height,
                 spp: settings.spp,
                 counts,
-                image_error: film.image_error(full, settings.exposure),
+                image_error: film.image_error(full, settings.exposure, settings.view),
                 seconds,
                 camera_position: v(tf.camera_position),
                 camera_target: v(tf.camera_target),
                 camera_up: v(tf.camera_up),
                 vfov_deg: tf.vfov_deg,
             };
+            let header = exr_header(&stats, settings.fps, &settings.record);
+            let format = settings.frame_format();
             match &record {
                 Some(r) => {
-                    let row = stats.csv_row();
-                    publish_frame(dir, f, &film, settings.exposure, &r.fingerprint(), row)?;
+                    publish_frame(dir, &film, &header, &format, &r.fingerprint())?;
                 }
-                None => write_frame_files(dir, f, &film, settings.exposure)?,
+                None => write_frame_files(dir, &film, &header, &format)?,
             }
             stats_file.set(&stats);
             result.written += 1;
@@ -411,23 +413,17 @@ fn read_piece(
     dir: &Path,
     f: usize,
     s: &Source,
-    settings: &Settings,
     film: Option<&mut Film>,
 ) -> std::result::Result<TileFrame, FrameProblem> {
     let tf = check_frame(dir, f)?;
     if let Some(film) = film {
-        copy_piece(&tiles_path(dir, f, "exr"), s, settings, film).map_err(FrameProblem::Corrupt)?;
+        copy_piece(&tiles_path(dir, f, "exr"), s, film).map_err(FrameProblem::Corrupt)?;
     }
     Ok(tf)
 }
 
 /// Copies the job's tiles of the (checked) tile image `exr` into `film`.
-fn copy_piece(
-    exr: &Path,
-    s: &Source,
-    settings: &Settings,
-    film: &mut Film,
-) -> std::result::Result<(), String> {
+fn copy_piece(exr: &Path, s: &Source, film: &mut Film) -> std::result::Result<(), String> {
     let name = |p: &Path| {
         p.file_name()
             .map(|n| n.to_string_lossy().into_owned())
@@ -445,42 +441,8 @@ fn copy_piece(
             bbox.height()
         ));
     }
-    let ch = |c: &str| {
-        img.channel(c)
-            .ok_or_else(|| format!("{}: no channel {c}", name(exr)))
-    };
-    let (r, g, b, rays, vis) = (ch("R")?, ch("G")?, ch("B")?, ch("rays")?, ch("visible")?);
-    let validated = if settings.validate {
-        Some((ch("wrong")?, ch("ref.R")?, ch("ref.G")?, ch("ref.B")?))
-    } else {
-        None
-    };
-    let coverage = if settings.spp > 1 {
-        Some(ch("coverage")?)
-    } else {
-        None
-    };
-    let fw = film.width as usize;
-    let bw = bbox.width() as usize;
     for t in &s.tiles {
-        for y in t.rect.y0..t.rect.y1 {
-            for x in t.rect.x0..t.rect.x1 {
-                let d = y as usize * fw + x as usize;
-                let i = (y - bbox.y0) as usize * bw + (x - bbox.x0) as usize;
-                film.beauty[d] = [r[i], g[i], b[i]];
-                film.rays[d] = rays[i];
-                film.visible[d] = vis[i];
-                if let (Some((w, rr, rg, rb)), Some(fwrong), Some(fref)) =
-                    (validated, film.wrong.as_mut(), film.reference.as_mut())
-                {
-                    fwrong[d] = w[i];
-                    fref[d] = [rr[i], rg[i], rb[i]];
-                }
-                if let (Some(c), Some(fc)) = (coverage, film.coverage.as_mut()) {
-                    fc[d] = c[i];
-                }
-            }
-        }
+        fill_film(&img, bbox, t.rect, film, true).map_err(|e| format!("{}: {e}", name(exr)))?;
     }
     Ok(())
 }

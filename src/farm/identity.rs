@@ -34,7 +34,7 @@ pub fn host_name() -> String {
 }
 
 /// A fingerprint of everything that decides a frame's pixels: the resolved animation with the
-/// run-only fields (frames, threads, output folder, where the spec lies) blanked and input
+/// run-only fields (frames, threads, output folder, the video, where the spec lies) blanked and input
 /// files named by their content's hash, so hosts that hold the inputs at other paths agree.
 pub fn settings_fingerprint(anim: &Animation) -> Result<String> {
     let mut a = anim.clone();
@@ -42,6 +42,7 @@ pub fn settings_fingerprint(anim: &Animation) -> Result<String> {
     a.frames = 0..0;
     a.render.threads = 0;
     a.output.dir = Default::default();
+    a.output.video = false;
     if let SceneSource::File(p) = &a.scene {
         a.scene = SceneSource::File(format!("sha256:{}", file_sha256(p)?).into());
     }

@@ -14,7 +14,6 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use anyhow::Context;
-use exr::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::anim::Animation;
@@ -42,6 +41,14 @@ pub struct Settings {
     pub tile: u32,
     pub tiles: usize,
     pub exposure: f32,
+    /// The previews' view transform, the EXR's precision and the frame rate (absent in
+    /// manifests written before them: what those wrote).
+    #[serde(default = "standard_view")]
+    pub view: crate::view::View,
+    #[serde(default)]
+    pub half: bool,
+    #[serde(default = "default_fps")]
+    pub fps: f32,
     pub validate: bool,
     /// Samples per pixel: above 1, tile images carry `coverage` (absent in manifests written
     /// before samples per pixel: 1).
@@ -66,6 +73,9 @@ impl Settings {
             tile: anim.render.tile,
             tiles: anim.render.tiles(None).len(),
             exposure: anim.render.exposure,
+            view: anim.render.view,
+            half: anim.output.half,
+            fps: anim.output.fps,
             validate: anim.render.validate,
             spp: anim.render.spp,
             frames: anim.frames.clone(),
@@ -194,6 +204,25 @@ fn one() -> u32 {
     1
 }
 
+fn standard_view() -> crate::view::View {
+    crate::view::View::Standard
+}
+
+fn default_fps() -> f32 {
+    crate::settings::Output::default().fps
+}
+
+impl Settings {
+    /// How the assembled frames are written, as the jobs' own render would.
+    pub fn frame_format(&self) -> crate::output::FrameFormat {
+        crate::output::FrameFormat {
+            exposure: self.exposure,
+            view: self.view,
+            half: self.half,
+        }
+    }
+}
+
 /// Writes one job's frames into its folder; the coordinator calls it in place of writing
 /// whole frames.
 #[derive(Clone, Debug)]
@@ -263,38 +292,12 @@ impl FrameSink for JobWriter {
     }
 }
 
-/// Writes `film`'s pixels inside `bbox` as float channels (the module's table names them), ZIP compressed,
-/// one thread: lossless, so assembling gives back the very floats the renderer made.
+/// Writes `film`'s pixels inside `bbox` as float channels (the frame's, and with validation
+/// the brute-force image), ZIP compressed, one thread: lossless (32-bit float whatever
+/// `--half` says), so assembling gives back the very floats the renderer made.
 fn write_tile_image(path: &Path, film: &Film, bbox: Rect) -> Result<()> {
     let (w, h) = (bbox.width() as usize, bbox.height() as usize);
-    let fw = film.width as usize;
-    let pick = |f: &dyn Fn(usize) -> f32| -> Vec<f32> {
-        let mut v = Vec::with_capacity(w * h);
-        for y in bbox.y0..bbox.y1 {
-            for x in bbox.x0..bbox.x1 {
-                v.push(f(y as usize * fw + x as usize));
-            }
-        }
-        v
-    };
-    let mut channels: Vec<AnyChannel<FlatSamples>> = Vec::new();
-    let mut add = |name: &str, v: Vec<f32>| {
-        channels.push(AnyChannel::new(name, FlatSamples::F32(v)));
-    };
-    for (c, name) in ["R", "G", "B"].iter().enumerate() {
-        add(name, pick(&|i| film.beauty[i][c]));
-    }
-    add("rays", pick(&|i| film.rays[i]));
-    add("visible", pick(&|i| film.visible[i]));
-    if let (Some(wrong), Some(reference)) = (&film.wrong, &film.reference) {
-        add("wrong", pick(&|i| wrong[i]));
-        for (c, name) in ["ref.R", "ref.G", "ref.B"].iter().enumerate() {
-            add(name, pick(&|i| reference[i][c]));
-        }
-    }
-    if let Some(coverage) = &film.coverage {
-        add("coverage", pick(&|i| coverage[i]));
-    }
+    let channels = crate::output::exr::film_channels(film, bbox, true, false);
     crate::output::exr::write_channels(path, (w, h), channels)
 }
 

@@ -1,62 +1,189 @@
-//! EXR frames: float RGB beauty plus AOV channels.
+//! EXR frames as Nuke, Blender and OpenImageIO read them: one part, the film's channels
+//! ([`Channel`](crate::film::Channel): beauty `R G B`, depth `Z`, `N.X N.Y N.Z`, `albedo.R albedo.G albedo.B`, the
+//! shadow method's `shadow.rays`, `shadow.visible`, `shadow.wrong`, `shadow.coverage`), and a
+//! header with the standard attributes a compositor uses — `worldToCamera` and `worldToNDC`
+//! (OpenEXR's conventions, see [`FrameHeader`]), `framesPerSecond`, `chromaticities`
+//! (Rec.709 primaries, D65 white: the renderer's linear RGB), `software` — and ours as
+//! `envshadow/…`: the frame number, the settings and the frame's counts.
 //!
-//! Channels: `R`, `G`, `B` (linear radiance), `rays` (shadow rays traced at the pixel),
-//! `visible` (fraction of above-horizon lights visible), with samples per pixel `coverage`
-//! (the filter-weighted fraction of the pixel's samples that hit the scene), with validation
-//! `wrong` (wrong pairs, summed over the samples). ZIP compression in increasing scanline
-//! order, written on one thread, so the same film always gives the same bytes.
+//! With `half`, every channel but those that need more ([`Channel::exact`]: counts and
+//! depth) is stored as 16-bit half float. ZIP compression in increasing scanline order,
+//! written on one thread, attributes in name order (as OpenEXR's own library writes them), so
+//! the same film always gives the same bytes.
 
 use std::path::Path;
 
-use anyhow::Context;
+use anyhow::{Context, anyhow};
+use exr::meta::attribute::{AttributeValue, Chromaticities, Text};
 use exr::prelude::*;
 
 use crate::error::Result;
 use crate::film::Film;
+use crate::output::stats::{FrameStats, HEADER};
+use crate::tile::Rect;
 
-/// Extra per-pixel channels written beside the beauty.
-pub struct Aov<'a> {
-    pub name: &'a str,
-    pub values: &'a [f32],
+/// What a frame's EXR header says besides its channels.
+#[derive(Clone, Debug)]
+pub struct FrameHeader<'a> {
+    /// OpenEXR's `worldToCamera` and `worldToNDC`, as OpenEXR stores an M44f: a matrix
+    /// that multiplies row vectors on its left, flattened row by row (`crate::camera::Camera`
+    /// makes them).
+    pub world_to_camera: [f32; 16],
+    pub world_to_ndc: [f32; 16],
+    /// The animation's frame rate (`framesPerSecond`).
+    pub fps: f32,
+    /// The settings the frame was rendered with: the lines of `settings.txt`
+    /// (`[render] method` → `envshadow/render.method`).
+    pub settings: &'a [(String, String)],
+    /// The frame's row of `stats.csv`: every column that does not depend on the machine, the
+    /// threads or the tiles (`envshadow/stats.rays_traced`, …; not `seconds`, not the halo's
+    /// work).
+    pub stats: &'a FrameStats,
 }
 
-/// The EXR file of the film's beauty and AOVs (plus `extra`).
-pub fn encode_frame(film: &Film, extra: &[Aov]) -> Result<Vec<u8>> {
-    let (w, h) = (film.width as usize, film.height as usize);
-    let mut channels: Vec<AnyChannel<FlatSamples>> = Vec::new();
-    for (c, name) in ["R", "G", "B"].iter().enumerate() {
-        let v: Vec<f32> = film.beauty.iter().map(|p| p[c]).collect();
-        channels.push(AnyChannel::new(*name, FlatSamples::F32(v)));
-    }
-    channels.push(AnyChannel::new("rays", FlatSamples::F32(film.rays.clone())));
-    channels.push(AnyChannel::new(
-        "visible",
-        FlatSamples::F32(film.visible.clone()),
-    ));
-    for aov in extra {
-        channels.push(AnyChannel::new(
-            aov.name,
-            FlatSamples::F32(aov.values.to_vec()),
-        ));
-    }
-    encode_channels((w, h), channels)
+/// This build's name and version, for the `software` attribute.
+pub const SOFTWARE: &str = concat!("envshadow ", env!("CARGO_PKG_VERSION"));
+
+/// The stats columns left out of the header: they depend on the machine or on how the frame
+/// was split (tiles, jobs), and the same frame must be the same bytes.
+fn run_dependent(column: &str) -> bool {
+    column.starts_with("halo_") || column.contains("second") || column.contains("time")
 }
 
-/// Writes float `channels` of a `size` image to `path` atomically ([`encode_channels`]).
+/// The EXR file of a frame's film, half-float where `half` allows, with `header`.
+pub fn encode_frame(film: &Film, header: &FrameHeader, half: bool) -> Result<Vec<u8>> {
+    let rect = Rect::frame(film.width, film.height);
+    let channels = film_channels(film, rect, false, half);
+    let mut attrs = LayerAttributes {
+        software_name: Some(text(SOFTWARE)),
+        world_to_camera: Some(header.world_to_camera),
+        world_to_normalized_device: Some(header.world_to_ndc),
+        frames_per_second: Some(rational(header.fps)),
+        ..LayerAttributes::default()
+    };
+    let mut put = |name: String, value: AttributeValue| {
+        attrs.other.insert(text(&name), value);
+    };
+    let stats = header.stats;
+    put(
+        "envshadow/frame".into(),
+        AttributeValue::I32(stats.frame as i32),
+    );
+    for (key, value) in header.settings {
+        put(
+            format!("envshadow/{}", setting_name(key)),
+            text_value(value),
+        );
+    }
+    for (column, value) in HEADER.split(',').zip(stats.csv_row().split(',')) {
+        if column != "frame" && !value.is_empty() && !run_dependent(column) {
+            put(format!("envshadow/stats.{column}"), text_value(value));
+        }
+    }
+    let image_attrs = ImageAttributes {
+        chromaticities: Some(REC709),
+        ..ImageAttributes::new(IntegerBounds::from_dimensions((
+            film.width as usize,
+            film.height as usize,
+        )))
+    };
+    encode(
+        (film.width as usize, film.height as usize),
+        channels,
+        attrs,
+        image_attrs,
+    )
+}
+
+/// A settings line's key as an attribute name: `[render] method` → `render.method`,
+/// `--region` → `region`.
+fn setting_name(key: &str) -> String {
+    match key.strip_prefix('[').and_then(|k| k.split_once("] ")) {
+        Some((table, key)) => format!("{table}.{key}"),
+        None => key.trim_start_matches('-').to_string(),
+    }
+}
+
+/// Rec.709 primaries and D65 white: what the renderer's linear RGB is.
+const REC709: Chromaticities = Chromaticities {
+    red: Vec2(0.64, 0.33),
+    green: Vec2(0.30, 0.60),
+    blue: Vec2(0.15, 0.06),
+    white: Vec2(0.3127, 0.3290),
+};
+
+/// A frame rate as OpenEXR's rational: whole rates exactly, others to a thousandth.
+fn rational(fps: f32) -> (i32, u32) {
+    if fps.fract() == 0.0 {
+        (fps as i32, 1)
+    } else {
+        let n = (fps * 1000.0).round() as i32;
+        let g = gcd(n.unsigned_abs(), 1000);
+        (n / g as i32, 1000 / g)
+    }
+}
+
+fn gcd(a: u32, b: u32) -> u32 {
+    if b == 0 { a.max(1) } else { gcd(b, a % b) }
+}
+
+/// A text attribute's bytes: UTF-8, as OpenEXR's library and OpenImageIO read strings.
+fn text(s: &str) -> Text {
+    Text::from_slice_unchecked(s.as_bytes())
+}
+
+fn text_value(s: &str) -> AttributeValue {
+    AttributeValue::Text(text(s))
+}
+
+/// The film's channels over `rect` (frame pixels), in [`Film::channels`] order (with
+/// `reference`, the validation's brute-force image too); half-float where `half` allows.
+pub fn film_channels(
+    film: &Film,
+    rect: Rect,
+    reference: bool,
+    half: bool,
+) -> Vec<AnyChannel<FlatSamples>> {
+    let fw = film.width as usize;
+    film.channels(reference)
+        .into_iter()
+        .map(|c| {
+            let mut v = Vec::with_capacity(rect.area());
+            for y in rect.y0..rect.y1 {
+                for x in rect.x0..rect.x1 {
+                    v.push(film.get(c, y as usize * fw + x as usize));
+                }
+            }
+            let samples = if half && !c.exact() {
+                FlatSamples::F16(v.into_iter().map(f16::from_f32).collect())
+            } else {
+                FlatSamples::F32(v)
+            };
+            AnyChannel::new(c.name(), samples)
+        })
+        .collect()
+}
+
+/// Writes `channels` of a `size` image to `path` atomically, with no attributes beyond the
+/// required ones (farm tile images).
 pub fn write_channels(
     path: &Path,
     size: (usize, usize),
     channels: Vec<AnyChannel<FlatSamples>>,
 ) -> Result<()> {
-    let bytes = encode_channels(size, channels)?;
+    let image_attrs = ImageAttributes::new(IntegerBounds::from_dimensions(size));
+    let bytes = encode(size, channels, LayerAttributes::default(), image_attrs)?;
     super::write_atomic(path, &bytes).with_context(|| format!("writing EXR {}", path.display()))
 }
 
-/// The EXR file of float `channels` of a `size` image: ZIP compression in increasing
-/// scanline order on one thread, so the same samples always give the same bytes.
-pub fn encode_channels(
+/// The EXR file of `channels` of a `size` image with the given attributes: ZIP compression
+/// in increasing scanline order on one thread, attributes in name order, so the same
+/// samples and attributes always give the same bytes.
+fn encode(
     size: (usize, usize),
     channels: Vec<AnyChannel<FlatSamples>>,
+    layer_attrs: LayerAttributes,
+    image_attrs: ImageAttributes,
 ) -> Result<Vec<u8>> {
     let encoding = Encoding {
         compression: Compression::ZIP16,
@@ -65,25 +192,69 @@ pub fn encode_channels(
     };
     let layer = Layer::new(
         size,
-        LayerAttributes::default(),
+        layer_attrs,
         encoding,
         AnyChannels::sort(SmallVec::from_vec(channels)),
     );
-    let image = Image::from_layer(layer);
+    let image = Image {
+        attributes: image_attrs,
+        layer_data: layer,
+    };
     let mut bytes = std::io::Cursor::new(Vec::new());
     image
         .write()
         .non_parallel()
         .to_buffered(&mut bytes)
         .context("encoding EXR")?;
-    Ok(bytes.into_inner())
+    let mut bytes = bytes.into_inner();
+    sort_attributes(&mut bytes)?;
+    Ok(bytes)
 }
 
-/// A frame read back: channel name → samples (row-major), and the size.
+/// Puts the attributes of a single-part EXR's header in name order, in place. The exr crate
+/// keeps custom attributes in a `HashMap` and writes them in its iteration order, which
+/// changes from one run to the next; OpenEXR's own library writes them sorted by name. The
+/// header keeps its length, so the offset table after it stays right.
+fn sort_attributes(bytes: &mut [u8]) -> Result<()> {
+    let bad = || anyhow!("encoding EXR: malformed header");
+    let nul = |from: usize| -> Result<usize> {
+        bytes
+            .get(from..)
+            .and_then(|b| b.iter().position(|&c| c == 0))
+            .map(|k| from + k)
+            .ok_or_else(bad)
+    };
+    const START: usize = 8; // magic number and version field
+    let mut pos = START;
+    let mut attrs: Vec<(Vec<u8>, std::ops::Range<usize>)> = Vec::new();
+    while *bytes.get(pos).ok_or_else(bad)? != 0 {
+        let name_end = nul(pos)?;
+        let type_end = nul(name_end + 1)?;
+        let size = bytes.get(type_end + 1..type_end + 5).ok_or_else(bad)?;
+        let size = u32::from_le_bytes(size.try_into().map_err(|_| bad())?) as usize;
+        let end = type_end + 5 + size;
+        if end > bytes.len() {
+            return Err(bad());
+        }
+        attrs.push((bytes[pos..name_end].to_vec(), pos..end));
+        pos = end;
+    }
+    attrs.sort_by(|a, b| a.0.cmp(&b.0));
+    let mut sorted = Vec::with_capacity(pos - START);
+    for (_, r) in &attrs {
+        sorted.extend_from_slice(&bytes[r.clone()]);
+    }
+    bytes[START..pos].copy_from_slice(&sorted);
+    Ok(())
+}
+
+/// A frame read back: channel name → samples (row-major), the size and the header's
+/// attributes.
 pub struct ReadFrame {
     pub width: usize,
     pub height: usize,
     pub channels: Vec<(String, Vec<f32>)>,
+    pub attributes: LayerAttributes,
 }
 
 impl ReadFrame {
@@ -95,16 +266,26 @@ impl ReadFrame {
     }
 }
 
-/// Reads every channel of the first layer of an EXR made by [`encode_frame`].
+/// Reads every channel of the first layer of an EXR made by [`encode_frame`] (half-float
+/// channels widened to f32).
 pub fn read_frame(path: &Path) -> Result<ReadFrame> {
+    let file = std::fs::File::open(path)
+        .map_err(|e| crate::error::input_error(path, format!("cannot open: {e}")))?;
+    read_frame_from(std::io::BufReader::new(file))
+        .map_err(|e| crate::error::input_error(path, format!("not a readable EXR: {e}")))
+}
+
+/// [`read_frame`] from any seekable reader.
+fn read_frame_from(
+    reader: impl std::io::Read + std::io::Seek + Send,
+) -> std::result::Result<ReadFrame, exr::error::Error> {
     let image = read()
         .no_deep_data()
         .largest_resolution_level()
         .all_channels()
         .first_valid_layer()
         .all_attributes()
-        .from_file(path)
-        .map_err(|e| crate::error::input_error(path, format!("not a readable EXR: {e}")))?;
+        .from_buffered(reader)?;
     let layer = image.layer_data;
     let channels = layer
         .channel_data
@@ -116,5 +297,100 @@ pub fn read_frame(path: &Path) -> Result<ReadFrame> {
         width: layer.size.width(),
         height: layer.size.height(),
         channels,
+        attributes: layer.attributes,
     })
+}
+
+/// Copies the pixels of `copy` from `img`, an EXR of the frame pixels of `rect` (which holds
+/// `copy`), into `film`: every channel `film` holds must be there (`reference`: the
+/// validation's brute-force image too). Errors name the missing channel.
+pub fn fill_film(
+    img: &ReadFrame,
+    rect: Rect,
+    copy: Rect,
+    film: &mut Film,
+    reference: bool,
+) -> std::result::Result<(), String> {
+    let fw = film.width as usize;
+    let rw = rect.width() as usize;
+    for c in film.channels(reference) {
+        let v = img
+            .channel(c.name())
+            .ok_or_else(|| format!("no channel {}", c.name()))?;
+        for y in copy.y0..copy.y1 {
+            for x in copy.x0..copy.x1 {
+                let src = v[(y - rect.y0) as usize * rw + (x - rect.x0) as usize];
+                film.set(c, y as usize * fw + x as usize, src);
+            }
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn stats() -> FrameStats {
+        FrameStats {
+            frame: 7,
+            method: "brute".into(),
+            lights: 3,
+            width: 4,
+            height: 2,
+            spp: 1,
+            counts: Default::default(),
+            image_error: None,
+            seconds: 0.25,
+            camera_position: glam::Vec3::new(0.0, 1.0, 5.0),
+            camera_target: glam::Vec3::ZERO,
+            camera_up: glam::Vec3::Y,
+            vfov_deg: 40.0,
+        }
+    }
+
+    /// The exr crate writes custom attributes in a HashMap's order, which changes with every
+    /// map; the header is sorted, so a frame is the same bytes every time.
+    #[test]
+    fn the_same_frame_is_the_same_bytes() {
+        let film = Film::new(4, 2, false, false);
+        let settings: Vec<(String, String)> = (0..20)
+            .map(|k| (format!("[render] key{k}"), k.to_string()))
+            .collect();
+        let stats = stats();
+        let header = FrameHeader {
+            world_to_camera: [0.0; 16],
+            world_to_ndc: [1.0; 16],
+            fps: 24.0,
+            settings: &settings,
+            stats: &stats,
+        };
+        let first = encode_frame(&film, &header, false).unwrap();
+        for _ in 0..10 {
+            assert!(encode_frame(&film, &header, false).unwrap() == first);
+        }
+        // Sorted by name, the header reads back.
+        let back = read_frame_from(std::io::Cursor::new(first)).unwrap();
+        let attrs = &back.attributes;
+        assert_eq!(attrs.world_to_normalized_device, Some([1.0; 16]));
+        assert_eq!(
+            attrs.other.get(&text("envshadow/frame")),
+            Some(&AttributeValue::I32(7))
+        );
+        assert!(attrs.other.contains_key(&text("envshadow/render.key19")));
+        assert!(!attrs.other.contains_key(&text("envshadow/stats.seconds")));
+    }
+
+    #[test]
+    fn frame_rates_become_exact_rationals() {
+        assert_eq!(rational(24.0), (24, 1));
+        assert_eq!(rational(12.5), (25, 2));
+        assert_eq!(rational(23.976), (2997, 125));
+    }
+
+    #[test]
+    fn settings_lines_become_attribute_names() {
+        assert_eq!(setting_name("[render] method"), "render.method");
+        assert_eq!(setting_name("--region"), "region");
+    }
 }

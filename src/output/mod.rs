@@ -17,6 +17,7 @@ use anyhow::Context;
 
 use crate::error::Result;
 use crate::film::Film;
+use crate::view::View;
 
 /// The temporary name a file is written under before it is renamed into place: unique to the
 /// process (its PID), the write (a counter: threads of one process may publish the same file)
@@ -111,6 +112,33 @@ pub fn frame_path(dir: &Path, frame: usize, ext: &str) -> PathBuf {
     dir.join(format!("frame_{frame:04}.{ext}"))
 }
 
+/// How a render writes its frames: the previews' exposure and view transform, the EXR's
+/// precision, and what its header records beside each frame's own [`exr::FrameHeader`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameFormat {
+    pub exposure: f32,
+    pub view: View,
+    /// Half-float EXR channels where they suffice (`--half`).
+    pub half: bool,
+}
+
+/// A frame's two files: the EXR and the PNG preview.
+fn encode_files(
+    film: &Film,
+    header: &exr::FrameHeader,
+    format: &FrameFormat,
+) -> Result<[Vec<u8>; 2]> {
+    let exr = exr::encode_frame(film, header, format.half)?;
+    let png = png::encode_preview(
+        film.width,
+        film.height,
+        &film.beauty,
+        format.exposure,
+        format.view,
+    )?;
+    Ok([exr, png])
+}
+
 /// Publishes one frame into `dir`: `frame_NNNN.png`, then its record
 /// (`records/frame_NNNN.json`: `stats_row`, the `settings` fingerprint and both files'
 /// checksums), then `frame_NNNN.exr`, whose rename commits the frame — a kill at any instant
@@ -118,14 +146,13 @@ pub fn frame_path(dir: &Path, frame: usize, ext: &str) -> PathBuf {
 /// record.
 pub fn publish_frame(
     dir: &Path,
-    frame: usize,
     film: &Film,
-    exposure: f32,
+    header: &exr::FrameHeader,
+    format: &FrameFormat,
     settings: &str,
-    stats_row: String,
 ) -> Result<record::FrameRecord> {
-    let exr = exr::encode_frame(film, &frame_aovs(film))?;
-    let png = png::encode_preview(film.width, film.height, &film.beauty, exposure)?;
+    let frame = header.stats.frame;
+    let [exr, png] = encode_files(film, header, format)?;
     let rec = record::FrameRecord {
         format: record::FRAME_FORMAT.into(),
         frame,
@@ -134,7 +161,7 @@ pub fn publish_frame(
         exr_sha256: record::sha256(&exr),
         png_bytes: png.len() as u64,
         png_sha256: record::sha256(&png),
-        stats_row,
+        stats_row: header.stats.csv_row(),
     };
     write_atomic(&frame_path(dir, frame, "png"), &png)?;
     rec.write(dir)?;
@@ -142,29 +169,16 @@ pub fn publish_frame(
     Ok(rec)
 }
 
-/// The AOVs a frame's EXR carries beside beauty, rays and visibility.
-fn frame_aovs(film: &Film) -> Vec<exr::Aov<'_>> {
-    let mut aovs = Vec::new();
-    if let Some(wrong) = &film.wrong {
-        aovs.push(exr::Aov {
-            name: "wrong",
-            values: wrong,
-        });
-    }
-    if let Some(coverage) = &film.coverage {
-        aovs.push(exr::Aov {
-            name: "coverage",
-            values: coverage,
-        });
-    }
-    aovs
-}
-
 /// Writes one frame's files: `frame_NNNN.exr` (beauty + AOVs) and `frame_NNNN.png`.
-pub fn write_frame_files(dir: &Path, frame: usize, film: &Film, exposure: f32) -> Result<()> {
-    let exr = exr::encode_frame(film, &frame_aovs(film))?;
+pub fn write_frame_files(
+    dir: &Path,
+    film: &Film,
+    header: &exr::FrameHeader,
+    format: &FrameFormat,
+) -> Result<()> {
+    let frame = header.stats.frame;
+    let [exr, png] = encode_files(film, header, format)?;
     write_atomic(&frame_path(dir, frame, "exr"), &exr)?;
-    let png = png::encode_preview(film.width, film.height, &film.beauty, exposure)?;
     write_atomic(&frame_path(dir, frame, "png"), &png)
 }
 

@@ -1,35 +1,80 @@
-//! PNG previews: exposure, then the sRGB transfer curve, 8 bits.
+//! PNG previews: exposure, then the view transform ([`View`]: AgX, filmic or the clipped
+//! sRGB curve), 8 bits, tagged sRGB (an `sRGB` chunk with its `gAMA` and `cHRM` fallbacks),
+//! so colour-managed viewers show them as written.
 
 use anyhow::Context;
 
 use crate::error::Result;
-use crate::film::srgb_encode;
+use crate::view::View;
 
-/// Linear RGB → 8-bit sRGB with an exposure multiplier (clipped highlights).
-pub fn tonemap(rgb: [f32; 3], exposure: f32) -> [u8; 3] {
-    rgb.map(|c| (srgb_encode(c * exposure) * 255.0 + 0.5) as u8)
+/// The PNG file of an RGB8 image, tagged sRGB.
+fn encode_rgb8(width: u32, height: u32, pixels: &[u8]) -> Result<Vec<u8>> {
+    let mut bytes = Vec::new();
+    let mut enc = png::Encoder::new(&mut bytes, width, height);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    // The image crate's defaults, which wrote every preview before the colour tag.
+    enc.set_compression(png::Compression::Fast);
+    enc.set_filter(png::Filter::Adaptive);
+    enc.set_source_srgb(png::SrgbRenderingIntent::Perceptual);
+    let mut w = enc.write_header().context("encoding PNG")?;
+    w.write_image_data(pixels).context("encoding PNG")?;
+    w.finish().context("encoding PNG")?;
+    Ok(bytes)
 }
 
-/// The PNG file of an RGB8 image.
-fn encode_rgb8(width: u32, height: u32, pixels: Vec<u8>) -> Result<Vec<u8>> {
-    let img = image::RgbImage::from_raw(width, height, pixels)
-        .context("pixel buffer does not match the image size")?;
-    let mut bytes = std::io::Cursor::new(Vec::new());
-    img.write_to(&mut bytes, image::ImageFormat::Png)
-        .context("encoding PNG")?;
-    Ok(bytes.into_inner())
-}
-
-/// The PNG file of a tone-mapped preview of linear RGB pixels.
+/// The PNG file of a preview of linear RGB pixels: `exposure`, then `view`.
 pub fn encode_preview(
     width: u32,
     height: u32,
     beauty: &[[f32; 3]],
     exposure: f32,
+    view: View,
 ) -> Result<Vec<u8>> {
     let mut bytes = Vec::with_capacity(beauty.len() * 3);
     for p in beauty {
-        bytes.extend_from_slice(&tonemap(*p, exposure));
+        bytes.extend_from_slice(&view.to_8bit(*p, exposure));
     }
-    encode_rgb8(width, height, bytes)
+    encode_rgb8(width, height, &bytes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The chunks of a PNG file, by type.
+    fn chunk_types(png: &[u8]) -> Vec<String> {
+        let mut types = Vec::new();
+        let mut pos = 8;
+        while pos + 8 <= png.len() {
+            let len = u32::from_be_bytes(png[pos..pos + 4].try_into().unwrap()) as usize;
+            types.push(String::from_utf8_lossy(&png[pos + 4..pos + 8]).into_owned());
+            pos += 12 + len;
+        }
+        types
+    }
+
+    #[test]
+    fn previews_are_tagged_srgb_and_decode_to_the_view() {
+        let beauty = [
+            [0.0, 0.0, 0.0],
+            [0.18, 0.18, 0.18],
+            [1.0, 0.5, 0.25],
+            [9.0, 9.0, 9.0],
+        ];
+        for view in View::ALL {
+            let png = encode_preview(2, 2, &beauty, 1.0, view).unwrap();
+            let types = chunk_types(&png);
+            let srgb = types.iter().position(|t| t == "sRGB");
+            let idat = types.iter().position(|t| t == "IDAT");
+            assert!(
+                srgb.is_some() && srgb < idat,
+                "{view}: no sRGB chunk before the pixels: {types:?}"
+            );
+            let img = image::load_from_memory(&png).unwrap().to_rgb8();
+            for (k, p) in img.pixels().enumerate() {
+                assert_eq!(p.0, view.to_8bit(beauty[k], 1.0), "{view}: pixel {k}");
+            }
+        }
+    }
 }

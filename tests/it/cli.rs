@@ -56,10 +56,10 @@ fn render_writes_frames_stats_and_lights_deterministically() {
     );
     let exr = read_frame(&out.join("frame_0001.exr")).unwrap();
     assert_eq!((exr.width, exr.height), (64, 48));
-    for ch in ["R", "G", "B", "rays", "visible"] {
+    for ch in ["R", "G", "B", "shadow.rays", "shadow.visible"] {
         assert!(exr.channel(ch).is_some(), "channel {ch} missing");
     }
-    let rays: f32 = exr.channel("rays").unwrap().iter().sum();
+    let rays: f32 = exr.channel("shadow.rays").unwrap().iter().sum();
     assert!(rays > 0.0);
     let png = image::open(out.join("frame_0000.png")).unwrap();
     assert_eq!((png.width(), png.height()), (64, 48));

@@ -22,6 +22,7 @@ mod lights;
 mod materials;
 mod maths;
 mod memory;
+mod outputs;
 mod predict;
 mod render;
 mod report;

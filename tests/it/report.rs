@@ -67,6 +67,10 @@ fn check_references(dir: &Path, html: &str) -> Vec<String> {
         );
         let path = dir.join(r);
         assert!(path.is_file(), "{r} is referenced but missing");
+        if r.ends_with(".mp4") {
+            assert!(fs::metadata(&path).unwrap().len() > 0, "{r} is empty");
+            continue;
+        }
         let img = image::open(&path).unwrap_or_else(|e| panic!("{r} does not decode: {e}"));
         assert!(img.width() > 0 && img.height() > 0, "{r} is empty");
     }
@@ -80,24 +84,85 @@ fn gif_frames(path: &Path) -> usize {
     dec.into_frames().collect_frames().unwrap().len()
 }
 
+/// Headless Chromium, offline, on `page` with its own `profile`; the caller adds what to do.
+fn chromium(page: &Path, profile: &Path) -> Command {
+    let url = format!("file://{}", page.canonicalize().unwrap().display());
+    let mut c = Command::new("chromium");
+    c.args([
+        "--headless",
+        "--no-sandbox",
+        "--disable-gpu",
+        "--disable-background-networking",
+        "--disable-component-update",
+        "--no-first-run",
+    ])
+    .arg(format!("--user-data-dir={}", profile.display()))
+    .arg(url);
+    c
+}
+
+/// A 1280×900 screenshot of `page` in headless Chromium, into `png`.
+fn chromium_screenshot(page: &Path, profile: &Path, png: &Path) {
+    let o = chromium(page, profile)
+        .args(["--hide-scrollbars", "--window-size=1280,900"])
+        .arg(format!("--screenshot={}", png.display()))
+        .output()
+        .expect("running chromium");
+    assert!(
+        o.status.success() && png.is_file(),
+        "no screenshot: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+/// Where `needle` first appears in the page.
+fn at(html: &str, needle: &str) -> usize {
+    html.find(needle)
+        .unwrap_or_else(|| panic!("{needle} not in the page"))
+}
+
+/// The page leads with the animation, the totals, the savings plot and the numbered contact
+/// sheet, then the lights, and keeps the per-frame detail collapsed.
+fn check_structure(html: &str, frames: usize) {
+    let animation = html
+        .find("report/turntable.gif")
+        .or_else(|| html.find("<video"))
+        .expect("no animation");
+    let order = [
+        animation,
+        at(html, "shadow rays traced"),
+        at(html, "report/plot_percent.png"),
+        at(html, "class=\"sheet\""),
+        at(html, "report/lights.png"),
+        at(html, "<details>"),
+        at(html, "report/rays_0000.jpg"),
+    ];
+    assert!(
+        order.windows(2).all(|w| w[0] < w[1]),
+        "the page's parts are out of order: {order:?}"
+    );
+    // Every frame on the contact sheet, with its number.
+    let sheet = &html[at(html, "class=\"sheet\"")..at(html, "report/lights.png")];
+    for f in 0..frames {
+        assert!(
+            sheet.contains(&format!("<figcaption>{f}</figcaption>")),
+            "frame {f} has no number on the contact sheet"
+        );
+    }
+    // The per-frame detail is collapsed, its pictures loaded only when opened.
+    let detail = &html[at(html, "Per-frame detail")..];
+    assert!(!html.contains("<details open"), "a section is open");
+    assert!(
+        detail.contains("loading=\"lazy\""),
+        "the heat maps load eagerly"
+    );
+}
+
 /// Loads `page` in headless Chromium (found on PATH); returns (exit success, DOM, console
 /// messages).
 fn chromium_load(page: &Path, profile: &Path) -> (bool, String, Vec<String>) {
-    let url = format!("file://{}", page.canonicalize().unwrap().display());
-    let o = Command::new("chromium")
-        .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--no-first-run",
-            "--enable-logging=stderr",
-            "--v=0",
-        ])
-        .arg(format!("--user-data-dir={}", profile.display()))
-        .arg("--dump-dom")
-        .arg(&url)
+    let o = chromium(page, profile)
+        .args(["--enable-logging=stderr", "--v=0", "--dump-dom"])
         .output()
         .expect("running chromium");
     let stderr = String::from_utf8_lossy(&o.stderr);
@@ -141,19 +206,21 @@ fn report_pages_reference_only_local_images_that_decode() {
             assert!(!html.contains("<script"), "the page needs no JavaScript");
             let refs = check_references(&out, &html);
             for must in [
-                "report/contact_sheet.png",
+                "report/thumb_0000.jpg",
+                "report/thumb_0002.jpg",
                 "report/turntable.gif",
                 "report/plot_percent.png",
                 "report/plot_rays_per_pixel.png",
                 "report/plot_seconds.png",
                 "report/scale_rays.png",
-                "report/rays_0000.png",
-                "report/rays_0002.png",
+                "report/rays_0000.jpg",
+                "report/rays_0002.jpg",
                 "report/lights.png",
                 "frame_0001.png",
             ] {
                 assert!(refs.iter().any(|r| r == must), "{must} not in the page");
             }
+            check_structure(&html, 3);
             for validated_only in [
                 "report/plot_error.png",
                 "report/wrong_0000.png",
@@ -166,7 +233,7 @@ fn report_pages_reference_only_local_images_that_decode() {
                 );
             }
             assert_eq!(gif_frames(&out.join("report/turntable.gif")), 3);
-            let rays_map = image::open(out.join("report/rays_0000.png")).unwrap();
+            let rays_map = image::open(out.join("report/rays_0000.jpg")).unwrap();
             assert_eq!((rays_map.width(), rays_map.height()), (48, 36));
             assert!(html.contains("grid-nowarp-uncertainty") && html.contains("48×36"));
             assert!(html.contains("shadow rays per second"));
@@ -215,6 +282,20 @@ fn report_pages_load_in_chromium_without_console_errors() {
             );
             assert!(dom.contains("report/turntable.gif"));
             assert!(console.is_empty(), "console messages: {console:?}");
+            // What a person sees first: the animation and the totals fill the first screen.
+            let shot = tmp.path().join(format!("top-{validate}.png"));
+            chromium_screenshot(&page, &tmp.path().join(format!("shot-{validate}")), &shot);
+            let img = image::open(&shot).unwrap().to_rgb8();
+            let painted = img
+                .pixels()
+                .filter(|p| p.0.iter().any(|&c| c < 200))
+                .count();
+            let share = painted as f64 / (img.width() * img.height()) as f64;
+            assert!(
+                share > 0.15,
+                "the first screen is mostly empty ({:.1} % painted)",
+                100.0 * share
+            );
         });
     }
     failures.assert_none();

@@ -329,7 +329,7 @@ fn temporal_and_farm_renders_with_samples_equal_one_process() {
     same_files(Path::new(&a), Path::new(&b), &names);
     // The EXR carries coverage; stats.csv says 4 samples.
     let exr = envshadow::output::exr::read_frame(&Path::new(&a).join("frame_0001.exr")).unwrap();
-    let cov = exr.channel("coverage").expect("a coverage channel");
+    let cov = exr.channel("shadow.coverage").expect("a coverage channel");
     assert!(cov.iter().all(|c| (0.0..=1.0).contains(c)));
     assert!(
         cov.iter().any(|&c| c > 0.0 && c < 1.0),
