@@ -199,15 +199,25 @@ def render_materials(scene, meta, dirs, surf, material_normal_mapped, ldir, lene
         "f90": mi.Float(col["f90"]),
         "lambert": mi.Bool(col["lambert"] > 0.5),
     }
-    # principled, its parameters per sample: a uniform texture's value may be an array as
-    # wide as the rays it is evaluated for.
-    bsdf = mi.load_dict({"type": "principled", "base_color": {"type": "rgb", "value": [0.5] * 3},
-                         "metallic": 0.5, "roughness": 0.5})
-    params = mi.traverse(bsdf)
-    params["base_color.value"] = m["base"]
-    params["metallic.value"] = m["metallic"]
-    params["roughness.value"] = m["roughness"]
-    params.update()
+    # principled, its parameters per sample: each a bitmap texture with one texel per sample
+    # (a row per image row, the row's samples in order), looked up nearest at the sample's
+    # own texel through si.uv (a uniform spectrum cannot hold one value per lane).
+    h, w = meta["height"], meta["width"]
+    row = w * spp
+
+    def per_sample(values):
+        data = np.ascontiguousarray(values.reshape(h, row, -1).astype(np.float32))
+        return {"type": "bitmap", "bitmap": mi.Bitmap(data), "filter_type": "nearest",
+                "wrap_mode": "clamp", "raw": True}
+
+    bsdf = mi.load_dict({
+        "type": "principled",
+        "base_color": per_sample(np.stack([col["r"], col["g"], col["b"]], axis=1)),
+        "metallic": per_sample(col["metallic"][:, None]),
+        "roughness": per_sample(col["roughness"][:, None]),
+    })
+    index = np.arange(h * row)
+    si.uv = mi.Point2f(((index % row) + 0.5) / row, ((index // row) + 0.5) / h)
     si.sh_frame = mi.Frame3f(n)
     si.wi = si.to_local(-d)
     origin = si.p + ng * meta["shadow_eps"]

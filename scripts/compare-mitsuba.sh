@@ -25,8 +25,8 @@
 # does not read yet, is compared from a copy that lists it as used, not required (its lights
 # are rendered by neither side).
 # The virtual environment (target/mitsuba-venv, or $MITSUBA_VENV) is made on first use with
-# `pip install mitsuba numpy`. Mitsuba's LLVM variant needs a libLLVM shared library: Debian's
-# libllvm19 (installed with apt-get when missing and run as root); $DRJIT_LIBLLVM_PATH points
+# `pip install mitsuba numpy`. Mitsuba's LLVM variant needs a libLLVM shared library, 16 or
+# later: Debian's libllvm19 (installed with apt-get when missing and run as root); $DRJIT_LIBLLVM_PATH points
 # Dr.Jit at another one.
 set -euo pipefail
 
@@ -63,16 +63,26 @@ while [ $# -gt 0 ]; do
   esac
 done
 
-if [ -z "${DRJIT_LIBLLVM_PATH:-}" ] && ! ls /usr/lib/*/libLLVM*.so* >/dev/null 2>&1; then
+# Dr.Jit 1.5 emits LLVM intrinsics that libLLVM 15 and older cannot select ("Cannot select:
+# fminimum"): the newest libLLVM from 16 on, else Debian's libllvm19 is installed.
+newest_llvm() {
+  for v in 21 20 19 18 17 16; do
+    for f in /usr/lib/*/libLLVM-$v.so /usr/lib/*/libLLVM.so.$v* /usr/lib/llvm-$v/lib/libLLVM*.so*; do
+      [ -e "$f" ] && { echo "$f"; return 0; }
+    done
+  done
+  return 1
+}
+if [ -z "${DRJIT_LIBLLVM_PATH:-}" ] && ! newest_llvm >/dev/null; then
   if [ "$(id -u)" = 0 ]; then
     apt-get install -y -qq libllvm19 >/dev/null
   else
-    echo "compare-mitsuba.sh: Mitsuba's LLVM variant needs libLLVM: apt-get install libllvm19 (or set DRJIT_LIBLLVM_PATH)" >&2
+    echo "compare-mitsuba.sh: Mitsuba's LLVM variant needs libLLVM 16 or later: apt-get install libllvm19 (or set DRJIT_LIBLLVM_PATH)" >&2
     exit 2
   fi
 fi
 if [ -z "${DRJIT_LIBLLVM_PATH:-}" ]; then
-  DRJIT_LIBLLVM_PATH="$(ls /usr/lib/*/libLLVM*.so* 2>/dev/null | sort -V | tail -1)"
+  DRJIT_LIBLLVM_PATH="$(newest_llvm)"
   export DRJIT_LIBLLVM_PATH
 fi
 if [ ! -x "$VENV/bin/python" ]; then
@@ -84,6 +94,9 @@ fi
 
 cargo build --release -q
 mkdir -p "$WORK"
+# Absolute: the specs written into it name files in it, and a spec's paths are relative to
+# the spec's own folder.
+WORK="$(cd "$WORK" && pwd)"
 echo "libLLVM: $DRJIT_LIBLLVM_PATH"
 
 # The python script reads the samples from the export (frame.json) and renders envshadow with
