@@ -90,8 +90,9 @@ if [ "$CORPUS_MODE" = 1 ]; then
   for glb in "$CORPUS"/*.glb; do
     name="$(basename "$glb" .glb)"
     spec="$WORK/$name.toml"
-    # The bunny turntable with this model and the camera framing it.
-    sed -e "s|^file = \"../assets/bunny_on_plane.glb\"|file = \"$glb\"|" \
+    # The bunny turntable with this model and the camera framing it, the model as it is (no
+    # ground added under those that have none, as when these figures were first measured).
+    sed -e "s|^file = \"../assets/bunny_on_plane.glb\"|file = \"$glb\"\nground = \"none\"|" \
         -e "s|^file = \"../assets/|file = \"$ROOT/assets/|" \
         -e '/^target = /d' -e '/^distance = /d' -e "s|^name = .*|name = \"$name\"|" \
         "$SPEC" > "$spec"

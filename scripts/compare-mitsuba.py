@@ -26,8 +26,9 @@ both renderers see the same sample positions. envshadow is rendered with the exp
 The integrator: one primary ray per sample, Lambertian
 B = albedo/pi * sum_j V_j E_j max(0, N.w_j) over every light, shading normal = normalised
 interpolated vertex normal (the facet normal where it points away from the facet's visible
-side), both normals turned towards the camera, shadow rays from the hit point moved
-`shadow_eps` along the geometric normal, t in (0, inf). Only pixels whose every sample hits
+side), both normals turned towards the camera, shadow rays from the hit point moved along
+the geometric normal by its floating-point error bound (as envshadow's src/offset.rs), t in
+(0, inf). Only pixels whose every sample hits
 the scene are compared: where a sample misses, envshadow shows the environment and this
 integrator returns 0 (it does not look the map up), so a pixel with any missing sample --
 the background and the silhouette's edge -- is left out.
@@ -110,7 +111,14 @@ def render(scene, mesh, meta, dirs, ldir, lenergy, count, spp):
     ns = dr.select(flip, -ns, ns)
     ns = dr.select((dr.dot(ns, ng) <= 0.0) | ~dr.all(dr.isfinite(ns)), ng, ns)
     albedo = mesh.eval_attribute_3("face_albedo", si, hit)
-    origin = si.p + ng * meta["shadow_eps"]
+    # envshadow's shadow-ray origin (src/offset.rs): the point moved along ng by its error
+    # bound, gamma7 * (|p0| + |p1 - p0| + |p2 - p0|) per axis, projected on |ng|.
+    face = mesh.face_indices(si.prim_index, hit)
+    p0 = mesh.vertex_position(face.x, hit)
+    p1 = mesh.vertex_position(face.y, hit)
+    p2 = mesh.vertex_position(face.z, hit)
+    err = (dr.abs(p0) + dr.abs(p1 - p0) + dr.abs(p2 - p0)) * meta["shadow_offset_gamma"]
+    origin = si.p + ng * dr.dot(dr.abs(ng), err)
     b = shade(scene, origin, ns, albedo, ldir, lenergy, count)
     b = dr.select(hit, b, 0.0)
     if spp > 1:

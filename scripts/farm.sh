@@ -27,12 +27,15 @@
 # its every tile image matches the SHA-256 it records), so a job that failed, was never run,
 # or whose folder was since damaged or deleted runs again, and nothing else; each job skips
 # the frames it already has intact (--resume). Logs: DIR/logs/ (joblog, one log per host).
+# --help: this text on stdout (exit 0).
 # Exit: 0 all frames assembled; 1 jobs failed or assembly incomplete; 2 bad usage or a host
 # refused; 129 interrupted.
 set -euo pipefail
 
 die() { echo "farm.sh: $*" >&2; exit 2; }
-usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//' >&2; exit 2; }
+# The header above: on stdout for --help (exit 0), on stderr when arguments are missing (exit 2).
+help_text() { sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; }
+usage() { help_text >&2; exit 2; }
 
 spec="" hosts="" out="" shared=1 jobs="" by="" remote_bin="" ssh_cmd="ssh" timeout=3600 retries=""
 flags=()
@@ -48,7 +51,7 @@ while [ $# -gt 0 ]; do
     --ssh) ssh_cmd=${2:?--ssh CMD}; shift 2 ;;
     --timeout) timeout=${2:?--timeout SECONDS}; shift 2 ;;
     --retries) retries=${2:?--retries N}; shift 2 ;;
-    -h | --help) usage ;;
+    -h | --help) help_text; exit 0 ;;
     --) shift; flags=("$@"); break ;;
     -*) die "unknown option $1 (see --help)" ;;
     *) [ -z "$spec" ] || die "two specs: $spec and $1"; spec=$1; shift ;;
@@ -108,8 +111,14 @@ trap interrupt HUP INT TERM
 
 by_flag=()
 [ -z "$by" ] || by_flag=(--by "$by")
-"$bin" plan "$spec" --out "$out" --jobs "$jobs" "${by_flag[@]}" --quiet "${flags[@]}" 2>>"$logs/farm.log" ||
-    die "envshadow plan failed: $(tail -n 1 "$logs/farm.log")"
+# The plan's summary goes to farm.log; on failure its whole message (a usage error names the
+# argument and a hint on lines of their own) to the terminal too. Its job lines are jobs.txt.
+plan_err=$logs/plan.err
+if ! "$bin" plan "$spec" --out "$out" --jobs "$jobs" "${by_flag[@]}" "${flags[@]}" >/dev/null 2>"$plan_err"; then
+    cat "$plan_err" >>"$logs/farm.log"
+    die "envshadow plan failed: $(cat "$plan_err")"
+fi
+cat "$plan_err" >>"$logs/farm.log" && rm -f "$plan_err"
 njobs=$(wc -l <"$out/jobs.txt")
 local_build=$("$bin" version --build)
 run_id=$(printf '%s' "$local_build $out" | sha256sum | cut -c1-12)

@@ -36,13 +36,16 @@
 # Logs: DIR/logs/render-<array>_<task>.log per task, DIR/logs/assemble-<id>.log,
 # DIR/logs/submissions.log (every submission with its Slurm job ids) and DIR/logs/pending.log
 # (before each submission, why each job submitted has to be rendered).
+# --help: this text on stdout (exit 0).
 # Exit: 0 submitted (with --wait: assembled); 1 submission or (with --wait) rendering or
 # assembly failed; 2 bad usage or a missing tool.
 set -euo pipefail
 
 die() { echo "slurm.sh: $*" >&2; exit 2; }
 say() { echo "slurm.sh: $*" >&2; }
-usage() { sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//' >&2; exit 2; }
+# The header above: on stdout for --help (exit 0), on stderr when arguments are missing (exit 2).
+help_text() { sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; }
+usage() { help_text >&2; exit 2; }
 
 spec="" out="" jobs=16 by="" partition="" time_limit="" cpus="" max_running="" retries=2
 node_bin="" wait=0 dry=0
@@ -62,7 +65,7 @@ while [ $# -gt 0 ]; do
     --sbatch-arg=*) sbatch_extra+=("${1#--sbatch-arg=}"); shift ;;
     --wait) wait=1; shift ;;
     --dry-run) dry=1; shift ;;
-    -h | --help) usage ;;
+    -h | --help) help_text; exit 0 ;;
     --) shift; flags=("$@"); break ;;
     -*) die "unknown option $1 (see --help)" ;;
     *) [ -z "$spec" ] || die "two specs: $spec and $1"; spec=$1; shift ;;
@@ -119,7 +122,8 @@ else
 fi
 plan_err=$(mktemp "${TMPDIR:-/tmp}/esslurm-err.XXXXXX")
 if ! "$bin" plan "$spec" --out "$plan_dir" --jobs "$jobs" "${by_flag[@]}" --quiet "${flags[@]}" 2>"$plan_err"; then
-    msg=$(tail -n 1 "$plan_err"); rm -f "$plan_err"
+    # The whole message: a usage error names the argument and a hint on lines of their own.
+    msg=$(cat "$plan_err"); rm -f "$plan_err"
     die "envshadow plan failed: $msg"
 fi
 rm -f "$plan_err"

@@ -271,7 +271,7 @@ kill_node() {
     pid=$(live_pid "$dir/run/slurmd-$node.pid" slurmd) || die "node $node is not running"
     # Job processes of that node carry SLURMD_NODENAME=NODE; their slurmstepd parents do not
     # (slurmstepd has slurmd's environment), so take the parents too.
-    local victims=("$pid") parent
+    local victims=("$pid") daemons=("$pid") parent
     for d in /proc/[0-9]*; do
         p=${d#/proc/}
         if has_conf "$p" "$conf" && { tr '\0' '\n' <"/proc/$p/environ" | grep -qxF "SLURMD_NODENAME=$node"; } 2>/dev/null; then
@@ -279,9 +279,15 @@ kill_node() {
             parent=$(awk '/^PPid:/ { print $2 }' "/proc/$p/status" 2>/dev/null || true)
             if [ -n "$parent" ] && { tr '\0' ' ' <"/proc/$parent/cmdline" | grep -q '^slurmstepd'; } 2>/dev/null; then
                 victims+=("$parent")
+                daemons+=("$parent")
             fi
         fi
     done
+    # Freeze slurmd and the slurmstepds before any job process dies: a slurmstepd that saw its
+    # batch script killed first would report the task FAILED to slurmctld (no requeue), which is
+    # not what a crashed node does. A stopped process still dies of SIGKILL.
+    kill -STOP "${daemons[@]}" 2>/dev/null || true
+    kill -KILL "${daemons[@]}" 2>/dev/null || true
     kill -KILL "${victims[@]}" 2>/dev/null || true
     log "node $node crashed: killed ${victims[*]}"
 }

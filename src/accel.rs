@@ -4,6 +4,12 @@
 //! ([`Accel::occluded`]) and the same test reporting where the ray was blocked
 //! ([`Accel::blocker`], for the warping predictors). obvhs's own naming is hidden here
 //! (its `ray_traverse_miss` returns true when nothing is hit).
+//!
+//! Cut-out triangles (glTF's alpha-tested materials) are marked when the hierarchy is built
+//! ([`Accel::build_with_cutouts`]); a hit on one counts only where a [`Cutout`] says the surface
+//! stops the ray there. Every query has a form taking the cut-out test (`*_cut`, `*_within`);
+//! shadow queries also take the ray's end (`tmax`: a point light's distance). Hits on other
+//! triangles never call the test, so an opaque scene pays one predictable branch per hit group.
 
 use std::cell::RefCell;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -30,6 +36,27 @@ pub struct Hit {
     pub v: f32,
 }
 
+/// Whether a cut-out triangle stops a ray where the ray meets it: the alpha test of glTF's
+/// `MASK` materials (and of `BLEND` ones, as a threshold). Asked only about hits on triangles
+/// marked cut out ([`Accel::build_with_cutouts`]), and only for a hit nearer than any the
+/// query has accepted so far; it must answer from its arguments alone (the same question, the
+/// same answer), so every kernel and the packets find the same hits.
+pub trait Cutout {
+    /// Whether scene triangle `tri` stops the ray at barycentrics `(u, v)` (the point
+    /// `(1 − u − v)·p0 + u·p1 + v·p2`, as the leaf kernels compute them).
+    fn stops(&self, tri: u32, u: f32, v: f32) -> bool;
+}
+
+/// Every triangle stops every ray: the queries without a cut-out test.
+pub struct Opaque;
+
+impl Cutout for Opaque {
+    #[inline(always)]
+    fn stops(&self, _tri: u32, _u: f32, _v: f32) -> bool {
+        true
+    }
+}
+
 /// A bounding volume hierarchy over a triangle soup, built once per frame geometry.
 pub struct Accel {
     bvh: CwBvh,
@@ -39,11 +66,25 @@ pub struct Accel {
     scene_index: Vec<u32>,
     /// The same triangles as precomputed planes for the shadow-ray leaf kernels.
     planes: TriPlanes,
+    /// Cut-out triangles as a bitset in the BVH's primitive order, padded like the planes;
+    /// empty when there are none.
+    cut: Vec<u64>,
 }
 
 impl Accel {
     /// Builds the BVH. Deterministic: obvhs is used without its parallel builder.
     pub fn build(positions: &[Vec3], triangles: &[[u32; 3]]) -> Accel {
+        Accel::build_with_cutouts(positions, triangles, &[])
+    }
+
+    /// [`build`](Self::build), with the scene triangles `tri` for which `cut_out[tri]` is true
+    /// marked cut out: a hit on one counts only where the query's [`Cutout`] says so.
+    /// `cut_out` may be shorter than `triangles` (the rest are opaque), or empty.
+    pub fn build_with_cutouts(
+        positions: &[Vec3],
+        triangles: &[[u32; 3]],
+        cut_out: &[bool],
+    ) -> Accel {
         let soup: Vec<Triangle> = triangles
             .iter()
             .map(|t| Triangle {
@@ -58,6 +99,7 @@ impl Accel {
                 tris: Vec::new(),
                 scene_index: Vec::new(),
                 planes: TriPlanes::new(&[]),
+                cut: Vec::new(),
             };
         }
         let bvh = build_cwbvh_from_tris(
@@ -75,12 +117,27 @@ impl Accel {
             .collect();
         let scene_index = bvh.primitive_indices.clone();
         let planes = TriPlanes::new(&tris);
+        let mut cut = Vec::new();
+        if cut_out.iter().any(|&c| c) {
+            cut = vec![0u64; planes.stride.div_ceil(64) + 1];
+            for (i, &t) in scene_index.iter().enumerate() {
+                if cut_out.get(t as usize) == Some(&true) {
+                    cut[i / 64] |= 1 << (i % 64);
+                }
+            }
+        }
         Accel {
             bvh,
             tris,
             scene_index,
             planes,
+            cut,
         }
+    }
+
+    /// Whether any triangle is cut out.
+    pub fn has_cutouts(&self) -> bool {
+        !self.cut.is_empty()
     }
 
     /// Number of triangles in the hierarchy.
@@ -88,24 +145,38 @@ impl Accel {
         self.tris.len()
     }
 
-    /// The closest hit along `origin + t·dir`, t in (0, ∞).
+    /// The closest hit along `origin + t·dir`, t in (0, ∞), every triangle opaque.
     pub fn intersect(&self, origin: Vec3, dir: Vec3) -> Option<Hit> {
+        self.intersect_cut(origin, dir, &Opaque)
+    }
+
+    /// The closest hit along `origin + t·dir`, t in (0, ∞), that `cut` lets stop the ray
+    /// (hits on cut-out triangles it refuses are passed through).
+    pub fn intersect_cut<C: Cutout + ?Sized>(
+        &self,
+        origin: Vec3,
+        dir: Vec3,
+        cut: &C,
+    ) -> Option<Hit> {
         if self.tris.is_empty() {
             return None;
         }
-        let ray = Ray::new(origin.into(), dir.into(), 0.0, f32::INFINITY);
+        let ray = ray(origin, dir, f32::INFINITY);
+        let cut = self.cut_with(cut);
         #[cfg(target_arch = "x86_64")]
         let found = if crate::simd::has_avx2() {
             // SAFETY: AVX2 was detected on this CPU.
-            unsafe { self.closest_avx2(&ray) }
+            unsafe { self.closest_avx2(&ray, &cut) }
         } else {
             self.closest_with(&ray, node_hits, |p, base, mask, ray| {
                 // SAFETY: the group's lanes lie within the padded planes.
-                unsafe { leaf::hit_sse2(p, base, mask, ray) }
+                unsafe { leaf::hit_sse2(p, base, mask, ray, &cut) }
             })
         };
         #[cfg(not(target_arch = "x86_64"))]
-        let found = self.closest_with(&ray, node_hits, leaf::hit_scalar);
+        let found = self.closest_with(&ray, node_hits, |p, base, mask, ray| {
+            leaf::hit_scalar(p, base, mask, ray, &cut)
+        });
         let (t, prim) = found?;
         let (u, v) = barycentrics(&self.tris[prim], ray.origin, ray.direction);
         Some(Hit {
@@ -116,14 +187,24 @@ impl Accel {
         })
     }
 
+    /// The cut-out test of one query, with this hierarchy's cut-out triangles.
+    #[inline(always)]
+    fn cut_with<'a, C: Cutout + ?Sized>(&'a self, test: &'a C) -> Cut<'a, C> {
+        Cut {
+            bits: &self.cut,
+            scene_index: &self.scene_index,
+            test,
+        }
+    }
+
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn closest_avx2(&self, ray: &Ray) -> Option<(f32, usize)> {
+    fn closest_avx2<C: Cutout + ?Sized>(&self, ray: &Ray, cut: &Cut<C>) -> Option<(f32, usize)> {
         self.closest_with(
             ray,
             |node, ray, oct| avx2::node_hits_avx2(node, ray, oct),
             // SAFETY: as for the SSE2 kernel.
-            |p, base, mask, ray| unsafe { leaf::hit_avx2(p, base, mask, ray) },
+            |p, base, mask, ray| unsafe { leaf::hit_avx2(p, base, mask, ray, cut) },
         )
     }
 
@@ -167,11 +248,25 @@ impl Accel {
             .map(|t| [t.v0.into(), t.v1.into(), t.v2.into()])
     }
 
-    /// True when anything lies along `origin + t·dir` for t in (0, ∞): the shadow-ray test.
+    /// True when anything lies along `origin + t·dir` for t in (0, ∞), every triangle opaque:
+    /// the shadow-ray test.
     #[inline]
     pub fn occluded(&self, origin: Vec3, dir: Vec3) -> bool {
+        self.occluded_within(origin, dir, f32::INFINITY, &Opaque)
+    }
+
+    /// True when something `cut` lets stop the ray lies along `origin + t·dir` for t in
+    /// (0, `tmax`): the shadow-ray test towards a light `tmax` away (∞ for a directional one).
+    #[inline]
+    pub fn occluded_within<C: Cutout + ?Sized>(
+        &self,
+        origin: Vec3,
+        dir: Vec3,
+        tmax: f32,
+        cut: &C,
+    ) -> bool {
         record(origin, dir);
-        self.occluded_unrecorded(origin, dir)
+        self.occluded_unrecorded_within(origin, dir, tmax, cut)
     }
 
     /// [`occluded`](Self::occluded) for up to [`PACKET`] rays from one origin (a pixel's rays
@@ -180,27 +275,53 @@ impl Accel {
     /// walk through the hierarchy (on the bunny at 400 lights, 1.7× on the default method's
     /// rays and 1.9–2.3× on brute force's; BENCHMARKS.md).
     pub fn occluded_packet(&self, origin: Vec3, dirs: &[Vec3]) -> u32 {
+        self.occluded_packet_within(origin, dirs, &[f32::INFINITY; PACKET], &Opaque)
+    }
+
+    /// [`occluded_packet`](Self::occluded_packet) with each ray's end (`tmax[r]` for
+    /// `dirs[r]`; `tmax` at least as long as `dirs`) and the cut-out test: the answers of
+    /// [`occluded_within`](Self::occluded_within), one ray at a time.
+    pub fn occluded_packet_within<C: Cutout + ?Sized>(
+        &self,
+        origin: Vec3,
+        dirs: &[Vec3],
+        tmax: &[f32],
+        cut: &C,
+    ) -> u32 {
         for d in dirs {
             record(origin, *d);
         }
-        self.occluded_packet_unrecorded(origin, dirs)
+        self.occluded_packet_unrecorded_within(origin, dirs, tmax, cut)
     }
 
     /// [`occluded_packet`](Self::occluded_packet) without the recording hook.
     pub fn occluded_packet_unrecorded(&self, origin: Vec3, dirs: &[Vec3]) -> u32 {
+        self.occluded_packet_unrecorded_within(origin, dirs, &[f32::INFINITY; PACKET], &Opaque)
+    }
+
+    /// [`occluded_packet_within`](Self::occluded_packet_within) without the recording hook.
+    pub fn occluded_packet_unrecorded_within<C: Cutout + ?Sized>(
+        &self,
+        origin: Vec3,
+        dirs: &[Vec3],
+        tmax: &[f32],
+        cut: &C,
+    ) -> u32 {
         assert!(dirs.len() <= PACKET, "a packet holds at most {PACKET} rays");
+        assert!(tmax.len() >= dirs.len(), "a ray end for every ray");
         if self.tris.is_empty() || dirs.is_empty() {
             return 0;
         }
         #[cfg(target_arch = "x86_64")]
         if crate::simd::has_avx2() {
+            let cut = self.cut_with(cut);
             // SAFETY: AVX2 was detected on this CPU.
-            return unsafe { avx2::occluded_packet(self, origin.into(), dirs) };
+            return unsafe { avx2::occluded_packet(self, origin.into(), dirs, tmax, &cut) };
         }
         // Without AVX2, one ray at a time: the same answers.
         let mut blocked = 0;
         for (r, d) in dirs.iter().enumerate() {
-            if self.occluded_unrecorded(origin, *d) {
+            if self.occluded_unrecorded_within(origin, *d, tmax[r], cut) {
                 blocked |= 1 << r;
             }
         }
@@ -210,44 +331,58 @@ impl Accel {
     /// [`occluded`](Self::occluded) without the recording hook: what a replay measures.
     #[inline]
     pub fn occluded_unrecorded(&self, origin: Vec3, dir: Vec3) -> bool {
+        self.occluded_unrecorded_within(origin, dir, f32::INFINITY, &Opaque)
+    }
+
+    /// [`occluded_within`](Self::occluded_within) without the recording hook.
+    #[inline]
+    pub fn occluded_unrecorded_within<C: Cutout + ?Sized>(
+        &self,
+        origin: Vec3,
+        dir: Vec3,
+        tmax: f32,
+        cut: &C,
+    ) -> bool {
         if self.tris.is_empty() {
             return false;
         }
-        let ray = Ray::new(origin.into(), dir.into(), 0.0, f32::INFINITY);
-        self.any_hit(&ray).is_some()
+        let ray = ray(origin, dir, tmax);
+        self.any_hit(&ray, &self.cut_with(cut)).is_some()
     }
 
     /// obvhs's any-hit traversal (`ray_traverse_miss`) with our node and leaf kernels: the
-    /// distance of the nearest hit among the first leaf triangles found hit, or None. With
-    /// AVX2 (checked once at run time) a node's eight children and up to eight leaf triangles
-    /// are tested per instruction, otherwise four with SSE2; both kernels perform the same
-    /// float operations per child and per triangle, so every host finds the same children,
-    /// the same hits and the same bits (farm hosts may differ in CPU).
+    /// distance of the nearest accepted hit before `ray.tmax` among the first leaf triangles
+    /// found hit, or None. With AVX2 (checked once at run time) a node's eight children and up
+    /// to eight leaf triangles are tested per instruction, otherwise four with SSE2; both
+    /// kernels perform the same float operations per child and per triangle, so every host
+    /// finds the same children, the same hits and the same bits (farm hosts may differ in CPU).
     #[inline(always)]
-    fn any_hit(&self, ray: &Ray) -> Option<f32> {
+    fn any_hit<C: Cutout + ?Sized>(&self, ray: &Ray, cut: &Cut<C>) -> Option<f32> {
         #[cfg(target_arch = "x86_64")]
         {
             if crate::simd::has_avx2() {
                 // SAFETY: AVX2 was detected on this CPU.
-                return unsafe { self.any_hit_avx2(ray) };
+                return unsafe { self.any_hit_avx2(ray, cut) };
             }
             self.any_hit_with(ray, node_hits, |p, base, mask, ray| {
                 // SAFETY: `base..` + the mask's bits lie within the padded planes.
-                unsafe { leaf::hit_sse2(p, base, mask, ray) }
+                unsafe { leaf::hit_sse2(p, base, mask, ray, cut) }
             })
         }
         #[cfg(not(target_arch = "x86_64"))]
-        self.any_hit_with(ray, node_hits, leaf::hit_scalar)
+        self.any_hit_with(ray, node_hits, |p, base, mask, ray| {
+            leaf::hit_scalar(p, base, mask, ray, cut)
+        })
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn any_hit_avx2(&self, ray: &Ray) -> Option<f32> {
+    fn any_hit_avx2<C: Cutout + ?Sized>(&self, ray: &Ray, cut: &Cut<C>) -> Option<f32> {
         self.any_hit_with(
             ray,
             |node, ray, oct| avx2::node_hits_avx2(node, ray, oct),
             // SAFETY: as for the SSE2 kernel.
-            |p, base, mask, ray| unsafe { leaf::hit_avx2(p, base, mask, ray) },
+            |p, base, mask, ray| unsafe { leaf::hit_avx2(p, base, mask, ray, cut) },
         )
     }
 
@@ -275,7 +410,7 @@ impl Accel {
                     let mask = state.primitive_group.y | 1 << (state.primitive_id - base);
                     state.primitive_group.y = 0;
                     let (t, _) = leaf_test(&self.planes, base as usize, mask, ray);
-                    if t < f32::INFINITY {
+                    if t < ray.tmax {
                         found = Some(t);
                         break 'outer;
                     }
@@ -290,12 +425,24 @@ impl Accel {
     /// necessarily the nearest of all): the blocker point `origin + t·dir` is what the warping
     /// predictors re-aim.
     pub fn blocker_distance(&self, origin: Vec3, dir: Vec3) -> Option<f32> {
+        self.blocker_distance_within(origin, dir, f32::INFINITY, &Opaque)
+    }
+
+    /// [`blocker_distance`](Self::blocker_distance) for t in (0, `tmax`) with the cut-out
+    /// test: blocked exactly when [`occluded_within`](Self::occluded_within) says so.
+    pub fn blocker_distance_within<C: Cutout + ?Sized>(
+        &self,
+        origin: Vec3,
+        dir: Vec3,
+        tmax: f32,
+        cut: &C,
+    ) -> Option<f32> {
         record(origin, dir);
         if self.tris.is_empty() {
             return None;
         }
-        let ray = Ray::new(origin.into(), dir.into(), 0.0, f32::INFINITY);
-        self.any_hit(&ray)
+        let ray = ray(origin, dir, tmax);
+        self.any_hit(&ray, &self.cut_with(cut))
     }
 
     /// The blocking point of [`blocker_distance`](Self::blocker_distance).
@@ -344,20 +491,61 @@ impl TriPlanes {
     }
 }
 
+/// The cut-out triangles and the test a query applies to them, for the leaf kernels.
+struct Cut<'a, C: ?Sized> {
+    /// [`Accel::cut`]: empty when no triangle is cut out.
+    bits: &'a [u64],
+    scene_index: &'a [u32],
+    test: &'a C,
+}
+
+impl<C: Cutout + ?Sized> Cut<'_, C> {
+    /// Bits `i..i + 8` of the cut-out set (primitive order), lowest first; `i + 8` lies within
+    /// the planes' padding.
+    #[inline(always)]
+    fn lanes(&self, i: usize) -> u32 {
+        if self.bits.is_empty() {
+            return 0;
+        }
+        let (w, s) = (i / 64, i % 64);
+        let mut v = self.bits[w] >> s;
+        if s > 56 {
+            v |= self.bits[w + 1] << (64 - s);
+        }
+        (v & 0xff) as u32
+    }
+
+    /// Whether the hit at barycentrics (u, v) on primitive `i` stops the ray.
+    #[inline(always)]
+    fn stops(&self, i: usize, u: f32, v: f32) -> bool {
+        self.test.stops(self.scene_index[i], u, v)
+    }
+}
+
 /// Leaf kernels: which of a primitive group's triangles a ray hits, as the nearest such t
-/// and that triangle's index (the first of equals; (∞, 0) when none). Every kernel evaluates, per triangle, exactly these operations in this order
+/// before `ray.tmax` and that triangle's index (the first of equals; (`ray.tmax`, 0) when
+/// none). Every kernel evaluates, per triangle, exactly these operations in this order
 /// (obvhs's Möller–Trumbore, `c = v0 − o`, `r = d × c`, dots summed `(x + y) + z`):
 /// `det = n·d`, `inv = 1 / det`, `u = (r·e2)·inv`, `v = (r·e1)·inv`, `w = (1 − u) − v`,
 /// `t = (n·c)·inv`; a hit when `inv ≠ 0`, none of u, v, w has its sign bit set, and
-/// 0 ≤ t < ∞. Lanes are independent, so four or eight at a time give the same bits.
+/// 0 ≤ t < ∞. Lanes are independent, so four or eight at a time give the same bits. Hits are
+/// taken in triangle order, each only if nearer than the best so far; a hit on a cut-out
+/// triangle must then also pass the query's [`Cutout`] at the kernel's own (u, v), so every
+/// kernel asks the same questions and keeps the same hit.
 mod leaf {
     use super::*;
 
     /// One triangle, in plain f32 (the reference the SIMD lanes follow; non-x86 hosts).
     #[cfg_attr(all(target_arch = "x86_64", not(test)), allow(dead_code))]
-    pub(super) fn hit_scalar(p: &TriPlanes, base: usize, mask: u32, ray: &Ray) -> (f32, usize) {
+    pub(super) fn hit_scalar<C: Cutout + ?Sized>(
+        p: &TriPlanes,
+        base: usize,
+        mask: u32,
+        ray: &Ray,
+        cut: &Cut<C>,
+    ) -> (f32, usize) {
         let (o, d) = (ray.origin, ray.direction);
-        let (mut best, mut index) = (f32::INFINITY, 0);
+        let (mut best, mut index) = (ray.tmax, 0);
         let mut m = mask;
         while m != 0 {
             let i = base + m.trailing_zeros() as usize;
@@ -375,7 +563,12 @@ mod leaf {
             let w = 1.0 - u - v;
             let t = (g(9) * cx + g(10) * cy + g(11) * cz) * inv;
             let signs = (u.to_bits() | v.to_bits() | w.to_bits()) & 0x8000_0000;
-            if inv != 0.0 && signs == 0 && (0.0..f32::INFINITY).contains(&t) && t < best {
+            if inv != 0.0
+                && signs == 0
+                && (0.0..f32::INFINITY).contains(&t)
+                && t < best
+                && (cut.lanes(i) & 1 == 0 || cut.stops(i, u, v))
+            {
                 (best, index) = (t, i);
             }
         }
@@ -388,15 +581,16 @@ mod leaf {
     /// `base` + 24 lanes lie within the padded planes.
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
-    pub(super) unsafe fn hit_sse2(
+    pub(super) unsafe fn hit_sse2<C: Cutout + ?Sized>(
         p: &TriPlanes,
         base: usize,
         mask: u32,
         ray: &Ray,
+        cut: &Cut<C>,
     ) -> (f32, usize) {
         use std::arch::x86_64::*;
         let (o, d) = (ray.origin, ray.direction);
-        let (mut best, mut index) = (f32::INFINITY, 0);
+        let (mut best, mut index) = (ray.tmax, 0);
         let mut m = mask;
         let mut i = base;
         unsafe {
@@ -434,9 +628,17 @@ mod leaf {
                     if hits != 0 {
                         let mut ts = [0.0f32; 4];
                         _mm_storeu_ps(ts.as_mut_ptr(), t);
+                        let cuts = cut.lanes(i) & hits;
+                        let (mut us, mut vs) = ([0.0f32; 4], [0.0f32; 4]);
+                        if cuts != 0 {
+                            _mm_storeu_ps(us.as_mut_ptr(), u);
+                            _mm_storeu_ps(vs.as_mut_ptr(), v);
+                        }
                         while hits != 0 {
                             let l = hits.trailing_zeros() as usize;
-                            if ts[l] < best {
+                            if ts[l] < best
+                                && (cuts >> l & 1 == 0 || cut.stops(i + l, us[l], vs[l]))
+                            {
                                 (best, index) = (ts[l], i + l);
                             }
                             hits &= hits - 1;
@@ -457,15 +659,16 @@ mod leaf {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     #[inline]
-    pub(super) unsafe fn hit_avx2(
+    pub(super) unsafe fn hit_avx2<C: Cutout + ?Sized>(
         p: &TriPlanes,
         base: usize,
         mask: u32,
         ray: &Ray,
+        cut: &Cut<C>,
     ) -> (f32, usize) {
         use std::arch::x86_64::*;
         let (o, d) = (ray.origin, ray.direction);
-        let (mut best, mut index) = (f32::INFINITY, 0);
+        let (mut best, mut index) = (ray.tmax, 0);
         let mut m = mask;
         let mut i = base;
         unsafe {
@@ -515,9 +718,17 @@ mod leaf {
                     if hits != 0 {
                         let mut ts = [0.0f32; 8];
                         _mm256_storeu_ps(ts.as_mut_ptr(), t);
+                        let cuts = cut.lanes(i) & hits;
+                        let (mut us, mut vs) = ([0.0f32; 8], [0.0f32; 8]);
+                        if cuts != 0 {
+                            _mm256_storeu_ps(us.as_mut_ptr(), u);
+                            _mm256_storeu_ps(vs.as_mut_ptr(), v);
+                        }
                         while hits != 0 {
                             let l = hits.trailing_zeros() as usize;
-                            if ts[l] < best {
+                            if ts[l] < best
+                                && (cuts >> l & 1 == 0 || cut.stops(i + l, us[l], vs[l]))
+                            {
                                 (best, index) = (ts[l], i + l);
                             }
                             hits &= hits - 1;
@@ -530,6 +741,14 @@ mod leaf {
         }
         (best, index)
     }
+}
+
+/// obvhs's ray from `origin` along `dir` over t in [0, tmax), with negative zeros in the direction
+/// made positive: obvhs takes the inverse of −0 as −1/ε but picks a box's near and far planes by
+/// `d < 0`, false for −0, so a ray along an axis written with −0 (`-Vec3::Y`) missed every box.
+#[inline(always)]
+fn ray(origin: Vec3, dir: Vec3, tmax: f32) -> Ray {
+    Ray::new(origin.into(), (dir + Vec3::ZERO).into(), 0.0, tmax)
 }
 
 /// One shadow ray as traced: origin and unit direction, t in (0, ∞).
@@ -566,15 +785,17 @@ pub fn take_recorded() -> Vec<ShadowRay> {
 }
 
 /// Which children of `node` the ray's segment meets, in obvhs's hit-mask layout: obvhs's
-/// `CwBvhNode::intersect_ray_simd` with the same float operations in the same order (so the
-/// same children, and the same traversal), but the 8-bit child planes widened to floats eight
-/// at a time with SSE2 unpacks instead of one at a time, and all eight children tested at once.
+/// `CwBvhNode::intersect_ray_simd` with the same float operations in the same order, but the
+/// 8-bit child planes widened to floats eight at a time with SSE2 unpacks instead of one at a
+/// time, all eight children tested at once, and the segment clipped to the ray's own
+/// `[tmin, tmax]` where obvhs clips its near end at an absolute 1e-4 (`cwbvh::node::EPSILON`):
+/// that constant culled every box within 1e-4 scene units of the ray's origin, so a model
+/// authored in millimetres lost its shadows and one a thousand times smaller rendered nothing.
+/// [`node_hits_reference`] is the same test one child at a time.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn node_hits(node: &CwBvhNode, ray: &Ray, oct_inv4: u32) -> u32 {
     use std::arch::x86_64::*;
-    // obvhs's node-test epsilon (`cwbvh::node::EPSILON`, crate-private): the near clip.
-    const EPSILON: f32 = 0.0001;
     let inv = node.compute_extent() * ray.inv_direction;
     let org = (Vec3A::from(node.p) - ray.origin) * ray.inv_direction;
     let d = ray.direction;
@@ -615,7 +836,7 @@ fn node_hits(node: &CwBvhNode, ray: &Ray, oct_inv4: u32) -> u32 {
         );
         let (ix, iy, iz) = (_mm_set1_ps(inv.x), _mm_set1_ps(inv.y), _mm_set1_ps(inv.z));
         let (ox, oy, oz) = (_mm_set1_ps(org.x), _mm_set1_ps(org.y), _mm_set1_ps(org.z));
-        let eps = _mm_set1_ps(EPSILON);
+        let tmin_ray = _mm_set1_ps(ray.tmin);
         let tmax_ray = _mm_set1_ps(ray.tmax);
         let half = |lx: __m128, hx: __m128, ly: __m128, hy: __m128, lz: __m128, hz: __m128| {
             let tmin_x = _mm_add_ps(_mm_mul_ps(lx, ix), ox);
@@ -626,7 +847,7 @@ fn node_hits(node: &CwBvhNode, ray: &Ray, oct_inv4: u32) -> u32 {
             let tmax_z = _mm_add_ps(_mm_mul_ps(hz, iz), oz);
             let tmin = _mm_max_ps(tmin_x, _mm_max_ps(tmin_y, tmin_z));
             let tmax = _mm_min_ps(tmax_x, _mm_min_ps(tmax_y, tmax_z));
-            let tmin = _mm_max_ps(tmin, eps);
+            let tmin = _mm_max_ps(tmin, tmin_ray);
             let tmax = _mm_min_ps(tmax, tmax_ray);
             _mm_movemask_ps(_mm_cmple_ps(tmin, tmax)) as u32
         };
@@ -657,17 +878,25 @@ mod avx2 {
     /// rays share is the walk — one stack, one pop and one widening of the child planes per
     /// node for all the rays that entered it, and independent work for the CPU to overlap.
     #[target_feature(enable = "avx2")]
-    pub(super) fn occluded_packet(accel: &Accel, origin: Vec3A, dirs: &[Vec3]) -> u32 {
+    pub(super) fn occluded_packet<C: Cutout + ?Sized>(
+        accel: &Accel,
+        origin: Vec3A,
+        dirs: &[Vec3],
+        tmax: &[f32],
+        cut: &Cut<C>,
+    ) -> u32 {
         use std::mem::MaybeUninit;
-        const EPSILON: f32 = 0.0001;
         const STACK: usize = 256;
         let n = dirs.len();
         debug_assert!((1..=PACKET).contains(&n));
         let bvh = &accel.bvh;
         let mut inv = [Vec3A::ZERO; PACKET];
         let mut sign = [0u8; PACKET];
+        let mut dir = [Vec3A::ZERO; PACKET];
         for (r, d) in dirs.iter().enumerate() {
-            inv[r] = Ray::new(origin, (*d).into(), 0.0, f32::INFINITY).inv_direction;
+            let single = ray(origin.into(), *d, f32::INFINITY);
+            (dir[r], inv[r]) = (single.direction, single.inv_direction);
+            let d = single.direction;
             sign[r] = (d.x < 0.0) as u8 | ((d.y < 0.0) as u8) << 1 | ((d.z < 0.0) as u8) << 2;
         }
         // Per sign pattern, the blend masks that swap an axis's slab ends.
@@ -682,8 +911,8 @@ mod avx2 {
         let mut stack = [MaybeUninit::<(u32, u32)>::uninit(); STACK];
         stack[0].write((0, all));
         let mut top = 1;
-        let eps = _mm256_set1_ps(EPSILON);
-        let tmax_ray = _mm256_set1_ps(f32::INFINITY);
+        // The rays' own range, (0, tmax), as `occluded` gives each ray alone.
+        let tmin_ray = _mm256_setzero_ps();
         while top > 0 {
             top -= 1;
             // SAFETY: entries below `top` were written.
@@ -728,10 +957,10 @@ mod avx2 {
                 let (ny, fy) = slab(ly, hy, ri.y, ro.y, sy);
                 let (nz, fz) = slab(lz, hz, ri.z, ro.z, sz);
                 let tmin = _mm256_max_ps(nx, _mm256_max_ps(ny, nz));
-                let tmax = _mm256_min_ps(fx, _mm256_min_ps(fy, fz));
-                let tmin = _mm256_max_ps(tmin, eps);
-                let tmax = _mm256_min_ps(tmax, tmax_ray);
-                let hit = _mm256_castps_si256(_mm256_cmp_ps::<_CMP_LE_OQ>(tmin, tmax));
+                let far = _mm256_min_ps(fx, _mm256_min_ps(fy, fz));
+                let tmin = _mm256_max_ps(tmin, tmin_ray);
+                let far = _mm256_min_ps(far, _mm256_set1_ps(tmax[r]));
+                let hit = _mm256_castps_si256(_mm256_cmp_ps::<_CMP_LE_OQ>(tmin, far));
                 acc = _mm256_or_si256(acc, _mm256_and_si256(hit, _mm256_set1_epi32(1 << r)));
             }
             // Lane c: the rays that entered child c.
@@ -761,10 +990,10 @@ mod avx2 {
                 leaf_rays &= leaf_rays - 1;
                 let ray = Ray {
                     origin,
-                    direction: dirs[r].into(),
+                    direction: dir[r],
                     inv_direction: inv[r],
                     tmin: 0.0,
-                    tmax: f32::INFINITY,
+                    tmax: tmax[r],
                 };
                 // SAFETY: the node's primitive group lies within the padded planes.
                 let (t, _) = unsafe {
@@ -773,9 +1002,10 @@ mod avx2 {
                         node.primitive_base_idx as usize,
                         prim[r],
                         &ray,
+                        cut,
                     )
                 };
-                if t < f32::INFINITY {
+                if t < ray.tmax {
                     done |= 1 << r;
                 }
             }
@@ -785,7 +1015,9 @@ mod avx2 {
             if top + 8 > STACK {
                 // Deeper than any hierarchy we build; finish the open rays one at a time.
                 for (r, d) in dirs.iter().enumerate() {
-                    if done & (1 << r) == 0 && accel.occluded_unrecorded(origin.into(), *d) {
+                    if done & (1 << r) == 0
+                        && accel.occluded_unrecorded_within(origin.into(), *d, tmax[r], cut.test)
+                    {
                         done |= 1 << r;
                     }
                 }
@@ -807,11 +1039,10 @@ mod avx2 {
 
     /// [`node_hits`](super::node_hits) with eight children per instruction: each child's
     /// slab distances are `plane · inv + org` (a multiply then an add, never fused, as in
-    /// obvhs), clipped by obvhs's epsilon and the ray's tmax, compared `tmin ≤ tmax`.
+    /// obvhs), clipped to the ray's `[tmin, tmax]`, compared `tmin ≤ tmax`.
     #[target_feature(enable = "avx2")]
     #[inline]
     pub fn node_hits_avx2(node: &CwBvhNode, ray: &Ray, oct_inv4: u32) -> u32 {
-        const EPSILON: f32 = 0.0001;
         let inv = node.compute_extent() * ray.inv_direction;
         let org = (Vec3A::from(node.p) - ray.origin) * ray.inv_direction;
         let d = ray.direction;
@@ -850,7 +1081,7 @@ mod avx2 {
             slab(hi_x, inv.x, org.x),
             _mm256_min_ps(slab(hi_y, inv.y, org.y), slab(hi_z, inv.z, org.z)),
         );
-        let tmin = _mm256_max_ps(tmin, _mm256_set1_ps(EPSILON));
+        let tmin = _mm256_max_ps(tmin, _mm256_set1_ps(ray.tmin));
         let tmax = _mm256_min_ps(tmax, _mm256_set1_ps(ray.tmax));
         let hit = _mm256_castps_si256(_mm256_cmp_ps::<_CMP_LE_OQ>(tmin, tmax));
         // obvhs's hit mask, branch-free: each hit child's bits (one for an inner node, the
@@ -875,7 +1106,37 @@ mod avx2 {
 #[cfg(not(target_arch = "x86_64"))]
 #[inline(always)]
 fn node_hits(node: &CwBvhNode, ray: &Ray, oct_inv4: u32) -> u32 {
-    node.intersect_ray(ray, oct_inv4)
+    node_hits_reference(node, ray, oct_inv4)
+}
+
+/// [`node_hits`] one child at a time in plain f32: obvhs's `intersect_ray_basic` with the
+/// segment clipped to the ray's own `[tmin, tmax]` (the kernels' reference; non-x86 hosts).
+#[cfg_attr(all(target_arch = "x86_64", not(test)), allow(dead_code))]
+fn node_hits_reference(node: &CwBvhNode, ray: &Ray, oct_inv4: u32) -> u32 {
+    let inv = node.compute_extent() * ray.inv_direction;
+    let org = (Vec3A::from(node.p) - ray.origin) * ray.inv_direction;
+    let d = ray.direction;
+    let (child_bits8, bit_index8) = node.get_child_and_index_bits(oct_inv4);
+    let mut hit_mask = 0;
+    for c in 0..8 {
+        let ends = |lo: u8, hi: u8, neg: bool| {
+            let (a, b) = if neg { (hi, lo) } else { (lo, hi) };
+            (a as f32, b as f32)
+        };
+        let (nx, fx) = ends(node.child_min_x[c], node.child_max_x[c], d.x < 0.0);
+        let (ny, fy) = ends(node.child_min_y[c], node.child_max_y[c], d.y < 0.0);
+        let (nz, fz) = ends(node.child_min_z[c], node.child_max_z[c], d.z < 0.0);
+        let near = (nx * inv.x + org.x)
+            .max((ny * inv.y + org.y).max(nz * inv.z + org.z))
+            .max(ray.tmin);
+        let far = (fx * inv.x + org.x)
+            .min((fy * inv.y + org.y).min(fz * inv.z + org.z))
+            .min(ray.tmax);
+        if near <= far {
+            hit_mask |= extract_byte64(child_bits8, c) << extract_byte64(bit_index8, c);
+        }
+    }
+    hit_mask
 }
 
 /// Barycentrics with obvhs's (Möller–Trumbore) edge convention, unnormalised like its
@@ -926,6 +1187,11 @@ mod tests {
     /// `n` random triangles of size up to `size`, their corners within `half` (plus `size`)
     /// of the origin.
     fn soup(rng: &mut Lcg, n: u32, half: f32, size: f32) -> Accel {
+        soup_cut(rng, n, half, size, &[])
+    }
+
+    /// [`soup`] with triangle `i` cut out where `cut_out[i]`.
+    fn soup_cut(rng: &mut Lcg, n: u32, half: f32, size: f32, cut_out: &[bool]) -> Accel {
         let mut p = Vec::new();
         let mut t = Vec::new();
         for i in 0..n {
@@ -935,7 +1201,37 @@ mod tests {
             }
             t.push([3 * i, 3 * i + 1, 3 * i + 2]);
         }
-        Accel::build(&p, &t)
+        Accel::build_with_cutouts(&p, &t, cut_out)
+    }
+
+    /// A cut-out test with holes in every triangle: stripes across (u, v), shifted per
+    /// triangle; a little over half of each triangle stops rays.
+    struct Stripes;
+
+    impl Cutout for Stripes {
+        fn stops(&self, tri: u32, u: f32, v: f32) -> bool {
+            let x = u * 5.0 + v * 3.0 + tri as f32 * 0.37;
+            x - x.floor() < 0.55
+        }
+    }
+
+    /// Two triangles of three cut out (those with `i % 3 != 0`).
+    fn two_in_three(n: u32) -> Vec<bool> {
+        (0..n).map(|i| i % 3 != 0).collect()
+    }
+
+    /// The nearest hit of the ray on any one triangle that `cut` lets stop it, t < tmax, by
+    /// testing every triangle alone with the scalar kernel (the reference for the traversals).
+    fn brute_force<C: Cutout>(accel: &Accel, ray: &Ray, cut: &C) -> Option<(f32, u32)> {
+        let cut = accel.cut_with(cut);
+        let mut best: Option<(f32, u32)> = None;
+        for i in 0..accel.tris.len() {
+            let (t, _) = leaf::hit_scalar(&accel.planes, i, 1, ray, &cut);
+            if t < ray.tmax && best.is_none_or(|(b, _)| t < b) {
+                best = Some((t, accel.scene_index[i]));
+            }
+        }
+        best
     }
 
     #[test]
@@ -977,9 +1273,10 @@ mod tests {
     }
 
     #[test]
-    fn our_node_test_agrees_with_obvhs_on_every_node() {
+    fn our_node_test_agrees_with_the_reference_on_every_node() {
         // A random soup, rays from points inside and outside it in all octants: the children
-        // our kernel reports must be exactly obvhs's, or traversal (and hits) could differ.
+        // our kernels report must be exactly the reference's, or traversal (and hits) could
+        // differ; and the traversal must find what testing every triangle finds.
         let mut rng = Lcg(12345);
         let accel = soup(&mut rng, 2000, 2.0, 0.2);
         let mut checked = 0;
@@ -989,7 +1286,7 @@ mod tests {
             let ray = Ray::new(o.into(), d.into(), 0.0, f32::INFINITY);
             let oct = accel.bvh.new_traversal(ray.direction).oct_inv4;
             for node in &accel.bvh.nodes {
-                let reference = node.intersect_ray(&ray, oct);
+                let reference = node_hits_reference(node, &ray, oct);
                 assert_eq!(node_hits(node, &ray, oct), reference);
                 #[cfg(target_arch = "x86_64")]
                 if is_x86_feature_detected!("avx2") {
@@ -998,19 +1295,41 @@ mod tests {
                 }
                 checked += 1;
             }
-            let reference = !accel
-                .bvh
-                .ray_traverse_miss(ray, |r, id| accel.tris[id].intersect(r));
-            assert_eq!(accel.occluded(o, d), reference);
-            // Closest hits: obvhs's own traversal and triangle test find the same one.
-            let mut hit = obvhs::ray::RayHit::none();
-            let closest = accel
-                .bvh
-                .ray_traverse(ray, &mut hit, |r, id| accel.tris[id].intersect(r))
-                .then(|| (hit.t, accel.scene_index[hit.primitive_id as usize]));
-            assert_eq!(accel.intersect(o, d).map(|h| (h.t, h.tri)), closest);
+            // Every triangle tested alone (obvhs's own triangle test): the nearest hit, and
+            // whether there is any.
+            let nearest = (0..accel.tris.len())
+                .map(|i| (accel.tris[i].intersect(&ray), accel.scene_index[i]))
+                .filter(|h| h.0 < f32::INFINITY)
+                .min_by(|a, b| a.0.total_cmp(&b.0));
+            assert_eq!(accel.occluded(o, d), nearest.is_some());
+            assert_eq!(accel.intersect(o, d).map(|h| h.t), nearest.map(|h| h.0));
         }
         assert!(checked > 1000);
+    }
+
+    #[test]
+    fn boxes_right_at_the_origin_are_not_culled() {
+        // obvhs clips a node's segment at 1e-4 from the origin: a blocker nearer than that was
+        // missed. The same two triangles at scales from 1e-8 to 1e4: a ray from just below the
+        // upper one is blocked, and a camera ray just above it hits it, at every scale.
+        for scale in [1e-8f32, 1e-6, 1e-4, 1e-2, 1.0, 1e2, 1e4] {
+            let (p, t) = quad();
+            let p: Vec<Vec3> = p.iter().map(|v| *v * scale).collect();
+            let accel = Accel::build(&p, &t);
+            // Off the squares' diagonals, where both triangles' edge tests could refuse a ray.
+            let below = Vec3::new(0.03, 0.999, -0.02) * scale;
+            assert!(accel.occluded(below, Vec3::Y), "scale {scale}");
+            assert_eq!(accel.occluded_packet(below, &[Vec3::Y, Vec3::X]), 1);
+            let above = Vec3::new(0.03, 1.001, -0.02) * scale;
+            let hit = accel
+                .intersect(above, -Vec3::Y)
+                .expect("hits the small square");
+            assert!(
+                (hit.t / scale - 0.001).abs() < 1e-5,
+                "scale {scale}: {}",
+                hit.t
+            );
+        }
     }
 
     #[test]
@@ -1048,6 +1367,33 @@ mod tests {
             Accel::build(&[], &[]).occluded_packet(Vec3::ZERO, &[Vec3::Y]),
             0
         );
+    }
+
+    /// The scalar leaf kernel's hit for `mask` of the group at `base`, after checking that
+    /// the SSE2 and (where the CPU has it) AVX2 kernels give the same bits.
+    fn leaf_kernels<C: Cutout>(
+        accel: &Accel,
+        base: usize,
+        mask: u32,
+        ray: &Ray,
+        test: &C,
+        k: usize,
+    ) -> (f32, usize) {
+        let cut = accel.cut_with(test);
+        let scalar = leaf::hit_scalar(&accel.planes, base, mask, ray, &cut);
+        #[cfg(target_arch = "x86_64")]
+        {
+            let bitwise = |(t, i): (f32, usize)| (t.to_bits(), i);
+            // SAFETY: base + 24 lies within the padded planes.
+            let sse = unsafe { leaf::hit_sse2(&accel.planes, base, mask, ray, &cut) };
+            assert_eq!(bitwise(sse), bitwise(scalar), "ray {k}");
+            if is_x86_feature_detected!("avx2") {
+                // SAFETY: as above, and AVX2 was detected.
+                let avx = unsafe { leaf::hit_avx2(&accel.planes, base, mask, ray, &cut) };
+                assert_eq!(bitwise(avx), bitwise(scalar), "ray {k}");
+            }
+        }
+        scalar
     }
 
     #[test]
@@ -1088,22 +1434,10 @@ mod tests {
                     }
                 }
             }
-            let scalar = leaf::hit_scalar(&accel.planes, base, mask, &ray);
+            let scalar = leaf_kernels(&accel, base, mask, &ray, &Opaque, k);
             assert_eq!(scalar.0.to_bits(), reference.to_bits(), "ray {k}");
             if scalar.0 < f32::INFINITY {
                 assert_eq!(accel.tris[scalar.1].intersect(&ray), scalar.0);
-            }
-            let bitwise = |(t, i): (f32, usize)| (t.to_bits(), i);
-            #[cfg(target_arch = "x86_64")]
-            {
-                // SAFETY: base + 24 lies within the padded planes.
-                let sse = unsafe { leaf::hit_sse2(&accel.planes, base, mask, &ray) };
-                assert_eq!(bitwise(sse), bitwise(scalar), "ray {k}");
-                if is_x86_feature_detected!("avx2") {
-                    // SAFETY: as above, and AVX2 was detected.
-                    let avx = unsafe { leaf::hit_avx2(&accel.planes, base, mask, &ray) };
-                    assert_eq!(bitwise(avx), bitwise(scalar), "ray {k}");
-                }
             }
             hits += usize::from(scalar.0 < f32::INFINITY);
         }
@@ -1111,5 +1445,149 @@ mod tests {
             hits > 1000,
             "only {hits} rays hit: the test would prove little"
         );
+    }
+
+    #[test]
+    fn cut_out_triangles_stop_rays_only_where_the_test_says() {
+        // A cut-out soup traced with the stripes, and with finite ray ends: every query
+        // agrees with testing each triangle alone (closest hit: the same triangle and t;
+        // occlusion and blocker: whether any accepted hit lies before the end). The same soup
+        // without the test (Opaque) is blocked more often, or the holes would prove nothing.
+        let mut rng = Lcg(9001);
+        let n = 3000;
+        let accel = soup_cut(&mut rng, n, 2.0, 0.5, &two_in_three(n));
+        assert!(accel.has_cutouts());
+        let (mut blocked, mut blocked_opaque, mut cut_hits, mut ends) = (0, 0, 0, 0);
+        for k in 0..600 {
+            let o = rng.vec() * 5.0 - 2.5;
+            let d = (rng.vec() * 2.0 - 1.0).normalize_or(Vec3::Y);
+            let tmax = if k % 2 == 0 {
+                f32::INFINITY
+            } else {
+                rng.next() * 3.0
+            };
+            let ray = Ray::new(o.into(), d.into(), 0.0, tmax);
+            let want = brute_force(&accel, &ray, &Stripes);
+            let occluded = accel.occluded_within(o, d, tmax, &Stripes);
+            assert_eq!(occluded, want.is_some(), "ray {k}");
+            let blocker = accel.blocker_distance_within(o, d, tmax, &Stripes);
+            assert_eq!(blocker.is_some(), occluded, "ray {k}");
+            if let Some(t) = blocker {
+                assert!(t < tmax && t >= want.unwrap().0, "ray {k}: {t} vs {want:?}");
+            }
+            if tmax == f32::INFINITY {
+                let hit = accel.intersect_cut(o, d, &Stripes).map(|h| (h.t, h.tri));
+                assert_eq!(hit, want, "ray {k}");
+                cut_hits += usize::from(hit.is_some_and(|(_, tri)| tri % 3 != 0));
+            } else {
+                ends += usize::from(
+                    brute_force(
+                        &accel,
+                        &Ray::new(o.into(), d.into(), 0.0, f32::INFINITY),
+                        &Stripes,
+                    )
+                    .is_some_and(|(t, _)| t >= tmax),
+                );
+            }
+            blocked += usize::from(occluded);
+            blocked_opaque += usize::from(accel.occluded_within(o, d, tmax, &Opaque));
+        }
+        assert!(
+            blocked > 100 && blocked + 30 < blocked_opaque,
+            "{blocked} vs {blocked_opaque}"
+        );
+        assert!(
+            cut_hits > 50,
+            "only {cut_hits} closest hits on cut-out triangles"
+        );
+        assert!(ends > 20, "only {ends} rays ended before their hit");
+    }
+
+    #[test]
+    fn cut_out_packets_answer_exactly_as_single_rays() {
+        // As `packets_answer_exactly_as_single_rays`, with two triangles in three cut out and
+        // each ray its own end (some infinite, some short).
+        let mut rng = Lcg(31337);
+        let n = 5000;
+        let accel = soup_cut(&mut rng, n, 2.0, 0.4, &two_in_three(n));
+        let (mut rays, mut blocked) = (0, 0);
+        for k in 0..400 {
+            let o = rng.vec() * 5.0 - 2.5;
+            let n = 1 + k % PACKET;
+            let dirs: Vec<Vec3> = (0..n)
+                .map(|_| (rng.vec() * 2.0 - 1.0).normalize_or(Vec3::Y))
+                .collect();
+            let tmax: Vec<f32> = (0..n)
+                .map(|r| {
+                    if r % 3 == 0 {
+                        f32::INFINITY
+                    } else {
+                        rng.next() * 4.0
+                    }
+                })
+                .collect();
+            let single: u32 = dirs
+                .iter()
+                .zip(&tmax)
+                .enumerate()
+                .map(|(r, (d, &t))| {
+                    u32::from(accel.occluded_unrecorded_within(o, *d, t, &Stripes)) << r
+                })
+                .sum();
+            assert_eq!(
+                accel.occluded_packet_unrecorded_within(o, &dirs, &tmax, &Stripes),
+                single,
+                "packet {k}"
+            );
+            rays += n;
+            blocked += single.count_ones() as usize;
+        }
+        assert!(
+            blocked > rays / 5 && blocked < rays * 4 / 5,
+            "{blocked} of {rays}"
+        );
+    }
+
+    #[test]
+    fn cut_out_leaf_kernels_agree_bit_for_bit() {
+        // Leaf groups of a cut-out soup: scalar, SSE2 and AVX2 keep the same hit, and it is
+        // the nearest of the group's triangles tested one at a time.
+        let mut rng = Lcg(4711);
+        let n = 600;
+        let accel = soup_cut(&mut rng, n, 1.0, 0.5, &two_in_three(n));
+        let cut = accel.cut_with(&Stripes);
+        let count = accel.tris.len();
+        let (mut hits, mut passed) = (0, 0);
+        for k in 0..4000 {
+            let o = rng.vec() * 8.0 - 4.0;
+            let base = (rng.next() * (count - 24) as f32) as usize;
+            let mask = (rng.next() * (1 << 24) as f32) as u32 | 1;
+            let aim = &accel.tris[base + (rng.next() * 23.0) as usize];
+            let (a, b) = (rng.next() * 0.5, rng.next() * 0.5);
+            let target: Vec3 = (aim.v0 + (aim.v1 - aim.v0) * a + (aim.v2 - aim.v0) * b).into();
+            let d = (target - o).normalize_or(Vec3::Y);
+            let ray = Ray::new(o.into(), d.into(), 0.0, f32::INFINITY);
+            let mut reference = (f32::INFINITY, 0);
+            let mut any_hit = false;
+            for b in 0..24 {
+                if mask >> b & 1 == 1 {
+                    let alone = leaf::hit_scalar(&accel.planes, base + b, 1, &ray, &cut);
+                    if alone.0 < reference.0 {
+                        reference = alone;
+                    }
+                    any_hit |= accel.tris[base + b].intersect(&ray) < f32::INFINITY;
+                }
+            }
+            let scalar = leaf_kernels(&accel, base, mask, &ray, &Stripes, k);
+            assert_eq!(
+                (scalar.0.to_bits(), scalar.1),
+                (reference.0.to_bits(), reference.1),
+                "ray {k}"
+            );
+            hits += usize::from(scalar.0 < f32::INFINITY);
+            passed += usize::from(any_hit && scalar.0 == f32::INFINITY);
+        }
+        assert!(hits > 1000, "only {hits} rays hit");
+        assert!(passed > 100, "only {passed} rays passed through holes");
     }
 }

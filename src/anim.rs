@@ -3,6 +3,12 @@
 //! ```toml
 //! [scene]
 //! builtin = "shapes"            # or: file = "../assets/bunny_on_plane.glb"
+//! up = "y"                      # the file's up axis: "y" (glTF's) or "z" (turned upright)
+//! ground = "auto"               # a ground below the model: "auto" (when the scene has
+//!                               # none), "none" or "always"
+//! shadow_catcher = false        # the added ground shows only its shadows (it always does
+//!                               # over a transparent background)
+//! # catchers = ["Floor"]        # glTF nodes (or meshes) that are shadow catchers
 //! [environment]
 //! builtin = "sky"               # or: file = "../assets/grace.hdr"
 //! rotation = 0.0                # degrees about +Y
@@ -10,6 +16,7 @@
 //! [lights]
 //! count = 100
 //! sampler = "sis"               # or "median-cut"
+//! scene_lights = true           # also the glTF file's own lights (KHR_lights_punctual)
 //! [camera]
 //! target = [0.0, 0.5, 0.0]      # default: the scene's bounding-box centre
 //! distance = 7.0                # default: frames the scene's bounding sphere
@@ -19,9 +26,11 @@
 //! # position = [x, y, z]        # instead of distance/elevation/azimuth
 //! # from_file = true            # use the glTF file's camera
 //! [motion]
-//! kind = "orbit"                # camera orbits the target; "spin": the scene turns; "none"
+//! kind = "orbit"                # camera orbits the target; "spin": the scene turns;
+//!                               # "environment": the lights and background turn; "none"
 //! frames = 24
 //! turn_degrees = 360.0          # the whole animation's turn; or degrees_per_frame = 3.0
+//! # A sequence instead: [[motion]] tables, one per motion in order (src/motion.rs)
 //! [render]
 //! width = 320
 //! height = 240
@@ -37,7 +46,11 @@
 //! # scan_block = 64             # scanline methods: the scan restarts every scan_block pixels
 //! temporal = false              # uncertainty methods: the previous frame votes too
 //! # keyframe = 16               # with temporal: frames 0, 16, 32, … restart the chain
-//!                               # (0, the default: 16 for orbit, 4 for spin; docs/temporal.md)
+//!                               # (0, the default: 16 for orbit, 4 for spin, 8 for
+//!                               # environment; docs/temporal.md)
+//! background = "environment"   # or "transparent", "color", "blurred"
+//! # background_color = [0.18, 0.18, 0.18]   # with "color": linear RGB
+//! # background_blur = 10.0      # with "blurred": degrees
 //! exposure = 1.0                # PNG preview exposure, before the view transform
 //! view = "agx"                  # PNG view transform: "agx", "filmic" or "standard"
 //! tile = 64
@@ -59,7 +72,6 @@
 //! Input paths are relative to the spec file's folder; the output folder is relative to the
 //! working directory. Unknown keys are errors.
 
-use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec3};
@@ -68,10 +80,13 @@ use serde::Deserialize;
 use crate::bail_input;
 use crate::camera::Camera;
 use crate::error::{Result, input_error};
+use crate::frames::FrameSet;
+use crate::motion::{Motion, MotionSpecs};
 use crate::output::record::{SettingsRecord, file_sha256};
 use crate::scene::{MaterialOverride, Scene};
 use crate::settings::{
-    Lights, LightsLayer, Output, OutputLayer, Render, RenderLayer, Source, check_applies,
+    Lights, LightsLayer, Output, OutputLayer, Render, RenderLayer, SceneLayer, SceneSettings,
+    Source, check_applies,
 };
 
 /// Limits checked before any work starts (see [`crate::limits`]).
@@ -90,7 +105,7 @@ struct Spec {
     #[serde(default)]
     camera: CameraSpec,
     #[serde(default)]
-    motion: MotionSpec,
+    motion: MotionSpecs,
     #[serde(default)]
     render: RenderLayer,
     #[serde(default)]
@@ -104,6 +119,24 @@ struct Spec {
 struct SceneSpec {
     builtin: Option<String>,
     file: Option<PathBuf>,
+    #[serde(default)]
+    catchers: Vec<String>,
+    // The settings of `SceneLayer` (`crate::settings`: their flags, defaults and checks), by
+    // name; serde cannot flatten a layer into a table that refuses unknown keys.
+    up: Option<crate::scene::Up>,
+    ground: Option<crate::scene::ground::Ground>,
+    shadow_catcher: Option<bool>,
+}
+
+impl SceneSpec {
+    /// The settings given in the spec's `[scene]`.
+    fn layer(&self) -> SceneLayer {
+        SceneLayer {
+            up: self.up,
+            ground: self.ground,
+            shadow_catcher: self.shadow_catcher,
+        }
+    }
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -161,30 +194,6 @@ impl Default for CameraSpec {
     }
 }
 
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct MotionSpec {
-    #[serde(default = "default_kind")]
-    kind: String,
-    #[serde(default = "default_frames")]
-    frames: usize,
-    degrees_per_frame: Option<f32>,
-    turn_degrees: Option<f32>,
-    pivot: Option<[f32; 3]>,
-}
-
-impl Default for MotionSpec {
-    fn default() -> Self {
-        MotionSpec {
-            kind: default_kind(),
-            frames: default_frames(),
-            degrees_per_frame: None,
-            turn_degrees: None,
-            pivot: None,
-        }
-    }
-}
-
 fn one() -> f32 {
     1.0
 }
@@ -200,12 +209,6 @@ fn default_vfov() -> f32 {
 fn default_up() -> [f32; 3] {
     [0.0, 1.0, 0.0]
 }
-fn default_kind() -> String {
-    "orbit".into()
-}
-fn default_frames() -> usize {
-    1
-}
 /// Where the scene comes from.
 #[derive(Clone, Debug, PartialEq)]
 pub enum SceneSource {
@@ -220,16 +223,7 @@ pub enum EnvSource {
     File(PathBuf),
 }
 
-/// What moves from frame to frame.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum MotionKind {
-    /// The camera circles the target about the vertical axis; scene and environment fixed.
-    Orbit,
-    /// The scene turns about a vertical axis; camera and environment fixed.
-    Spin,
-    /// Nothing moves.
-    Still,
-}
+pub use crate::motion::MotionKind;
 
 /// How the camera is placed.
 #[derive(Clone, Debug, PartialEq)]
@@ -248,9 +242,13 @@ pub struct CameraRig {
 /// spec's (the binary flattens it into `render`, `plan`, `export`).
 #[derive(Clone, Debug, Default, clap::Args)]
 pub struct AnimFlags {
-    /// Frames to render: A..B (B excluded), A..=B, or A. Default: all of the animation.
-    #[arg(long, value_name = "RANGE")]
-    pub frames: Option<FrameRange>,
+    /// Frames to render, from 0: a list of pieces joined by commas, each N, A-B (B included,
+    /// as Blender's), A..B (B excluded), or A..=B, a range optionally with :STEP, e.g.
+    /// `1-10`, `1,5,9`, `1-10:2`, `0..24`, `1-3,7,10-20:5`. Default: all of the animation.
+    #[arg(long, value_name = "LIST")]
+    pub frames: Option<FrameSet>,
+    #[command(flatten)]
+    pub scene: SceneLayer,
     #[command(flatten)]
     pub lights: LightsLayer,
     #[command(flatten)]
@@ -309,9 +307,10 @@ impl AnimFlags {
             bail_input!("--frames", "does not apply to {command}");
         }
         let given = self
-            .lights
+            .scene
             .given()
             .into_iter()
+            .chain(self.lights.given())
             .chain(self.render.given())
             .chain(self.output.given())
             .chain(self.material.given());
@@ -324,36 +323,6 @@ impl AnimFlags {
     }
 }
 
-/// A frame selection from `--frames`: `A..B` (B excluded), `A..=B`, or `A`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct FrameRange {
-    pub start: usize,
-    pub end: usize,
-}
-
-impl std::str::FromStr for FrameRange {
-    type Err = String;
-    fn from_str(s: &str) -> std::result::Result<FrameRange, String> {
-        let num = |t: &str| {
-            t.trim()
-                .parse::<usize>()
-                .map_err(|_| format!("{t:?} is not a frame number (expected A..B, A..=B or A)"))
-        };
-        let (start, end) = if let Some((a, b)) = s.split_once("..=") {
-            (num(a)?, num(b)? + 1)
-        } else if let Some((a, b)) = s.split_once("..") {
-            (num(a)?, num(b)?)
-        } else {
-            let a = num(s)?;
-            (a, a + 1)
-        };
-        if end <= start {
-            return Err(format!("frame range {s:?} is empty"));
-        }
-        Ok(FrameRange { start, end })
-    }
-}
-
 /// A resolved animation: the spec with defaults filled in and flags applied.
 #[derive(Clone, Debug)]
 pub struct Animation {
@@ -361,17 +330,20 @@ pub struct Animation {
     pub spec_path: PathBuf,
     pub name: String,
     pub scene: SceneSource,
+    /// `[scene]`: the up axis, the ground, whether the ground catches shadows.
+    pub scene_settings: SceneSettings,
+    /// `[scene] catchers`: the glTF nodes (or meshes) that are shadow catchers.
+    pub catchers: Vec<String>,
     pub env: EnvSource,
     pub env_rotation_deg: f32,
     pub env_intensity: f32,
     pub camera: CameraRig,
-    pub motion: MotionKind,
-    pub degrees_per_frame: f32,
-    pub pivot: Option<Vec3>,
+    /// What moves, frame by frame: one motion or a sequence ([`Motion`]).
+    pub motion: Motion,
     /// Frames in the whole animation.
     pub frame_count: usize,
-    /// Frames this run renders.
-    pub frames: Range<usize>,
+    /// Frames this run renders (`--frames`).
+    pub frames: FrameSet,
     /// `[lights]`: how many lights, by which sampler.
     pub lights: Lights,
     /// `[render]`: size, method and its parameters, validation, temporal prediction (its
@@ -388,6 +360,13 @@ pub struct Animation {
 impl Animation {
     /// Reads and resolves a spec file with the command line's `flags` over it.
     pub fn load(path: &Path, flags: &AnimFlags) -> Result<Animation> {
+        if is_model(path) {
+            bail_input!(
+                path,
+                "is a glTF model, not an animation spec: `envshadow render {}` renders a default turntable of it, or name it in a spec's [scene] file",
+                path.display()
+            );
+        }
         limits::check_file_size(path, "animation spec")?;
         let text = std::fs::read_to_string(path)
             .map_err(|e| input_error(path, format!("cannot read animation spec: {e}")))?;
@@ -431,32 +410,15 @@ impl Animation {
             }
             (None, None) => EnvSource::Sky,
         };
-        let motion = match spec.motion.kind.as_str() {
-            "orbit" => MotionKind::Orbit,
-            "spin" => MotionKind::Spin,
-            "none" => MotionKind::Still,
-            k => bail_input!(
-                path,
-                "[motion] kind = {k:?}: expected \"orbit\", \"spin\" or \"none\""
-            ),
-        };
-        let frame_count = spec.motion.frames;
-        let degrees_per_frame = match (spec.motion.degrees_per_frame, spec.motion.turn_degrees) {
-            (Some(_), Some(_)) => bail_input!(
-                path,
-                "[motion] takes `degrees_per_frame` or `turn_degrees`, not both"
-            ),
-            (Some(d), None) => d,
-            (None, Some(t)) if !t.is_finite() => {
-                bail_input!(path, "[motion] turn_degrees = {t} is not a finite number")
-            }
-            (None, Some(t)) => t / frame_count.max(1) as f32,
-            (None, None) => 360.0 / frame_count.max(1) as f32,
-        };
+        let motion = Motion::from_spec(&spec.motion, path)?;
+        let frame_count = motion.frame_count();
         let (spec_source, flags_source) = (Source::Spec(path), Source::Flags);
+        let spec_scene = spec.scene.layer();
+        spec_scene.check(spec_source)?;
         spec.lights.check(spec_source)?;
         spec.render.check(spec_source)?;
         spec.output.check(spec_source)?;
+        flags.scene.check(flags_source)?;
         flags.lights.check(flags_source)?;
         flags.render.check(flags_source)?;
         flags.output.check(flags_source)?;
@@ -474,7 +436,14 @@ impl Animation {
             return Err(source.error(Render::TABLE, "keyframe", "keyframe", message));
         }
         if render.keyframe == 0 {
-            render.keyframe = default_keyframe(motion);
+            render.keyframe = default_keyframe(&motion);
+        }
+        check_background(&given, &flags.render, path)?;
+        if !spec.scene.catchers.is_empty() && scene == SceneSource::Shapes {
+            bail_input!(
+                path,
+                "[scene] catchers names glTF nodes; the built-in shapes scene has none"
+            );
         }
         let v3 = |a: [f32; 3]| Vec3::from_array(a);
         let camera = CameraRig {
@@ -495,15 +464,15 @@ impl Animation {
                     .unwrap_or_else(|| "animation".into())
             }),
             scene,
+            scene_settings: flags.scene.clone().over(spec_scene).resolve(),
+            catchers: spec.scene.catchers.clone(),
             env,
             env_rotation_deg: spec.environment.rotation,
             env_intensity: spec.environment.intensity,
             camera,
             motion,
-            degrees_per_frame,
-            pivot: spec.motion.pivot.map(v3),
             frame_count,
-            frames: 0..frame_count,
+            frames: FrameSet::range(0..frame_count),
             lights: flags.lights.clone().over(spec.lights).resolve(),
             render,
             output: flags.output.clone().over(spec.output).resolve(),
@@ -513,21 +482,104 @@ impl Animation {
         if let Some(why) = anim.materials.problem() {
             bail_input!(path, "[material] {why}");
         }
-        if let Some(r) = flags.frames {
-            if r.end > anim.frame_count {
+        if let Some(r) = &flags.frames {
+            let outside = r.at_or_after(anim.frame_count);
+            if !outside.is_empty() {
                 bail_input!(
                     "--frames",
-                    "{}..{} is outside the animation's {} frames (0..{})",
-                    r.start,
-                    r.end,
-                    anim.frame_count,
+                    "{r}: frame(s) {outside} are past the animation's last frame, {} (its {} \
+                     frames are numbered from 0)",
+                    anim.frame_count.saturating_sub(1),
                     anim.frame_count
                 );
             }
-            anim.frames = r.start..r.end;
+            anim.frames = r.clone();
         }
         anim.validate(path)?;
         Ok(anim)
+    }
+
+    /// The default turntable of a model (`envshadow render model.glb`), `flags` over it: the
+    /// camera orbits the model in [`MODEL_FRAMES`] frames, framed as a spec without `[camera]`
+    /// target or distance frames it (the model's bounding sphere, 25° above the horizon); the
+    /// built-in sky at a quarter of its intensity (as the default animation has it) or the
+    /// map `env`; 200 lights; 640×480 at 4 samples per pixel; a ground if
+    /// the model has none (`[scene] ground = "auto"`); frames in `out/<model's name>/`.
+    pub fn of_model(model: &Path, env: Option<&Path>, flags: &AnimFlags) -> Result<Animation> {
+        let stem = model
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "model".into());
+        let quote = |s: &str| toml::Value::String(s.to_string()).to_string();
+        let absolute = |p: &Path| {
+            std::path::absolute(p)
+                .map_err(|e| input_error(p, format!("cannot resolve the path: {e}")))
+        };
+        let environment = match env {
+            Some(map) => format!("file = {}", quote(&absolute(map)?.to_string_lossy())),
+            // The built-in sun is bright: at a quarter (as the default animation has it) a
+            // white model does not clip at exposure 1.
+            None => "builtin = \"sky\"\nintensity = 0.25".to_string(),
+        };
+        let text = format!(
+            "name = {name}\n[scene]\nfile = {file}\n[environment]\n{environment}\n\
+             [lights]\ncount = 200\n[motion]\nkind = \"orbit\"\nframes = {MODEL_FRAMES}\n\
+             [render]\nwidth = 640\nheight = 480\nspp = 4\n[output]\ndir = {dir}\n",
+            name = quote(&stem),
+            file = quote(&absolute(model)?.to_string_lossy()),
+            dir = quote(&Path::new("out").join(&stem).to_string_lossy()),
+        );
+        Animation::parse(&text, model, flags)
+    }
+
+    /// The loaded `scene` as the spec asks for it: turned upright (`[scene] up`), its materials
+    /// overridden (`[material]`, `--clay`, `--lambert`), its named
+    /// catchers marked (`[scene] catchers`), and a ground added below the model where
+    /// `[scene] ground` asks for one — a shadow catcher over a transparent background or with
+    /// `shadow_catcher = true`, else diffuse grey.
+    pub fn prepare_scene(&self, scene: Scene) -> Result<Scene> {
+        use crate::scene::ground::{Ground, add_ground, has_ground};
+        let settings = &self.scene_settings;
+        let mut scene = scene.stood_up(settings.up);
+        // The file's materials as `[material]` and --clay / --lambert say (before a ground of
+        // ours joins them: it keeps its own look).
+        self.materials
+            .apply(&self.material_flags, &mut scene.materials)
+            .map_err(|why| {
+                input_error(
+                    &self.spec_path,
+                    format!("[material] {why} (in {})", scene.source),
+                )
+            })?;
+        if let Err(name) = scene.mark_catchers(&self.catchers) {
+            let names: Vec<String> = scene
+                .parts
+                .iter()
+                .flat_map(|p| [p.node.clone(), p.mesh.clone()])
+                .flatten()
+                .collect();
+            bail_input!(
+                &self.spec_path,
+                "[scene] catchers: {} has no node or mesh named {name:?} (its names: {})",
+                scene.source,
+                if names.is_empty() {
+                    "none".to_string()
+                } else {
+                    names.join(", ")
+                }
+            );
+        }
+        let add = match settings.ground {
+            Ground::None => false,
+            Ground::Always => true,
+            Ground::Auto => !has_ground(&scene),
+        };
+        if add {
+            let catcher = settings.shadow_catcher
+                || self.render.background == crate::background::Background::Transparent;
+            add_ground(&mut scene, catcher);
+        }
+        Ok(scene)
     }
 
     /// This animation with the render settings of `layer` (one combination of a measuring
@@ -539,7 +591,7 @@ impl Animation {
         a.render = layer.clone().over(self.render.layer()).resolve();
         check_applies(layer, Source::Flags, &[a.render.method])?;
         if a.render.keyframe == 0 {
-            a.render.keyframe = default_keyframe(a.motion);
+            a.render.keyframe = default_keyframe(&a.motion);
         }
         a.validate(&self.spec_path)?;
         Ok(a)
@@ -562,9 +614,10 @@ impl Animation {
     /// The memory budget its inputs are loaded against: the request, and with a spin a posed
     /// copy of the scene (and its BVH) for each frame in flight.
     pub fn budget(&self) -> limits::Budget {
-        let posed = match self.motion {
-            MotionKind::Spin => self.frames.len().min(limits::FRAMES_IN_FLIGHT),
-            MotionKind::Orbit | MotionKind::Still => 0,
+        let posed = if self.motion.has(MotionKind::Spin) {
+            self.frames.len().min(limits::FRAMES_IN_FLIGHT)
+        } else {
+            0
         };
         limits::Budget::new(&self.request(), posed)
     }
@@ -614,7 +667,6 @@ impl Animation {
         let numbers = [
             ("[environment] rotation", self.env_rotation_deg),
             ("[environment] intensity", self.env_intensity),
-            ("[motion] degrees_per_frame", self.degrees_per_frame),
             ("[camera] vfov", self.camera.vfov_deg),
             ("[camera] elevation", self.camera.elevation_deg),
             ("[camera] azimuth", self.camera.azimuth_deg),
@@ -628,7 +680,6 @@ impl Animation {
             ("[camera] target", self.camera.target),
             ("[camera] position", self.camera.position),
             ("[camera] up", Some(self.camera.up)),
-            ("[motion] pivot", self.pivot),
         ];
         for (key, v) in vectors {
             if let Some(v) = v
@@ -662,27 +713,35 @@ impl Animation {
         Ok(())
     }
 
-    /// The scene's world transform at `frame` (spin only), about the vertical axis through the
-    /// pivot (default: the camera target).
-    pub fn scene_transform(&self, frame: usize, target: Vec3) -> Option<Mat4> {
-        if self.motion != MotionKind::Spin {
-            return None;
-        }
-        let pivot = self.pivot.unwrap_or(target);
-        let angle = (self.degrees_per_frame * frame as f32).to_radians();
-        Some(
-            Mat4::from_translation(pivot)
-                * Mat4::from_rotation_y(angle)
-                * Mat4::from_translation(-pivot),
-        )
+    /// Where spins turn, in `scene`'s coordinates: the default pivot (the camera's target at
+    /// frame 0) and the scene's origin, from which a `[motion] pivot` (world space) is taken.
+    pub fn pivot(&self, scene: &Scene) -> Result<Pivot> {
+        Ok(Pivot {
+            target: self.camera(scene, 0)?.target,
+            origin: scene.origin,
+        })
+    }
+
+    /// The scene's transform at `frame`: the spins done by then, each about the vertical axis
+    /// through its pivot (from [`pivot`](Self::pivot)); `None` before any spin.
+    pub fn scene_transform(&self, frame: usize, pivot: Pivot) -> Option<Mat4> {
+        self.motion
+            .scene_transform(frame, pivot.target, pivot.origin)
+    }
+
+    /// The key frame that starts the temporal chain holding `frame` (`--temporal`): frames
+    /// `0, K, 2K, …` of each motion of the sequence, K the key-frame interval.
+    pub fn key_frame_of(&self, frame: usize) -> usize {
+        self.motion.key_frame_of(frame, self.render.keyframe)
     }
 
     /// Frames a job's range should start on so that every frame it writes is rendered as the
     /// whole animation would render it: with `temporal`, the key-frame interval (a job
-    /// starting elsewhere first renders, without writing, the frames back to its key frame).
+    /// starting elsewhere first renders, without writing, the frames back to its key frame;
+    /// a sequence of motions: [`Motion::frame_alignment`]).
     pub fn frame_alignment(&self) -> usize {
         if self.render.temporal {
-            self.render.keyframe as usize
+            self.motion.frame_alignment(self.render.keyframe)
         } else {
             1
         }
@@ -691,9 +750,12 @@ impl Animation {
     /// The camera at `frame`. `scene` is the unposed scene (bounds and file camera).
     pub fn camera(&self, scene: &Scene, frame: usize) -> Result<Camera> {
         let rig = &self.camera;
-        let (lo, hi) = scene.bounds();
+        // The model, not the ground envshadow may have added under it.
+        let (lo, hi) = scene.model_bounds();
         let centre = (lo + hi) * 0.5;
-        let radius = ((hi - lo) * 0.5).length().max(1e-6);
+        // Scale-free: any positive radius frames the model (a floor in scene units would move
+        // the camera of a model authored in micrometres).
+        let radius = ((hi - lo) * 0.5).length().max(f32::MIN_POSITIVE);
         let (mut position, target, vfov) = if rig.from_file {
             let Some(c) = scene.camera else {
                 bail_input!(
@@ -702,12 +764,13 @@ impl Animation {
                     scene.source
                 );
             };
-            let dist = (centre - c.position).length().max(1e-3);
+            let dist = (centre - c.position).length().max(radius);
             (c.position, c.position + c.forward * dist, c.vfov_deg)
         } else {
-            let target = rig.target.unwrap_or(centre);
+            // The spec's positions are world space; the scene counts from its origin.
+            let target = rig.target.map_or(centre, |t| scene.to_local(t));
             let position = match rig.position {
-                Some(p) => p,
+                Some(p) => scene.to_local(p),
                 None => {
                     let dist = rig.distance.unwrap_or_else(|| {
                         radius / libm::sinf(rig.vfov_deg.to_radians() * 0.5) * 1.05
@@ -724,12 +787,9 @@ impl Animation {
             };
             (position, target, rig.vfov_deg)
         };
-        if self.motion == MotionKind::Orbit {
-            let angle = (self.degrees_per_frame * frame as f32).to_radians();
+        if let Some(degrees) = self.motion.orbit_degrees(frame) {
+            let angle = degrees.to_radians();
             position = target + Mat4::from_rotation_y(angle).transform_vector3(position - target);
-        }
-        if (position - target).length() < 1e-9 {
-            bail_input!(&self.spec_path, "[camera] position and target coincide");
         }
         if !(position.is_finite() && target.is_finite()) {
             bail_input!(
@@ -738,6 +798,9 @@ impl Animation {
                 show(position),
                 show(target)
             );
+        }
+        if !(target - position).normalize_or_zero().is_normalized() {
+            bail_input!(&self.spec_path, "[camera] position and target coincide");
         }
         // look_at needs a right vector: `up` along the view leaves none.
         let forward = (target - position).normalize();
@@ -776,6 +839,17 @@ impl Animation {
             SceneSource::Shapes => put("[scene] builtin", "shapes".into()),
             SceneSource::File(p) => put("[scene] file", file(p)?),
         }
+        // [ours] Only what differs from the defaults, so folders rendered before these keys
+        // existed (and which they would not change) still resume.
+        let defaults = SceneSettings::default().layer().given();
+        for (key, flag, value) in self.scene_settings.layer().given() {
+            if !defaults.contains(&(key, flag, value.clone())) {
+                put(&format!("[{}] {key}", SceneSettings::TABLE), value);
+            }
+        }
+        if !self.catchers.is_empty() {
+            put("[scene] catchers", format!("{:?}", self.catchers));
+        }
         match &self.env {
             EnvSource::Sky => put("[environment] builtin", "sky".into()),
             EnvSource::File(p) => put("[environment] file", file(p)?),
@@ -792,24 +866,21 @@ impl Animation {
         put("[camera] up", show(c.up));
         put("[camera] position", auto(c.position.map(show)));
         put("[camera] from_file", c.from_file.to_string());
-        let kind = match self.motion {
-            MotionKind::Orbit => "orbit",
-            MotionKind::Spin => "spin",
-            MotionKind::Still => "none",
-        };
-        put("[motion] kind", kind.into());
-        put("[motion] frames", self.frame_count.to_string());
-        put(
-            "[motion] degrees_per_frame",
-            self.degrees_per_frame.to_string(),
-        );
-        put("[motion] pivot", auto(self.pivot.map(show)));
+        for (key, value) in self.motion.record(show) {
+            put(&key, value);
+        }
         for (key, _, value) in self.lights.layer().given() {
             put(&format!("[{}] {key}", Lights::TABLE), value);
         }
-        for (key, _, value) in self.render.layer().given() {
+        let render_defaults = Render::default().layer().given();
+        for (key, flag, value) in self.render.layer().given() {
             // [ours] Tiles and threads change no pixel (tiled == untiled, bit for bit): a
-            // resume may pick them for the machine it runs on.
+            // resume may pick them for the machine it runs on. The background settings are
+            // recorded when not the defaults, so folders from before them still resume.
+            let background = key.starts_with("background");
+            if background && render_defaults.contains(&(key, flag, value.clone())) {
+                continue;
+            }
             if key != "threads" && key != "tile" {
                 put(&format!("[{}] {key}", Render::TABLE), value);
             }
@@ -831,20 +902,74 @@ impl Animation {
     }
 }
 
+/// Refuses the background settings that the chosen background does not read: a colour
+/// without `background = "color"`, a blur without `"blurred"` (they would change nothing).
+fn check_background(given: &RenderLayer, flags: &RenderLayer, path: &Path) -> Result<()> {
+    use crate::background::Background;
+    let background = given.background.unwrap_or_default();
+    for (key, flag, set, wants) in [
+        (
+            "background_color",
+            "background-color",
+            given.background_color.is_some(),
+            Background::Color,
+        ),
+        (
+            "background_blur",
+            "background-blur",
+            given.background_blur.is_some(),
+            Background::Blurred,
+        ),
+    ] {
+        if set && background != wants {
+            let from_flag = match key {
+                "background_color" => flags.background_color.is_some(),
+                _ => flags.background_blur.is_some(),
+            };
+            let source = if from_flag {
+                Source::Flags
+            } else {
+                Source::Spec(path)
+            };
+            let message =
+                format!("applies only with background = \"{wants}\" (it is \"{background}\")");
+            return Err(source.error(Render::TABLE, key, flag, message));
+        }
+    }
+    Ok(())
+}
+
 /// A vector as a spec writes it: `[x, y, z]`.
 fn show(v: Vec3) -> String {
     format!("[{}, {}, {}]", v.x, v.y, v.z)
 }
 
-/// Default key-frame interval for `motion` (docs/temporal.md has the measurements): with a
-/// camera orbit the wrong pairs fall along a chain (0.0045 % after one frame, 0.0015 % after
-/// 15: bunny, 640×480, 200 lights), so chains are long; with a spinning object they grow
-/// (0.034 % after one frame, 0.051 % after four, 0.07 % after eight), so the chain restarts
-/// every 4 frames to stay within 0.05 %.
-pub fn default_keyframe(motion: MotionKind) -> u32 {
-    match motion {
-        MotionKind::Spin => 4,
-        MotionKind::Orbit | MotionKind::Still => 16,
+/// Where an animation's spins turn ([`Animation::pivot`]), in the scene's coordinates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pivot {
+    /// The pivot of a spin that names none: the camera's target at frame 0.
+    pub target: Vec3,
+    /// The scene's origin ([`Scene::origin`]): a `[motion] pivot` is a world-space point.
+    pub origin: glam::DVec3,
+}
+
+/// Frames of a model's default turntable ([`Animation::of_model`]): 5° per frame.
+pub const MODEL_FRAMES: usize = 72;
+
+/// Whether `path` names a glTF model (`.glb`, `.gltf`) rather than an animation spec.
+pub fn is_model(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("glb") || e.eq_ignore_ascii_case("gltf"))
+}
+
+/// Default key-frame interval for `motion` ([`MotionKind::default_keyframe`]): one motion's
+/// own; 0 for a sequence, whose motions each take their own default.
+pub fn default_keyframe(motion: &Motion) -> u32 {
+    if motion.is_single() {
+        motion.segments()[0].kind.default_keyframe()
+    } else {
+        0
     }
 }
 
@@ -956,24 +1081,10 @@ mod tests {
             .expect("the module doc has a toml block");
         let anim = Animation::parse(toml, Path::new("doc.toml"), &AnimFlags::default()).unwrap();
         assert_eq!((anim.render.width, anim.lights.count), (320, 100));
-    }
-
-    #[test]
-    fn frame_ranges() {
-        assert_eq!(
-            "2..5".parse::<FrameRange>().unwrap(),
-            FrameRange { start: 2, end: 5 }
-        );
-        assert_eq!(
-            "2..=5".parse::<FrameRange>().unwrap(),
-            FrameRange { start: 2, end: 6 }
-        );
-        assert_eq!(
-            "7".parse::<FrameRange>().unwrap(),
-            FrameRange { start: 7, end: 8 }
-        );
-        assert!("5..5".parse::<FrameRange>().is_err());
-        assert!("a..b".parse::<FrameRange>().is_err());
+        assert!(anim.lights.scene_lights);
+        let off = toml.replace("scene_lights = true", "scene_lights = false");
+        let anim = Animation::parse(&off, Path::new("doc.toml"), &AnimFlags::default()).unwrap();
+        assert!(!anim.lights.scene_lights);
     }
 
     #[test]
@@ -990,7 +1101,16 @@ mod tests {
             "{}",
             c1.position
         );
-        assert!(anim.scene_transform(1, Vec3::ZERO).is_none());
+        assert!(
+            anim.scene_transform(
+                1,
+                Pivot {
+                    target: Vec3::ZERO,
+                    origin: glam::DVec3::ZERO
+                }
+            )
+            .is_none()
+        );
         let spin = Animation::parse(
             &text.replace("frames = 4", "frames = 4\nkind = \"spin\""),
             Path::new("s.toml"),
@@ -998,7 +1118,15 @@ mod tests {
         )
         .unwrap();
         assert_eq!(spin.camera(&scene, 3).unwrap().position, c0.position);
-        let m = spin.scene_transform(1, Vec3::ZERO).unwrap();
+        let m = spin
+            .scene_transform(
+                1,
+                Pivot {
+                    target: Vec3::ZERO,
+                    origin: glam::DVec3::ZERO,
+                },
+            )
+            .unwrap();
         assert!((m.transform_point3(Vec3::Z) - Vec3::X).length() < 1e-5);
     }
 }

@@ -17,7 +17,7 @@ use clap::Args;
 use rayon::prelude::*;
 
 use crate::accel::{self, Accel, PACKET, ShadowRay};
-use crate::anim::{AnimFlags, Animation, MaterialFlags};
+use crate::anim::{AnimFlags, Animation, EnvSource, MaterialFlags};
 use crate::coordinator::{Inputs, Silent, render_frame, thread_pool};
 use crate::error::{Result, input_error};
 use crate::film::Counts;
@@ -29,9 +29,22 @@ use crate::settings::{
 
 #[derive(Args, Debug, Clone)]
 pub struct BenchArgs {
-    /// `shapes`, `bunny` (anims/shapes-turntable.toml, anims/bunny-turntable.toml) or a spec file.
+    /// `shapes`, `bunny` (anims/shapes-turntable.toml, anims/bunny-turntable.toml), a spec
+    /// file, or a glTF model (`.glb`, `.gltf`): an auto-framed turntable of it (the camera
+    /// framing its bounding sphere, 25° up, 40° field of view; see --env).
     #[arg(long, default_value = "bunny")]
     pub scene: String,
+    /// The environment map instead of the spec's (for a model: instead of the built-in sky):
+    /// an `.exr` or `.hdr` file, or `sky`.
+    #[arg(long, value_name = "FILE")]
+    pub env: Option<PathBuf>,
+    /// Also render each configuration once with validation (untimed): the wrong pairs and the
+    /// image's relative RMSE against brute force.
+    #[arg(long)]
+    pub accuracy: bool,
+    /// Print the rows as CSV (one header line) instead of a markdown table.
+    #[arg(long)]
+    pub csv: bool,
     /// Which frame of the animation.
     #[arg(long, default_value_t = 0)]
     pub frame: usize,
@@ -171,12 +184,42 @@ pub fn load(
     lights: &LightsLayer,
     material: &MaterialFlags,
 ) -> Result<(Animation, Inputs)> {
+    load_scene(spec, None, lights, material)
+}
+
+/// Whether a measuring command's `--scene` names a glTF model rather than a spec.
+pub fn is_model(scene: &Path) -> bool {
+    scene
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("glb") || e.eq_ignore_ascii_case("gltf"))
+}
+
+/// [`load`] for a spec or a glTF model (an auto-framed turntable,
+/// [`Animation::of_model`]), lit by `env` when given (`sky`: the built-in sky).
+pub fn load_scene(
+    scene: &Path,
+    env: Option<&Path>,
+    lights: &LightsLayer,
+    material: &MaterialFlags,
+) -> Result<(Animation, Inputs)> {
     let flags = AnimFlags {
         lights: lights.clone(),
         material: material.clone(),
         ..Default::default()
     };
-    let anim = Animation::load(spec, &flags)?;
+    let mut anim = if is_model(scene) {
+        Animation::of_model(scene, None, &flags)?
+    } else {
+        Animation::load(scene, &flags)?
+    };
+    if let Some(env) = env {
+        anim.env = if env == Path::new("sky") {
+            EnvSource::Sky
+        } else {
+            EnvSource::File(env.to_path_buf())
+        };
+    }
     let inputs = Inputs::load(&anim)?;
     Ok((anim, inputs))
 }
@@ -195,20 +238,34 @@ pub fn light_layers(sweep: &LightsSweep) -> Result<Vec<LightsLayer>> {
 #[derive(Clone, Debug)]
 pub struct BenchRow {
     pub lights: usize,
-    /// The frame's size.
+    /// The frame's size and samples per pixel.
     pub width: u32,
     pub height: u32,
+    pub spp: u32,
     pub threads: usize,
     /// The method with its flood rule.
     pub variant: Variant,
     pub seconds: f64,
     pub queries: u64,
+    /// Shadow rays the frame traced at its pixels, and again at tiles' halos.
     pub rays: u64,
+    pub halo_rays: u64,
     /// Whether the timed frame built its BVH (moving geometry) or reused the run's (still
     /// geometry, built before timing).
     pub build_in_frame: bool,
     /// The split (absent with `--no-split`).
     pub split: Option<Split>,
+    /// With `--accuracy`: the frame validated against brute force.
+    pub accuracy: Option<Accuracy>,
+}
+
+/// How a method's frame compares with brute force (one validated render).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Accuracy {
+    /// Wrong (sample, light) pairs, % of queries.
+    pub wrong_percent: f64,
+    /// The image's RMSE over the mean of the brute-force image.
+    pub rel_rmse: f64,
 }
 
 /// Where a frame's time went, in seconds (medians).
@@ -259,19 +316,19 @@ pub fn replay(accel: &Accel, rays: &[ShadowRay], packets: bool) -> u64 {
 
 /// Whether the frame's geometry is the unposed scene (its BVH is built once per run).
 fn still_geometry(anim: &Animation, inputs: &Inputs, frame: usize) -> Result<bool> {
-    let camera0 = anim.camera(&inputs.scene, 0)?;
-    Ok(anim.scene_transform(frame, camera0.target).is_none())
+    let pivot = anim.pivot(&inputs.scene)?;
+    Ok(anim.scene_transform(frame, pivot).is_none())
 }
 
 /// The frame's BVH, built as `render_frame` builds it.
 fn frame_accel(anim: &Animation, inputs: &Inputs, frame: usize) -> Result<Accel> {
-    let camera0 = anim.camera(&inputs.scene, 0)?;
-    Ok(match anim.scene_transform(frame, camera0.target) {
+    let pivot = anim.pivot(&inputs.scene)?;
+    Ok(match anim.scene_transform(frame, pivot) {
         Some(m) => {
             let posed = inputs.scene.transformed(m);
-            Accel::build(&posed.positions, &posed.triangles)
+            posed.accel()
         }
-        None => Accel::build(&inputs.scene.positions, &inputs.scene.triangles),
+        None => inputs.scene.accel(),
     })
 }
 
@@ -329,7 +386,7 @@ pub fn measure(args: &BenchArgs, mut log: impl FnMut(Log)) -> Result<Vec<BenchRo
     };
     let mut rows = Vec::new();
     for lights in light_layers(&args.lights)? {
-        let (base, inputs) = load(&spec, &lights, &args.material)?;
+        let (base, inputs) = load_scene(&spec, args.env.as_deref(), &lights, &args.material)?;
         for w in &inputs.scene.warnings {
             log(Log::Warning(w));
         }
@@ -355,6 +412,21 @@ pub fn measure(args: &BenchArgs, mut log: impl FnMut(Log)) -> Result<Vec<BenchRo
                     log(Log::Dumped(&path, rays.len()));
                 }
                 recorded.push(rays);
+            }
+        }
+        // One validated render of each variant (untimed): its mistakes against brute force.
+        let mut accuracy = vec![None; variants.len()];
+        if args.accuracy {
+            let pool = thread_pool(threads.iter().copied().max().unwrap_or(0))?;
+            for (k, anim) in anims.iter().enumerate() {
+                let mut a = anim.clone();
+                a.render.validate = true;
+                let (film, stats) =
+                    pool.install(|| render_frame(&a, &inputs, frame, None, &Silent))?;
+                accuracy[k] = Some(Accuracy {
+                    wrong_percent: film.counts.error_percent(),
+                    rel_rmse: stats.image_error.map_or(0.0, |e| e.rel_rmse),
+                });
             }
         }
         // Still geometry (an orbit turntable) has one BVH per run, built by its first frame:
@@ -408,12 +480,15 @@ pub fn measure(args: &BenchArgs, mut log: impl FnMut(Log)) -> Result<Vec<BenchRo
                     lights: inputs.lights.len(),
                     width: anims[k].render.width,
                     height: anims[k].render.height,
+                    spp: anims[k].render.spp,
                     threads: pool.current_num_threads(),
                     variant: v.clone(),
                     seconds: median(std::mem::take(&mut times[k])),
                     queries: counts[k].queries,
                     rays: counts[k].rays,
+                    halo_rays: counts[k].halo_rays,
                     split,
+                    accuracy: accuracy[k],
                 };
                 log(Log::Row(&row));
                 rows.push(row);
@@ -423,22 +498,43 @@ pub fn measure(args: &BenchArgs, mut log: impl FnMut(Log)) -> Result<Vec<BenchRo
     Ok(rows)
 }
 
+impl BenchRow {
+    /// Every shadow ray the frame traced: at its pixels and at tiles' halos.
+    pub fn traced(&self) -> u64 {
+        self.rays + self.halo_rays
+    }
+
+    /// [`traced`](Self::traced) as a percentage of the queries (0 without queries).
+    pub fn percent_traced(&self) -> f64 {
+        if self.queries > 0 {
+            100.0 * self.traced() as f64 / self.queries as f64
+        } else {
+            0.0
+        }
+    }
+}
+
 /// The rows as a markdown table; `× none` is the time relative to the same frame without
-/// shadows at the same light and thread count.
+/// shadows at the same light and thread count. Rays are every ray the frame traced, halos'
+/// included.
 pub fn markdown(rows: &[BenchRow]) -> String {
     let with_split = rows.iter().any(|r| r.split.is_some());
+    let with_accuracy = rows.iter().any(|r| r.accuracy.is_some());
     let mut s = String::from(
         "| lights | threads | method | s/frame | × none | queries | rays traced | % traced | M rays/s |",
     );
+    let mut rule = String::from("\n|---:|---:|---|---:|---:|---:|---:|---:|---:|");
+    if with_accuracy {
+        s.push_str(" wrong pairs % | rel. RMSE |");
+        rule.push_str("---:|---:|");
+    }
     if with_split {
         s.push_str(
             " build s | primary+shading s | shadow rays s | prediction s | M rays/s traced alone |",
         );
+        rule.push_str("---:|---:|---:|---:|---:|");
     }
-    s.push_str("\n|---:|---:|---|---:|---:|---:|---:|---:|---:|");
-    if with_split {
-        s.push_str("---:|---:|---:|---:|---:|");
-    }
+    s.push_str(&rule);
     s.push('\n');
     for r in rows {
         let none_row = rows.iter().find(|o| {
@@ -447,28 +543,81 @@ pub fn markdown(rows: &[BenchRow]) -> String {
         let none = none_row
             .map(|o| format!("{:.2}", r.seconds / o.seconds))
             .unwrap_or_else(|| "–".into());
-        let pct = if r.queries > 0 {
-            100.0 * r.rays as f64 / r.queries as f64
-        } else {
-            0.0
-        };
         s.push_str(&format!(
-            "| {} | {} | {} | {:.3} | {} | {} | {} | {:.1} | {:.2} |\n",
+            "| {} | {} | {} | {:.3} | {} | {} | {} | {:.1} | {:.2} |",
             r.lights,
             r.threads,
             r.variant,
             r.seconds,
             none,
             r.queries,
-            r.rays,
-            pct,
-            r.rays as f64 / r.seconds / 1e6
+            r.traced(),
+            r.percent_traced(),
+            r.traced() as f64 / r.seconds / 1e6
         ));
-        if with_split {
-            s.pop();
-            s.push_str(&split_cells(r, none_row));
-            s.push('\n');
+        if with_accuracy {
+            match r.accuracy {
+                Some(a) => s.push_str(&format!(" {:.4} | {:.5} |", a.wrong_percent, a.rel_rmse)),
+                None => s.push_str(" – | – |"),
+            }
         }
+        if with_split {
+            s.push_str(&split_cells(r, none_row));
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// The header of [`csv`].
+pub const CSV_HEADER: &str = "scene,environment,frame,width,height,spp,lights,threads,method,\
+repeats,seconds,queries,rays_traced,halo_rays,percent_traced,wrong_percent,rel_rmse";
+
+/// The rows as CSV ([`CSV_HEADER`], then a line per row; `wrong_percent` and `rel_rmse` empty
+/// without `--accuracy`): what scripts/bench-corpus.sh gathers. `rays_traced` counts every ray
+/// the frame traced, `halo_rays` those of them traced at tiles' halos.
+pub fn csv(args: &BenchArgs, rows: &[BenchRow]) -> String {
+    let env = args
+        .env
+        .as_deref()
+        .map(|p| p.display().to_string())
+        .unwrap_or_else(|| "spec".into());
+    let field = |s: &str| {
+        if s.contains([',', '"', '\n']) {
+            format!("\"{}\"", s.replace('"', "\"\""))
+        } else {
+            s.to_string()
+        }
+    };
+    let mut s = format!("{CSV_HEADER}\n");
+    for r in rows {
+        let (wrong, rel) = match r.accuracy {
+            Some(a) => (
+                format!("{:.6}", a.wrong_percent),
+                format!("{:.6e}", a.rel_rmse),
+            ),
+            None => (String::new(), String::new()),
+        };
+        s.push_str(&format!(
+            "{},{},{},{},{},{},{},{},{},{},{:.4},{},{},{},{:.4},{},{}\n",
+            field(&args.scene),
+            field(&env),
+            args.frame,
+            r.width,
+            r.height,
+            r.spp,
+            r.lights,
+            r.threads,
+            field(&r.variant.label),
+            args.repeat,
+            r.seconds,
+            r.queries,
+            r.traced(),
+            r.halo_rays,
+            r.percent_traced(),
+            wrong,
+            rel
+        ));
     }
     s
 }
@@ -578,8 +727,13 @@ pub fn heading(args: &BenchArgs, rows: &[BenchRow]) -> String {
         .first()
         .map(|r| format!(" {}x{}", r.width, r.height))
         .unwrap_or_default();
+    let env = args
+        .env
+        .as_deref()
+        .map(|p| format!(" under {}", p.display()))
+        .unwrap_or_default();
     format!(
-        "{}{size}, frame {}{}, median of {}{}:",
+        "{}{env}{size}, frame {}{}, median of {}{}:",
         args.scene,
         args.frame,
         tuning(&args.render),

@@ -123,14 +123,22 @@ impl TileBuffers {
             self.above[i * w..(i + 1) * w].fill(0);
         } else {
             match self.last_begun {
-                Some(l) if crate::shade::same(self.surf[l].n, s.n) => {
+                Some(l)
+                    if crate::shade::same(self.surf[l].n, s.n)
+                        && crate::shade::same(self.surf[l].ng, s.ng) =>
+                {
                     self.above.copy_within(l * w..(l + 1) * w, i * w);
                 }
-                _ => crate::shade::above_horizon(
+                _ => crate::shade::above_both_horizons(
                     &ctx.shade_lights,
                     s.n,
+                    s.ng,
                     &mut self.above[i * w..(i + 1) * w],
                 ),
+            }
+            if ctx.has_points() {
+                // Point and spot lights: from this point, whatever the normal.
+                ctx.point_lights_above(&s, &mut self.above[i * w..(i + 1) * w]);
             }
             self.last_begun = Some(i);
         }

@@ -88,7 +88,7 @@ impl Camera {
     pub fn project(&self, p: Vec3) -> Option<(f32, f32)> {
         let d = p - self.position;
         let z = d.dot(self.forward);
-        if z <= 1e-9 {
+        if z <= 0.0 {
             return None;
         }
         let sx = d.dot(self.right) / (z * self.tan_half * self.aspect);

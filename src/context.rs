@@ -5,13 +5,16 @@
 use glam::Vec3;
 
 use crate::accel::{Accel, PACKET};
+use crate::background::{Backdrop, ENVIRONMENT};
 use crate::camera::Camera;
 use crate::envmap::EnvMap;
 use crate::glossy::Glossy;
 use crate::lights::LightSet;
+use crate::lights::punctual::SHADOW_END;
+use crate::offset::{hit_point, offset_origin};
 use crate::samples::Samples;
-use crate::scene::{MaterialSample, Scene, footprint_width};
-use crate::shade::ShadeLights;
+use crate::scene::{AlphaTest, MaterialSample, Scene, coverage_threshold, footprint_width};
+use crate::shade::{ShadeLights, light_sum};
 
 /// What a primary ray found at a pixel centre.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -21,8 +24,11 @@ pub struct Surface {
     /// Unit shading normal (after the normal map), on the side facing the camera: it decides
     /// which lights are above the horizon, and shades.
     pub n: Vec3,
-    /// Unit geometric normal, on the side facing the camera: shadow rays start off it.
+    /// Unit geometric normal, on the side facing the camera.
     pub ng: Vec3,
+    /// Where shadow rays start: `p` moved along `ng` by a bound on its floating-point error
+    /// ([`crate::offset`]), so no ray finds the surface it leaves, at any scale.
+    pub origin: Vec3,
     /// Linear RGB albedo: the material's base colour there (texture and vertex colour
     /// included).
     pub albedo: Vec3,
@@ -33,6 +39,8 @@ pub struct Surface {
     pub hit: bool,
     /// The rest of the material there: metallic, roughness, occlusion, emission, specular.
     pub material: MaterialSample,
+    /// A shadow catcher: it shows only the shadows it receives (see the `catcher` module).
+    pub catcher: bool,
 }
 
 /// Everything a tile needs about its frame: shared, read-only, across threads.
@@ -42,13 +50,19 @@ pub struct FrameContext<'a> {
     pub camera: Camera,
     pub lights: &'a LightSet,
     pub env: &'a EnvMap,
-    /// Light directions as a flat array, for shadow rays and warping.
+    /// What rays that leave the scene see (`[render] background`; the environment unless
+    /// [`with_backdrop`](Self::with_backdrop) says otherwise).
+    pub backdrop: &'a Backdrop,
+    /// The directional lights' directions as a flat array, for shadow rays and warping (light
+    /// j < `light_dir.len()`; the point and spot lights come after them, see
+    /// [`shadow_ray`](Self::shadow_ray)).
     pub light_dir: Vec<Vec3>,
+    /// The point and spot lights' bits (every light's bitset width): lights whose direction
+    /// differs per pixel.
+    pub point_bits: Vec<u64>,
     /// The lights for the horizon test and shading, padded with zero lights to whole words
     /// (see [`crate::shade`]).
     pub shade_lights: ShadeLights,
-    /// Shadow-ray origin offset along the geometric normal (scene units).
-    pub shadow_eps: f32,
     /// Where the pixels' samples lie. The tiles and the methods address samples: sample
     /// (x, y) is stratum (x mod k, y mod k) of pixel (x div k, y div k); with one sample per
     /// pixel, samples are pixels.
@@ -60,6 +74,9 @@ pub struct FrameContext<'a> {
     /// The prefiltered environment for lobes too narrow for the lights (none: the lights
     /// alone); see [`with_glossy`](Self::with_glossy).
     pub glossy: Option<&'a Glossy>,
+    /// The environment's turn this frame beyond the map's own rotation (`[motion] kind =
+    /// "environment"`), as (sin, cos): the background turns with the lights.
+    pub env_turn: Option<(f32, f32)>,
 }
 
 impl<'a> FrameContext<'a> {
@@ -76,18 +93,46 @@ impl<'a> FrameContext<'a> {
             camera,
             lights,
             env,
+            backdrop: &ENVIRONMENT,
             light_dir: lights.lights.iter().map(|l| l.dir).collect(),
+            point_bits: {
+                let mut b = vec![0u64; lights.len().div_ceil(64)];
+                for j in lights.lights.len()..lights.len() {
+                    crate::bits::set(&mut b, j);
+                }
+                b
+            },
             shade_lights: ShadeLights::new(lights),
-            shadow_eps: shadow_epsilon(scene),
             samples: Samples::one(),
             texture_footprint: 0.0,
             glossy: None,
+            env_turn: None,
         }
     }
 
     /// This context with glossy lobes too narrow for the lights shaded from `glossy`.
     pub fn with_glossy(self, glossy: Option<&'a Glossy>) -> FrameContext<'a> {
         FrameContext { glossy, ..self }
+    }
+
+    /// This context with the environment turned by `degrees` about the up axis beyond the
+    /// map's rotation, as its lights are ([`LightSet::turned`](crate::lights::LightSet::turned)).
+    pub fn with_environment_turn(self, degrees: Option<f32>) -> FrameContext<'a> {
+        FrameContext {
+            env_turn: degrees.map(|d| libm::sincosf(d.to_radians())),
+            ..self
+        }
+    }
+
+    /// The environment's radiance seen along unit direction `dir` (a background sample):
+    /// the map turned as this frame's lights are.
+    #[inline]
+    pub fn background(&self, dir: Vec3) -> Vec3 {
+        let dir = match self.env_turn {
+            None => dir,
+            Some((s, c)) => crate::envmap::rotate_y(dir, (-s, c)),
+        };
+        self.backdrop.radiance(self.env, dir)
     }
 
     /// This context with the pixels' samples at `samples`, and textures filtered to what one
@@ -100,6 +145,11 @@ impl<'a> FrameContext<'a> {
         }
     }
 
+    /// This context with rays that leave the scene seeing `backdrop`.
+    pub fn with_backdrop(self, backdrop: &'a Backdrop) -> FrameContext<'a> {
+        FrameContext { backdrop, ..self }
+    }
+
     /// The unit direction of the primary ray of sample (x, y).
     #[inline]
     pub fn sample_dir(&self, x: u32, y: u32) -> Vec3 {
@@ -109,9 +159,60 @@ impl<'a> FrameContext<'a> {
         self.camera.ray_dir_at(px, py, dx, dy)
     }
 
-    /// Number of lights.
+    /// Number of lights: directional, point and spot.
     pub fn light_count(&self) -> usize {
-        self.light_dir.len()
+        self.lights.len()
+    }
+
+    /// Whether the scene file placed point or spot lights.
+    #[inline]
+    pub fn has_points(&self) -> bool {
+        !self.lights.points.is_empty()
+    }
+
+    /// The shadow ray from `s` towards light `j`: origin (off the surface along its geometric
+    /// normal), unit direction, and end — ∞ for a directional light, just short of a point or
+    /// spot light ([`crate::lights::punctual::SHADOW_END`]).
+    #[inline]
+    pub fn shadow_ray(&self, s: &Surface, j: usize) -> (Vec3, Vec3, f32) {
+        let origin = s.origin;
+        match self.light_dir.get(j) {
+            Some(&dir) => (origin, dir, f32::INFINITY),
+            None => {
+                let to = self.lights.points[j - self.light_dir.len()].position - origin;
+                let dist = to.length();
+                (origin, to / dist, dist * (1.0 - SHADOW_END))
+            }
+        }
+    }
+
+    /// Sets the bits of the point and spot lights that reach surface `s` from above its
+    /// horizon (within range and cone; [`crate::lights::PointLight::at`]) in `row` (one pixel's bitset),
+    /// clearing the others' bits.
+    #[inline]
+    pub fn point_lights_above(&self, s: &Surface, row: &mut [u64]) {
+        let first = self.light_dir.len();
+        for (k, l) in self.lights.points.iter().enumerate() {
+            let up = l.at(s.p).is_some_and(|i| s.n.dot(i.dir) > 0.0);
+            if up {
+                crate::bits::set(row, first + k);
+            } else {
+                crate::bits::clear(row, first + k);
+            }
+        }
+    }
+
+    /// The cosine-weighted irradiance on `s` of the lights in `bits`: the directional ones'
+    /// ([`light_sum`]) and the point and spot lights' ([`crate::shade::point_lights`]).
+    #[inline]
+    pub fn irradiance(&self, s: &Surface, bits: &[u64]) -> Vec3 {
+        let sum = light_sum(&self.shade_lights, s.n, bits);
+        if self.has_points() {
+            let first = self.light_dir.len();
+            sum + crate::shade::point_lights(&self.lights.points, first, s.p, s.n, bits)
+        } else {
+            sum
+        }
     }
 
     /// Number of u64 words in one pixel's visibility bitset.
@@ -124,7 +225,10 @@ impl<'a> FrameContext<'a> {
     #[inline]
     pub fn surface(&self, x: u32, y: u32) -> Surface {
         let dir = self.sample_dir(x, y);
-        let Some(hit) = self.accel.intersect(self.camera.position, dir) else {
+        let k = self.samples.k;
+        let coverage = coverage_threshold(x / k, y / k, x % k, y % k, k);
+        let cut = AlphaTest::camera(self.scene, coverage);
+        let Some(hit) = self.accel.intersect_cut(self.camera.position, dir, &cut) else {
             return Surface {
                 dir,
                 ..Surface::default()
@@ -132,7 +236,7 @@ impl<'a> FrameContext<'a> {
         };
         let tri = hit.tri as usize;
         let [p0, p1, p2] = self.scene.triangle(tri);
-        let p = p0 * (1.0 - hit.u - hit.v) + p1 * hit.u + p2 * hit.v;
+        let (p, err) = hit_point([p0, p1, p2], hit.u, hit.v);
         let mut ng = (p1 - p0).cross(p2 - p0).normalize_or_zero();
         let bary = (hit.u, hit.v);
         let footprint = if self.texture_footprint > 0.0 {
@@ -161,19 +265,22 @@ impl<'a> FrameContext<'a> {
             p,
             n,
             ng,
+            origin: offset_origin(p, err, ng),
             albedo: at.base_color,
             dir,
             hit: true,
             material: at.sample,
+            catcher: self.scene.is_catcher(tri),
         }
     }
 
     /// Traces the shadow ray from `s` towards light `j`: true when the light is visible.
     #[inline]
     pub fn trace(&self, s: &Surface, j: usize) -> bool {
+        let (origin, dir, end) = self.shadow_ray(s, j);
         !self
             .accel
-            .occluded(s.p + s.ng * self.shadow_eps, self.light_dir[j])
+            .occluded_within(origin, dir, end, &AlphaTest::shadow(self.scene))
     }
 
     /// [`trace`](Self::trace) for several lights at once (at most [`PACKET`]): bit k of the
@@ -182,19 +289,25 @@ impl<'a> FrameContext<'a> {
     #[inline]
     pub fn trace_packet(&self, s: &Surface, lights: &[u32]) -> u32 {
         let mut dirs = [Vec3::ZERO; PACKET];
-        for (d, &j) in dirs.iter_mut().zip(lights) {
-            *d = self.light_dir[j as usize];
+        let mut ends = [f32::INFINITY; PACKET];
+        for ((d, e), &j) in dirs.iter_mut().zip(&mut ends).zip(lights) {
+            (_, *d, *e) = self.shadow_ray(s, j as usize);
         }
-        self.accel
-            .occluded_packet(s.p + s.ng * self.shadow_eps, &dirs[..lights.len()])
+        self.accel.occluded_packet_within(
+            s.origin,
+            &dirs[..lights.len()],
+            &ends,
+            &AlphaTest::shadow(self.scene),
+        )
     }
 
-    /// Like [`trace`](Self::trace), returning the distance from `s.p` to a blocker when the
-    /// light is blocked (the blocker point is `s.p + t·ω_j`).
+    /// Like [`trace`](Self::trace), returning the distance from the ray's origin to a blocker
+    /// when the light is blocked (the blocker point is `s.origin + t·ω_j`).
     #[inline]
     pub fn trace_blocker(&self, s: &Surface, j: usize) -> Option<f32> {
+        let (origin, dir, end) = self.shadow_ray(s, j);
         self.accel
-            .blocker_distance(s.p + s.ng * self.shadow_eps, self.light_dir[j])
+            .blocker_distance_within(origin, dir, end, &AlphaTest::shadow(self.scene))
     }
 }
 
@@ -216,17 +329,4 @@ pub fn texture_footprint(samples: &Samples) -> f32 {
     } else {
         (1.0 / samples.k as f32).max(1.0 / 8.0)
     }
-}
-
-/// The shadow-ray offset: large enough to leave the surface's own triangle at the scene's
-/// float precision, small against any feature. Relative to the scene's size so the same
-/// rule serves a 15 cm bunny and a 10 m shapes scene.
-pub fn shadow_epsilon(scene: &Scene) -> f32 {
-    if scene.positions.is_empty() {
-        return 1e-4;
-    }
-    let (lo, hi) = scene.bounds();
-    let diag = (hi - lo).length();
-    let reach = lo.abs().max(hi.abs()).max_element();
-    (diag * 2e-5).max(reach * 1e-6).max(1e-7)
 }

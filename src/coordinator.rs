@@ -4,7 +4,8 @@
 //! thread that writes them while rendering goes on. Memory stays bounded by the frames in
 //! flight and the channel's capacity.
 
-use std::path::PathBuf;
+use std::borrow::Cow;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Mutex, OnceLock};
 use std::time::Instant;
@@ -15,6 +16,7 @@ use rayon::prelude::*;
 
 use crate::accel::Accel;
 use crate::anim::{Animation, EnvSource, MotionKind, SceneSource};
+use crate::background::Backdrop;
 use crate::cancel::Cancel;
 use crate::context::FrameContext;
 use crate::driver::{FrameWork, Slot};
@@ -22,11 +24,12 @@ use crate::envmap::EnvMap;
 use crate::error::{Interrupted, Result, input_error};
 use crate::film::{Counts, Film};
 use crate::glossy::Glossy;
-use crate::history::{Carried, CarryPatch};
-use crate::lights::LightSet;
+use crate::history::{Carried, CarryPatch, Edges};
+use crate::lights::{LightSet, Tracks};
 use crate::output;
 use crate::output::lock::FolderLock;
 use crate::output::record::{FrameRecord, SettingsRecord};
+use crate::output::runs::RunRecord;
 use crate::output::stats::{FrameStats, StatsFile};
 use crate::scene::{Model, Scene};
 use crate::temporal::{chains, prev_view};
@@ -36,8 +39,8 @@ use crate::tile::{Rect, Tile};
 pub trait Progress: Sync {
     /// The run starts: `frames` to render, `tiles` per frame.
     fn begin(&self, _frames: usize, _tiles: usize) {}
-    /// A tile finished after tracing `rays` shadow rays.
-    fn tile_done(&self, _rays: u64) {}
+    /// A tile finished.
+    fn tile_done(&self, _tile: &TileDone) {}
     /// A frame finished rendering (it is being written).
     fn frame_done(&self, _stats: &FrameStats) {}
     /// A frame was skipped because its files exist (`--resume`).
@@ -46,8 +49,22 @@ pub trait Progress: Sync {
     fn note(&self, _msg: &str) {}
     /// Something the input had that is not rendered (a loader skipped it).
     fn warning(&self, _msg: &str) {}
+    /// A one-line note worth showing only to who asked for detail (`-v`): timings, sizes.
+    fn detail(&self, _msg: &str) {}
     /// The run ended.
     fn finish(&self) {}
+}
+
+/// One finished tile, as [`Progress::tile_done`] reports it.
+#[derive(Clone, Copy, Debug)]
+pub struct TileDone {
+    pub frame: usize,
+    /// The tile's number in the frame-anchored grid, and its pixels.
+    pub index: usize,
+    pub rect: Rect,
+    pub counts: Counts,
+    /// Wall-clock seconds of this tile alone (tiles run in parallel).
+    pub seconds: f64,
 }
 
 /// Reports nothing.
@@ -65,6 +82,10 @@ pub trait FrameSink: Send {
     fn frame_done(&self, frame: usize) -> bool;
     /// Publishes one finished frame (from the writer thread, in the order frames finish).
     fn write(&mut self, film: &Film, stats: &FrameStats) -> Result<()>;
+    /// The run ended with every frame written: what it did.
+    fn finish(&mut self, _summary: &RunSummary) -> Result<()> {
+        Ok(())
+    }
 }
 
 /// A render's own folder: `frame_NNNN.exr` and `.png` per frame, each committed with its
@@ -159,6 +180,21 @@ impl FrameSink for FrameFiles {
         self.stats.set_row(stats.frame, &rec.stats_row);
         self.stats.write(&self.dir.join("stats.csv"))
     }
+
+    /// Records the run in `records/runs.csv`: its wall time beside its frames' thread-seconds.
+    fn finish(&mut self, summary: &RunSummary) -> Result<()> {
+        RunRecord {
+            started_unix: summary.started_unix,
+            threads: summary.threads,
+            frames_rendered: summary.rendered,
+            frames_skipped: summary.skipped,
+            wall_seconds: summary.seconds,
+            thread_seconds: summary.thread_seconds,
+            queries: summary.counts.queries,
+            rays_traced: summary.counts.traced(),
+        }
+        .append(&self.dir)
+    }
 }
 
 /// How `anim`'s frames are written: preview exposure and view, EXR precision.
@@ -197,9 +233,13 @@ pub fn exr_header<'a>(
 
 /// An animation's inputs, loaded once per run.
 pub struct Inputs {
+    /// The scene as the spec asks for it: stood up, its catchers marked, a ground added
+    /// ([`Animation::prepare_scene`]).
     pub scene: Scene,
     pub env: EnvMap,
     pub lights: LightSet,
+    /// What rays that leave the scene see.
+    pub backdrop: Backdrop,
     /// The BVH of the unposed scene, built by the first frame that needs it: frames whose
     /// geometry does not move (orbit turntables, still cameras) share one build per run.
     still: OnceLock<Accel>,
@@ -215,31 +255,47 @@ impl Inputs {
             scene,
             env,
             lights,
+            backdrop: Backdrop::Environment,
             still: OnceLock::new(),
             glossy: OnceLock::new(),
         }
     }
 
     /// The environment prefiltered for glossy lobes, if any material may need it: one whose
-    /// roughness factor (its texture can only lower it) is below what the lights resolve.
+    /// roughness factor (its texture can only lower it) is below what the map's lights
+    /// resolve.
     pub fn glossy(&self) -> Option<&Glossy> {
         self.glossy
             .get_or_init(|| {
-                let (_, rough_lights) = Glossy::roughness_range(self.lights.len());
+                let map_lights = self.lights.lights.len();
+                let (_, rough_lights) = Glossy::roughness_range(map_lights);
                 let needed = self
                     .scene
                     .materials
                     .iter()
                     .any(|m| m.model == Model::MetallicRoughness && m.roughness < rough_lights);
-                needed.then(|| Glossy::build(&self.env, self.lights.len()))
+                needed.then(|| Glossy::build(&self.env, map_lights))
             })
             .as_ref()
     }
 
+    /// These inputs with rays that leave the scene seeing `backdrop`.
+    pub fn with_backdrop(self, backdrop: Backdrop) -> Inputs {
+        Inputs { backdrop, ..self }
+    }
+
+    /// The lights of `frame`: the sampled set, turned by the environment's turn at that frame
+    /// (`[motion] kind = "environment"`).
+    pub fn lights_at(&self, anim: &Animation, frame: usize) -> Cow<'_, LightSet> {
+        match anim.motion.environment_degrees(frame) {
+            None => Cow::Borrowed(&self.lights),
+            Some(degrees) => Cow::Owned(self.lights.turned(degrees)),
+        }
+    }
+
     /// The unposed scene's BVH, built once.
     pub fn still_accel(&self) -> &Accel {
-        self.still
-            .get_or_init(|| Accel::build(&self.scene.positions, &self.scene.triangles))
+        self.still.get_or_init(|| self.scene.accel())
     }
 
     /// Loads the scene and environment and samples the lights. Each file is counted against
@@ -257,20 +313,17 @@ impl Inputs {
             SceneSource::File(p) => Scene::load_within(p, &mut budget)
                 .with_context(|| format!("while loading {}", anim.spec_path.display()))?,
         };
-        let mut scene = scene;
-        let source = match &anim.scene {
-            SceneSource::File(p) => p.display().to_string(),
-            SceneSource::Shapes => "builtin:shapes".to_string(),
-        };
-        anim.materials
-            .apply(&anim.material_flags, &mut scene.materials)
-            .map_err(|why| {
-                input_error(&anim.spec_path, format!("[material] {why} (in {source})"))
-            })?;
+        let scene = anim.prepare_scene(scene)?;
         // A spin poses the scene every frame: refused here if that could overflow (found by
         // fuzzing the posed scene: tests/data/fuzz/posed_scene/huge-pivot).
-        if anim.motion == MotionKind::Spin {
-            let pivot = anim.pivot.unwrap_or(anim.camera(&scene, 0)?.target);
+        for s in anim.motion.segments() {
+            if s.kind != MotionKind::Spin {
+                continue;
+            }
+            let pivot = match s.pivot {
+                Some(p) => scene.to_local(p),
+                None => anim.camera(&scene, 0)?.target,
+            };
             if let Some(why) = scene.turn_problem(pivot) {
                 crate::bail_input!(&anim.spec_path, "[motion] kind = \"spin\": {why}");
             }
@@ -283,9 +336,43 @@ impl Inputs {
         let env = env
             .with_rotation(anim.env_rotation_deg)
             .with_intensity(anim.env_intensity)?;
-        let lights = LightSet::build(&env, anim.lights.count, anim.lights.sampler)?;
-        Ok(Inputs::new(scene, env, lights))
+        let mut lights = LightSet::build(&env, anim.lights.count, anim.lights.sampler)?;
+        if anim.lights.scene_lights {
+            lights = lights.with_scene_lights(&scene.lights, Path::new(&scene.source))?;
+        }
+        let r = &anim.render;
+        let backdrop = Backdrop::new(r.background, r.background_color, r.background_blur, &env)?;
+        Ok(Inputs::new(scene, env, lights).with_backdrop(backdrop))
     }
+}
+
+/// What became of the scene file's lights, for the user: lit by them, or ignored.
+pub fn scene_lights_note(anim: &Animation, scene: &Scene) -> Option<String> {
+    if scene.lights.is_empty() {
+        return None;
+    }
+    let names: Vec<String> = scene
+        .lights
+        .iter()
+        .map(|l| format!("{} '{}'", l.kind.name(), l.name))
+        .collect();
+    let n = scene.lights.len();
+    let (lights, join) = if n == 1 {
+        ("light", "joins")
+    } else {
+        ("lights", "join")
+    };
+    Some(if anim.lights.scene_lights {
+        format!(
+            "the scene file's {n} {lights} {join} the map's: {}",
+            names.join(", ")
+        )
+    } else {
+        format!(
+            "the scene file's {n} {lights} ignored ([lights] scene_lights = false): {}",
+            names.join(", ")
+        )
+    })
 }
 
 /// Frames rendered at once (see `render_animation`); the memory estimate counts them.
@@ -313,8 +400,16 @@ pub struct RunOptions {
 pub struct RunSummary {
     pub rendered: usize,
     pub skipped: usize,
+    /// The written frames' counts.
     pub counts: Counts,
+    /// Wall-clock seconds of the whole run, loading included.
     pub seconds: f64,
+    /// When it started, Unix seconds.
+    pub started_unix: u64,
+    /// Worker threads.
+    pub threads: usize,
+    /// The thread-seconds of every frame rendered (warm-up frames included).
+    pub thread_seconds: f64,
 }
 
 thread_local! {
@@ -406,13 +501,17 @@ fn render_tile_list(
     temporal: &Temporal,
     cancel: &Cancel,
 ) -> Result<(Film, FrameStats, Option<Carried>)> {
+    // The frame's thread-seconds: its serial parts (this thread's time outside the parallel
+    // sections, which it spends waiting or on other frames' tasks) plus its tasks' own times.
     let start = Instant::now();
-    let camera0 = anim.camera(&inputs.scene, 0)?;
+    let mut parallel = std::time::Duration::ZERO;
+    let tasks = TaskTime::default();
+    let pivot = anim.pivot(&inputs.scene)?;
     let (posed, built);
-    let (scene, accel) = match anim.scene_transform(frame, camera0.target) {
+    let (scene, accel) = match anim.scene_transform(frame, pivot) {
         Some(m) => {
             posed = inputs.scene.transformed(m);
-            built = Accel::build(&posed.positions, &posed.triangles);
+            built = posed.accel();
             (&posed, &built)
         }
         None => (&inputs.scene, inputs.still_accel()),
@@ -420,24 +519,29 @@ fn render_tile_list(
     let camera = anim.camera(&inputs.scene, frame)?;
     let samples = anim.render.samples();
     let side = samples.k;
-    let ctx = FrameContext::new(scene, accel, camera, &inputs.lights, &inputs.env)
+    let lights = inputs.lights_at(anim, frame);
+    let ctx = FrameContext::new(scene, accel, camera, &lights, &inputs.env)
         .with_samples(samples)
         .with_glossy(if anim.render.glossy_env {
             inputs.glossy()
         } else {
             None
-        });
+        })
+        .with_backdrop(&inputs.backdrop)
+        .with_environment_turn(anim.motion.environment_degrees(frame));
+    let prev_lights;
     let prev = match temporal.prev {
         Some(carried) => {
             let prev_camera = anim.camera(&inputs.scene, carried.frame)?;
+            prev_lights = inputs.lights_at(anim, carried.frame);
             Some(prev_view(
                 anim,
                 carried,
                 frame,
                 prev_camera,
                 &camera,
-                camera0.target,
-                &inputs.lights,
+                pivot,
+                (&prev_lights, &lights),
             ))
         }
         None => None,
@@ -452,16 +556,24 @@ fn render_tile_list(
         shadows: &shadows,
         validate: anim.render.validate && !temporal.no_validate,
     };
-    // A spinning object turns the lights relative to itself: keep the edges of each pixel's
-    // shadow in light space, which the turn may carry across a light.
-    let edges = anim.motion == MotionKind::Spin;
+    // A spinning object or a turning environment turns the lights relative to the scene:
+    // keep the edges of each pixel's shadow in light space, which the turn may carry across
+    // a light.
+    let segment = anim.motion.segment_at(frame);
+    let tracks = (temporal.carry && segment.kind == MotionKind::Environment)
+        .then(|| Tracks::new(&lights, segment.degrees_per_frame));
+    let edges = match (&tracks, segment.kind) {
+        (Some(t), _) => Edges::Track(t),
+        (None, MotionKind::Spin) => Edges::Adjacent,
+        _ => Edges::None,
+    };
     let mut carried = temporal.carry.then(|| {
         Carried::new(
             frame,
             anim.render.width,
             anim.render.height,
             ctx.words(),
-            edges,
+            edges.kept(),
         )
     });
     // Shared phases (the grid's coarse levels) run over every tile the rendered tiles' halos
@@ -476,10 +588,15 @@ fn render_tile_list(
         let shared_tiles = reach.as_deref().unwrap_or(list);
         for phase in 0..phases {
             cancel.check()?;
+            let t = Instant::now();
             let patches: Vec<_> = shared_tiles
                 .par_iter()
-                .map(|t| with_slot(|slot| work.shared_phase(t.rect, slot, phase, &lattice)))
+                .map(|t| {
+                    tasks
+                        .time(|| with_slot(|slot| work.shared_phase(t.rect, slot, phase, &lattice)))
+                })
                 .collect();
+            parallel += t.elapsed();
             for p in &patches {
                 lattice.insert(p);
             }
@@ -494,6 +611,7 @@ fn render_tile_list(
     order.sort_by_cached_key(|&t| (std::cmp::Reverse(work.rays_in(&lattice, list[t].rect)), t));
     let slots: Vec<Mutex<Option<_>>> = (0..list.len()).map(|_| Mutex::new(None)).collect();
     let next = AtomicUsize::new(0);
+    let t = Instant::now();
     (0..rayon::current_num_threads())
         .into_par_iter()
         .with_max_len(1)
@@ -504,16 +622,26 @@ fn render_tile_list(
                     break;
                 }
                 let t = &list[order[k]];
-                let r = with_slot(|slot| {
-                    let r = work.tile(t.rect, slot, &lattice);
-                    let patch =
-                        carry.then(|| CarryPatch::record(&slot.bufs, &inputs.lights, edges, side));
-                    (r, patch)
+                let began = Instant::now();
+                let r = tasks.time(|| {
+                    with_slot(|slot| {
+                        let r = work.tile(t.rect, slot, &lattice);
+                        let patch =
+                            carry.then(|| CarryPatch::record(&slot.bufs, &lights, edges, side));
+                        (r, patch)
+                    })
                 });
-                progress.tile_done(r.0.counts.rays);
+                progress.tile_done(&TileDone {
+                    frame,
+                    index: t.index,
+                    rect: t.rect,
+                    counts: r.0.counts,
+                    seconds: began.elapsed().as_secs_f64(),
+                });
                 *slots[order[k]].lock().unwrap() = Some(r);
             }
         });
+    parallel += t.elapsed();
     let results: Option<Vec<_>> = slots.into_iter().map(|s| s.into_inner().unwrap()).collect();
     let Some(results) = results else {
         return Err(Interrupted.into());
@@ -523,7 +651,8 @@ fn render_tile_list(
         anim.render.height,
         work.validate,
         side > 1,
-    );
+    )
+    .with_alpha(inputs.backdrop.is_transparent());
     for (r, patch) in &results {
         film.add(r);
         if let (Some(c), Some(p)) = (&mut carried, patch) {
@@ -535,19 +664,39 @@ fn render_tile_list(
     let stats = FrameStats {
         frame,
         method: anim.render.method.name().to_string(),
-        lights: inputs.lights.len(),
+        lights: lights.len(),
         width: anim.render.width,
         height: anim.render.height,
         spp: anim.render.spp,
         counts: film.counts,
         image_error: film.image_error(rendered, anim.render.exposure, anim.render.view),
-        seconds: start.elapsed().as_secs_f64(),
-        camera_position: camera.position,
-        camera_target: camera.target,
+        thread_seconds: (start.elapsed().saturating_sub(parallel) + tasks.total()).as_secs_f64(),
+        camera_position: inputs.scene.to_world(camera.position),
+        camera_target: inputs.scene.to_world(camera.target),
         camera_up: camera.up,
         vfov_deg: camera.vfov_deg,
     };
     Ok((film, stats, carried))
+}
+
+/// The summed run time of a frame's parallel tasks (tiles, shared passes), each timed on the
+/// thread that ran it.
+#[derive(Default)]
+struct TaskTime(std::sync::atomic::AtomicU64);
+
+impl TaskTime {
+    /// Runs `f`, adding its run time.
+    fn time<R>(&self, f: impl FnOnce() -> R) -> R {
+        let t = Instant::now();
+        let r = f();
+        let ns = u64::try_from(t.elapsed().as_nanos()).unwrap_or(u64::MAX);
+        self.0.fetch_add(ns, Ordering::Relaxed);
+        r
+    }
+
+    fn total(&self) -> std::time::Duration {
+        std::time::Duration::from_nanos(self.0.load(Ordering::Relaxed))
+    }
 }
 
 /// A thread pool with `threads` workers (0: one per core).
@@ -567,6 +716,9 @@ pub fn render_animation(
     progress: &dyn Progress,
 ) -> Result<RunSummary> {
     let start = Instant::now();
+    let started_unix = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
     let dir = &anim.output.dir;
     if anim.render.temporal && opts.region.is_some() {
         crate::bail_input!(
@@ -576,14 +728,41 @@ pub fn render_animation(
         );
     }
     // Inputs first: a bad input leaves nothing behind, not even an empty folder.
+    let loading = Instant::now();
     let inputs = Inputs::load(anim)?;
+    progress.detail(&format!(
+        "inputs in {:.2} s: {} ({} triangles), {} ({}x{}), {} lights",
+        loading.elapsed().as_secs_f64(),
+        inputs.scene.source,
+        inputs.scene.triangles.len(),
+        inputs.env.source,
+        inputs.env.width,
+        inputs.env.height,
+        inputs.lights.len()
+    ));
     // Every frame's camera, so a spec whose camera breaks at some frame (an `up` along the
     // view) is refused before lights.json or any frame is written.
-    for f in anim.frames.clone() {
+    for f in anim.frames.iter() {
         anim.camera(&inputs.scene, f)?;
     }
     for w in &inputs.scene.warnings {
         progress.warning(w);
+    }
+    if let Some(note) = scene_lights_note(anim, &inputs.scene) {
+        progress.note(&note);
+    }
+    if inputs.scene.added_ground.is_some() {
+        let catcher = inputs.scene.catcher.last().copied().unwrap_or(false);
+        progress.note(&format!(
+            "{} has no ground under the model: added {} (`[scene] ground = \"none\"` or \
+             --ground none leaves it out)",
+            inputs.scene.source,
+            if catcher {
+                "a shadow-catcher ground"
+            } else {
+                "a grey ground"
+            }
+        ));
     }
     opts.cancel.check()?;
     std::fs::create_dir_all(dir)
@@ -598,7 +777,7 @@ pub fn render_animation(
 
     let todo: Vec<usize> = anim
         .frames
-        .clone()
+        .iter()
         .filter(|&f| {
             let done = opts.resume && sink.frame_done(f);
             if done {
@@ -609,24 +788,29 @@ pub fn render_animation(
         .collect();
     let mut summary = RunSummary {
         skipped: anim.frames.len() - todo.len(),
+        started_unix,
         ..Default::default()
     };
     // With temporal prediction, frames come in chains from a key frame, each frame reading
     // its predecessor; a chain's frames outside this run are rendered, not written.
-    let work = chains(&todo, anim.render.temporal, anim.render.keyframe);
+    let work = chains(&todo, anim.render.temporal, |f| anim.key_frame_of(f));
     let warmup: usize = work
         .iter()
         .map(|c| c.frames.iter().filter(|f| !f.1).count())
         .sum();
     if warmup > 0 {
         progress.note(&format!(
-            "temporal: {warmup} frame(s) before the first frame of a chain are rendered \
-             (not written) to warm it up from its key frame"
+            "temporal: {warmup} frame(s) not asked for are rendered (not written) so that each \
+             frame asked for is predicted from its predecessor, as in a run of every frame \
+             from its chain's key frame"
         ));
     }
     let (list, region) = selection(anim, opts);
     progress.begin(todo.len(), list.len());
     let pool = thread_pool(anim.render.threads)?;
+    summary.threads = pool.current_num_threads();
+    // Every frame's thread-seconds, written or warm-up.
+    let thread_seconds = Mutex::new(0.0f64);
 
     // Two chains in flight share the pool: while the last tiles of one frame finish, idle
     // workers take tiles of the other chain's frame. Each driver thread renders its chain's
@@ -643,7 +827,13 @@ pub fn render_animation(
         let writer = s.spawn(|| -> Result<RunSummary> {
             let mut done = RunSummary::default();
             for (film, stats) in rx {
+                let writing = Instant::now();
                 sink.write(&film, &stats)?;
+                progress.detail(&format!(
+                    "frame {}: written in {:.3} s",
+                    stats.frame,
+                    writing.elapsed().as_secs_f64()
+                ));
                 done.counts += stats.counts;
                 done.rendered += 1;
             }
@@ -651,8 +841,16 @@ pub fn render_animation(
         });
         for _ in 0..FRAMES_IN_FLIGHT.min(work.len()) {
             let tx = tx.clone();
-            let (next, failed, first_error, work, pool, inputs, list) =
-                (&next, &failed, &first_error, &work, &pool, &inputs, &list);
+            let (next, failed, first_error, work, pool, inputs, list, thread_seconds) = (
+                &next,
+                &failed,
+                &first_error,
+                &work,
+                &pool,
+                &inputs,
+                &list,
+                &thread_seconds,
+            );
             s.spawn(move || {
                 'chains: loop {
                     let k = next.fetch_add(1, Ordering::Relaxed);
@@ -688,6 +886,7 @@ pub fn render_animation(
                         });
                         match rendered {
                             Ok((film, stats, carried)) => {
+                                *thread_seconds.lock().unwrap() += stats.thread_seconds;
                                 // The previous frame's data has been used: free it now.
                                 prev = carried;
                                 if !write {
@@ -725,5 +924,7 @@ pub fn render_animation(
     // Frames finished before the stop are written; the rest waits for `--resume`.
     opts.cancel.check()?;
     summary.seconds = start.elapsed().as_secs_f64();
+    summary.thread_seconds = thread_seconds.into_inner().unwrap();
+    sink.finish(&summary)?;
     Ok(summary)
 }

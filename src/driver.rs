@@ -19,10 +19,12 @@
 
 use crate::bits;
 use crate::buffers::TileBuffers;
+use crate::catcher::{self, Catchers};
 use crate::context::FrameContext;
 use crate::film::{BACKGROUND_DEPTH, Counts, TileResult};
 use crate::lattice::{Lattice, LatticePatch};
 use crate::predict::temporal::solve_temporal;
+use crate::predict::turning::solve_in_place;
 use crate::predict::{At, Order, Scratch, Shadows};
 use crate::shade::{LambertCache, radiance_at};
 use crate::tile::Rect;
@@ -145,7 +147,12 @@ impl FrameWork<'_> {
             && !at.inside
         {
             let min_voters = self.shadows.params.min_voters;
-            if solve_temporal(ctx, bufs, scratch, prev, i, voters, min_voters, at) {
+            let solved = if prev.is_in_place() {
+                solve_in_place(ctx, bufs, scratch, prev, i, voters, min_voters, at)
+            } else {
+                solve_temporal(ctx, bufs, scratch, prev, i, voters, min_voters, at)
+            };
+            if solved {
                 return i;
             }
         }
@@ -289,11 +296,13 @@ fn count_halo(bufs: &TileBuffers) -> Counts {
 /// Shades the samples of the tile's `pixels`, counts their queries and rays into `counts`,
 /// and gathers each pixel's own — the mean of their radiance (in stratum order, so the sum
 /// does not depend on the tile), the sum of their rays and wrong pairs, the mean of their
-/// visible fractions and, with several samples, the fraction that hit; for the compositor,
-/// the nearest depth, and the mean normal and albedo (background samples counting 0). With
-/// `validate`, every query is traced again to count the method's
-/// mistakes and shade the brute-force reference. With one sample per pixel this is the pixel
-/// as it always was: adding to zero and dividing by one change no bit.
+/// visible fractions and, with several samples, the fraction that hit; over a transparent
+/// background the mean of their alphas (`crate::catcher`: 1 on the model, the shadow fraction
+/// on a catcher, 0 on the background); for the compositor, the nearest depth, and the mean
+/// normal and albedo (background samples counting 0). With `validate`, every query is traced
+/// again to count the method's mistakes and shade the brute-force reference. With one sample
+/// per pixel this is the pixel as it always was: adding to zero and dividing by one change no
+/// bit.
 fn shade(
     ctx: &FrameContext,
     bufs: &TileBuffers,
@@ -311,6 +320,8 @@ fn shade(
     let mut wrong = validate.then(|| Vec::with_capacity(n));
     let mut reference = validate.then(|| Vec::with_capacity(n));
     let mut coverage = (k > 1).then(|| Vec::with_capacity(n));
+    let mut alpha = ctx.backdrop.is_transparent().then(|| Vec::with_capacity(n));
+    let mut catchers = Catchers::default();
     let mut depth = Vec::with_capacity(n);
     let mut normal = Vec::with_capacity(n);
     let mut albedo = Vec::with_capacity(n);
@@ -318,7 +329,6 @@ fn shade(
     let mut truth = vec![0u64; w];
     // Lambertian samples with the normal and visible lights of the last one reuse its sum.
     let (mut cache, mut exact_cache) = (LambertCache::default(), LambertCache::default());
-    let (lights, glossy) = (&ctx.shade_lights, ctx.glossy);
     for py in pixels.y0..pixels.y1 {
         for px in pixels.x0..pixels.x1 {
             let mut lit = Vec3::ZERO;
@@ -327,6 +337,7 @@ fn shade(
             let mut mistakes = 0.0f32;
             let mut exact = Vec3::ZERO;
             let mut hits = 0u32;
+            let mut opacity = 0.0f32;
             let mut nearest = f32::INFINITY;
             let mut n_sum = Vec3::ZERO;
             let mut a_sum = Vec3::ZERO;
@@ -347,9 +358,10 @@ fn shade(
                         counts.temporal_rays += bufs.rays[q] as u64;
                     }
                     if !s.hit {
-                        let r = ctx.env.radiance(s.dir);
+                        let (r, a) = catcher::miss(ctx, s.dir);
                         lit += r;
                         exact += r;
+                        opacity += a;
                         continue;
                     }
                     hits += 1;
@@ -358,7 +370,18 @@ fn shade(
                     a_sum += s.albedo;
                     let vis = TileBuffers::row(&bufs.vis, q, w);
                     let above = TileBuffers::row(&bufs.above, q, w);
-                    lit += radiance_at(lights, glossy, &s, vis, above, &mut cache);
+                    if s.catcher {
+                        // [ours] A catcher's shadow is the map's lights' (its fraction is
+                        // against the map's unshadowed light); the file's point and spot
+                        // lights do not darken it.
+                        let sum = cache.light_sum(&ctx.shade_lights, s.n, vis);
+                        let (c, a) = catchers.sample(ctx, &s, above, sum);
+                        lit += c;
+                        opacity += a;
+                    } else {
+                        lit += radiance_at(ctx, &s, vis, above, &mut cache);
+                        opacity += 1.0;
+                    }
                     let n_above = bits::count(above);
                     counts.queries += n_above as u64;
                     if n_above > 0 {
@@ -392,7 +415,12 @@ fn shade(
                     counts.wrong_blocked += wb;
                     counts.wrong_pixels += u64::from(wv + wb > 0);
                     mistakes += (wv + wb) as f32;
-                    exact += radiance_at(lights, glossy, &s, &truth, above, &mut exact_cache);
+                    exact += if s.catcher {
+                        let sum = exact_cache.light_sum(&ctx.shade_lights, s.n, &truth);
+                        catchers.sample(ctx, &s, above, sum).0
+                    } else {
+                        radiance_at(ctx, &s, &truth, above, &mut exact_cache)
+                    };
                 }
             }
             beauty.push((lit / spp).to_array());
@@ -404,6 +432,9 @@ fn shade(
             }
             if let Some(c) = &mut coverage {
                 c.push(hits as f32 / spp);
+            }
+            if let Some(a) = &mut alpha {
+                a.push(opacity / spp);
             }
             depth.push(if hits > 0 { nearest } else { BACKGROUND_DEPTH });
             normal.push((n_sum / spp).to_array());
@@ -418,6 +449,7 @@ fn shade(
         wrong,
         reference,
         coverage,
+        alpha,
         depth,
         normal,
         albedo,

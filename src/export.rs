@@ -6,8 +6,10 @@
 //! the normal map), the materials' names (`materials.json`), and a `frame.json` with the
 //! camera, the sample pattern and the shadow-ray offset. With these, an independent renderer
 //! can evaluate exactly what envshadow's `brute` method does: the material's BRDF for every
-//! light at every sample, shadow rays from the hit point moved `shadow_eps` along the
-//! geometric normal, a pixel the plain mean of its samples.
+//! light at every sample, shadow rays from the hit point moved along the geometric normal by
+//! its error bound (`src/offset.rs`: `dot(|ng|, err)` with `err = gamma7 · (|p0| + |p1 − p0| +
+//! |p2 − p0|)` per axis, `frame.json`'s `shadow_offset_gamma`), a pixel the plain mean of its
+//! samples.
 
 use std::fs;
 use std::io::{BufWriter, Write};
@@ -17,13 +19,12 @@ use anyhow::Context;
 use clap::Args;
 use serde_json::json;
 
-use crate::accel::Accel;
 use crate::anim::{AnimFlags, Animation};
-use crate::context::{FrameContext, shadow_epsilon};
+use crate::context::FrameContext;
 use crate::coordinator::Inputs;
 use crate::error::{Result, input_error};
 use crate::output::write_atomic_with;
-use crate::scene::Model;
+use crate::scene::{AlphaTest, Model, coverage_threshold};
 
 #[derive(Args, Debug)]
 pub struct ExportArgs {
@@ -59,9 +60,11 @@ pub struct Exported {
 }
 
 /// The settings an export reads; the others would change nothing it writes.
-const READS: [&str; 10] = [
+const READS: [&str; 12] = [
     "clay",
     "lambert",
+    "up",
+    "ground",
     "count",
     "sampler",
     "width",
@@ -83,19 +86,19 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
         ));
     };
     let anim = Animation::load(&args.spec, flags)?;
-    if !anim.frames.contains(&args.frame) {
+    if !anim.frames.contains(args.frame) {
         return Err(input_error(
             &args.spec,
             format!(
-                "frame {} is outside the animation's frames {:?}",
+                "frame {} is outside the animation's frames ({})",
                 args.frame, anim.frames
             ),
         ));
     }
     let inputs = Inputs::load(&anim)?;
-    let camera0 = anim.camera(&inputs.scene, 0)?;
+    let pivot = anim.pivot(&inputs.scene)?;
     let posed;
-    let scene = match anim.scene_transform(args.frame, camera0.target) {
+    let scene = match anim.scene_transform(args.frame, pivot) {
         Some(m) => {
             posed = inputs.scene.transformed(m);
             &posed
@@ -170,8 +173,9 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
     // hit, the base colour (3), metallic, roughness, occlusion, emission (3), the dielectric
     // F0 (3) and F90, 1 for a Lambertian material, the shading normal facing the camera (3),
     // the material's index in materials.json (−1 for a miss).
-    let accel = Accel::build(&scene.positions, &scene.triangles);
-    let ctx = FrameContext::new(scene, &accel, camera, &inputs.lights, &inputs.env)
+    let accel = scene.accel();
+    let lights = inputs.lights_at(&anim, args.frame);
+    let ctx = FrameContext::new(scene, &accel, camera, &lights, &inputs.env)
         .with_samples(samples.clone());
     write_atomic_with(&dir.join("surface.f32"), |tmp| {
         let mut f = BufWriter::new(fs::File::create(tmp)?);
@@ -181,9 +185,11 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
                     for i in 0..k {
                         let (sx, sy) = (x * k + i, y * k + j);
                         let s = ctx.surface(sx, sy);
+                        // The triangle the sample's ray stopped at, cut-outs as it saw them.
                         let material = if s.hit {
+                            let cut = AlphaTest::camera(scene, coverage_threshold(x, y, i, j, k));
                             accel
-                                .intersect(camera.position, ctx.sample_dir(sx, sy))
+                                .intersect_cut(camera.position, ctx.sample_dir(sx, sy), &cut)
                                 .map_or(-1.0, |h| scene.tri_material[h.tri as usize] as f32)
                         } else {
                             -1.0
@@ -241,7 +247,8 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
         serde_json::to_string_pretty(&json!({ "materials": materials }))?.as_bytes(),
     )?;
 
-    inputs.lights.write_json(&dir.join("lights.json"))?;
+    // The frame's lights: turned with the environment where it turns.
+    lights.write_json(&dir.join("lights.json"))?;
     let meta = json!({
         "spec": anim.spec_path.display().to_string(),
         "frame": args.frame,
@@ -254,7 +261,9 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
         "spp": samples.spp(),
         "filter": samples.filter.name(),
         "filter_width": samples.width,
-        "shadow_eps": shadow_epsilon(scene),
+        "shadow_offset_gamma": crate::offset::gamma(7),
+        // The world point the positions and the camera count from (scene::render_origin).
+        "origin": inputs.scene.origin.to_array(),
         "triangles": scene.triangles.len(),
         "lights": inputs.lights.len(),
         "surface_floats": SURFACE_FLOATS,

@@ -22,6 +22,8 @@ pub struct TileResult {
     pub reference: Option<Vec<[f32; 3]>>,
     /// With several samples per pixel: the fraction of them that hit the scene.
     pub coverage: Option<Vec<f32>>,
+    /// Over a transparent background: each pixel's alpha (see [`Film::alpha`]).
+    pub alpha: Option<Vec<f32>>,
     /// The compositor's passes ([`Film::depth`], [`Film::normal`], [`Film::albedo`]).
     pub depth: Vec<f32>,
     pub normal: Vec<[f32; 3]>,
@@ -81,12 +83,20 @@ impl AddAssign for Counts {
 }
 
 impl Counts {
-    /// Rays traced as a percentage of queries (100 when there were no queries).
+    /// Every shadow ray traced: at the pixels themselves and, again, at the halo pixels tiles
+    /// evaluated for their neighbours (work a whole-frame render would not repeat).
+    pub fn traced(&self) -> u64 {
+        self.rays + self.halo_rays
+    }
+
+    /// [`traced`](Self::traced) as a percentage of queries (100 when there were no queries):
+    /// every ray the frame cost, halo rays included [ours]; `rays` alone is what the pixels'
+    /// `rays` layer sums to.
     pub fn percent_traced(&self) -> f64 {
         if self.queries == 0 {
             100.0
         } else {
-            100.0 * self.rays as f64 / self.queries as f64
+            100.0 * self.traced() as f64 / self.queries as f64
         }
     }
 
@@ -138,6 +148,12 @@ pub struct Film {
     /// With several samples per pixel: the fraction of each pixel's samples that hit the
     /// scene (at one sample it would be the hit mask, and is not kept).
     pub coverage: Option<Vec<f32>>,
+    /// Over a transparent background (`[render] background`): each pixel's alpha, the mean
+    /// over its samples (placed by the pixel filter, so weighted as the beauty is) of 1 where a
+    /// sample sees the model, the shadow fraction where it sees a shadow catcher and 0 where
+    /// it sees the background; the beauty is premultiplied by it. `None`: alpha is 1
+    /// everywhere (an opaque background).
+    pub alpha: Option<Vec<f32>>,
     /// Camera depth: the distance along the view direction to the nearest surface any of
     /// the pixel's samples hit ([ours], as Arnold's "closest" filter: a mean across a
     /// silhouette would be a depth where nothing is); [`BACKGROUND_DEPTH`] where none hit.
@@ -166,11 +182,26 @@ impl Film {
             wrong: validated.then(|| vec![0.0; n]),
             reference: validated.then(|| vec![[0.0; 3]; n]),
             coverage: coverage.then(|| vec![0.0; n]),
+            alpha: None,
             depth: vec![BACKGROUND_DEPTH; n],
             normal: vec![[0.0; 3]; n],
             albedo: vec![[0.0; 3]; n],
             counts: Counts::default(),
         }
+    }
+
+    /// This film with an alpha plane (a transparent background) when `alpha` is true; pixels
+    /// no tile rendered stay at 0, transparent like the black around a region render.
+    pub fn with_alpha(mut self, alpha: bool) -> Film {
+        self.alpha = alpha.then(|| vec![0.0; self.beauty.len()]);
+        self
+    }
+
+    /// Whether some pixel is less than opaque.
+    pub fn has_transparency(&self) -> bool {
+        self.alpha
+            .as_ref()
+            .is_some_and(|a| a.iter().any(|&v| v < 1.0))
     }
 
     /// Copies a finished tile into place and adds its counts.
@@ -195,17 +226,20 @@ impl Film {
             if let (Some(d), Some(s)) = (&mut self.coverage, &tile.coverage) {
                 d[dst..dst + w].copy_from_slice(&s[src..src + w]);
             }
+            if let (Some(d), Some(s)) = (&mut self.alpha, &tile.alpha) {
+                d[dst..dst + w].copy_from_slice(&s[src..src + w]);
+            }
         }
         self.counts += tile.counts;
     }
 
     /// The channels this film holds, in the order files list them: beauty, the compositor's
-    /// passes, the shadow method's; with `reference` also the brute-force image (farm tile
+    /// passes, the shadow method's (alpha always: 1 over an opaque background); with `reference` also the brute-force image (farm tile
     /// images carry it, frames do not).
     pub fn channels(&self, reference: bool) -> Vec<Channel> {
         use Channel::*;
         let mut v = vec![
-            R, G, B, Z, NX, NY, NZ, AlbedoR, AlbedoG, AlbedoB, Rays, Visible,
+            R, G, B, A, Z, NX, NY, NZ, AlbedoR, AlbedoG, AlbedoB, Rays, Visible,
         ];
         if self.wrong.is_some() {
             v.push(Wrong);
@@ -229,6 +263,7 @@ impl Film {
             R => self.beauty[i][0],
             G => self.beauty[i][1],
             B => self.beauty[i][2],
+            A => self.alpha.as_ref().map_or(1.0, |a| a[i]),
             Z => self.depth[i],
             NX => self.normal[i][0],
             NY => self.normal[i][1],
@@ -264,6 +299,7 @@ impl Film {
             R => self.beauty[i][0] = v,
             G => self.beauty[i][1] = v,
             B => self.beauty[i][2] = v,
+            A => put(&mut self.alpha, i, v),
             Z => self.depth[i] = v,
             NX => self.normal[i][0] = v,
             NY => self.normal[i][1] = v,
@@ -327,6 +363,8 @@ pub enum Channel {
     R,
     G,
     B,
+    /// Alpha ([`Film::alpha`]; 1 over an opaque background).
+    A,
     /// Camera depth ([`Film::depth`]).
     Z,
     /// World-space normal ([`Film::normal`]).
@@ -358,6 +396,7 @@ impl Channel {
             R => "R",
             G => "G",
             B => "B",
+            A => "A",
             Z => "Z",
             NX => "N.X",
             NY => "N.Y",

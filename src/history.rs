@@ -10,8 +10,29 @@ use crate::bits;
 use crate::buffers::TileBuffers;
 use crate::camera::Camera;
 use crate::context::Surface;
-use crate::lights::LightSet;
+use crate::lights::{LightSet, Tracks};
 use crate::tile::Rect;
+
+/// Which lights a frame marks for the next one as *edge lights*: lights a shadow edge may
+/// cross before the next frame, because the lights turn relative to the scene.
+#[derive(Clone, Copy)]
+pub enum Edges<'a> {
+    /// None (the lights keep their place relative to the scene: orbit, still).
+    None,
+    /// A spinning object: lights whose visibility differs from an adjacent above-horizon
+    /// light's.
+    Adjacent,
+    /// A turning environment: lights whose path over the next frame's turn ([`Tracks`]) meets
+    /// above-horizon cells of both visibilities (a shadow edge lies across or just ahead of it).
+    Track(&'a Tracks),
+}
+
+impl Edges<'_> {
+    /// Whether edge lights are kept at all.
+    pub fn kept(&self) -> bool {
+        !matches!(self, Edges::None)
+    }
+}
 
 /// A whole frame's visibility, kept for the next frame: per pixel, row-major over the frame.
 pub struct Carried {
@@ -97,13 +118,12 @@ impl CarryPatch {
     /// Records the tile's own pixels from `bufs` after the tile was rendered, each by one of
     /// its k × k samples (`bufs` addresses samples): the one in stratum (k/2, k/2), nearest the
     /// centre, so the carried frame keeps the memory of one sample per pixel whatever the
-    /// samples per pixel. With `edges` (a spinning object), also the edge lights: those whose
-    /// visibility differs from an adjacent above-horizon light's.
-    pub fn record(bufs: &TileBuffers, lights: &LightSet, edges: bool, k: u32) -> CarryPatch {
+    /// samples per pixel. With `edges`, also the edge lights ([`Edges`]).
+    pub fn record(bufs: &TileBuffers, lights: &LightSet, edges: Edges, k: u32) -> CarryPatch {
         let st = bufs.tile;
         let t = Rect::new(st.x0 / k, st.y0 / k, st.x1 / k, st.y1 / k);
         let w = bufs.words;
-        let rows = if edges { 3 } else { 2 };
+        let rows = if edges.kept() { 3 } else { 2 };
         let n = t.area();
         let mut patch = CarryPatch {
             rect: t,
@@ -125,7 +145,9 @@ impl CarryPatch {
                 let out = &mut patch.bits[c * rows * w..(c + 1) * rows * w];
                 out[..w].copy_from_slice(above);
                 out[w..2 * w].copy_from_slice(vis);
-                if edges {
+                if let Edges::Track(tracks) = edges {
+                    track_edges(out, w, tracks);
+                } else if edges.kept() {
                     // Only blocked lights can sit at an edge or have a visible neighbour
                     // across one, so the loop runs over the (usually few) blocked lights.
                     // Both sides are marked: marking only the side the turn moves towards
@@ -153,6 +175,30 @@ impl CarryPatch {
     }
 }
 
+/// Marks in `out`'s edge row (after the above and visible rows, `w` words each) the lights
+/// whose corridor ([`Tracks`]) meets both a visible light and a blocked or below-horizon one:
+/// a shadow edge (or the horizon, beyond which the previous frame knows nothing) lies across
+/// or just ahead of its way.
+fn track_edges(out: &mut [u64], w: usize, tracks: &Tracks) {
+    let (head, edge) = out.split_at_mut(2 * w);
+    let (above, vis) = head.split_at(w);
+    edge.fill(0);
+    for j in 0..tracks.len() {
+        let (mut lit, mut dark) = (false, false);
+        for &c in tracks.cells(j) {
+            let c = c as usize;
+            if bits::get(above, c) && bits::get(vis, c) {
+                lit = true;
+            } else {
+                dark = true;
+            }
+        }
+        if lit && dark {
+            bits::set(edge, j);
+        }
+    }
+}
+
 /// What frame k reads of frame k − 1: its carried data and how to find a point in it.
 pub struct Prev<'a> {
     carried: &'a Carried,
@@ -166,6 +212,13 @@ pub struct Prev<'a> {
     /// Lights whose votes are pulled from another of the previous frame's lights (spin):
     /// (current light, previous light).
     remap: Vec<(u16, u16)>,
+    /// The sine of the largest angle between a light's direction carried into the previous
+    /// frame and the previous light its votes come from (spin; 0 for an orbit): lights this
+    /// close to a pixel's tangent plane are at its horizon edge.
+    grazing: f32,
+    /// The previous frame saw every pixel's surface point at the same pixel (scene and camera
+    /// still) while the lights turned: a turning environment ([`Prev::in_place`]).
+    in_place: bool,
 }
 
 impl<'a> Prev<'a> {
@@ -189,7 +242,44 @@ impl<'a> Prev<'a> {
             pixel_angle: 2.0 * libm::tanf(camera.vfov_deg.to_radians() * 0.5)
                 / camera.height as f32,
             remap,
+            grazing: 0.0,
+            in_place: false,
         }
+    }
+
+    /// This view with `grazing` (see [`grazing`](Self::grazing)).
+    pub fn with_grazing(self, grazing: f32) -> Prev<'a> {
+        Prev { grazing, ..self }
+    }
+
+    /// The sine of the elevation above a pixel's tangent plane below which a light's votes
+    /// (pulled through a spin's turn) may come from the other side of a grazing shadow.
+    pub fn grazing(&self) -> f32 {
+        self.grazing
+    }
+
+    /// This view for a turning environment: scene and camera did not move, so each pixel's
+    /// previous self saw its surface point; the lights turned, and the previous frame's edge
+    /// lights are those a shadow edge may cross on their way ([`Edges::Track`]).
+    pub fn in_place(self) -> Prev<'a> {
+        Prev {
+            in_place: true,
+            ..self
+        }
+    }
+
+    /// Whether this is a turning environment's view ([`Prev::in_place`]).
+    pub fn is_in_place(&self) -> bool {
+        self.in_place
+    }
+
+    /// The previous frame's pixel (x, y) as a row-major index if it saw surface point `p` (bit
+    /// for bit: the same ray through the same scene), for [`Prev::in_place`] views.
+    #[inline]
+    pub fn same_point(&self, x: u32, y: u32, p: Vec3) -> Option<usize> {
+        let c = self.carried;
+        let q = y as usize * c.width as usize + x as usize;
+        (x < c.width && y < c.height && c.hit[q] && c.p[q] == p).then_some(q)
     }
 
     pub fn carried(&self) -> &Carried {

@@ -245,9 +245,11 @@ mod tests {
                 p: Vec3::new(s, s + 0.5, -s),
                 n: Vec3::Y,
                 ng: Vec3::Z,
+                origin: Vec3::new(s, s + 0.5, 1.0 - s),
                 albedo: Vec3::splat(0.1 * s),
                 dir: Vec3::new(0.0, -s, 1.0).normalize(),
                 hit: true,
+                catcher: seed % 2 == 1,
                 ..Surface::default()
             },
             bits: [

@@ -9,6 +9,8 @@
 //! - [`brdf`] is the glTF metallic-roughness BRDF; [`shade`] sums it over the visible lights
 //!   (SIMD kernels); [`glossy`] prefilters the map for lobes too narrow for the lights.
 //! - [`predict`] decides each (pixel, light) visibility: traced or predicted.
+//! - [`background`] is what rays leaving the scene see; [`catcher`] shades the background's
+//!   and shadow catchers' share of a pixel (its alpha too).
 //! - [`tile`] splits a frame; [`frame`] renders one tile; [`film`] assembles tiles;
 //!   [`coordinator`] schedules frames × tiles over threads and streams them to the writer.
 //! - [`output`] writes EXR/PNG/CSV/JSON atomically; [`anim`] parses animation specs;
@@ -19,6 +21,7 @@
 
 pub mod accel;
 pub mod anim;
+pub mod background;
 pub mod bench;
 pub mod bits;
 pub mod blockers;
@@ -26,6 +29,7 @@ pub mod brdf;
 pub mod buffers;
 pub mod camera;
 pub mod cancel;
+pub mod catcher;
 pub mod context;
 pub mod coordinator;
 pub mod driver;
@@ -34,11 +38,14 @@ pub mod error;
 pub mod export;
 pub mod farm;
 pub mod film;
+pub mod frames;
 pub mod glossy;
 pub mod history;
 pub mod lattice;
 pub mod lights;
 pub mod limits;
+pub mod motion;
+pub mod offset;
 pub mod output;
 pub mod predict;
 pub mod raydump;

@@ -70,23 +70,38 @@ pub fn check_file_size(path: &Path, what: &str) -> Result<()> {
 
 /// What a file that is not a regular file is, for messages; `None` for a regular file.
 fn not_regular(m: &std::fs::Metadata) -> Option<&'static str> {
-    use std::os::unix::fs::FileTypeExt;
     let t = m.file_type();
     if t.is_file() {
         None
     } else if t.is_dir() {
         Some("a folder")
-    } else if t.is_fifo() {
-        Some("a FIFO")
-    } else if t.is_char_device() {
-        Some("a character device")
-    } else if t.is_block_device() {
-        Some("a block device")
-    } else if t.is_socket() {
-        Some("a socket")
     } else {
-        Some("not a file")
+        Some(special_kind(&t))
     }
+}
+
+/// A file that is neither a regular file nor a folder, as Unix tells them apart.
+#[cfg(unix)]
+fn special_kind(t: &std::fs::FileType) -> &'static str {
+    use std::os::unix::fs::FileTypeExt;
+    if t.is_fifo() {
+        "a FIFO"
+    } else if t.is_char_device() {
+        "a character device"
+    } else if t.is_block_device() {
+        "a block device"
+    } else if t.is_socket() {
+        "a socket"
+    } else {
+        "not a file"
+    }
+}
+
+/// A file that is neither a regular file nor a folder: Windows metadata says no more of a
+/// device (`NUL`, `CON`) or a pipe.
+#[cfg(not(unix))]
+fn special_kind(_: &std::fs::FileType) -> &'static str {
+    "not a file"
 }
 
 /// Why [`read_regular`] read nothing.
@@ -348,6 +363,9 @@ pub struct SceneSize {
     /// Bytes of the optional vertex arrays (second texture coordinates, tangents, colours)
     /// over every vertex, when any primitive has them (then every vertex gets them).
     pub extra_vertex_bytes: u64,
+    /// Lights the file places (`KHR_lights_punctual`): each a bit of every sample's bitsets
+    /// when they join the map's.
+    pub lights: u64,
 }
 
 /// An upper estimate of a render's memory, by what holds it.
@@ -383,6 +401,8 @@ impl Estimate {
 pub struct Budget {
     limit: u64,
     render: u128,
+    /// The render's request, if any: the scene's own lights are added to its lights.
+    request: Option<Request>,
     /// Posed copies of the scene alive at once (a spin: one per frame in flight).
     posed: u64,
     /// BVHs alive at once: the still scene's, or each posed copy's.
@@ -400,6 +420,7 @@ impl Default for Budget {
         Budget {
             limit: MAX_MEMORY_BYTES,
             render: 0,
+            request: None,
             posed: 0,
             accels: 1,
             scene: SceneSize::default(),
@@ -417,6 +438,7 @@ impl Budget {
         let threads = u128::from(worker_threads(request.threads)) + OTHER_THREADS;
         Budget {
             render: estimate_bytes(request) + threads * THREAD_BYTES + PROCESS_BYTES,
+            request: Some(*request),
             running: PROCESS_BYTES,
             posed: posed as u64,
             accels: (posed as u64).max(1),
@@ -446,8 +468,23 @@ impl Budget {
             bvh: u128::from(s.triangles) * BVH_TRIANGLE * u128::from(self.accels),
             textures: u128::from(s.texels) * TEXTURE_TEXEL,
             map: u128::from(self.map_texels) * MAP_TEXEL,
-            render: self.render,
+            render: self.render + self.scene_lights_bytes(),
             loading: scene_loading.max(map_loading),
+        }
+    }
+
+    /// What the scene file's lights add to the render's own estimate: their bits in every
+    /// sample's bitsets and their per-light tables.
+    fn scene_lights_bytes(&self) -> u128 {
+        match self.request {
+            Some(r) if self.scene.lights > 0 => {
+                let more = Request {
+                    lights: r.lights.saturating_add(self.scene.lights as usize),
+                    ..r
+                };
+                estimate_bytes(&more) - estimate_bytes(&r)
+            }
+            _ => 0,
         }
     }
 
@@ -686,6 +723,12 @@ mod tests {
         b.expect_map(8 << 20, 1000);
         let e = b.estimate();
         assert_eq!(e.textures, (3 << 20) * TEXTURE_TEXEL);
+        // The optional vertex arrays (colours, tangents, a second UV set) count their bytes.
+        let mut extra = b.clone();
+        extra.scene.vertices = 1000;
+        let without = extra.estimate().scene;
+        extra.scene.extra_vertex_bytes = 1000 * 16;
+        assert_eq!(extra.estimate().scene, without + 1000 * 16);
         assert_eq!(e.map, (8 << 20) * MAP_TEXEL);
         // Loading: the larger of decoding the largest image and decoding or sampling the map.
         let image = (2 << 20) * TEXTURE_DECODE_TEXEL;

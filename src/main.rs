@@ -5,25 +5,17 @@ mod cli;
 mod pure_maths;
 
 use clap::Parser;
-use clap::error::ErrorKind;
 
-use envshadow::error::{exit, exit_code};
+use envshadow::error::exit_code;
 
 fn main() {
     let cli = match cli::Cli::try_parse() {
         Ok(cli) => cli,
-        Err(e) if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) => {
-            e.exit()
-        }
-        Err(e) if e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => e.exit(),
-        Err(e) => {
-            // clap adds usage and a hint on further lines; one line is easier to grep in a
-            // farm's logs, and `--help` has the rest.
-            let text = e.to_string();
-            let first = text.lines().next().unwrap_or("error: bad arguments");
-            cli::say(&format!("{first} (see --help)"));
-            std::process::exit(exit::BAD_INPUT);
-        }
+        // Help and version (stdout, exit 0) and usage errors (stderr, exit 2, which is also
+        // our bad-input code) as clap writes them: the whole message, with the argument a
+        // command is missing, the usage line and hints such as "tip: a similar argument
+        // exists: '--frames'"; coloured only on a terminal.
+        Err(e) => e.exit(),
     };
     if let Err(err) = cli::run(cli) {
         let mut msg = format!("error: {err}");

@@ -57,8 +57,10 @@ struct Row {
     width: u32,
     height: u32,
     queries: u64,
+    /// Every ray the frame traced, tiles' halos included.
     rays: u64,
     percent: f64,
+    /// The frame's thread-seconds.
     seconds: f64,
     /// With validation: wrong pairs, error percent, wrong pixels, PSNR (dB).
     wrong: Option<u64>,
@@ -90,9 +92,9 @@ fn read_stats(path: &Path) -> Result<Vec<Row>> {
                 width: f.width,
                 height: f.height,
                 queries: c.queries,
-                rays: c.rays,
+                rays: c.traced(),
                 percent: c.percent_traced(),
-                seconds: f.seconds,
+                seconds: f.thread_seconds,
                 wrong: validated.then_some(c.wrong_visible + c.wrong_blocked),
                 error_percent: validated.then_some(c.error_percent()),
                 wrong_pixels: validated.then_some(c.wrong_pixels),
@@ -346,7 +348,8 @@ fn scan_frame(dir: &Path, out: &Path, frame: usize, gif: bool) -> Scan {
     let png = frame_path(dir, frame, "png");
     match image::open(&png) {
         Ok(img) => {
-            let img = img.to_rgb8();
+            // A transparent frame is shown over a checkerboard.
+            let img = output::png::over_checkerboard(&img.to_rgba8(), 8);
             let name = format!("thumb_{frame:04}.jpg");
             match save_jpeg(&out.join(&name), &scaled(&img, THUMB_WIDTH)) {
                 Ok(()) => scan.thumb = Some(name),
@@ -535,7 +538,7 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
         },
         Series {
             file: "plot_seconds.png",
-            title: "Seconds per frame",
+            title: "Thread-seconds per frame",
             unit: "s",
             points: fx(|r| Some(r.seconds)),
             colour: [255, 127, 14],
@@ -818,7 +821,7 @@ fn page(
     let _ = writeln!(
         h,
         "<p class=\"lead\">{} frames at {}, {} lights, {}: <b>{percent:.2} %</b> of the shadow \
-         queries traced, the rest predicted; {seconds:.1} s of rendering.</p>",
+         queries traced, the rest predicted; {seconds:.1} thread-seconds of rendering.</p>",
         rows.len(),
         esc(&res),
         esc(&nlights),
@@ -843,15 +846,36 @@ fn page(
             "shadow rays traced",
             format!("{} ({percent:.2} % of the queries)", with_commas(rays)),
         ),
-        (
-            "render time",
-            format!("{seconds:.2} s (the frames' sum; two render at once)"),
-        ),
-        (
-            "shadow rays per second",
-            format!("{:.2} M", rays as f64 / seconds.max(1e-9) / 1e6),
-        ),
     ];
+    // Wall time from the runs that rendered the folder (records/runs.csv; none for a farm's
+    // assembled folder); thread-seconds from the frames themselves.
+    let runs = crate::output::runs::RunRecord::read_all(dir).unwrap_or_default();
+    let wall: f64 = runs.iter().map(|r| r.wall_seconds).sum();
+    let run_rays: u64 = runs.iter().map(|r| r.rays_traced).sum();
+    if runs.is_empty() {
+        run.push((
+            "wall time",
+            "not recorded (no records/runs.csv: an assembled farm render?)".to_string(),
+        ));
+    } else {
+        let threads = distinct(runs.iter().map(|r| r.threads));
+        run.push((
+            "wall time",
+            format!(
+                "{wall:.2} s ({} run{}, {threads} threads), {:.2} M shadow rays per second",
+                runs.len(),
+                if runs.len() == 1 { "" } else { "s" },
+                run_rays as f64 / wall.max(1e-9) / 1e6
+            ),
+        ));
+    }
+    run.push((
+        "compute time",
+        format!(
+            "{seconds:.2} thread-seconds (the frames' own, summed), {:.2} M shadow rays per thread-second",
+            rays as f64 / seconds.max(1e-9) / 1e6
+        ),
+    ));
     if !validated.is_empty() {
         let vq: u64 = validated.iter().map(|r| r.queries).sum();
         let vw: u64 = validated.iter().filter_map(|r| r.wrong).sum();
@@ -997,7 +1021,7 @@ fn page(
     if any_wrong {
         h.push_str("<th>wrong predictions</th>");
     }
-    h.push_str("<th>traced</th><th>seconds</th>");
+    h.push_str("<th>traced</th><th>thread-seconds</th>");
     if any_wrong {
         h.push_str("<th>error</th><th>wrong pixels</th><th>PSNR</th>");
     }

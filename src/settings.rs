@@ -15,10 +15,13 @@
 use std::fmt::Debug;
 use std::path::{Path, PathBuf};
 
+use crate::background::{Background, Rgb, check_rgb};
 use crate::error::{Result, input_error};
 use crate::lights::Sampler;
 use crate::predict::{FloodTo, Method};
 use crate::samples::{Filter, Samples};
+use crate::scene::Up;
+use crate::scene::ground::Ground;
 use crate::view::View;
 
 /// A setting's value as flags, specs and messages spell it.
@@ -35,7 +38,9 @@ macro_rules! value_by_display {
         }
     )*};
 }
-value_by_display!(u32, usize, bool, f32, Method, FloodTo, Filter, View);
+value_by_display!(
+    u32, usize, bool, f32, Method, FloodTo, Filter, Background, Rgb, Ground, Up, View
+);
 
 impl Value for Sampler {
     fn show(&self) -> String {
@@ -60,7 +65,9 @@ macro_rules! deserialize_by_from_str {
         }
     )*};
 }
-deserialize_by_from_str!(Method, FloodTo, Sampler, Filter, View);
+deserialize_by_from_str!(
+    Method, FloodTo, Sampler, Filter, Background, Ground, Up, View
+);
 
 /// Where a layer of settings came from, so a message names a value as the user wrote it.
 #[derive(Clone, Copy, Debug)]
@@ -274,6 +281,14 @@ fn check_min_voters(v: &u32) -> std::result::Result<(), String> {
     }
 }
 
+fn check_busy_voters(v: &u32) -> std::result::Result<(), String> {
+    if *v <= 4 {
+        Ok(())
+    } else {
+        Err("must be 0 (off) to 4 (a pixel has at most 4 voters)".into())
+    }
+}
+
 fn check_scan_block(v: &u32) -> std::result::Result<(), String> {
     if *v >= 8 {
         Ok(())
@@ -300,6 +315,14 @@ fn check_tile(v: &u32) -> std::result::Result<(), String> {
         Ok(())
     } else {
         Err("the tile is too small: use 0 (whole frame) or at least 8".into())
+    }
+}
+
+fn check_blur(v: &f32) -> std::result::Result<(), String> {
+    if v.is_finite() && (1.0..=90.0).contains(v) {
+        Ok(())
+    } else {
+        Err("must be 1 to 90 degrees".into())
     }
 }
 
@@ -330,6 +353,11 @@ settings! {
             check any;
         /// Light sampler: sis (structured importance sampling, the default) or median-cut.
         sampler: Sampler = Sampler::Sis, flag "sampler" [value_name = "NAME"], check any;
+        /// Light the scene with the lights its glTF file places (KHR_lights_punctual:
+        /// directional, point and spot) besides the map's (default true); false ignores them.
+        scene_lights: bool = true,
+            flag "scene-lights" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
+                default_missing_value = "true"], check any;
     }
 }
 
@@ -388,6 +416,23 @@ settings! {
         pixel_majority: bool = true,
             flag "pixel-majority" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
                 default_missing_value = "true"], check any;
+        /// Uncertainty methods: predict a light only if every valid voter (at least
+        /// --min-voters of them) has it above its horizon; default false (BENCHMARKS.md,
+        /// issue 23).
+        all_voters: bool = false,
+            flag "all-voters" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
+                default_missing_value = "true"], check any;
+        /// Uncertainty methods: where a voter's flooding caught a wrong prediction, trace a
+        /// light fewer than K voters have above their horizon (default 4; 0: --min-voters
+        /// everywhere): more tracing where shadows are finer than the voters' spacing, thin
+        /// and busy models (BENCHMARKS.md, issue 23).
+        busy_voters: u32 = 4, flag "busy-voters" [value_name = "K"], check check_busy_voters;
+        /// Uncertainty and boundary methods: a neighbour votes only if it lies on the pixel's
+        /// surface (its normal within about 37° of the pixel's, its point within about 17° of
+        /// the pixel's tangent plane); default false (BENCHMARKS.md, issue 23).
+        surface_voters: bool = false,
+            flag "surface-voters" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
+                default_missing_value = "true"], check any;
         /// Scanline methods: block size at which the scan restarts, at least 8 (default 64).
         scan_block: u32 = 64, flag "scan-block" [value_name = "N"], check check_scan_block;
         /// Uncertainty methods: let every pixel whose surface point the previous frame saw use
@@ -401,6 +446,19 @@ settings! {
         /// starting between key frames first renders, without writing, the frames back to the
         /// key frame before it.
         keyframe: u32 = 0, flag "keyframe" [value_name = "N"], check check_keyframe;
+        /// What rays that leave the scene see: environment (the default: the map, as it
+        /// lights the scene), transparent (alpha 0: the EXR's RGBA is premultiplied, the PNG
+        /// has straight alpha), color (--background-color) or blurred (the map blurred by
+        /// --background-blur). The lights always come from the map.
+        background: Background = Background::Environment,
+            flag "background" [value_name = "KIND"], check any;
+        /// With --background color: the colour, linear RGB (default 0.18,0.18,0.18).
+        background_color: Rgb = Rgb([0.18; 3]),
+            flag "background-color" [value_name = "R,G,B"], check check_rgb;
+        /// With --background blurred: the blur's standard deviation in degrees, 1 to 90
+        /// (default 10).
+        background_blur: f32 = 10.0,
+            flag "background-blur" [value_name = "DEGREES"], check check_blur;
         /// Exposure of the PNG previews, a multiplier applied before the view transform (the
         /// EXR keeps linear radiance; default 1).
         exposure: f32 = 1.0, flag "exposure" [value_name = "X"], check check_finite;
@@ -412,6 +470,25 @@ settings! {
         tile: u32 = 64, flag "tile" [value_name = "N"], check check_tile;
         /// Worker threads (0, the default: one per core).
         threads: usize = 0, flag "threads" [value_name = "N"], check any;
+    }
+}
+
+settings! {
+    /// What is done to the loaded scene (`[scene]`, beside the file it comes from).
+    ["scene"] SceneSettings, SceneLayer, SceneSweep {
+        /// The file's up axis: y (glTF's, the default) or z (the scene, its cameras included,
+        /// is turned so that +Z points up, before anything else reads it).
+        up: Up = Up::Y, flag "up" [value_name = "AXIS"], check any;
+        /// A ground below the model: auto (the default: when the scene has no surface the model
+        /// stands on), none, or always. The ground is a disc at the model's lowest point, 32
+        /// bounding-sphere radii wide, diffuse grey (albedo 0.5) or, over a transparent
+        /// background or with --shadow-catcher, a shadow catcher.
+        ground: Ground = Ground::Auto, flag "ground" [value_name = "WHEN"], check any;
+        /// Make the added ground a shadow catcher over any background (it always is over a
+        /// transparent one): it shows only the shadows on it.
+        shadow_catcher: bool = false,
+            flag "shadow-catcher" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
+                default_missing_value = "true"], check any;
     }
 }
 
@@ -456,6 +533,9 @@ impl Render {
             flood_to: self.flood_to,
             scan_block: self.scan_block,
             pixel_majority: self.pixel_majority,
+            surface_voters: self.surface_voters,
+            all_voters: self.all_voters,
+            busy_voters: self.busy_voters,
             k: 1,
         }
     }

@@ -7,10 +7,9 @@
 use glam::Vec3;
 
 use crate::brdf::{Lobe, MAX_DV, Sums, Weights, light_terms};
-use crate::context::Surface;
+use crate::context::{FrameContext, Surface};
 use crate::envmap::LUMINANCE;
-use crate::glossy::Glossy;
-use crate::lights::{Light, LightSet};
+use crate::lights::{Light, LightSet, PointLight};
 
 /// Light directions and energies as padded flat arrays (length a multiple of 64, zero lights at
 /// the end), so shading runs over 8 lights at a time without bounds checks.
@@ -27,8 +26,10 @@ pub struct ShadeLights {
 }
 
 impl ShadeLights {
+    /// The set's directional lights, then zero lights in the point and spot lights' places and
+    /// up to a whole word (their light comes from [`point_lights`]).
     pub fn new(lights: &LightSet) -> ShadeLights {
-        let n = lights.lights.len().div_ceil(64) * 64;
+        let n = lights.len().div_ceil(64) * 64;
         let pad = |f: &dyn Fn(&Light) -> f32| {
             let mut v: Vec<f32> = lights.lights.iter().map(f).collect();
             v.resize(n, 0.0);
@@ -93,6 +94,24 @@ pub fn radiance(sl: &ShadeLights, n: Vec3, albedo: Vec3, bits: &[u64]) -> Vec3 {
 #[inline]
 pub fn reflect(albedo: Vec3, sum: Vec3) -> Vec3 {
     albedo * std::f32::consts::FRAC_1_PI * sum
+}
+
+/// The cosine-weighted irradiance at point `p` of normal `n` of the point and spot lights whose bits are
+/// set in `bits` (light k of `points` has bit `first + k`): Σ E_k · max(0, N·ω_k), the
+/// inverse-square, range and cone falloff in E_k ([`PointLight::at`]). What [`reflect`] turns
+/// into Lambertian radiance, as [`light_sum`] is for the directional lights; in light order,
+/// one light at a time (a scene file places a handful).
+pub fn point_lights(points: &[PointLight], first: usize, p: Vec3, n: Vec3, bits: &[u64]) -> Vec3 {
+    let mut sum = Vec3::ZERO;
+    for (k, l) in points.iter().enumerate() {
+        if !crate::bits::get(bits, first + k) {
+            continue;
+        }
+        if let Some(i) = l.at(p) {
+            sum += i.irradiance * n.dot(i.dir).max(0.0);
+        }
+    }
+    sum
 }
 
 /// Whether two normals are the same bits (so every kernel gives them the same answer).
@@ -236,28 +255,51 @@ unsafe fn radiance_avx2(sl: &ShadeLights, n: Vec3, bits: &[u64]) -> [[f32; 8]; 3
 
 /// A sample's radiance (its background aside): the visible lights in `vis` (those above its
 /// horizon in `above`) reflected by its material — Lambertian, or glTF metallic-roughness
-/// (`crate::brdf`) with, where `glossy` says the lights are too few for the lobe, the
+/// (`crate::brdf`) with, where `ctx.glossy` says the lights are too few for the lobe, the
 /// prefiltered environment weighted by the lobe's visible fraction — times its occlusion,
-/// plus its emission. Lambertian samples with the normal and visible lights of the last one
-/// `cache` saw reuse its light sum (the same bits).
+/// plus the scene file's point and spot lights in `vis` (the same BRDF, exact: one light at a
+/// time; occlusion is the environment's only), plus its emission. Lambertian samples with the
+/// normal and visible lights of the last one `cache` saw reuse its light sum (the same bits).
 pub fn radiance_at(
-    sl: &ShadeLights,
-    glossy: Option<&Glossy>,
+    ctx: &FrameContext,
     s: &Surface,
     vis: &[u64],
     above: &[u64],
     cache: &mut LambertCache,
 ) -> Vec3 {
+    let sl = &ctx.shade_lights;
     let m = &s.material;
+    let points = ctx.has_points();
+    let first = ctx.light_dir.len();
     let mut lit = if m.lambert {
-        reflect(s.albedo, cache.light_sum(sl, s.n, vis))
+        let sum = cache.light_sum(sl, s.n, vis);
+        if points && m.occlusion == 1.0 {
+            // The Lambertian sum over every light, as main shades point lights.
+            return reflect(
+                s.albedo,
+                sum + point_lights(&ctx.lights.points, first, s.p, s.n, vis),
+            ) + m.emission;
+        }
+        reflect(s.albedo, sum)
     } else {
-        metallic_roughness(sl, glossy, s, vis, above)
+        metallic_roughness(ctx, s, vis, above)
     };
     // Occlusion darkens the environment's light (all of the light set's); 1 and no emission
     // leave the bits alone.
     if m.occlusion != 1.0 {
         lit *= m.occlusion;
+    }
+    if points {
+        lit += if m.lambert {
+            reflect(
+                s.albedo,
+                point_lights(&ctx.lights.points, first, s.p, s.n, vis),
+            )
+        } else {
+            let lobe = Lobe::new(s.n, -s.dir, m.roughness);
+            let sums = point_sums(&ctx.lights.points, first, s.p, &lobe, vis);
+            Weights::new(s.albedo, m).radiance(&sums)
+        };
     }
     if m.emission != Vec3::ZERO {
         lit += m.emission;
@@ -265,14 +307,35 @@ pub fn radiance_at(
     lit
 }
 
+/// The metallic-roughness light sums ([`Sums`]) of the point and spot lights whose bits are set
+/// in `bits` (light k of `points` has bit `first + k`) at point `p` for `lobe`: each light's
+/// irradiance (falloff included, [`PointLight::at`]) in its own direction, one light at a time
+/// in light order, as [`point_lights`] sums them for Lambert.
+pub fn point_sums(points: &[PointLight], first: usize, p: Vec3, lobe: &Lobe, bits: &[u64]) -> Sums {
+    let mut sums = Sums::default();
+    for (k, l) in points.iter().enumerate() {
+        if !crate::bits::get(bits, first + k) {
+            continue;
+        }
+        let Some(i) = l.at(p) else {
+            continue;
+        };
+        let t = light_terms(lobe, i.dir);
+        if t.cos <= 0.0 {
+            continue;
+        }
+        let e = i.irradiance * t.cos;
+        sums.s0 += e;
+        sums.s1 += e * t.w;
+        sums.s2 += e * t.dv;
+        sums.s3 += e * (t.dv * t.w);
+    }
+    sums
+}
+
 /// The glTF metallic-roughness radiance of sample `s` (see [`radiance_at`]).
-fn metallic_roughness(
-    sl: &ShadeLights,
-    glossy: Option<&Glossy>,
-    s: &Surface,
-    vis: &[u64],
-    above: &[u64],
-) -> Vec3 {
+fn metallic_roughness(ctx: &FrameContext, s: &Surface, vis: &[u64], above: &[u64]) -> Vec3 {
+    let (sl, glossy) = (&ctx.shade_lights, ctx.glossy);
     let m = &s.material;
     let v = -s.dir;
     let weights = Weights::new(s.albedo, m);
@@ -300,6 +363,11 @@ fn metallic_roughness(
     let lobe = Lobe::new(s.n, v, m.roughness);
     let (i2, i3) = g.dfg(lobe.n_dot_v, m.roughness);
     let mirror = s.n * (2.0 * lobe.n_dot_v) - v;
+    // The map turned as this frame's lights are (`[motion] kind = "environment"`).
+    let mirror = match ctx.env_turn {
+        None => mirror,
+        Some((sin, cos)) => crate::envmap::rotate_y(mirror, (-sin, cos)),
+    };
     let env = g.radiance(mirror, m.roughness) * visible;
     let from_env = weights.specular(env * i2, env * i3);
     if share <= 0.0 {
@@ -611,16 +679,23 @@ unsafe fn specular_avx2<const U: bool>(
 /// summed in glam's dot order `(x + y) + z`), four or eight lights per instruction.
 #[inline]
 pub fn above_horizon(sl: &ShadeLights, n: Vec3, out: &mut [u64]) {
+    above_plane(sl, n, 0.0, out);
+}
+
+/// Sets `out`'s bits for the lights with `n·ω > h`: [`above_horizon`] raised to the sine `h`
+/// of an elevation above the tangent plane (the lights between are grazing).
+#[inline]
+pub fn above_plane(sl: &ShadeLights, n: Vec3, h: f32, out: &mut [u64]) {
     let lights = out.len() * 64;
     let (x, y, z) = (&sl.x[..lights], &sl.y[..lights], &sl.z[..lights]);
     #[cfg(target_arch = "x86_64")]
     {
         if crate::simd::has_avx2() {
             // SAFETY: AVX2 was detected; the slices hold `out.len() * 64` lights.
-            unsafe { above_horizon_avx2(x, y, z, n, out) };
+            unsafe { above_horizon_avx2(x, y, z, n, h, out) };
         } else {
             // SAFETY: as above (SSE2 is part of x86_64).
-            unsafe { above_horizon_sse2(x, y, z, n, out) };
+            unsafe { above_horizon_sse2(x, y, z, n, h, out) };
         }
     }
     #[cfg(not(target_arch = "x86_64"))]
@@ -629,20 +704,39 @@ pub fn above_horizon(sl: &ShadeLights, n: Vec3, out: &mut [u64]) {
         for l in 0..64 {
             let j = k * 64 + l;
             let d = n.x * x[j] + n.y * y[j] + n.z * z[j];
-            bits |= u64::from(d > 0.0) << l;
+            bits |= u64::from(d > h) << l;
         }
         *word = bits;
+    }
+}
+
+/// The lights a surface point can receive: above the horizon of its shading normal `n` (the
+/// cosine that shades them is positive) and of its facet's normal `ng`. [ours] A light below
+/// the facet's plane reaches only the facet's other side: tracing it from this side finds the
+/// facet itself (or the closed mesh behind it), so it is blocked by definition, not a query.
+/// Where interpolated normals tilt past the facet (the shading terminator of coarse meshes)
+/// those lights were grazing queries on which neighbouring facets' votes disagreed.
+#[inline]
+pub fn above_both_horizons(sl: &ShadeLights, n: Vec3, ng: Vec3, out: &mut [u64]) {
+    above_horizon(sl, n, out);
+    if !same(n, ng) {
+        let mut g = [0u64; crate::limits::MAX_LIGHTS / 64];
+        let g = &mut g[..out.len()];
+        above_horizon(sl, ng, g);
+        for (o, g) in out.iter_mut().zip(g.iter()) {
+            *o &= g;
+        }
     }
 }
 
 /// # Safety
 /// `x`, `y`, `z` hold at least `out.len() * 64` values.
 #[cfg(target_arch = "x86_64")]
-unsafe fn above_horizon_sse2(x: &[f32], y: &[f32], z: &[f32], n: Vec3, out: &mut [u64]) {
+unsafe fn above_horizon_sse2(x: &[f32], y: &[f32], z: &[f32], n: Vec3, h: f32, out: &mut [u64]) {
     use std::arch::x86_64::*;
     unsafe {
         let (nx, ny, nz) = (_mm_set1_ps(n.x), _mm_set1_ps(n.y), _mm_set1_ps(n.z));
-        let zero = _mm_setzero_ps();
+        let zero = _mm_set1_ps(h);
         for (k, word) in out.iter_mut().enumerate() {
             let mut bits = 0u64;
             for g in 0..16 {
@@ -665,7 +759,7 @@ unsafe fn above_horizon_sse2(x: &[f32], y: &[f32], z: &[f32], n: Vec3, out: &mut
 /// As [`above_horizon_sse2`], on a CPU with AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn above_horizon_avx2(x: &[f32], y: &[f32], z: &[f32], n: Vec3, out: &mut [u64]) {
+unsafe fn above_horizon_avx2(x: &[f32], y: &[f32], z: &[f32], n: Vec3, h: f32, out: &mut [u64]) {
     use std::arch::x86_64::*;
     unsafe {
         let (nx, ny, nz) = (
@@ -673,7 +767,7 @@ unsafe fn above_horizon_avx2(x: &[f32], y: &[f32], z: &[f32], n: Vec3, out: &mut
             _mm256_set1_ps(n.y),
             _mm256_set1_ps(n.z),
         );
-        let zero = _mm256_setzero_ps();
+        let zero = _mm256_set1_ps(h);
         for (k, word) in out.iter_mut().enumerate() {
             let mut bits = 0u64;
             for g in 0..8 {
@@ -869,14 +963,41 @@ mod tests {
             {
                 let (x, y, z) = (&sl.x[..], &sl.y[..], &sl.z[..]);
                 // SAFETY: the planes hold 256 lights.
-                unsafe { above_horizon_sse2(x, y, z, *n, &mut out) };
+                unsafe { above_horizon_sse2(x, y, z, *n, 0.0, &mut out) };
                 assert_eq!(out, reference);
                 if std::arch::is_x86_feature_detected!("avx2") {
                     // SAFETY: as above, and AVX2 was detected.
-                    unsafe { above_horizon_avx2(x, y, z, *n, &mut out) };
+                    unsafe { above_horizon_avx2(x, y, z, *n, 0.0, &mut out) };
                     assert_eq!(out, reference);
                 }
             }
         }
+    }
+
+    #[test]
+    fn lights_below_the_facet_are_not_received_whatever_the_shading_normal() {
+        let (sl, _) = setup();
+        // A shading normal tilted 30° past its facet's (the terminator of a coarse mesh).
+        let ng = Vec3::Z;
+        let n = Vec3::new(0.5, 0.0, 0.866).normalize();
+        let mut out = [0u64; 4];
+        above_both_horizons(&sl, n, ng, &mut out);
+        let (mut received, mut tilted) = (0, 0);
+        for j in 0..256 {
+            let d = Vec3::new(sl.x[j], sl.y[j], sl.z[j]);
+            let want = n.dot(d) > 0.0 && ng.dot(d) > 0.0;
+            assert_eq!(out[j / 64] >> (j % 64) & 1 == 1, want, "light {j}");
+            received += u32::from(want);
+            tilted += u32::from(n.dot(d) > 0.0 && ng.dot(d) <= 0.0);
+        }
+        assert!(
+            received > 0 && tilted > 0,
+            "the case must have both kinds of light"
+        );
+        // The same normal for both: the shading normal's horizon alone.
+        let mut alone = [0u64; 4];
+        above_horizon(&sl, n, &mut alone);
+        above_both_horizons(&sl, n, n, &mut out);
+        assert_eq!(out, alone);
     }
 }

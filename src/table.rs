@@ -47,11 +47,14 @@ pub struct TableRow {
     pub width: u32,
     pub height: u32,
     pub queries: u64,
+    /// Rays traced at the frame's pixels, and again at tiles' halos; `percent` counts both.
     pub rays: u64,
+    pub halo_rays: u64,
     pub percent: f64,
     pub error_percent: f64,
     pub wrong_pixels: u64,
     pub rel_rmse: f64,
+    /// The frame's thread-seconds.
     pub seconds: f64,
     pub paper: Option<f64>,
     /// Where the rays went: at pixels tracing every light, queued by the prediction, queued
@@ -187,11 +190,12 @@ pub fn measure(args: &TableArgs, mut log: impl FnMut(Log)) -> Result<Vec<TableRo
                 height: anim.render.height,
                 queries: c.queries,
                 rays: c.rays,
+                halo_rays: c.halo_rays,
                 percent: c.percent_traced(),
                 error_percent: c.error_percent(),
                 wrong_pixels: c.wrong_pixels,
                 rel_rmse: stats.image_error.map_or(0.0, |e| e.rel_rmse),
-                seconds: stats.seconds,
+                seconds: stats.thread_seconds,
                 rays_every_light: c.rays_every_light,
                 rays_unsure: c.rays_unsure(),
                 rays_flooded: c.rays_flooded,
@@ -233,7 +237,9 @@ pub fn markdown(rows: &[TableRow]) -> String {
         s
     };
     let cell = |m: &Variant, n: usize| rows.iter().find(|r| &r.variant == m && r.lights == n);
-    let mut s = head("% of shadow queries traced: ours (paper)");
+    let mut s = head(
+        "% of shadow queries traced, every ray (tiles' halos included): ours (paper, whole frames)",
+    );
     for &m in &variants {
         let _ = write!(s, "| {m} |");
         for &n in lights {
@@ -267,7 +273,7 @@ pub fn markdown(rows: &[TableRow]) -> String {
     }
     s.push('\n');
     s.push_str(&head(
-        "where the rays go, % of queries: every light + prediction + flooding (flooded rays that caught a wrong prediction)",
+        "where the rays go, % of queries: every light + prediction + flooding + tiles' halos (flooded rays that caught a wrong prediction)",
     ));
     let pct = |r: &TableRow, n: u64| 100.0 * n as f64 / r.queries.max(1) as f64;
     for &m in &variants {
@@ -277,10 +283,11 @@ pub fn markdown(rows: &[TableRow]) -> String {
                 Some(r) => {
                     let _ = write!(
                         s,
-                        " {:.1} + {:.1} + {:.1} ({}) |",
+                        " {:.1} + {:.1} + {:.1} + {:.1} ({}) |",
                         pct(r, r.rays_every_light),
                         pct(r, r.rays_unsure),
                         pct(r, r.rays_flooded),
+                        pct(r, r.halo_rays),
                         r.flood_fixes
                     );
                 }
@@ -295,18 +302,19 @@ pub fn markdown(rows: &[TableRow]) -> String {
 /// The rows as CSV.
 pub fn csv(rows: &[TableRow], scene: &str) -> String {
     let mut s = String::from(
-        "scene,method,flood_to,lights,queries,rays_traced,percent_traced,paper_percent,error_percent,wrong_pixels,rel_rmse,seconds,rays_every_light,rays_unsure,rays_flooded,flood_fixes\n",
+        "scene,method,flood_to,lights,queries,rays_traced,halo_rays,percent_traced,paper_percent,error_percent,wrong_pixels,rel_rmse,thread_seconds,rays_every_light,rays_unsure,rays_flooded,flood_fixes\n",
     );
     for r in rows {
         let _ = writeln!(
             s,
-            "{scene},{},{},{},{},{},{:.4},{},{:.6},{},{:.6e},{:.3},{},{},{},{}",
+            "{scene},{},{},{},{},{},{},{:.4},{},{:.6},{},{:.6e},{:.3},{},{},{},{}",
             r.variant.method,
             // Empty for the methods every rule traces alike.
             r.flood_to.map_or("", FloodTo::name),
             r.lights,
             r.queries,
             r.rays,
+            r.halo_rays,
             r.percent,
             r.paper.map(|p| p.to_string()).unwrap_or_default(),
             r.error_percent,

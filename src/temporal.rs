@@ -8,8 +8,9 @@
 //!   drops it when done: at most two carried frames per chain exist at once, whatever the
 //!   animation's length.
 //! - **Key frames.** Frames `0, K, 2K, …` (K = `keyframe`) are predicted from their own pixels
-//!   only and start a new chain; the frames between read their predecessor. Chains are anchored
-//!   to absolute frame numbers, so a job that starts inside a chain first renders (without
+//!   only and start a new chain; the frames between read their predecessor. In a sequence of
+//!   motions each motion's first frame is a key frame and K counts from it
+//!   ([`crate::motion::Motion::key_frame_of`]). Chains are anchored to absolute frame numbers, so a job that starts inside a chain first renders (without
 //!   writing) the frames back to the chain's key frame, and every frame written is the same
 //!   whether the animation is rendered as one job or many. It also bounds how far a wrong
 //!   prediction can travel in time.
@@ -19,7 +20,7 @@
 
 use glam::{Mat3, Mat4};
 
-use crate::anim::{Animation, MotionKind};
+use crate::anim::{Animation, MotionKind, Pivot};
 use crate::camera::Camera;
 use crate::history::{Carried, Prev};
 use crate::lights::LightSet;
@@ -38,8 +39,9 @@ pub struct Chain {
 
 /// The chains that render the frames of `todo` (sorted). Without temporal prediction every
 /// frame is a chain of its own; with it, a chain runs from the key frame at or before its
-/// first frame to its last frame, frames not in `todo` rendered but not written.
-pub fn chains(todo: &[usize], temporal: bool, keyframe: u32) -> Vec<Chain> {
+/// first frame (`key_of`: frame → the key frame starting its chain) to its last frame, frames
+/// not in `todo` rendered but not written.
+pub fn chains(todo: &[usize], temporal: bool, key_of: impl Fn(usize) -> usize) -> Vec<Chain> {
     if !temporal {
         return todo
             .iter()
@@ -48,19 +50,18 @@ pub fn chains(todo: &[usize], temporal: bool, keyframe: u32) -> Vec<Chain> {
             })
             .collect();
     }
-    let k = keyframe.max(1) as usize;
     let mut out: Vec<Chain> = Vec::new();
-    let mut last_group = usize::MAX;
+    let mut last_key = usize::MAX;
     for &f in todo {
-        let group = f / k;
-        if group != last_group {
+        let key = key_of(f);
+        if key != last_key {
             out.push(Chain {
-                frames: (group * k..f).map(|g| (g, false)).collect(),
+                frames: (key..f).map(|g| (g, false)).collect(),
             });
-            last_group = group;
+            last_key = key;
         }
         let chain = out.last_mut().expect("a chain was just started");
-        let next = chain.frames.last().map_or(group * k, |&(g, _)| g + 1);
+        let next = chain.frames.last().map_or(key, |&(g, _)| g + 1);
         chain.frames.extend((next..f).map(|g| (g, false)));
         chain.frames.push((f, true));
     }
@@ -68,38 +69,54 @@ pub fn chains(todo: &[usize], temporal: bool, keyframe: u32) -> Vec<Chain> {
 }
 
 /// The view of `carried` (frame `frame − 1`) from `frame`, whose camera is `camera`: the
-/// object's motion between the two frames, and for a spinning object which previous light
-/// each light's votes come from (the lights turn relative to the object).
+/// object's motion between the two frames, and where the lights turn relative to the scene
+/// (a spinning object, a turning environment) which previous light each light's votes come
+/// from. `lights` are the previous frame's and this frame's.
 pub fn prev_view<'a>(
     anim: &Animation,
     carried: &'a Carried,
     frame: usize,
     prev_camera: Camera,
     camera: &Camera,
-    target: glam::Vec3,
-    lights: &LightSet,
+    pivot: Pivot,
+    (prev_lights, lights): (&LightSet, &LightSet),
 ) -> Prev<'a> {
     debug_assert_eq!(carried.frame + 1, frame);
-    let now = anim
-        .scene_transform(frame, target)
-        .unwrap_or(Mat4::IDENTITY);
-    let then = anim
-        .scene_transform(carried.frame, target)
-        .unwrap_or(Mat4::IDENTITY);
-    let to_prev = then * now.inverse();
+    let now = anim.scene_transform(frame, pivot);
+    let then = anim.scene_transform(carried.frame, pivot);
+    // A scene posed alike in both frames (still, or left where an earlier spin put it) has
+    // not moved: no rounding from a transform times its inverse.
+    let to_prev = if now == then {
+        Mat4::IDENTITY
+    } else {
+        then.unwrap_or(Mat4::IDENTITY) * now.unwrap_or(Mat4::IDENTITY).inverse()
+    };
+    // A turning environment: each pixel's previous self saw its point, and the lights'
+    // paths were marked when it was recorded.
+    if anim.motion.kind_at(frame) == MotionKind::Environment {
+        return Prev::new(carried, to_prev, prev_camera, camera, Vec::new()).in_place();
+    }
     let mut remap = Vec::new();
-    if anim.motion == MotionKind::Spin {
+    // The cosine of the largest angle between the direction a light's votes are wanted for
+    // and the direction of the previous light they come from (1: none, an orbit).
+    let mut worst = 1.0f32;
+    if anim.motion.kind_at(frame) == MotionKind::Spin {
         let rot = Mat3::from_mat4(to_prev);
         for (j, l) in lights.lights.iter().enumerate() {
-            // The object-space direction light j has now pointed along this world direction
-            // in the previous frame.
-            let m = lights.cell_of((rot * l.dir).normalize()) as usize;
+            // The direction light j has now, in the previous frame's scene (turned back with
+            // the object), fell in this previous light's cell.
+            let wanted = (rot * l.dir).normalize();
+            let m = prev_lights.cell_of(wanted) as usize;
+            worst = worst.min(wanted.dot(prev_lights.lights[m].dir));
             if m != j {
                 remap.push((j as u16, m as u16));
             }
         }
     }
-    Prev::new(carried, to_prev, prev_camera, camera, remap)
+    // [ours] Lights grazing the surface by less than that angle are voted on from a direction
+    // that may lie on the other side of a grazing shadow (docs/temporal.md, "Flat panels").
+    let grazing = libm::sqrtf((1.0 - worst * worst).max(0.0));
+    Prev::new(carried, to_prev, prev_camera, camera, remap).with_grazing(grazing)
 }
 
 #[cfg(test)]
@@ -109,13 +126,14 @@ mod tests {
     #[test]
     fn chains_start_at_key_frames() {
         let one = |f: &[(usize, bool)]| Chain { frames: f.to_vec() };
+        let k4 = |f: usize| f / 4 * 4;
         assert_eq!(
-            chains(&[3, 4], false, 4),
+            chains(&[3, 4], false, k4),
             vec![one(&[(3, true)]), one(&[(4, true)])]
         );
         // 3 warms up from 0; 4 starts a chain of its own; 9 warms up from 8.
         assert_eq!(
-            chains(&[3, 4, 5, 9], true, 4),
+            chains(&[3, 4, 5, 9], true, k4),
             vec![
                 one(&[(0, false), (1, false), (2, false), (3, true)]),
                 one(&[(4, true), (5, true)]),
@@ -124,7 +142,7 @@ mod tests {
         );
         // A resumed run with holes re-renders the frames between, unwritten.
         assert_eq!(
-            chains(&[0, 3], true, 8),
+            chains(&[0, 3], true, |f| f / 8 * 8),
             vec![one(&[(0, true), (1, false), (2, false), (3, true)])]
         );
         assert!(is_key(16, 16) && !is_key(17, 16) && is_key(0, 1));

@@ -7,7 +7,6 @@
 
 use std::path::Path;
 
-use envshadow::accel::Accel;
 use envshadow::anim::{AnimFlags, Animation};
 use envshadow::envmap::EnvMap;
 use envshadow::error::Result;
@@ -29,8 +28,10 @@ fn budget() -> Budget {
 pub fn anim_spec(text: &str, path: &Path, scene: &Scene) -> Result<()> {
     let anim = Animation::parse(text, path, &AnimFlags::default())?;
     for frame in [0, anim.frame_count / 2, anim.frame_count - 1] {
-        if let Ok(camera) = anim.camera(scene, frame) {
-            let _ = anim.scene_transform(frame, camera.target);
+        if anim.camera(scene, frame).is_ok()
+            && let Ok(pivot) = anim.pivot(scene)
+        {
+            let _ = anim.scene_transform(frame, pivot);
         }
     }
     Ok(())
@@ -55,19 +56,24 @@ pub fn gltf(data: &[u8], path: &Path) -> Result<()> {
     Ok(())
 }
 
-/// A spec's spin as a render poses the scene ([`Animation::scene_transform`] about the first
-/// frame's camera target, then the BVH over the posed copy, as `render_tile_list` in
-/// src/coordinator.rs does) at its first, middle and last frames, with rays through each.
+/// A spec's spin as a render poses the scene ([`Animation::scene_transform`] about its pivot,
+/// then the BVH over the posed copy, as `render_tile_list` in src/coordinator.rs does) at its
+/// first, middle and last frames, with rays through each.
 pub fn posed_scene(text: &str, path: &Path, scene: &Scene) -> Result<()> {
     let anim = Animation::parse(text, path, &AnimFlags::default())?;
-    let target = anim.camera(scene, 0)?.target;
+    let pivot = anim.pivot(scene)?;
     // As `Inputs::load` refuses a spin that could overflow.
-    if let Some(why) = scene.turn_problem(anim.pivot.unwrap_or(target)) {
-        return Err(envshadow::error::input_error(path, why));
+    for s in anim.motion.segments() {
+        if s.kind == envshadow::motion::MotionKind::Spin
+            && let Some(why) =
+                scene.turn_problem(s.pivot.map_or(pivot.target, |p| scene.to_local(p)))
+        {
+            return Err(envshadow::error::input_error(path, why));
+        }
     }
     for frame in [0, anim.frame_count / 2, anim.frame_count - 1] {
         anim.camera(scene, frame)?;
-        if let Some(m) = anim.scene_transform(frame, target) {
+        if let Some(m) = anim.scene_transform(frame, pivot) {
             trace(&scene.transformed(m));
         }
     }
@@ -109,7 +115,7 @@ pub fn small_scene() -> Scene {
 
 /// A BVH over `scene` and rays towards its centre from six sides.
 fn trace(scene: &Scene) {
-    let accel = Accel::build(&scene.positions, &scene.triangles);
+    let accel = scene.accel();
     let (lo, hi) = scene.bounds();
     let centre = (lo + hi) * 0.5;
     for d in [

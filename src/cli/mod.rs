@@ -2,15 +2,11 @@
 //! then what it did printed (results on stdout, progress and notes on stderr). The library
 //! does the work and never prints; this is the only code that talks to the terminal.
 
+mod docs;
 mod progress;
+mod talk;
 
-/// One line on stderr that never panics: a log that cannot be written (a full disk under a
-/// redirected stderr, a closed pipe) loses the line, not the run or its exit code, where
-/// `eprintln!` would panic and exit 101.
-pub fn say(line: &str) {
-    use std::io::Write;
-    let _ = writeln!(std::io::stderr(), "{line}");
-}
+pub use talk::say;
 
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -29,19 +25,27 @@ use envshadow::settings::LightsLayer;
 use envshadow::table::{self, TableArgs};
 use envshadow::tile::Rect;
 use progress::Reporter;
+use talk::{Level, Talk, TalkArgs, out};
 
 const AFTER_HELP: &str = "\
 Exit codes: 0 success; 1 internal failure (a bug, or the disk); 2 bad input (a file, a flag or
 an animation spec is wrong, or the request is over a limit; the one-line message names the file
-and where in it); 130 interrupted by Ctrl-C, SIGTERM or SIGHUP (frames in flight are dropped,
+and where in it; a usage error gives clap's usage line and hints too); 130 interrupted by
+Ctrl-C, SIGTERM or SIGHUP, on Windows Ctrl-C or Ctrl-Break (frames in flight are dropped,
 complete frames are kept; run again with --resume; a second signal stops at once).
+
+Output: results on stdout, progress and notes on stderr; -q prints only errors, -v adds detail
+(per tile, timings).
+
+Frames (--frames) are numbered from 0; 1-10 includes 10 (as Blender's lists), 0..10 does not.
 
 Limits, checked before work starts: width and height up to 16384, 64 Mpixels, 4096 lights,
 10^6 frames, 2 GB per input file, 2^26 triangles, and 16 GB of expected memory.
 
 Examples:
   envshadow render anims/shapes-turntable.toml
-  envshadow render anims/bunny-turntable.toml --frames 0..8 --lights 400 --out out/bunny
+  envshadow render anims/bunny-turntable.toml --frames 0-7 --lights 400 --out out/bunny
+  envshadow render anims/bunny-turntable.toml --frames 0-143:12 -q
   envshadow lights assets/grace.hdr -n 200 --json lights.json --png cells.png
   envshadow report out/shapes-turntable
   envshadow video out/shapes-turntable";
@@ -53,6 +57,8 @@ Examples:
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
+    #[command(flatten)]
+    pub talk: TalkArgs,
 }
 
 #[derive(Subcommand, Debug)]
@@ -87,6 +93,12 @@ pub enum Command {
     /// Plot percent traced per frame with and without --temporal (DIR/savings.png) from two
     /// renders of the same frames (scripts/temporal-savings.sh makes both).
     Savings(SavingsArgs),
+    /// Print a shell completion script: bash, zsh, fish, powershell or elvish (README:
+    /// "Shell completions and manual pages" says where each shell reads it).
+    Completions(docs::CompletionsArgs),
+    /// Print the manual page envshadow(1) in roff, or with --out DIR write one page per
+    /// command (envshadow-render.1, …) into DIR.
+    Man(docs::ManArgs),
     /// Encode a render's frame PNGs into DIR/video.mp4 (H.264) with the system's ffmpeg, at
     /// the animation's frame rate; DIR/report.html, if there, is rebuilt to show it.
     Video(VideoArgs),
@@ -113,13 +125,10 @@ pub struct PlanArgs {
     /// Number of jobs (the plan has fewer when the work does not split that far).
     #[arg(long, value_name = "N")]
     pub jobs: usize,
-    /// How to split: tiles (tile strips through the frame range; the default), frames
-    /// (frame ranges; the default when frames depend on whole previous frames) or both.
+    /// How to split: tiles (tile strips through all the frames; the default), frames
+    /// (runs of frames; the default when frames depend on whole previous frames) or both.
     #[arg(long, value_enum)]
     pub by: Option<envshadow::farm::plan::By>,
-    /// Do not print the job lines.
-    #[arg(long, short)]
-    pub quiet: bool,
 }
 
 #[derive(Args, Debug)]
@@ -134,6 +143,10 @@ pub struct AssembleArgs {
     /// SHA-256 — and on stderr why. What scripts/farm.sh and slurm.sh re-run.
     #[arg(long, conflicts_with = "no_report")]
     pub pending: bool,
+    /// Also encode DIR/video.mp4 once every frame is assembled (as `envshadow video DIR`);
+    /// a plan made with `[output] video` or `--video` asks for it without this flag.
+    #[arg(long, conflicts_with = "pending")]
+    pub video: bool,
 }
 
 #[derive(Args, Debug)]
@@ -167,8 +180,14 @@ pub struct ReportArgs {
 
 #[derive(Args, Debug)]
 pub struct RenderArgs {
-    /// The animation spec, e.g. anims/shapes-turntable.toml.
+    /// The animation spec, e.g. anims/shapes-turntable.toml; or a glTF model (.glb, .gltf)
+    /// for a default turntable of it: 72 frames orbiting the model, auto-framed, built-in
+    /// sky (or --env), a ground if it has none, 640x480 at 4 spp, into out/<model name>/.
     pub spec: PathBuf,
+    /// With a model instead of a spec: light it with this lat-long map (.exr, .hdr) instead
+    /// of the built-in sky.
+    #[arg(long, value_name = "MAP")]
+    pub env: Option<PathBuf>,
     #[command(flatten)]
     pub flags: AnimFlags,
     /// Skip frames whose EXR and PNG already exist in the output folder.
@@ -181,9 +200,6 @@ pub struct RenderArgs {
     /// Render only the pixel rectangle x0,y0,x1,y1 (x1, y1 excluded); the rest stays black.
     #[arg(long, value_name = "x0,y0,x1,y1", value_parser = parse_region)]
     pub region: Option<Rect>,
-    /// No progress output.
-    #[arg(long, short)]
-    pub quiet: bool,
     /// Do not write report.html (and report/) into the output folder at the end.
     #[arg(long)]
     pub no_report: bool,
@@ -241,38 +257,39 @@ fn parse_region(s: &str) -> std::result::Result<Rect, String> {
 
 /// Runs a parsed command line.
 pub fn run(cli: Cli) -> Result<()> {
+    let talk = cli.talk.talk();
     match cli.command {
-        Command::Render(args) => render(args),
-        Command::Lights(args) => lights(args),
-        Command::Bench(args) => bench_command(args),
-        Command::Table(args) => table_command(args),
-        Command::Plan(args) => plan(args),
-        Command::Assemble(args) => assemble(args),
+        Command::Render(args) => render(args, talk),
+        Command::Lights(args) => lights(args, talk),
+        Command::Bench(args) => bench_command(args, talk),
+        Command::Table(args) => table_command(args, talk),
+        Command::Plan(args) => plan(args, talk),
+        Command::Assemble(args) => assemble(args, talk),
         Command::Methods => {
             methods();
             Ok(())
         }
         Command::Version(args) => {
             if args.build {
-                println!(
-                    "envshadow {} build {}",
+                out(&format!(
+                    "envshadow {} build {}\n",
                     env!("CARGO_PKG_VERSION"),
                     envshadow::farm::identity::BUILD_ID
-                );
+                ));
             } else {
-                println!("envshadow {}", env!("CARGO_PKG_VERSION"));
+                out(&format!("envshadow {}\n", env!("CARGO_PKG_VERSION")));
             }
             // A line of its own: farm hosts compare the `--build` line, and hosts with and
             // without AVX2 write the same bits.
             if args.kernels {
-                println!("kernels {}", envshadow::simd::kernels());
+                out(&format!("kernels {}\n", envshadow::simd::kernels()));
             }
             Ok(())
         }
         Command::Export(args) => {
             let e = envshadow::export::run(&args)?;
-            warn(&e.warnings);
-            println!(
+            talk.warn(&e.warnings);
+            talk.done(&format!(
                 "exported frame {} ({} triangles, {} lights, {}x{}) to {}",
                 e.frame,
                 e.triangles,
@@ -280,7 +297,7 @@ pub fn run(cli: Cli) -> Result<()> {
                 e.width,
                 e.height,
                 e.dir.display()
-            );
+            ));
             Ok(())
         }
         Command::Savings(args) => {
@@ -291,7 +308,7 @@ pub fn run(cli: Cli) -> Result<()> {
                 .frames
                 .iter()
                 .fold((0.0, 0.0), |acc, r| (acc.0 + r.1 / n, acc.1 + r.2 / n));
-            println!(
+            talk.done(&format!(
                 "wrote {}: {} frames, mean {with:.2} % traced with --temporal, {without:.2} % \
                  without ({:.0} %); blue = with, grey = without, y grid every {} % up to {} %",
                 s.png.display(),
@@ -299,26 +316,32 @@ pub fn run(cli: Cli) -> Result<()> {
                 100.0 * with / without.max(1e-12),
                 s.axis.1,
                 s.axis.0
-            );
+            ));
             Ok(())
         }
-        Command::Video(args) => video(args),
+        Command::Video(args) => video(args, talk),
         Command::Report(args) => {
             let start = Instant::now();
             let page = envshadow::report::write_report(&args.dir)?;
-            println!(
+            talk.done(&format!(
                 "wrote {} in {:.1} s",
                 page.display(),
                 start.elapsed().as_secs_f64()
-            );
+            ));
             Ok(())
         }
+        Command::Completions(args) => {
+            docs::completions(&args);
+            Ok(())
+        }
+        Command::Man(args) => docs::man(&args, talk),
     }
 }
 
 /// `envshadow methods`.
 fn methods() {
     let keys = ["h0", "min_voters", "flood_to", "scan_block", "temporal"];
+    let mut text = String::new();
     for m in envshadow::predict::Method::all() {
         let (order, vote, flood) = m.parts();
         let parts = [order, vote, flood]
@@ -337,114 +360,131 @@ fn methods() {
         } else {
             ""
         };
-        println!("{}{default}: {parts}", m.name());
-        println!("    {}", m.about());
+        text.push_str(&format!("{}{default}: {parts}\n", m.name()));
+        text.push_str(&format!("    {}\n", m.about()));
         if !reads.is_empty() {
-            println!("    settings: {}", reads.join(" "));
+            text.push_str(&format!("    settings: {}\n", reads.join(" ")));
         }
     }
+    out(&text);
 }
 
-/// What a loader skipped, one line each on stderr.
-fn warn(warnings: &[String]) {
-    for w in warnings {
-        eprintln!("warning: {w}");
+/// Progress on stderr at the level asked for: a bar on a terminal, lines in a log; nothing
+/// with `-q`.
+fn progress(talk: Talk) -> Box<dyn Progress> {
+    match talk.level() {
+        Level::Quiet => Box::new(progress::Quiet),
+        level => Box::new(Reporter::new(
+            std::io::stderr().is_terminal(),
+            level == Level::Verbose,
+        )),
     }
 }
 
-/// Progress on stderr unless `quiet` (warnings either way): a bar on a terminal, lines in a
-/// log.
-fn progress(quiet: bool) -> Box<dyn Progress> {
-    if quiet {
-        Box::new(progress::Quiet)
-    } else {
-        Box::new(Reporter::new(std::io::stderr().is_terminal()))
-    }
-}
-
-fn bench_command(args: BenchArgs) -> Result<()> {
+fn bench_command(args: BenchArgs, talk: Talk) -> Result<()> {
     if let Some(path) = &args.replay {
-        print!("{}", bench::replay_table(path, &args)?);
+        out(&bench::replay_table(path, &args)?);
         return Ok(());
     }
     let rows = bench::measure(&args, |log| match log {
-        bench::Log::Row(r) => eprintln!(
+        bench::Log::Row(r) => talk.info(&format!(
             "{} lights, {} threads, {}: {:.3} s/frame",
             r.lights, r.threads, r.variant, r.seconds
-        ),
-        bench::Log::Dumped(path, rays) => eprintln!("wrote {} ({rays} rays)", path.display()),
-        bench::Log::Warning(w) => warn(&[w.to_string()]),
+        )),
+        bench::Log::Dumped(path, rays) => {
+            talk.info(&format!("wrote {} ({rays} rays)", path.display()))
+        }
+        bench::Log::Warning(w) => talk.warn(&[w.to_string()]),
     })?;
-    println!("{}\n", bench::heading(&args, &rows));
-    print!("{}", bench::markdown(&rows));
+    if args.csv {
+        out(&bench::csv(&args, &rows));
+    } else {
+        out(&format!(
+            "{}\n\n{}",
+            bench::heading(&args, &rows),
+            bench::markdown(&rows)
+        ));
+    }
     Ok(())
 }
 
-fn table_command(args: TableArgs) -> Result<()> {
+fn table_command(args: TableArgs, talk: Talk) -> Result<()> {
     let rows = table::measure(&args, |log| match log {
-        table::Log::Row(r) => eprintln!(
+        table::Log::Row(r) => talk.info(&format!(
             "{} lights, {}: {:.2} % traced, {:.4} % wrong, {:.2} s",
             r.lights, r.variant, r.percent, r.error_percent, r.seconds
-        ),
-        table::Log::Warning(w) => warn(&[w.to_string()]),
+        )),
+        table::Log::Warning(w) => talk.warn(&[w.to_string()]),
     })?;
-    println!("{}\n", table::heading(&args, &rows));
-    print!("{}", table::markdown(&rows));
+    out(&format!(
+        "{}\n\n{}",
+        table::heading(&args, &rows),
+        table::markdown(&rows)
+    ));
     if let Some(path) = &args.csv {
         table::write_csv(path, &rows, &args.scene)?;
-        eprintln!("wrote {}", path.display());
+        talk.info(&format!("wrote {}", path.display()));
     }
     Ok(())
 }
 
-fn plan(args: PlanArgs) -> Result<()> {
+fn plan(args: PlanArgs, talk: Talk) -> Result<()> {
     let anim = Animation::load(&args.spec, &args.flags)?;
-    let jobs = envshadow::farm::write_plan(&anim, &args.spec, args.jobs, args.by)?;
-    if !args.quiet {
-        print!("{}", envshadow::farm::plan::job_lines(&jobs));
+    // The video is encoded where the jobs are assembled: say so before any job runs.
+    if anim.output.video {
+        envshadow::video::check_ffmpeg()?;
     }
-    eprintln!(
-        "{}: {} jobs for frames {}..{} ({} asked); plan in {}",
+    let jobs = envshadow::farm::write_plan(&anim, &args.spec, args.jobs, args.by)?;
+    // The job lines echo jobs.txt: shown unless -q.
+    if talk.level() >= Level::Normal {
+        out(&envshadow::farm::plan::job_lines(&jobs));
+    }
+    talk.info(&format!(
+        "{}: {} jobs for frames {} ({} asked); plan in {}",
         anim.name,
         jobs.len(),
-        anim.frames.start,
-        anim.frames.end,
+        anim.frames,
         args.jobs,
         anim.output.dir.join("plan.json").display()
-    );
+    ));
     Ok(())
 }
 
-fn assemble(args: AssembleArgs) -> Result<()> {
+fn assemble(args: AssembleArgs, talk: Talk) -> Result<()> {
     if args.pending {
         let done = envshadow::farm::assemble::pending(&args.dir)?;
         for p in &done.problems {
-            eprintln!("{p}");
+            talk.info(p);
         }
-        print!("{}", envshadow::farm::plan::job_lines(&done.pending));
-        eprintln!(
+        out(&envshadow::farm::plan::job_lines(&done.pending));
+        talk.info(&format!(
             "{}: {} of {} jobs to render ({} of {} frames complete)",
             args.dir.display(),
             done.pending.len(),
             done.jobs,
             done.written,
             done.frames
-        );
+        ));
         return Ok(());
     }
     let start = Instant::now();
     let done = envshadow::farm::assemble::assemble(&args.dir)?;
+    let video_fps = done.video_fps.or(args.video.then(|| {
+        envshadow::video::recorded_fps(&args.dir)
+            .unwrap_or(envshadow::settings::Output::default().fps)
+    }));
+    // The problems are what the error below refers to: printed even with -q.
     for p in &done.problems {
-        eprintln!("{p}");
+        say(p);
     }
-    eprintln!(
+    talk.info(&format!(
         "{}: {} of {} frames assembled from {} jobs in {:.1} s",
         args.dir.display(),
         done.written,
         done.frames,
         done.jobs,
         start.elapsed().as_secs_f64()
-    );
+    ));
     if !done.problems.is_empty() {
         return Err(input_error(
             &args.dir,
@@ -454,14 +494,37 @@ fn assemble(args: AssembleArgs) -> Result<()> {
             ),
         ));
     }
+    if let Some(fps) = video_fps.filter(|_| done.written > 0) {
+        let v = envshadow::video::write_video(&args.dir, fps, None).with_context(|| {
+            format!(
+                "the frames are assembled, but not the video (retry with envshadow video {})",
+                args.dir.display()
+            )
+        })?;
+        talk.info(&format!(
+            "video: {} ({} frames at {} fps)",
+            v.path.display(),
+            v.frames,
+            v.fps
+        ));
+    }
     if !args.no_report && done.written > 0 {
         envshadow::report::write_report(&args.dir)?;
     }
     Ok(())
 }
 
-fn render(args: RenderArgs) -> Result<()> {
-    let anim = Animation::load(&args.spec, &args.flags)?;
+fn render(args: RenderArgs, talk: Talk) -> Result<()> {
+    let anim = if envshadow::anim::is_model(&args.spec) {
+        Animation::of_model(&args.spec, args.env.as_deref(), &args.flags)?
+    } else if args.env.is_some() {
+        return Err(input_error(
+            "--env",
+            "applies to a model (envshadow render model.glb); a spec names its map in [environment]",
+        ));
+    } else {
+        Animation::load(&args.spec, &args.flags)?
+    };
     let selection = match (args.job, args.of, &args.tiles) {
         (Some(index), Some(of), _) => Some(envshadow::farm::JobSelection::Planned {
             index,
@@ -475,7 +538,7 @@ fn render(args: RenderArgs) -> Result<()> {
     if anim.output.video && selection.is_none() {
         envshadow::video::check_ffmpeg()?;
     }
-    let progress = progress(args.quiet);
+    let progress = progress(talk);
     if let Some(sel) = selection {
         let (job, dir, summary) = envshadow::farm::render_job(
             &anim,
@@ -484,16 +547,14 @@ fn render(args: RenderArgs) -> Result<()> {
             envshadow::cancel::Cancel::on_signals()?,
             progress.as_ref(),
         )?;
-        if !args.quiet {
-            eprintln!(
-                "{}: {} frames rendered, {} skipped in {:.1} s; output in {}",
-                job.describe(),
-                summary.rendered,
-                summary.skipped,
-                summary.seconds,
-                dir.display()
-            );
-        }
+        talk.info(&format!(
+            "{}: {} frames rendered, {} skipped in {:.1} s; output in {}",
+            job.describe(),
+            summary.rendered,
+            summary.skipped,
+            summary.seconds,
+            dir.display()
+        ));
         return Ok(());
     }
     let (width, height) = (anim.render.width, anim.render.height);
@@ -515,19 +576,20 @@ fn render(args: RenderArgs) -> Result<()> {
     let mut files = coordinator::FrameFiles::new(&anim, &opts);
     let summary = coordinator::render_animation(&anim, &opts, &mut files, progress.as_ref())?;
     let dir = &anim.output.dir;
-    if !args.quiet {
-        eprintln!(
-            "{}: {} frames rendered, {} skipped in {:.1} s; {} shadow queries, {} rays traced ({:.2} %); output in {}",
-            anim.name,
-            summary.rendered,
-            summary.skipped,
-            summary.seconds,
-            summary.counts.queries,
-            summary.counts.rays,
-            summary.counts.percent_traced(),
-            dir.display()
-        );
-    }
+    talk.info(&format!(
+        "{}: {} frames rendered, {} skipped in {:.1} s ({:.1} thread-s on {} threads); {} shadow queries, {} rays traced ({:.2} %, {:.1} M rays/s); output in {}",
+        anim.name,
+        summary.rendered,
+        summary.skipped,
+        summary.seconds,
+        summary.thread_seconds,
+        summary.threads,
+        summary.counts.queries,
+        summary.counts.traced(),
+        summary.counts.percent_traced(),
+        summary.counts.traced() as f64 / summary.seconds.max(1e-9) / 1e6,
+        dir.display()
+    ));
     if anim.output.video {
         let v = envshadow::video::write_video(dir, anim.output.fps, None).with_context(|| {
             format!(
@@ -535,14 +597,12 @@ fn render(args: RenderArgs) -> Result<()> {
                 dir.display()
             )
         })?;
-        if !args.quiet {
-            eprintln!(
-                "video: {} ({} frames at {} fps)",
-                v.path.display(),
-                v.frames,
-                v.fps
-            );
-        }
+        talk.info(&format!(
+            "video: {} ({} frames at {} fps)",
+            v.path.display(),
+            v.frames,
+            v.fps
+        ));
     }
     if !args.no_report {
         let start = Instant::now();
@@ -552,25 +612,23 @@ fn render(args: RenderArgs) -> Result<()> {
                 dir.display()
             )
         })?;
-        if !args.quiet {
-            eprintln!(
-                "report: {} ({:.1} s)",
-                page.display(),
-                start.elapsed().as_secs_f64()
-            );
-        }
+        talk.info(&format!(
+            "report: {} ({:.1} s)",
+            page.display(),
+            start.elapsed().as_secs_f64()
+        ));
     }
     Ok(())
 }
 
-fn video(args: VideoArgs) -> Result<()> {
+fn video(args: VideoArgs, talk: Talk) -> Result<()> {
     let fps = args
         .fps
         .or_else(|| envshadow::video::recorded_fps(&args.dir))
         .unwrap_or(envshadow::settings::Output::default().fps);
     let start = Instant::now();
     let v = envshadow::video::write_video(&args.dir, fps, args.out.as_deref())?;
-    println!(
+    talk.done(&format!(
         "wrote {}: {} frames ({}–{}), {}x{}, {} fps, {:.1} s of video, in {:.1} s",
         v.path.display(),
         v.frames,
@@ -581,20 +639,21 @@ fn video(args: VideoArgs) -> Result<()> {
         v.fps,
         v.frames as f32 / v.fps,
         start.elapsed().as_secs_f64()
-    );
+    ));
     if args.out.is_none() && args.dir.join("report.html").is_file() {
         let page = envshadow::report::write_report(&args.dir)?;
-        println!("rebuilt {} to show it", page.display());
+        talk.done(&format!("rebuilt {} to show it", page.display()));
     }
     Ok(())
 }
 
-fn lights(args: LightsArgs) -> Result<()> {
+fn lights(args: LightsArgs, talk: Talk) -> Result<()> {
     args.lights.check(envshadow::settings::Source::Flags)?;
     let l = args.lights.resolve();
     if let Some(why) = envshadow::limits::lights_problem(l.count) {
         return Err(input_error("--lights", why));
     }
+    let start = Instant::now();
     let env = if args.map == "builtin:sky" {
         EnvMap::builtin_sky()
     } else {
@@ -603,26 +662,33 @@ fn lights(args: LightsArgs) -> Result<()> {
     let env = env
         .with_rotation(args.rotation)
         .with_intensity(args.intensity)?;
+    let loaded = start.elapsed().as_secs_f64();
     let set = LightSet::build(&env, l.count, l.sampler)?;
+    talk.detail(&format!(
+        "{}x{} map read in {loaded:.2} s, lights built in {:.2} s",
+        env.width,
+        env.height,
+        start.elapsed().as_secs_f64() - loaded
+    ));
     let total: f64 = set
         .lights
         .iter()
         .map(|l| l.energy.element_sum() as f64)
         .sum();
-    println!(
+    talk.done(&format!(
         "{}: {} lights ({}), total energy {:.6} (RGB sum)",
         env.source,
         set.len(),
         l.sampler.name(),
         total
-    );
+    ));
     if let Some(p) = &args.json {
         set.write_json(p)?;
-        println!("wrote {}", p.display());
+        talk.done(&format!("wrote {}", p.display()));
     }
     if let Some(p) = &args.png {
         envshadow::lights::picture::cells_png(&env, &set, p)?;
-        println!("wrote {}", p.display());
+        talk.done(&format!("wrote {}", p.display()));
     }
     Ok(())
 }

@@ -1,10 +1,12 @@
-//! Progress on stderr: an indicatif bar on a terminal, plain lines (one per frame) in a log.
+//! Progress on stderr: an indicatif bar on a terminal, plain lines (one per frame, with the
+//! time elapsed and an estimate of the time left) in a log; with `-v` also a line per tile
+//! and the library's details.
 
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
-use envshadow::coordinator::Progress;
+use envshadow::coordinator::{Progress, TileDone};
 use envshadow::output::stats::FrameStats;
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -13,31 +15,73 @@ use super::say;
 /// Progress as an indicatif bar on a terminal, plain lines (one per frame) otherwise.
 pub struct Reporter {
     bar: Option<ProgressBar>,
-    start: Instant,
+    verbose: bool,
+    /// When the run began rendering (`begin`): what the elapsed time and the rate count from.
+    begun: Mutex<Instant>,
     rays: AtomicU64,
     frames: Mutex<(usize, usize)>,
     tiles: AtomicU64,
+    /// Tiles of the whole run: frames × tiles per frame.
+    all_tiles: AtomicU64,
 }
 
 impl Reporter {
-    pub fn new(terminal: bool) -> Reporter {
+    pub fn new(terminal: bool, verbose: bool) -> Reporter {
         Reporter {
             bar: terminal.then(ProgressBar::hidden),
-            start: Instant::now(),
+            verbose,
+            begun: Mutex::new(Instant::now()),
             rays: AtomicU64::new(0),
             frames: Mutex::new((0, 0)),
             tiles: AtomicU64::new(0),
+            all_tiles: AtomicU64::new(0),
         }
     }
 
-    fn rays_per_second(&self) -> f64 {
-        self.rays.load(Ordering::Relaxed) as f64 / self.start.elapsed().as_secs_f64().max(1e-9)
+    fn elapsed(&self) -> f64 {
+        self.begun.lock().unwrap().elapsed().as_secs_f64()
     }
+
+    fn rays_per_second(&self) -> f64 {
+        self.rays.load(Ordering::Relaxed) as f64 / self.elapsed().max(1e-9)
+    }
+
+    /// `elapsed 0:01:05, ETA 0:03:10`: the time left at the rate tiles have finished so far
+    /// (tiles rather than frames: two frames are in flight, and a tile is a finer step).
+    fn clock(&self) -> String {
+        let elapsed = self.elapsed();
+        let done = self.tiles.load(Ordering::Relaxed) as f64;
+        let all = self.all_tiles.load(Ordering::Relaxed) as f64;
+        let eta = if done >= all {
+            "0:00:00".to_string()
+        } else if done == 0.0 {
+            "unknown".to_string()
+        } else {
+            hms(elapsed * (all - done) / done)
+        };
+        format!("elapsed {}, ETA {eta}", hms(elapsed))
+    }
+
+    fn line(&self, msg: &str) {
+        match &self.bar {
+            Some(bar) => bar.println(msg),
+            None => say(msg),
+        }
+    }
+}
+
+/// Seconds as `H:MM:SS`.
+fn hms(seconds: f64) -> String {
+    let s = seconds.max(0.0).round() as u64;
+    format!("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
 }
 
 impl Progress for Reporter {
     fn begin(&self, frames: usize, tiles: usize) {
         *self.frames.lock().unwrap() = (0, frames);
+        *self.begun.lock().unwrap() = Instant::now();
+        self.all_tiles
+            .store((frames * tiles) as u64, Ordering::Relaxed);
         if let Some(bar) = &self.bar {
             bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
             bar.set_length((frames * tiles) as u64);
@@ -53,11 +97,23 @@ impl Progress for Reporter {
         }
     }
 
-    fn tile_done(&self, rays: u64) {
-        self.rays.fetch_add(rays, Ordering::Relaxed);
+    fn tile_done(&self, t: &TileDone) {
+        self.rays.fetch_add(t.counts.rays, Ordering::Relaxed);
         self.tiles.fetch_add(1, Ordering::Relaxed);
         if let Some(bar) = &self.bar {
             bar.inc(1);
+        }
+        if self.verbose {
+            self.line(&format!(
+                "frame {} tile {} [{}]: {} of {} queries traced ({:.2} %), {:.3} s",
+                t.frame,
+                t.index,
+                t.rect,
+                t.counts.rays,
+                t.counts.queries,
+                t.counts.percent_traced(),
+                t.seconds
+            ));
         }
     }
 
@@ -68,9 +124,9 @@ impl Progress for Reporter {
             *f
         };
         let line = format!(
-            "frame {} ({done}/{total}): {:.2} s, {:.2} % of {} queries traced, {:.1} M rays/s",
+            "frame {} ({done}/{total}): {:.2} thread-s, {:.2} % of {} queries traced, {:.1} M rays/s",
             s.frame,
-            s.seconds,
+            s.thread_seconds,
             s.counts.percent_traced(),
             s.counts.queries,
             self.rays_per_second() / 1e6
@@ -83,7 +139,26 @@ impl Progress for Reporter {
                 ));
                 bar.println(line);
             }
-            None => say(&line),
+            // A log has no bar: each line says how long the run has taken and has left.
+            None => say(&format!("{line}; {}", self.clock())),
+        }
+        if self.verbose {
+            let c = &s.counts;
+            self.line(&format!(
+                "frame {}: {} rays = {} where the prediction was unsure + {} at pixels tracing \
+                 every light + {} flooded ({} of them fixed a wrong prediction); {} pixels from \
+                 the previous frame ({} rays); halo {} pixels, {} rays",
+                s.frame,
+                c.rays,
+                c.rays_unsure(),
+                c.rays_every_light,
+                c.rays_flooded,
+                c.flood_fixes,
+                c.temporal_pixels,
+                c.temporal_rays,
+                c.halo_pixels,
+                c.halo_rays
+            ));
         }
     }
 
@@ -98,9 +173,12 @@ impl Progress for Reporter {
     }
 
     fn note(&self, msg: &str) {
-        match &self.bar {
-            Some(bar) => bar.println(msg),
-            None => say(msg),
+        self.line(msg);
+    }
+
+    fn detail(&self, msg: &str) {
+        if self.verbose {
+            self.line(msg);
         }
     }
 
@@ -111,11 +189,7 @@ impl Progress for Reporter {
     }
 }
 
-/// `-q`: no progress, but what the input had that is not rendered is still said.
+/// `-q`: nothing but errors, which are not progress.
 pub struct Quiet;
 
-impl Progress for Quiet {
-    fn warning(&self, msg: &str) {
-        say(&format!("warning: {msg}"));
-    }
-}
+impl Progress for Quiet {}

@@ -61,7 +61,7 @@ pub fn uv_to_dir(uv: Vec2) -> Vec3 {
 
 /// Right-handed rotation about +Y by the angle with the given (sin, cos): +Z goes to +X at 90°.
 #[inline]
-fn rotate_y(d: Vec3, (s, c): (f32, f32)) -> Vec3 {
+pub fn rotate_y(d: Vec3, (s, c): (f32, f32)) -> Vec3 {
     Vec3::new(c * d.x + s * d.z, d.y, -s * d.x + c * d.z)
 }
 

@@ -36,6 +36,8 @@ pub struct Assembled {
     pub problems: Vec<String>,
     /// The expected jobs that owe frames (in plan order): what a re-run must render.
     pub pending: Vec<Job>,
+    /// The plan asked for a video (`[output] video`) at this frame rate.
+    pub video_fps: Option<f32>,
 }
 
 /// A valid job folder.
@@ -256,10 +258,11 @@ fn examine(dir: &Path, write: bool) -> Result<Assembled> {
     }
     sources.retain(|s| !folder_problem.contains_key(&s.folder));
 
-    let frames: BTreeSet<usize> = expected.iter().flat_map(|j| j.frames.clone()).collect();
+    let frames: BTreeSet<usize> = expected.iter().flat_map(|j| j.frames.iter()).collect();
     let mut result = Assembled {
         frames: frames.len(),
         jobs: expected.len(),
+        video_fps: plan_file.as_ref().and_then(|p| p.video_fps),
         ..Default::default()
     };
     let stats_path = dir.join("stats.csv");
@@ -286,15 +289,13 @@ fn examine(dir: &Path, write: bool) -> Result<Assembled> {
                 settings.validate,
                 settings.spp > 1,
             )
+            .with_alpha(settings.alpha)
         });
         let mut covered = vec![false; grid.len()];
         let mut counts = Counts::default();
-        let mut seconds = 0.0;
+        let mut thread_seconds = 0.0;
         let mut meta: Option<TileFrame> = None;
-        for s in sources
-            .iter()
-            .filter(|s| s.manifest.job.frames.contains(&f))
-        {
+        for s in sources.iter().filter(|s| s.manifest.job.frames.contains(f)) {
             if s.tiles.iter().any(|t| covered[t.index]) {
                 continue; // another job already gave these tiles
             }
@@ -304,7 +305,7 @@ fn examine(dir: &Path, write: bool) -> Result<Assembled> {
                         covered[t.index] = true;
                     }
                     counts += tf.counts();
-                    seconds += tf.seconds;
+                    thread_seconds += tf.thread_seconds;
                     meta.get_or_insert(tf);
                 }
                 Err(e) => {
@@ -330,7 +331,7 @@ fn examine(dir: &Path, write: bool) -> Result<Assembled> {
                 spp: settings.spp,
                 counts,
                 image_error: film.image_error(full, settings.exposure, settings.view),
-                seconds,
+                thread_seconds,
                 camera_position: v(tf.camera_position),
                 camera_target: v(tf.camera_target),
                 camera_up: v(tf.camera_up),
@@ -348,7 +349,7 @@ fn examine(dir: &Path, write: bool) -> Result<Assembled> {
             result.written += 1;
         } else {
             for (k, j) in expected.iter().enumerate() {
-                if j.frames.contains(&f) && j.tiles.indices().iter().any(|&t| !covered[t]) {
+                if j.frames.contains(f) && j.tiles.indices().iter().any(|&t| !covered[t]) {
                     owed.entry(k).or_default().insert(f);
                 }
             }

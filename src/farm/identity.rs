@@ -19,7 +19,8 @@ pub fn build_id() -> String {
 }
 
 /// The name of the machine this runs on, for job manifests: `$ENVSHADOW_HOST`, else the
-/// sshlogin GNU parallel sent the job to (`$PARALLEL_SSHHOST`), else the kernel's host name.
+/// sshlogin GNU parallel sent the job to (`$PARALLEL_SSHHOST`), else the system's host name
+/// (`gethostname` on Unix, the computer name on Windows).
 pub fn host_name() -> String {
     for var in ["ENVSHADOW_HOST", "PARALLEL_SSHHOST"] {
         if let Ok(v) = std::env::var(var)
@@ -28,9 +29,15 @@ pub fn host_name() -> String {
             return v.trim().to_string();
         }
     }
-    std::fs::read_to_string("/proc/sys/kernel/hostname")
-        .map(|s| s.trim().to_string())
-        .unwrap_or_else(|_| "unknown".into())
+    let name = gethostname::gethostname()
+        .to_string_lossy()
+        .trim()
+        .to_string();
+    if name.is_empty() {
+        "unknown".into()
+    } else {
+        name
+    }
 }
 
 /// A fingerprint of everything that decides a frame's pixels: the resolved animation with the
@@ -39,7 +46,7 @@ pub fn host_name() -> String {
 pub fn settings_fingerprint(anim: &Animation) -> Result<String> {
     let mut a = anim.clone();
     a.spec_path = Default::default();
-    a.frames = 0..0;
+    a.frames = Default::default();
     a.render.threads = 0;
     a.output.dir = Default::default();
     a.output.video = false;

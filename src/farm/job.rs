@@ -4,13 +4,12 @@
 //! |---|---|
 //! | `job.json` | the manifest: format, build identity, host, settings fingerprint, frame and tile grid, the plan it belongs to, the job's frames and tiles |
 //! | `lights.json` | the lights, as a one-process render writes them |
-//! | `tiles_0003.exr` | frame 3's pixels of the job's tiles, over the tiles' bounding rectangle (float channels `R G B rays visible`, with validation also `wrong ref.R ref.G ref.B`, with samples per pixel `coverage`) |
-//! | `tiles_0003.json` | frame 3's statistics for those tiles (counts, seconds, camera) and the EXR's size and SHA-256; written after the EXR, so it marks the frame done |
+//! | `tiles_0003.exr` | frame 3's pixels of the job's tiles, over the tiles' bounding rectangle (float channels `R G B rays visible`, with validation also `wrong ref.R ref.G ref.B`, with samples per pixel `coverage`, over a transparent background `A`) |
+//! | `tiles_0003.json` | frame 3's statistics for those tiles (counts, thread-seconds, camera) and the EXR's size and SHA-256; written after the EXR, so it marks the frame done |
 //!
 //! Every file is published atomically (`crate::output`), so a crashed or duplicated attempt
 //! leaves either nothing or a complete, identical file.
 
-use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 use anyhow::Context;
@@ -23,6 +22,7 @@ use crate::farm::identity;
 use crate::farm::plan::{By, Job};
 use crate::film::Counts;
 use crate::film::Film;
+use crate::frames::FrameSet;
 use crate::output::stats::FrameStats;
 use crate::output::write_atomic;
 use crate::tile::{Rect, Tile, bounding, tiles};
@@ -54,8 +54,12 @@ pub struct Settings {
     /// before samples per pixel: 1).
     #[serde(default = "one")]
     pub spp: u32,
+    /// A transparent background: tile images carry `A` (absent in manifests written before
+    /// backgrounds: opaque).
+    #[serde(default)]
+    pub alpha: bool,
     /// The run's frames (for an explicit job: its own).
-    pub frames: Range<usize>,
+    pub frames: FrameSet,
     pub alignment: usize,
     /// The settings record (`Animation::settings_record`) an assembled folder publishes as
     /// `settings.txt`, so a later `render --resume` into it trusts its frames (absent in
@@ -78,6 +82,7 @@ impl Settings {
             fps: anim.output.fps,
             validate: anim.render.validate,
             spp: anim.render.spp,
+            alpha: anim.render.background == crate::background::Background::Transparent,
             frames: anim.frames.clone(),
             alignment: anim.frame_alignment(),
             record: anim.settings_record()?.lines,
@@ -120,7 +125,10 @@ pub struct TileFrame {
     /// Every counter of the frame's tiles (flattened, so the JSON keeps one key per counter).
     #[serde(flatten)]
     pub counts: Counts,
-    pub seconds: f64,
+    /// The thread-seconds the job spent on these tiles of the frame (its stats.csv row's
+    /// `thread_seconds`): the jobs' add up to the frame's.
+    #[serde(rename = "seconds")]
+    pub thread_seconds: f64,
     pub camera_position: [f32; 3],
     pub camera_target: [f32; 3],
     pub camera_up: [f32; 3],
@@ -281,7 +289,7 @@ impl FrameSink for JobWriter {
             method: stats.method.clone(),
             lights: stats.lights,
             counts: c,
-            seconds: stats.seconds,
+            thread_seconds: stats.thread_seconds,
             camera_position: stats.camera_position.to_array(),
             camera_target: stats.camera_target.to_array(),
             camera_up: stats.camera_up.to_array(),

@@ -40,6 +40,11 @@ pub struct PlanFile {
     pub settings: Settings,
     pub plan: PlanRef,
     pub jobs: Vec<Job>,
+    /// With `[output] video` (or `--video`): the frame rate `assemble` encodes the assembled
+    /// frames at. Not a job setting (the jobs render the same bits either way); absent in
+    /// plans written before it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub video_fps: Option<f32>,
 }
 
 /// The plan request for an animation (its selected frames and tile grid).
@@ -72,6 +77,7 @@ pub fn write_plan(anim: &Animation, spec: &Path, jobs: usize, by: Option<By>) ->
             by: req.by,
         },
         jobs: list.clone(),
+        video_fps: anim.output.video.then_some(anim.output.fps),
     };
     let json = serde_json::to_string_pretty(&file).context("encoding the plan")?;
     write_atomic(&dir.join("plan.json"), json.as_bytes())?;

@@ -1,9 +1,9 @@
-//! Splitting a run into farm jobs: a job is a frame range × a set of tiles of the
+//! Splitting a run into farm jobs: a job is a set of frames × a set of tiles of the
 //! frame-anchored tile grid (`crate::tile`).
 //!
-//! The plan is a pure function of the frame range, the tile count, the animation's frame
-//! alignment, the job count and the split, so `plan` and every `render --job K --of N` compute
-//! the same jobs without sharing a file.
+//! The plan is a pure function of the frames, the tile count, the animation's frame alignment,
+//! the job count and the split, so `plan` and every `render --job K --of N` compute the same
+//! jobs without sharing a file.
 
 use std::fmt;
 use std::ops::Range;
@@ -11,16 +11,17 @@ use std::ops::Range;
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Result, input_error};
+use crate::frames::FrameSet;
 
 /// How a plan splits the work.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
 pub enum By {
-    /// Frame ranges, whole frames each.
+    /// Runs of frames, whole frames each.
     Frames,
-    /// Tile strips (consecutive tiles in row-major order) through the whole frame range.
+    /// Tile strips (consecutive tiles in row-major order) through all the frames.
     Tiles,
-    /// Frame ranges × tile strips, about √N of each.
+    /// Runs of frames × tile strips, about √N of each.
     Both,
 }
 
@@ -133,31 +134,41 @@ impl From<TileSet> for String {
     }
 }
 
-/// One job: frames `frames` (end excluded) × tiles `tiles`.
+/// One job: frames `frames` × tiles `tiles`.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Job {
     /// Position in the plan (absent for a job given by explicit `--frames`/`--tiles`).
     pub index: Option<usize>,
-    pub frames: Range<usize>,
+    pub frames: FrameSet,
     pub tiles: TileSet,
 }
 
 impl Job {
     /// The job's folder name under `OUT/jobs/`: its content, so the same frames and tiles land
-    /// in the same folder whether they were asked for by index or explicitly.
+    /// in the same folder whether they were asked for by index or explicitly. Contiguous
+    /// frames `A..B` name it `fAAAA-BBBB_t…`; other sets add the first 8 hex digits of their
+    /// text's SHA-256 after that span (`f0001-0004x1f2e3d4c_t…`), which keeps the name short
+    /// and free of `,` and `:`.
     pub fn folder(&self) -> String {
-        format!(
-            "f{:04}-{:04}_t{}",
-            self.frames.start, self.frames.end, self.tiles
-        )
+        let (first, end) = (
+            self.frames.first().unwrap_or(0),
+            self.frames.last().map_or(0, |l| l + 1),
+        );
+        let list = match self.frames.as_range() {
+            Some(_) => String::new(),
+            None => {
+                use sha2::{Digest, Sha256};
+                let hash = Sha256::digest(self.frames.to_string().as_bytes());
+                let hex: String = hash[..4].iter().map(|b| format!("{b:02x}")).collect();
+                format!("x{hex}")
+            }
+        };
+        format!("f{first:04}-{end:04}{list}_t{}", self.tiles)
     }
 
     /// `job 3 (frames 0..8, tiles 20-39)`.
     pub fn describe(&self) -> String {
-        let what = format!(
-            "frames {}..{}, tiles {}",
-            self.frames.start, self.frames.end, self.tiles
-        );
+        let what = format!("frames {}, tiles {}", self.frames, self.tiles);
         match self.index {
             Some(k) => format!("job {k} ({what})"),
             None => format!("job ({what})"),
@@ -169,7 +180,7 @@ impl Job {
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct PlanRequest {
     /// The run's frames.
-    pub frames: Range<usize>,
+    pub frames: FrameSet,
     /// Tiles per frame in the frame-anchored grid.
     pub tiles: usize,
     /// `Animation::frame_alignment`: frame ranges start on multiples of it; > 1 forbids
@@ -214,14 +225,15 @@ pub fn plan(req: &PlanRequest) -> Result<Vec<Job>> {
             ),
         ));
     }
-    // Frame groups: [g*align, (g+1)*align) clipped to the run's range, so every frame range
-    // a job gets starts on a multiple of the alignment (or at the run's first frame).
-    let mut groups = Vec::new();
-    let mut f = req.frames.start;
-    while f < req.frames.end {
-        let next = ((f / align + 1) * align).min(req.frames.end);
-        groups.push(f..next);
-        f = next;
+    // Frame groups: the run's frames in [g*align, (g+1)*align), so a job's frames never
+    // share a temporal chain with another job's (a chain starts at a multiple of the
+    // alignment): every job renders its frames as the whole run would.
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    for f in req.frames.iter() {
+        match groups.last_mut() {
+            Some(g) if g[0] / align == f / align => g.push(f),
+            _ => groups.push(vec![f]),
+        }
     }
     let (frame_parts, tile_parts) = match req.by {
         By::Frames => (req.jobs.min(groups.len()), 1),
@@ -235,7 +247,7 @@ pub fn plan(req: &PlanRequest) -> Result<Vec<Job>> {
     let mut jobs = Vec::with_capacity(frame_parts * tile_parts);
     for fi in 0..frame_parts {
         let g = chunk(groups.len(), frame_parts, fi);
-        let frames = groups[g.start].start..groups[g.end - 1].end;
+        let frames = FrameSet::from_frames(groups[g].iter().flatten().copied());
         for ti in 0..tile_parts {
             jobs.push(Job {
                 index: Some(jobs.len()),
@@ -248,15 +260,15 @@ pub fn plan(req: &PlanRequest) -> Result<Vec<Job>> {
 }
 
 /// The job list as GNU parallel reads it with `--colsep '\t'`: one job per line,
-/// `INDEX<TAB>FRAMES<TAB>TILES<TAB>FOLDER`, e.g. `3\t0..8\t20-39\tf0000-0008_t20-39`.
+/// `INDEX<TAB>FRAMES<TAB>TILES<TAB>FOLDER`, e.g. `3\t0..8\t20-39\tf0000-0008_t20-39`
+/// (FRAMES as `--frames` reads it).
 pub fn job_lines(jobs: &[Job]) -> String {
     let mut s = String::new();
     for j in jobs {
         s.push_str(&format!(
-            "{}\t{}..{}\t{}\t{}\n",
+            "{}\t{}\t{}\t{}\n",
             j.index.unwrap_or(0),
-            j.frames.start,
-            j.frames.end,
+            j.frames,
             j.tiles,
             j.folder()
         ));
@@ -269,14 +281,14 @@ mod tests {
     use super::*;
 
     fn req(
-        frames: Range<usize>,
+        frames: impl Into<FrameSet>,
         tiles: usize,
         alignment: usize,
         jobs: usize,
         by: By,
     ) -> PlanRequest {
         PlanRequest {
-            frames,
+            frames: frames.into(),
             tiles,
             alignment,
             jobs,
@@ -290,7 +302,7 @@ mod tests {
             for t in 0..r.tiles {
                 let n = jobs
                     .iter()
-                    .filter(|j| j.frames.contains(&f) && j.tiles.contains(t))
+                    .filter(|j| j.frames.contains(f) && j.tiles.contains(t))
                     .count();
                 assert_eq!(n, 1, "frame {f} tile {t} in {n} jobs");
             }
@@ -314,10 +326,13 @@ mod tests {
         }
         let p = plan(&req(0..8, 20, 1, 4, By::Tiles)).unwrap();
         assert_eq!(p.len(), 4);
-        assert!(p.iter().all(|j| j.frames == (0..8) && j.tiles.len() == 5));
+        assert!(
+            p.iter()
+                .all(|j| j.frames == FrameSet::range(0..8) && j.tiles.len() == 5)
+        );
         let p = plan(&req(0..8, 20, 1, 16, By::Both)).unwrap();
         assert_eq!(p.len(), 16);
-        assert_eq!(p[0].frames, 0..2);
+        assert_eq!(p[0].frames, FrameSet::range(0..2));
     }
 
     #[test]
@@ -326,9 +341,9 @@ mod tests {
         let p = plan(&r).unwrap();
         covers_once(&r, &p);
         for j in &p[1..] {
-            assert_eq!(j.frames.start % 4, 0, "{:?}", j.frames);
+            assert_eq!(j.frames.first().unwrap() % 4, 0, "{:?}", j.frames);
         }
-        assert_eq!(p[0].frames.start, 3);
+        assert_eq!(p[0].frames.first(), Some(3));
         for by in [By::Tiles, By::Both] {
             let e = plan(&req(0..8, 12, 4, 3, by)).unwrap_err().to_string();
             assert!(
@@ -350,9 +365,43 @@ mod tests {
         assert!("x".parse::<TileSet>().is_err());
         let j = Job {
             index: Some(2),
-            frames: 0..8,
-            tiles: t,
+            frames: FrameSet::range(0..8),
+            tiles: t.clone(),
         };
         assert_eq!(j.folder(), "f0000-0008_t0-4,9,12-13");
+        // A list: its span and a hash of its text, nothing a file name could trip on.
+        let list = Job {
+            index: Some(2),
+            frames: "1,3".parse().unwrap(),
+            tiles: t,
+        };
+        let name = list.folder();
+        assert!(
+            name.starts_with("f0001-0004x") && name.ends_with("_t0-4,9,12-13"),
+            "{name}"
+        );
+        assert_eq!(name.len(), "f0001-0004x".len() + 8 + "_t0-4,9,12-13".len());
+        assert!(!name.contains(':'));
+    }
+
+    /// A frame list splits like a range: whole temporal groups per job, and with frames
+    /// alone each frame its own group.
+    #[test]
+    fn frame_lists_split_into_whole_groups() {
+        let frames: FrameSet = "1,3,5,9-12,30".parse().unwrap();
+        for by in [By::Frames, By::Tiles, By::Both] {
+            for jobs in [1, 2, 3, 4, 9] {
+                let r = req(frames.clone(), 6, 1, jobs, by);
+                covers_once(&r, &plan(&r).unwrap());
+            }
+        }
+        // Alignment 4: groups {1,3}, {5}, {9,10,11}, {12}, {30}.
+        let r = req(frames.clone(), 6, 4, 5, By::Frames);
+        let p = plan(&r).unwrap();
+        covers_once(&r, &p);
+        let shown: Vec<String> = p.iter().map(|j| j.frames.to_string()).collect();
+        assert_eq!(shown, ["1,3", "5", "9..12", "12", "30"]);
+        let lines = job_lines(&p);
+        assert!(lines.starts_with("0\t1,3\t0-5\tf0001-0004x"), "{lines}");
     }
 }

@@ -11,7 +11,9 @@ mod json;
 mod lookup;
 pub mod median_cut;
 pub mod picture;
+pub mod punctual;
 pub mod sis;
+pub mod track;
 
 use glam::Vec3;
 use std::path::Path;
@@ -22,6 +24,8 @@ use crate::error::Result;
 use lookup::CellTable;
 
 pub use json::{parse_json, read_json};
+pub use punctual::{Cone, FileLight, PointLight};
+pub use track::Tracks;
 
 /// One directional light: the spherical Voronoi cell of `dir` with the map's radiance integrated over it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -92,16 +96,34 @@ impl EnvSummary {
     }
 }
 
-/// N directional lights, their cells, an O(1) `cell_of` lookup and the cells' adjacency.
+/// N directional lights, their cells, an O(1) `cell_of` lookup and the cells' adjacency; and
+/// the scene file's point and spot lights.
+///
+/// Every light has a bit in the visibility bitsets: the directional lights first (the map's,
+/// then the scene file's: [`lights`](Self::lights)), then the point and spot lights
+/// ([`points`](Self::points)). A file's directional light is a site of the cells like a map
+/// light; a point or spot light has no cell (its direction differs from pixel to pixel) and no
+/// neighbours.
 #[derive(Clone, Debug)]
 pub struct LightSet {
+    /// The directional lights: the map's, then the scene file's.
     pub lights: Vec<Light>,
+    /// The scene file's point and spot lights; point light k has bit `lights.len() + k`.
+    pub points: Vec<PointLight>,
+    /// The scene file's lights, in the file's node order, and where each went.
+    pub from_file: Vec<FileLight>,
     /// The sampler that placed the lights; `None` for hand-placed ones ([`LightSet::from_lights`]).
     pub sampler: Option<Sampler>,
     /// The map they came from; `None` for hand-placed lights.
     pub environment: Option<EnvSummary>,
-    /// Unit directions, a copy of `lights[j].dir` packed for the lookup.
+    /// Unit directions the cell table was built for: `lights[j].dir` before [`turned`]
+    /// (`turn`) turned them.
+    ///
+    /// [`turned`]: LightSet::turned
     dirs: Vec<Vec3>,
+    /// The turn about +Y applied to `lights` since the table was built: degrees, and its
+    /// (sin, cos). A looked-up direction is turned back first.
+    turn: Option<(f32, (f32, f32))>,
     table: CellTable,
     /// CSR adjacency: `adj_ids[adj_offsets[j]..adj_offsets[j + 1]]`, ascending.
     adj_offsets: Vec<u32>,
@@ -153,6 +175,8 @@ impl LightSet {
         let dirs: Vec<Vec3> = lights.iter().map(|l| l.dir).collect();
         let mut set = LightSet {
             lights,
+            points: Vec::new(),
+            from_file: Vec::new(),
             sampler: None,
             environment: None,
             table: if dirs.is_empty() {
@@ -161,6 +185,7 @@ impl LightSet {
                 CellTable::build(&dirs)
             },
             dirs,
+            turn: None,
             adj_offsets: Vec::new(),
             adj_ids: Vec::new(),
             adj_bits: Vec::new(),
@@ -171,18 +196,142 @@ impl LightSet {
         set
     }
 
+    /// Every light: directional, point and spot.
     pub fn len(&self) -> usize {
-        self.lights.len()
+        self.lights.len() + self.points.len()
     }
     pub fn is_empty(&self) -> bool {
-        self.lights.is_empty()
+        self.len() == 0
+    }
+
+    /// This set with the scene file's lights added [ours]: directional ones after the map's
+    /// (energy colour × lux / 683, [`punctual`]), point and spot lights after those. The map
+    /// lights keep the energies integrated over their own cells; the cell lookup and the
+    /// adjacency are then rebuilt over every directional light, so a file's sun is a cell of
+    /// its own for warping and flooding, and takes the directions nearest to it from its
+    /// neighbours' cells for lookups only. More than [`crate::limits::MAX_LIGHTS`] lights in
+    /// all is an input error naming `source`.
+    pub fn with_scene_lights(
+        self,
+        scene: &[crate::scene::SceneLight],
+        source: &Path,
+    ) -> Result<LightSet> {
+        if scene.is_empty() {
+            return Ok(self);
+        }
+        let total = self.len() + scene.len();
+        if total > crate::limits::MAX_LIGHTS {
+            bail_input!(
+                source,
+                "{} lights of the scene file with {} from the map make {total}; at most {} are allowed",
+                scene.len(),
+                self.len(),
+                crate::limits::MAX_LIGHTS
+            );
+        }
+        let (mut lights, mut points) = (self.lights, self.points);
+        // Where each went: a directional index, or a point index (its bit is counted once
+        // every directional light is in).
+        let old_directional = lights.len();
+        let mut from_file: Vec<(FileLight, bool)> = self
+            .from_file
+            .into_iter()
+            .map(|f| {
+                let point = f.index >= old_directional;
+                let index = if point {
+                    f.index - old_directional
+                } else {
+                    f.index
+                };
+                (FileLight { index, ..f }, point)
+            })
+            .collect();
+        for l in scene {
+            let (index, point) = match punctual::convert(l) {
+                punctual::Joined::Directional { dir, energy } => {
+                    lights.push(Light {
+                        dir,
+                        energy,
+                        solid_angle: 0.0,
+                    });
+                    (lights.len() - 1, false)
+                }
+                punctual::Joined::Point(p) => {
+                    points.push(p);
+                    (points.len() - 1, true)
+                }
+            };
+            let cone = match l.kind {
+                crate::scene::SceneLightKind::Spot { inner, outer } => Some((inner, outer)),
+                _ => None,
+            };
+            let file = FileLight {
+                name: l.name.clone(),
+                kind: l.kind.name(),
+                index,
+                color: l.color,
+                intensity: l.intensity,
+                cone,
+            };
+            from_file.push((file, point));
+        }
+        let directional = lights.len();
+        let from_file = from_file
+            .into_iter()
+            .map(|(f, point)| FileLight {
+                index: if point {
+                    directional + f.index
+                } else {
+                    f.index
+                },
+                ..f
+            })
+            .collect();
+        let mut set = LightSet::from_lights(lights);
+        set.points = points;
+        set.from_file = from_file;
+        set.sampler = self.sampler;
+        set.environment = self.environment;
+        set.adjacency_for_points();
+        Ok(set)
     }
 
     /// The light whose cell contains unit direction `dir` (nearest light; ties to the lower index).
     /// O(1): a cube-map texel lookup and an exact argmax over its few candidates.
     #[inline]
     pub fn cell_of(&self, dir: Vec3) -> u32 {
-        self.table.nearest(&self.dirs, dir)
+        self.table.nearest(&self.dirs, self.unturn(dir))
+    }
+
+    /// `dir` in the frame the cell table was built in (the set's turn undone).
+    #[inline]
+    fn unturn(&self, dir: Vec3) -> Vec3 {
+        match self.turn {
+            None => dir,
+            Some((_, (s, c))) => crate::envmap::rotate_y(dir, (-s, c)),
+        }
+    }
+
+    /// The set turned about the up axis (+Y) by `degrees` beyond its own turn, in the sense
+    /// of `[environment] rotation` (+90 moves what was seen along +Z to be seen along +X):
+    /// the environment turning rigidly (`[motion] kind = "environment"`). Each direction is
+    /// the sampled one turned by the total angle (libm's sine and cosine: the same bits on
+    /// every host); energies and solid angles are kept, since the cells turn with their lights.
+    /// `cell_of` turns the looked-up direction back and asks the table built for the sampled
+    /// directions, so a direction falls in the cell its unturned direction fell in when the
+    /// energies were integrated; the adjacency, which a rotation does not change, is kept.
+    pub fn turned(&self, degrees: f32) -> LightSet {
+        let total = self.turn.map_or(0.0, |t| t.0) + degrees;
+        let sc = libm::sincosf(total.to_radians());
+        let mut set = self.clone();
+        for (l, &d) in set.lights.iter_mut().zip(&self.dirs) {
+            l.dir = crate::envmap::rotate_y(d, sc);
+        }
+        set.turn = Some((total, sc));
+        if let Some(e) = &mut set.environment {
+            e.rotation_deg += degrees;
+        }
+        set
     }
 
     /// [`cell_of`](Self::cell_of) for a direction likely to lie near light `j`'s (a blocker of
@@ -190,16 +339,18 @@ impl LightSet {
     /// when `dir` lies in a cap around light j so small that no other light can be as near.
     #[inline]
     pub fn cell_of_near(&self, dir: Vec3, j: usize) -> u32 {
+        let dir = self.unturn(dir);
         if self.dirs[j].dot(dir) >= self.inner_cos[j] {
             j as u32
         } else {
-            self.cell_of(dir)
+            self.table.nearest(&self.dirs, dir)
         }
     }
 
     /// The nearest light by brute force over all lights (same rule as [`LightSet::cell_of`]);
     /// for tests and checks.
     pub fn cell_of_brute_force(&self, dir: Vec3) -> u32 {
+        let dir = self.unturn(dir);
         let mut best = 0u32;
         let mut best_dot = f32::NEG_INFINITY;
         for (k, d) in self.dirs.iter().enumerate() {
@@ -219,7 +370,7 @@ impl LightSet {
 
     /// [`neighbors`](Self::neighbors) of light `j` as a bitset of `ceil(len / 64)` words.
     pub fn neighbor_bits(&self, j: usize) -> &[u64] {
-        let w = self.lights.len().div_ceil(64);
+        let w = self.len().div_ceil(64);
         &self.adj_bits[j * w..(j + 1) * w]
     }
 
@@ -355,15 +506,26 @@ impl LightSet {
         for j in 0..n {
             ids[offsets[j] as usize..offsets[j + 1] as usize].sort_unstable();
         }
-        let w = n.div_ceil(64);
-        let mut bits = vec![0u64; n * w];
+        self.adj_offsets = offsets;
+        self.adj_ids = ids;
+        self.adjacency_for_points();
+    }
+
+    /// Gives the point and spot lights (after the directional ones) no neighbours, and makes
+    /// the adjacency bitsets as wide as every light's bitset.
+    pub(super) fn adjacency_for_points(&mut self) {
+        let (n, total) = (self.dirs.len(), self.len());
+        self.adj_offsets.truncate(n + 1);
+        let end = self.adj_offsets[n];
+        self.adj_offsets.resize(total + 1, end);
+        let w = total.div_ceil(64);
+        let mut bits = vec![0u64; total * w];
         for j in 0..n {
-            for &a in &ids[offsets[j] as usize..offsets[j + 1] as usize] {
+            let ids = &self.adj_ids[self.adj_offsets[j] as usize..self.adj_offsets[j + 1] as usize];
+            for &a in ids {
                 bits[j * w + (a as usize >> 6)] |= 1 << (a & 63);
             }
         }
-        self.adj_offsets = offsets;
-        self.adj_ids = ids;
         self.adj_bits = bits;
     }
 

@@ -1,5 +1,5 @@
 //! EXR frames as Nuke, Blender and OpenImageIO read them: one part, the film's channels
-//! ([`Channel`](crate::film::Channel): beauty `R G B`, depth `Z`, `N.X N.Y N.Z`, `albedo.R albedo.G albedo.B`, the
+//! ([`Channel`](crate::film::Channel): beauty `R G B A` (premultiplied; alpha 1 over an opaque background), depth `Z`, `N.X N.Y N.Z`, `albedo.R albedo.G albedo.B`, the
 //! shadow method's `shadow.rays`, `shadow.visible`, `shadow.wrong`, `shadow.coverage`), and a
 //! header with the standard attributes a compositor uses — `worldToCamera` and `worldToNDC`
 //! (OpenEXR's conventions, see [`FrameHeader`]), `framesPerSecond`, `chromaticities`
@@ -36,8 +36,8 @@ pub struct FrameHeader<'a> {
     /// (`[render] method` → `envshadow/render.method`).
     pub settings: &'a [(String, String)],
     /// The frame's row of `stats.csv`: every column that does not depend on the machine, the
-    /// threads or the tiles (`envshadow/stats.rays_traced`, …; not `seconds`, not the halo's
-    /// work).
+    /// threads or the tiles (`envshadow/stats.rays_traced`, …; not `thread_seconds`, not the halo's
+    /// work or the share traced that counts it).
     pub stats: &'a FrameStats,
 }
 
@@ -45,9 +45,13 @@ pub struct FrameHeader<'a> {
 pub const SOFTWARE: &str = concat!("envshadow ", env!("CARGO_PKG_VERSION"));
 
 /// The stats columns left out of the header: they depend on the machine or on how the frame
-/// was split (tiles, jobs), and the same frame must be the same bytes.
+/// was split (tiles, jobs), and the same frame must be the same bytes. `percent_traced` counts
+/// the halos' rays, so it depends on the tiles (`rays_traced` and `queries` stay).
 fn run_dependent(column: &str) -> bool {
-    column.starts_with("halo_") || column.contains("second") || column.contains("time")
+    column.starts_with("halo_")
+        || column == "percent_traced"
+        || column.contains("second")
+        || column.contains("time")
 }
 
 /// The EXR file of a frame's film, half-float where `half` allows, with `header`.
@@ -341,7 +345,7 @@ mod tests {
             spp: 1,
             counts: Default::default(),
             image_error: None,
-            seconds: 0.25,
+            thread_seconds: 0.25,
             camera_position: glam::Vec3::new(0.0, 1.0, 5.0),
             camera_target: glam::Vec3::ZERO,
             camera_up: glam::Vec3::Y,
@@ -378,7 +382,11 @@ mod tests {
             Some(&AttributeValue::I32(7))
         );
         assert!(attrs.other.contains_key(&text("envshadow/render.key19")));
-        assert!(!attrs.other.contains_key(&text("envshadow/stats.seconds")));
+        assert!(
+            !attrs
+                .other
+                .contains_key(&text("envshadow/stats.thread_seconds"))
+        );
     }
 
     #[test]

@@ -5,6 +5,10 @@
 //! farm jobs always wait, so two attempts of one job run one after the other). Locking the
 //! folder rather than a file in it leaves nothing behind: the folder holds only what the
 //! render wrote, and the lock ends with the process, however it ends.
+//!
+//! Windows cannot open a folder as a file to lock it (`File::open` on a folder is refused), so
+//! there the lock is `LockFileEx` (the same `try_lock`) on [`LOCK_FILE`] in the folder: an
+//! empty file left behind, the lock still ending with the process.
 
 use std::fs::{File, TryLockError};
 use std::path::Path;
@@ -12,6 +16,10 @@ use std::path::Path;
 use anyhow::Context;
 
 use crate::error::{Result, input_error};
+
+/// On Windows, the file in an output folder that carries its lock.
+#[cfg(not(unix))]
+pub const LOCK_FILE: &str = ".envshadow-lock";
 
 /// The lock on one output folder, released when dropped (or when the process ends).
 #[derive(Debug)]
@@ -25,7 +33,8 @@ impl FolderLock {
     /// A filesystem that cannot lock a folder (some network mounts) gives no lock rather
     /// than an error: renders there are as before, one writer by convention.
     pub fn acquire(dir: &Path, wait: bool) -> Result<FolderLock> {
-        let f = File::open(dir).with_context(|| format!("opening {} to lock it", dir.display()))?;
+        let f =
+            lock_handle(dir).with_context(|| format!("opening {} to lock it", dir.display()))?;
         match f.try_lock() {
             Ok(()) => {}
             Err(TryLockError::WouldBlock) if wait => f
@@ -52,12 +61,31 @@ impl FolderLock {
     }
 }
 
+/// What the lock is taken on: the folder itself.
+#[cfg(unix)]
+fn lock_handle(dir: &Path) -> std::io::Result<File> {
+    File::open(dir)
+}
+
+/// What the lock is taken on: [`LOCK_FILE`] in the folder, made if missing.
+#[cfg(not(unix))]
+fn lock_handle(dir: &Path) -> std::io::Result<File> {
+    std::fs::OpenOptions::new()
+        .read(true)
+        .write(true)
+        .create(true)
+        .truncate(false)
+        .open(dir.join(LOCK_FILE))
+}
+
 /// Errors that mean "this filesystem does not lock folders", not "something is wrong".
 fn unsupported(e: &std::io::Error) -> bool {
+    // EBADF (9): flock on a directory over some NFS versions.
+    let ebadf = cfg!(unix) && e.raw_os_error() == Some(9);
     matches!(
         e.kind(),
         std::io::ErrorKind::Unsupported | std::io::ErrorKind::InvalidInput
-    ) || e.raw_os_error() == Some(9) // EBADF: flock on a directory over some NFS versions
+    ) || ebadf
 }
 
 /// The PID holding a `flock` on `dir`, from Linux's `/proc/locks` (None elsewhere, or when it

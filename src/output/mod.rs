@@ -7,6 +7,7 @@ pub mod exr;
 pub mod lock;
 pub mod png;
 pub mod record;
+pub mod runs;
 pub mod stats;
 
 use std::fs;
@@ -133,6 +134,7 @@ fn encode_files(
         film.width,
         film.height,
         &film.beauty,
+        film.alpha.as_deref(),
         format.exposure,
         format.view,
     )?;

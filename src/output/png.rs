@@ -1,17 +1,18 @@
 //! PNG previews: exposure, then the view transform ([`View`]: AgX, filmic or the clipped
 //! sRGB curve), 8 bits, tagged sRGB (an `sRGB` chunk with its `gAMA` and `cHRM` fallbacks),
-//! so colour-managed viewers show them as written.
+//! so colour-managed viewers show them as written; RGBA with straight (unpremultiplied)
+//! alpha, as PNG defines it, where the frame has transparent pixels.
 
 use anyhow::Context;
 
 use crate::error::Result;
 use crate::view::View;
 
-/// The PNG file of an RGB8 image, tagged sRGB.
-fn encode_rgb8(width: u32, height: u32, pixels: &[u8]) -> Result<Vec<u8>> {
+/// The PNG file of an 8-bit RGB or RGBA image, tagged sRGB.
+fn encode8(width: u32, height: u32, color: png::ColorType, pixels: &[u8]) -> Result<Vec<u8>> {
     let mut bytes = Vec::new();
     let mut enc = png::Encoder::new(&mut bytes, width, height);
-    enc.set_color(png::ColorType::Rgb);
+    enc.set_color(color);
     enc.set_depth(png::BitDepth::Eight);
     // The image crate's defaults, which wrote every preview before the colour tag.
     enc.set_compression(png::Compression::Fast);
@@ -23,19 +24,47 @@ fn encode_rgb8(width: u32, height: u32, pixels: &[u8]) -> Result<Vec<u8>> {
     Ok(bytes)
 }
 
-/// The PNG file of a preview of linear RGB pixels: `exposure`, then `view`.
+/// The PNG file of a preview of linear RGB pixels, premultiplied by `alpha` where given:
+/// `exposure`, then `view`; RGBA with the colour unpremultiplied before the view when some
+/// pixel is less than opaque, else RGB.
 pub fn encode_preview(
     width: u32,
     height: u32,
     beauty: &[[f32; 3]],
+    alpha: Option<&[f32]>,
     exposure: f32,
     view: View,
 ) -> Result<Vec<u8>> {
-    let mut bytes = Vec::with_capacity(beauty.len() * 3);
-    for p in beauty {
-        bytes.extend_from_slice(&view.to_8bit(*p, exposure));
+    let Some(alpha) = alpha.filter(|a| a.iter().any(|&v| v < 1.0)) else {
+        let mut bytes = Vec::with_capacity(beauty.len() * 3);
+        for p in beauty {
+            bytes.extend_from_slice(&view.to_8bit(*p, exposure));
+        }
+        return encode8(width, height, png::ColorType::Rgb, &bytes);
+    };
+    let mut bytes = Vec::with_capacity(beauty.len() * 4);
+    for (p, &a) in beauty.iter().zip(alpha) {
+        let a = a.clamp(0.0, 1.0);
+        let straight = if a > 0.0 { p.map(|c| c / a) } else { [0.0; 3] };
+        bytes.extend_from_slice(&view.to_8bit(straight, exposure));
+        bytes.push((a * 255.0 + 0.5) as u8);
     }
-    encode_rgb8(width, height, &bytes)
+    encode8(width, height, png::ColorType::Rgba, &bytes)
+}
+
+/// An RGBA preview over a light and dark grey checkerboard of `square`-pixel squares (the
+/// usual picture of transparency), as RGB; an opaque image is unchanged.
+pub fn over_checkerboard(img: &image::RgbaImage, square: u32) -> image::RgbImage {
+    image::RgbImage::from_fn(img.width(), img.height(), |x, y| {
+        let p = img.get_pixel(x, y).0;
+        let back = if (x / square + y / square).is_multiple_of(2) {
+            204.0
+        } else {
+            153.0
+        };
+        let a = p[3] as f32 / 255.0;
+        image::Rgb([0, 1, 2].map(|c| (p[c] as f32 * a + back * (1.0 - a) + 0.5) as u8))
+    })
 }
 
 #[cfg(test)]
@@ -63,7 +92,7 @@ mod tests {
             [9.0, 9.0, 9.0],
         ];
         for view in View::ALL {
-            let png = encode_preview(2, 2, &beauty, 1.0, view).unwrap();
+            let png = encode_preview(2, 2, &beauty, None, 1.0, view).unwrap();
             let types = chunk_types(&png);
             let srgb = types.iter().position(|t| t == "sRGB");
             let idat = types.iter().position(|t| t == "IDAT");

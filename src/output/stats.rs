@@ -22,9 +22,12 @@ pub struct FrameStats {
     pub counts: Counts,
     /// With validation: the image against brute force.
     pub image_error: Option<ImageError>,
-    /// Wall-clock seconds to render the frame (scene setup, BVH, tiles, validation traces;
-    /// not file writing).
-    pub seconds: f64,
+    /// The frame's own compute time: seconds the worker threads spent on it — its tiles and
+    /// shared passes, and its serial set-up and assembly (posing, BVH, previous frame,
+    /// film, validation) — summed over the threads. Frames in flight together do not count
+    /// each other's work, so a run's frames add up to at most its threads × its wall time
+    /// (the run's wall time is in `runs.csv`). File writing is not included.
+    pub thread_seconds: f64,
     pub camera_position: Vec3,
     pub camera_target: Vec3,
     pub camera_up: Vec3,
@@ -33,7 +36,7 @@ pub struct FrameStats {
 
 /// The header of `stats.csv`.
 pub const HEADER: &str = "frame,method,lights,width,height,queries,rays_traced,percent_traced,\
-halo_pixels,halo_rays,seconds,wrong_visible,wrong_blocked,error_percent,wrong_pixels,rmse,rel_rmse,\
+halo_pixels,halo_rays,thread_seconds,wrong_visible,wrong_blocked,error_percent,wrong_pixels,rmse,rel_rmse,\
 psnr_db,camera_x,camera_y,camera_z,target_x,target_y,target_z,up_x,up_y,up_z,vfov_deg,\
 temporal_pixels,temporal_rays,spatial_rays,rays_every_light,rays_unsure,rays_flooded,flood_fixes,spp";
 
@@ -57,7 +60,7 @@ impl FrameStats {
             c.percent_traced(),
             c.halo_pixels,
             c.halo_rays,
-            self.seconds,
+            self.thread_seconds,
         );
         match &self.image_error {
             Some(e) => {
@@ -171,6 +174,11 @@ const SPLIT_COLUMNS: [&str; 4] = [
 /// The column a `stats.csv` written before samples per pixel lacks; read as 1.
 const SPP_COLUMN: &str = "spp";
 
+/// The time column, and what a `stats.csv` written before issue 23 had instead: each frame's
+/// wall-clock seconds, which overlapped while two frames were in flight (read as it is).
+const TIME_COLUMN: &str = "thread_seconds";
+const OLD_TIME_COLUMN: &str = "seconds";
+
 /// Reads `stats.csv`: one [`FrameStats`] per row, sorted by frame, columns found by their
 /// header names (the derived ones — percent traced, error percent, spatial and unsure rays —
 /// are recomputed from the counts). Every reader of `stats.csv` reads it through this.
@@ -189,7 +197,12 @@ pub fn read_stats(path: &Path) -> Result<Vec<FrameStats>> {
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
     for name in HEADER.split(',') {
-        if !header.contains(&name) && !SPLIT_COLUMNS.contains(&name) && name != SPP_COLUMN {
+        let old_time = name == TIME_COLUMN && header.contains(&OLD_TIME_COLUMN);
+        if !header.contains(&name)
+            && !SPLIT_COLUMNS.contains(&name)
+            && name != SPP_COLUMN
+            && !old_time
+        {
             return Err(input_error(
                 path,
                 format!("no column {name:?} in the header"),
@@ -294,7 +307,11 @@ pub fn read_stats(path: &Path) -> Result<Vec<FrameStats>> {
             },
             counts,
             image_error,
-            seconds: need("seconds")?,
+            thread_seconds: if header.contains(&TIME_COLUMN) {
+                need(TIME_COLUMN)?
+            } else {
+                need(OLD_TIME_COLUMN)?
+            },
             camera_position: v3("camera_x", "camera_y", "camera_z")?,
             camera_target: v3("target_x", "target_y", "target_z")?,
             camera_up: v3("up_x", "up_y", "up_z")?,
@@ -337,7 +354,7 @@ mod tests {
                 rel_rmse: 0.25,
                 psnr_db: 40.0,
             }),
-            seconds: 1.5,
+            thread_seconds: 1.5,
             camera_position: Vec3::new(1.0, 2.5, -3.0),
             camera_target: Vec3::new(0.0, 0.075, 0.0),
             camera_up: Vec3::Y,

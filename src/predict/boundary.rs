@@ -12,7 +12,7 @@ pub struct Boundary;
 
 impl Flood for Boundary {
     const NAME: &'static str = "boundary";
-    const READS: &'static [&'static str] = &[];
+    const READS: &'static [&'static str] = &["surface_voters"];
 
     /// [paper] any vote → blocked: one voter with the light above its horizon is enough.
     fn min_voters(_setting: u32) -> u32 {

@@ -28,6 +28,27 @@ pub struct At {
     pub inside: bool,
 }
 
+impl At {
+    /// The pixel's own rule where it depends on its `voters` (region pixels, evaluated):
+    /// [`FloodTo::Adaptive`] becomes `All` where a voter's flooding caught a wrong prediction,
+    /// `Contrary` elsewhere.
+    #[inline]
+    pub fn for_voters(self, bufs: &TileBuffers, voters: &[usize]) -> At {
+        if self.flood_to != FloodTo::Adaptive {
+            return self;
+        }
+        let busy = voters.iter().any(|&q| bufs.split[q].fixes > 0);
+        At {
+            flood_to: if busy {
+                FloodTo::All
+            } else {
+                FloodTo::Contrary
+            },
+            ..self
+        }
+    }
+}
+
 /// Traces the queued lights of region pixel `i` (begun, hit) starting from the prediction in
 /// the scratch (`pred_vis`, `uncertain`, `queued`), flooding where `F` says, then records the
 /// pixel's blockers when `at.keep_blockers`. Sets the pixel's `vis`, `traced`, `rays` and
@@ -48,6 +69,24 @@ pub fn correct<F: Flood>(
 fn queue_predicted(sc: &mut Scratch) {
     sc.queue.clear();
     bits::for_each(&sc.queued, |j| sc.queue.push(j as u32));
+}
+
+/// [`correct`] that floods only into lights outside `closed` (`closed` ⊆ the pixel's
+/// above-horizon lights, disjoint from `sc.queued`): lights whose prediction is trusted are
+/// never queued by a neighbour's trace.
+pub fn correct_closed<F: Flood>(
+    ctx: &FrameContext,
+    bufs: &mut TileBuffers,
+    sc: &mut Scratch,
+    i: usize,
+    at: At,
+    closed: &[u64],
+) {
+    queue_predicted(sc);
+    for (q, &c) in sc.queued.iter_mut().zip(closed) {
+        *q |= c;
+    }
+    trace_queue::<F>(ctx, bufs, sc, i, at);
 }
 
 /// [`correct`] from an initial queue already in `sc.queue`: the lights of `sc.queued`, in any
@@ -125,8 +164,9 @@ fn trace_queue<F: Flood>(
                 for m in 0..w {
                     let to = match at.flood_to {
                         // `ContraryFinest` is resolved per pass by the driver
-                        // (`FloodTo::at_level`) before it gets here.
-                        FloodTo::All | FloodTo::ContraryFinest => !0,
+                        // (`FloodTo::at_level`), `Adaptive` per pixel (`At::for_voters`),
+                        // before they get here.
+                        FloodTo::All | FloodTo::ContraryFinest | FloodTo::Adaptive => !0,
                         FloodTo::Contrary if visible => !sc.pred_vis[m],
                         FloodTo::Contrary => sc.pred_vis[m],
                     };
@@ -427,6 +467,32 @@ mod tests {
 
     /// What correcting a pixel leaves: visibility, traced set, rays, split, blockers.
     type Outcome = (Vec<u64>, Vec<u64>, u32, RaySplit, Vec<(usize, f32)>);
+
+    /// `adaptive` floods to all where a voter's flooding caught a wrong prediction, to
+    /// contrary lights where none did; the other rules are left as they are.
+    #[test]
+    fn adaptive_flooding_follows_the_voters_fixes() {
+        let mut bufs = TileBuffers {
+            split: vec![RaySplit::default(); 3],
+            ..TileBuffers::default()
+        };
+        bufs.split[2].fixes = 1;
+        let at = |flood_to| At {
+            flood_to,
+            keep_blockers: false,
+            keep_predicted: false,
+            majority: false,
+            inside: false,
+        };
+        let resolved = |f, voters: &[usize]| at(f).for_voters(&bufs, voters).flood_to;
+        assert_eq!(resolved(FloodTo::Adaptive, &[0, 1]), FloodTo::Contrary);
+        assert_eq!(resolved(FloodTo::Adaptive, &[0, 2]), FloodTo::All);
+        assert_eq!(resolved(FloodTo::Adaptive, &[]), FloodTo::Contrary);
+        for f in [FloodTo::All, FloodTo::Contrary] {
+            assert_eq!(resolved(f, &[0, 2]), f);
+            assert_eq!(resolved(f, &[0, 1]), f);
+        }
+    }
 
     /// ALGORITHM.md §6: the traced set does not depend on the queue's order. 300 lights (five
     /// words) under the roof, a prediction whose shadow edge crosses the true one, more queued

@@ -59,10 +59,20 @@ pub enum FloodTo {
     /// On the paper's scenes it traces about a third fewer rays for 1.1–1.9× the wrong pairs
     /// (BENCHMARKS.md, "Flooding only to contrary neighbours").
     Contrary,
+    /// [ours] Decided at each pixel from its voters: [`All`](Self::All) where some voter's own
+    /// flooding caught a wrong prediction (the shadows there are finer than the voters'
+    /// spacing), [`Contrary`](Self::Contrary) where none did. Measured on the corpus and not
+    /// the default (BENCHMARKS.md, "Issue 23").
+    Adaptive,
 }
 
 impl FloodTo {
-    pub const ALL: [FloodTo; 3] = [FloodTo::All, FloodTo::ContraryFinest, FloodTo::Contrary];
+    pub const ALL: [FloodTo; 4] = [
+        FloodTo::All,
+        FloodTo::ContraryFinest,
+        FloodTo::Contrary,
+        FloodTo::Adaptive,
+    ];
 
     /// The name on the command line and in animation specs.
     pub fn name(self) -> &'static str {
@@ -70,6 +80,7 @@ impl FloodTo {
             FloodTo::All => "all",
             FloodTo::ContraryFinest => "contrary-finest",
             FloodTo::Contrary => "contrary",
+            FloodTo::Adaptive => "adaptive",
         }
     }
 
@@ -97,7 +108,9 @@ impl std::str::FromStr for FloodTo {
             .into_iter()
             .find(|f| f.name() == s)
             .ok_or_else(|| {
-                format!("unknown flood rule {s:?}; expected all, contrary-finest or contrary")
+                format!(
+                    "unknown flood rule {s:?}; expected all, contrary-finest, contrary or adaptive"
+                )
             })
     }
 }

@@ -27,6 +27,7 @@ mod scratch;
 pub mod temporal;
 #[cfg(test)]
 mod testkit;
+pub mod turning;
 mod uncertainty;
 mod vote;
 mod warp;
@@ -278,6 +279,19 @@ pub struct Params {
     /// costs a pixel one of its k² samples. At 16 spp on the bunny it saves about a fifth of
     /// the rays for 3.5× the wrong pairs, still below those at 1 spp (BENCHMARKS.md).
     pub pixel_majority: bool,
+    /// [ours] Voters must share the pixel's surface: a neighbour whose normal turns more than
+    /// about 37° from the pixel's, or whose point lies more than about 17° off the pixel's
+    /// tangent plane, does not vote. Measured on the corpus and not the default
+    /// (BENCHMARKS.md, "Issue 23").
+    pub surface_voters: bool,
+    /// [ours] A light is predicted only if every valid voter (at least `min_voters`) has it
+    /// above its horizon. Measured on the corpus (BENCHMARKS.md, "Issue 23").
+    pub all_voters: bool,
+    /// [ours] Where a voter's own flooding caught a wrong prediction, `min_voters` is at
+    /// least this (0: off; default 4): the neighbourhood's shadows are finer than the voters'
+    /// spacing, so a light only some voters see is traced. On the corpus it kept every frame
+    /// under 0.05 % wrong pairs for 6 % more rays (BENCHMARKS.md, "Issue 23").
+    pub busy_voters: u32,
     /// Samples per pixel side: the lattice the method works on holds k × k samples per pixel
     /// (1: one sample at the pixel centre). Set by [`for_samples`](Self::for_samples).
     pub k: u32,
@@ -291,6 +305,9 @@ impl Default for Params {
             flood_to: FloodTo::ContraryFinest,
             scan_block: 64,
             pixel_majority: true,
+            surface_voters: false,
+            all_voters: false,
+            busy_voters: 4,
             k: 1,
         }
     }

@@ -27,8 +27,8 @@ pub struct Scratch {
 }
 
 /// Rows of `Scratch::ext`: the temporal prediction (blocked, sure, edge), before and after
-/// pulling it through a spinning object's turn.
-pub(super) const EXT_ROWS: usize = 6;
+/// pulling it through a spinning object's turn, and the pixel's grazing lights.
+pub(super) const EXT_ROWS: usize = 7;
 
 impl Scratch {
     /// Sizes the scratch for `lights` lights.

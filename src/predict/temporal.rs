@@ -17,6 +17,7 @@
 //! data and the reprojection are [`Prev`]'s; key frames and chains are decided above.
 
 use super::correct::{At, correct};
+use super::turning::spatial_word;
 use super::{Scratch, Uncertainty};
 use crate::bits;
 use crate::buffers::TileBuffers;
@@ -95,6 +96,15 @@ pub fn solve_temporal(
         }
         (3 * w, 4 * w, 5 * w)
     };
+    // Spin: the grazing lights (above the horizon by less than the pull's largest error) are
+    // at the edge the horizon makes: a surface's own horizon is a shadow edge the previous
+    // frame's edge lights never mark (the lights below it are no queries), and grazing
+    // shadows (trim, seams, parts standing proud of a flat panel) lie right above it.
+    let graze = 6 * w;
+    if spin {
+        let band = &mut ext[graze..graze + w];
+        crate::shade::above_plane(&ctx.shade_lights, s.n, prev.grazing(), band);
+    }
     let mine = &above[i * w..(i + 1) * w];
     for m in 0..w {
         let my = mine[m];
@@ -102,18 +112,12 @@ pub fn solve_temporal(
         // pixel, so they bracket an edge the turn moved); otherwise they are traced, and
         // unlike uncertain lights flood only when the trace disagrees: the turn moves an edge
         // by a fraction of a cell, so a trace that confirms the prediction confirms its side.
-        let (mut s_all, mut s_any, mut s_above) = (!0u64, 0u64, [0u64; 4]);
-        for (k, &q) in spatial.iter().enumerate() {
-            let a = above[q * w + m];
-            let b = a & !vis[q * w + m];
-            s_above[k] = a;
-            s_all &= !a | b;
-            s_any |= b;
-        }
-        let s_enough = bits::at_least(&s_above[..spatial.len()], min_voters);
-        let s_blocked = s_enough & s_all & s_any;
-        let s_sure = s_blocked | (s_enough & !s_any);
-        let e = my & ext[edge + m];
+        let (s_blocked, s_sure, _) = spatial_word(above, vis, spatial, w, m, min_voters);
+        let e = if spin {
+            my & (ext[edge + m] | !ext[graze + m])
+        } else {
+            my & ext[edge + m]
+        };
         if !spin {
             sc.pred_vis[m] = my & !ext[blocked + m];
             sc.uncertain[m] = my & !ext[sure + m];
@@ -137,6 +141,7 @@ pub fn solve_temporal(
     // ([ours], docs/methods.md) whatever the spatial order does.
     let at = At {
         keep_predicted: true,
+        flood_to: at.for_voters(bufs, spatial).flood_to,
         majority: false,
         inside: false,
         ..at

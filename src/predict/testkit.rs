@@ -52,16 +52,23 @@ pub fn origin() -> Surface {
         p: Vec3::ZERO,
         n: Vec3::Y,
         ng: Vec3::Y,
+        origin: crate::offset::offset_origin(Vec3::ZERO, Vec3::ZERO, Vec3::Y),
         albedo: Vec3::splat(0.5),
         dir: Vec3::NEG_Y,
         hit: true,
+        catcher: false,
         ..Surface::default()
     }
 }
 
 /// A surface point at `p` facing +Y.
 pub fn at(p: Vec3) -> Surface {
-    Surface { p, ..origin() }
+    let err = p.abs() * crate::offset::gamma(7);
+    Surface {
+        p,
+        origin: crate::offset::offset_origin(p, err, Vec3::Y),
+        ..origin()
+    }
 }
 
 /// A frame with its own scene, BVH, lights and map; [`Frame::ctx`] borrows them.
@@ -88,7 +95,7 @@ impl Frame {
         }
         scene.triangles = vec![[0, 1, 2], [0, 2, 3]];
         scene.tri_material = vec![0, 0];
-        let accel = Accel::build(&scene.positions, &scene.triangles);
+        let accel = scene.accel();
         let lights = LightSet::from_lights(
             dirs.iter()
                 .map(|&dir| Light {

@@ -10,7 +10,15 @@ pub struct Uncertainty;
 
 impl Flood for Uncertainty {
     const NAME: &'static str = "uncertainty";
-    const READS: &'static [&'static str] = &["min_voters", "flood_to", "temporal", "keyframe"];
+    const READS: &'static [&'static str] = &[
+        "min_voters",
+        "flood_to",
+        "temporal",
+        "keyframe",
+        "surface_voters",
+        "all_voters",
+        "busy_voters",
+    ];
 
     fn min_voters(setting: u32) -> u32 {
         setting

@@ -2,6 +2,13 @@
 //! and vote, one vote per blocker, for the light whose cell they land in (the paper counts
 //! warped blockers per cell). The only per-light loops run over the voters' blockers and the
 //! cells they reach.
+//!
+//! Point and spot lights of the scene file [ours] have no cell to land in (a point light is
+//! seen from each pixel along its own direction, and a blocker re-aimed from another point
+//! blocks it only if it lands exactly on the segment to it): their blockers are not warped,
+//! and they are voted as [`NoWarp`](super::NoWarp) votes — each voter's own answer for that
+//! light, which neighbouring pixels, seeing the light from nearly the same direction, mostly
+//! share.
 
 use super::{Scratch, Vote};
 use crate::bits;
@@ -24,9 +31,13 @@ impl Vote for Warp {
     ) {
         let s = bufs.surf[i];
         let w = bufs.words;
+        let directional = ctx.light_dir.len();
         for &q in voters {
-            let pq = bufs.surf[q].p;
+            let pq = bufs.surf[q].origin;
             for (j, t) in bufs.blockers.of(q) {
+                if j >= directional {
+                    continue; // a point light's blocker: not warped
+                }
                 let b = pq + ctx.light_dir[j] * t;
                 let d = b - s.p;
                 if s.n.dot(d) <= 0.0 {
@@ -64,6 +75,23 @@ impl Vote for Warp {
                 .count();
             if sc.votes[c] as usize >= k_j {
                 bits::set(&mut sc.vote_all, c);
+            }
+        }
+        // Point and spot lights: the voters' own answers.
+        for j in directional..ctx.light_count() {
+            let (mut any, mut all) = (false, true);
+            for &q in voters {
+                if bits::get(&bufs.above[q * w..(q + 1) * w], j) {
+                    let blocked = !bits::get(&bufs.vis[q * w..(q + 1) * w], j);
+                    any |= blocked;
+                    all &= blocked;
+                }
+            }
+            if any {
+                bits::set(&mut sc.vote_any, j);
+                if all {
+                    bits::set(&mut sc.vote_all, j);
+                }
             }
         }
     }

@@ -6,7 +6,7 @@
 //! that does not match its semantic, a bad percent-encoding in a URI) and give errors that do
 //! not say which mesh or accessor is at fault.
 
-use glam::{Mat4, Vec2, Vec3, Vec4};
+use glam::{DMat4, DVec3, Vec2, Vec3, Vec4};
 use sha2::{Digest, Sha256};
 use std::collections::HashMap;
 use std::ops::Range;
@@ -18,7 +18,10 @@ use ::gltf::{Accessor, Document, Node, Primitive};
 
 use super::material::{Material, TextureSlot, UvTransform};
 use super::texture::{Encoding, Sampler, Wrap};
-use super::{Scene, SceneCamera, Texture, extend_optional, normal_matrix, tangents};
+use super::{
+    AlphaMode, Part, Scene, SceneCamera, SceneLight, SceneLightKind, Texture, extend_optional,
+    normal_matrix, tangents,
+};
 use crate::bail_input;
 use crate::error::{Result, input_error};
 use crate::limits::{Budget, MAX_FILE_BYTES, NoMemory, SceneSize, read_regular, try_vec};
@@ -69,7 +72,7 @@ pub(super) fn load_bytes(bytes: &[u8], path: &Path, budget: &mut Budget) -> Resu
     let document = Document::from_json(root)
         .map_err(|e| input_error(path, format!("not a valid glTF/GLB file: {e}")))?;
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    let (mut size, used) = count(path, &document)?;
+    let (mut size, used, origin) = count(path, &document)?;
     // The file (and the GLB chunk's copy of it) and the buffers it declares are held while
     // loading.
     let blob_len = blob.as_ref().map_or(0, Vec::len) as u64;
@@ -99,7 +102,10 @@ pub(super) fn load_bytes(bytes: &[u8], path: &Path, budget: &mut Budget) -> Resu
         path,
         document: &document,
         buffers,
-        scene: reserved(path, &size)?,
+        scene: Scene {
+            origin,
+            ..reserved(path, &size)?
+        },
         material_map: HashMap::new(),
         images,
         default_material: None,
@@ -273,12 +279,12 @@ fn base64_decode(s: &str) -> Option<Vec<u8>> {
 }
 
 /// Visits the default scene's nodes depth first (pre-order), composing transforms
-/// parent × child, and calls `visit` with each node and its world transform. A node reached
+/// parent × child in f64, and calls `visit` with each node and its world transform. A node reached
 /// twice (a cycle, or two parents) and a transform that is not finite are refused.
 fn walk(
     path: &Path,
     document: &Document,
-    mut visit: impl FnMut(&Node, Mat4) -> Result<()>,
+    mut visit: impl FnMut(&Node, DMat4) -> Result<()>,
 ) -> Result<()> {
     let roots: Vec<Node> = match document
         .default_scene()
@@ -298,10 +304,10 @@ fn walk(
     };
     let mut visited = vec![false; document.nodes().len()];
     // Reversed so that popping visits nodes in file order.
-    let mut stack: Vec<(Node, Mat4)> = roots
+    let mut stack: Vec<(Node, DMat4)> = roots
         .into_iter()
         .rev()
-        .map(|n| (n, Mat4::IDENTITY))
+        .map(|n| (n, DMat4::IDENTITY))
         .collect();
     while let Some((node, parent)) = stack.pop() {
         let n = node.index();
@@ -312,7 +318,9 @@ fn walk(
             );
         }
         visited[n] = true;
-        let local = Mat4::from_cols_array_2d(&node.transform().matrix());
+        // In f64: a node far from the origin keeps its mesh's precision until the render
+        // origin is taken off (super::origin).
+        let local = DMat4::from_cols_array_2d(&node.transform().matrix().map(|c| c.map(f64::from)));
         if !local.is_finite() {
             bail_input!(path, "node {n}: transform is not finite");
         }
@@ -324,8 +332,25 @@ fn walk(
     Ok(())
 }
 
+/// Whether a node's or mesh's `extras` mark it a shadow catcher: `"shadow_catcher": true`, or
+/// a non-zero number (Blender exports an object's custom properties as its node's extras, and
+/// its boolean-looking properties as integers).
+fn catcher_flag(extras: &::gltf::json::Extras) -> bool {
+    let Some(raw) = extras else {
+        return false;
+    };
+    let Ok(serde_json::Value::Object(map)) = serde_json::from_str(raw.get()) else {
+        return false;
+    };
+    match map.get("shadow_catcher") {
+        Some(serde_json::Value::Bool(b)) => *b,
+        Some(serde_json::Value::Number(n)) => n.as_f64().is_some_and(|v| v != 0.0),
+        _ => false,
+    }
+}
+
 /// Whether a mesh placed by `world` is loaded: a singular transform (zero scale) flattens it.
-fn placeable(world: Mat4) -> bool {
+fn placeable(world: DMat4) -> bool {
     let det = world.determinant();
     det != 0.0 && det.is_finite()
 }
@@ -342,6 +367,7 @@ fn is_triangles(mode: Mode) -> bool {
 /// warning naming it (and, for a material's, each material that uses it); one that
 /// *requires* another is refused by the `gltf` crate's validation.
 const SUPPORTED_EXTENSIONS: &[&str] = &[
+    "KHR_lights_punctual",
     "KHR_texture_transform",
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",
@@ -491,18 +517,24 @@ fn sampler_of(texture: &::gltf::Texture) -> Sampler {
     }
 }
 
+/// [`count`]'s answer, in the order its comment gives, and the render origin
+/// ([`super::render_origin`]) of the placed positions' bounds.
+type Counted = (SceneSize, Vec<(usize, usize, Encoding)>, DVec3);
+
 /// What the default scene will hold, from the JSON alone: the vertices and (at most) triangles
 /// of every primitive the loader will read, once per node that places its mesh, and the
 /// largest of them; and the images their materials use, as (material, image, encoding) in the
 /// order the loader meets them. Accessors too large to read are refused here, as the loader
 /// would.
-fn count(path: &Path, document: &Document) -> Result<(SceneSize, Vec<(usize, usize, Encoding)>)> {
+fn count(path: &Path, document: &Document) -> Result<Counted> {
     let mut size = SceneSize::default();
     let mut used = Vec::new();
+    let mut bounds = Some((DVec3::INFINITY, DVec3::NEG_INFINITY));
     // Whether any primitive has a second texture coordinate set, tangents, colours: then every
     // vertex of the scene gets them.
     let (mut uv1, mut tangents, mut colors) = (false, false, false);
     walk(path, document, |node, world| {
+        size.lights += u64::from(node.light().is_some());
         let Some(mesh) = node.mesh() else {
             return Ok(());
         };
@@ -536,6 +568,7 @@ fn count(path: &Path, document: &Document) -> Result<(SceneSize, Vec<(usize, usi
             for acc in attributes.iter().flatten() {
                 check_values(path, &at, acc)?;
             }
+            bounds = bounds.and_then(|b| grow(b, &positions, world));
             let vertices = positions.count() as u64;
             let indices = primitive.indices().map_or(vertices, |a| a.count() as u64);
             let triangles = match primitive.mode() {
@@ -563,7 +596,33 @@ fn count(path: &Path, document: &Document) -> Result<(SceneSize, Vec<(usize, usi
     }
     let per_vertex = 8 * u64::from(uv1) + 16 * u64::from(tangents) + 16 * u64::from(colors);
     size.extra_vertex_bytes = size.vertices * per_vertex;
-    Ok((size, used))
+    let origin = bounds.map_or(DVec3::ZERO, |(lo, hi)| super::render_origin(lo, hi));
+    Ok((size, used, origin))
+}
+
+/// `bounds` grown by the corners of a POSITION accessor's declared `min`/`max` placed by
+/// `world`; None when it declares none (the glTF spec requires them; without them the scene
+/// keeps its world coordinates, losing only precision far from the origin).
+fn grow(bounds: (DVec3, DVec3), positions: &Accessor, world: DMat4) -> Option<(DVec3, DVec3)> {
+    let corner = |v: Option<::gltf::json::Value>| -> Option<DVec3> {
+        let v = v?;
+        let a = v.as_array()?;
+        let c = |k: usize| a.get(k).and_then(|x| x.as_f64());
+        Some(DVec3::new(c(0)?, c(1)?, c(2)?))
+    };
+    let (lo, hi) = (corner(positions.min())?, corner(positions.max())?);
+    let (mut blo, mut bhi) = bounds;
+    for k in 0..8 {
+        let p = DVec3::new(
+            if k & 1 == 0 { lo.x } else { hi.x },
+            if k & 2 == 0 { lo.y } else { hi.y },
+            if k & 4 == 0 { lo.z } else { hi.z },
+        );
+        let w = world.transform_point3(p);
+        blo = blo.min(w);
+        bhi = bhi.max(w);
+    }
+    Some((blo, bhi))
 }
 
 /// Refuses an accessor with more values (elements × components) than one read may hold.
@@ -634,8 +693,8 @@ struct Images {
 }
 
 impl Images {
-    /// Reads the `used` images (material, image) and their sizes from their headers; errors
-    /// name the first material that uses an image.
+    /// Reads the `used` images and their sizes from their headers; errors name the first
+    /// material that uses an image.
     fn read(
         path: &Path,
         base: &Path,
@@ -756,6 +815,9 @@ impl Loader<'_> {
             if let Some(camera) = node.camera() {
                 self.camera(n, &camera, world);
             }
+            if let Some(light) = node.light() {
+                self.light(n, &light, world)?;
+            }
             if let Some(mesh) = node.mesh() {
                 if !placeable(world) {
                     self.warn(format!(
@@ -763,9 +825,19 @@ impl Loader<'_> {
                         mesh.index()
                     ));
                 } else {
+                    let first = self.scene.triangles.len();
                     for primitive in mesh.primitives() {
                         self.primitive(mesh.index(), &primitive, world)?;
                     }
+                    let triangles = first..self.scene.triangles.len();
+                    if catcher_flag(node.extras()) || catcher_flag(mesh.extras()) {
+                        self.scene.set_catcher(triangles.clone());
+                    }
+                    self.scene.parts.push(Part {
+                        node: node.name().map(str::to_string),
+                        mesh: mesh.name().map(str::to_string),
+                        triangles,
+                    });
                 }
             }
             Ok(())
@@ -773,14 +845,15 @@ impl Loader<'_> {
     }
 
     /// Keeps the first perspective camera: eye at the node's origin looking down its −Z, +Y up.
-    fn camera(&mut self, node: usize, camera: &::gltf::Camera, world: Mat4) {
+    fn camera(&mut self, node: usize, camera: &::gltf::Camera, world: DMat4) {
         if self.scene.camera.is_some() {
             return;
         }
         let ::gltf::camera::Projection::Perspective(p) = camera.projection() else {
             return;
         };
-        let position = world.transform_point3(Vec3::ZERO);
+        let position = (world.transform_point3(DVec3::ZERO) - self.scene.origin).as_vec3();
+        let world = world.as_mat4();
         let forward = world.transform_vector3(Vec3::NEG_Z).normalize_or_zero();
         let up = world.transform_vector3(Vec3::Y);
         // Orthogonalise: a sheared node would otherwise give an up tilted toward forward.
@@ -805,8 +878,83 @@ impl Loader<'_> {
         });
     }
 
+    /// Keeps a `KHR_lights_punctual` light placed by node `node`: at the node's origin,
+    /// shining along its −Z. Values the extension forbids (negative or non-finite intensity or
+    /// colour, a range ≤ 0, cone angles outside 0 ≤ inner < outer ≤ π/2) are refused; a light
+    /// whose node flattens its direction (zero scale) is skipped with a warning.
+    fn light(
+        &mut self,
+        node: usize,
+        light: &::gltf::khr_lights_punctual::Light,
+        world: DMat4,
+    ) -> Result<()> {
+        use ::gltf::khr_lights_punctual::Kind;
+        let index = light.index();
+        let name = light
+            .name()
+            .map_or_else(|| format!("light {index}"), str::to_string);
+        let at = format!("node {node}: light {index} ('{name}')");
+        let color = Vec3::from_array(light.color());
+        if !color.is_finite() || color.min_element() < 0.0 {
+            bail_input!(self.path, "{at}: color {color} is not finite and ≥ 0");
+        }
+        let intensity = light.intensity();
+        if !(intensity.is_finite() && intensity >= 0.0) {
+            bail_input!(
+                self.path,
+                "{at}: intensity {intensity} is not finite and ≥ 0"
+            );
+        }
+        let range = light.range();
+        if let Some(r) = range
+            && !(r.is_finite() && r > 0.0)
+        {
+            bail_input!(self.path, "{at}: range {r} is not a finite number > 0");
+        }
+        let kind = match light.kind() {
+            Kind::Directional => SceneLightKind::Directional,
+            Kind::Point => SceneLightKind::Point,
+            Kind::Spot {
+                inner_cone_angle: inner,
+                outer_cone_angle: outer,
+            } => {
+                let right = std::f32::consts::FRAC_PI_2;
+                if !(inner >= 0.0 && inner < outer && outer <= right) {
+                    bail_input!(
+                        self.path,
+                        "{at}: spot cone angles inner {inner}, outer {outer}: they must be 0 ≤ inner < outer ≤ π/2"
+                    );
+                }
+                SceneLightKind::Spot { inner, outer }
+            }
+        };
+        // Counted from the render origin, as the positions are.
+        let position = (world.transform_point3(DVec3::ZERO) - self.scene.origin).as_vec3();
+        let direction = world
+            .as_mat4()
+            .transform_vector3(Vec3::NEG_Z)
+            .normalize_or_zero();
+        let needs_direction = kind != SceneLightKind::Point;
+        if !position.is_finite() || (needs_direction && direction == Vec3::ZERO) {
+            self.warn(format!(
+                "{at}: its node's transform leaves it no position or direction (zero scale), ignored"
+            ));
+            return Ok(());
+        }
+        self.scene.lights.push(SceneLight {
+            name,
+            kind,
+            position,
+            direction,
+            color,
+            intensity,
+            range,
+        });
+        Ok(())
+    }
+
     /// Appends one primitive, transformed by `world`, to the scene.
-    fn primitive(&mut self, m: usize, primitive: &Primitive, world: Mat4) -> Result<()> {
+    fn primitive(&mut self, m: usize, primitive: &Primitive, world: DMat4) -> Result<()> {
         let p = primitive.index();
         let at = format!("mesh {m} primitive {p}");
         let mode = primitive.mode();
@@ -917,9 +1065,11 @@ impl Loader<'_> {
             ));
         }
 
+        // Placed in f64, then counted from the render origin: one rounding to f32.
+        let origin = self.scene.origin;
         let world_pos: Vec<Vec3> = positions
             .iter()
-            .map(|&v| world.transform_point3(Vec3::from_array(v)))
+            .map(|&v| (world.transform_point3(Vec3::from_array(v).as_dvec3()) - origin).as_vec3())
             .collect();
         if world_pos.iter().any(|p| !p.is_finite()) {
             bail_input!(
@@ -948,7 +1098,7 @@ impl Loader<'_> {
             ));
         }
         let smooth = smooth_normals(&world_pos, &tris);
-        let nm = normal_matrix(world);
+        let nm = normal_matrix(world.as_mat4());
         let world_nrm: Vec<Vec3> = match &normals {
             Some(normals) => normals
                 .iter()
@@ -982,10 +1132,11 @@ impl Loader<'_> {
             (None, _) => None,
             (Some(_), Some(t)) => {
                 let handedness = if world.determinant() < 0.0 { -1.0 } else { 1.0 };
+                let world_f32 = world.as_mat4();
                 Some(
                     t.iter()
                         .map(|t| {
-                            let v = world
+                            let v = world_f32
                                 .transform_vector3(Vec3::new(t[0], t[1], t[2]))
                                 .normalize_or_zero();
                             let w = if t[3] < 0.0 { -1.0 } else { 1.0 };
@@ -1153,7 +1304,11 @@ impl Loader<'_> {
                 acc.index()
             );
         }
-        Ok(colors)
+        // Alpha is coverage: clamped to [0, 1] (the alpha test compares it with cutoffs).
+        Ok(colors
+            .into_iter()
+            .map(|c| c.truncate().extend(c.w.clamp(0.0, 1.0)))
+            .collect())
     }
 
     fn check_count(
@@ -1194,6 +1349,28 @@ impl Loader<'_> {
         let name = material
             .name()
             .map_or_else(|| format!("material {index}"), str::to_string);
+        let alpha_mode = match material.alpha_mode() {
+            ::gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
+            ::gltf::material::AlphaMode::Mask => {
+                let cutoff = material.alpha_cutoff().unwrap_or(0.5);
+                if !(cutoff.is_finite() && cutoff >= 0.0) {
+                    bail_input!(
+                        self.path,
+                        "material {index}: alphaCutoff {cutoff} is not a finite number ≥ 0"
+                    );
+                }
+                AlphaMode::Mask { cutoff }
+            }
+            ::gltf::material::AlphaMode::Blend => {
+                self.warn(format!(
+                    "material {index} ('{name}'): alphaMode BLEND is rendered as coverage (each \
+                     camera sample sees the surface where its alpha exceeds the sample's \
+                     threshold: use --spp 4 or more for smooth transparency) and as a mask at \
+                     alpha 0.5 for shadows"
+                ));
+                AlphaMode::Blend
+            }
+        };
         let at = format!("material {index} ({name:?})");
         let finite = |what: &str, values: &[f32]| -> Result<()> {
             if values.iter().all(|v| v.is_finite()) {
@@ -1225,6 +1402,7 @@ impl Loader<'_> {
             name: name.clone(),
             base_color: Vec3::new(r, g, b),
             base_alpha: alpha,
+            alpha_mode,
             metallic,
             roughness,
             emissive: Vec3::from_array(emissive) * strength,

@@ -5,8 +5,8 @@
 
 use glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
 
-use super::Scene;
 use super::texture::Sampler;
+use super::{AlphaMode, Scene};
 
 /// The reflection model a material is shaded with.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -101,6 +101,8 @@ pub struct Material {
     pub base_alpha: f32,
     /// Base colour (sRGB) texture: RGB multiplies `base_color`, A `base_alpha`.
     pub base_color_texture: Option<TextureSlot>,
+    /// How the base colour alpha covers the surface (glTF `alphaMode`, [`Scene::alpha`]).
+    pub alpha_mode: AlphaMode,
     /// The base colour is `base_color` alone: the texture gives only its alpha, vertex colours
     /// are not used (a `[material] base_color` override).
     pub plain_base_color: bool,
@@ -143,6 +145,7 @@ impl Default for Material {
             base_color: Vec3::splat(0.8),
             base_alpha: 1.0,
             base_color_texture: None,
+            alpha_mode: AlphaMode::Opaque,
             plain_base_color: false,
             metallic: 0.0,
             roughness: 1.0,
@@ -505,16 +508,24 @@ impl Scene {
         let Some(texture) = self.textures.get(slot.texture) else {
             return Vec4::ONE;
         };
-        let mut uv = self.uv_of_set(slot.tex_coord, tri, bary);
         let mut footprint = 0.0;
         if footprint_world > 0.0 {
             footprint = footprint_world * self.uv_density_of_set(slot.tex_coord, tri);
+            if let Some(t) = &slot.transform {
+                footprint *= t.scale();
+            }
         }
-        if let Some(t) = &slot.transform {
-            uv = t.apply(uv);
-            footprint *= t.scale();
+        texture.lookup(self.slot_uv(slot, tri, bary), footprint, &slot.sampler)
+    }
+
+    /// The texture coordinates `slot` reads at barycentric `bary` of `tri`: its set, then its
+    /// transform.
+    pub(super) fn slot_uv(&self, slot: &TextureSlot, tri: usize, bary: (f32, f32)) -> Vec2 {
+        let uv = self.uv_of_set(slot.tex_coord, tri, bary);
+        match &slot.transform {
+            Some(t) => t.apply(uv),
+            None => uv,
         }
-        texture.lookup(uv, footprint, &slot.sampler)
     }
 
     /// The base colour (linear RGB, times the vertex colour) and its alpha at barycentric
@@ -532,8 +543,14 @@ impl Scene {
                 c = (c.xyz() * t.xyz()).extend(c.w * t.w);
             }
         }
-        if !self.colors.is_empty() && !m.plain_base_color {
-            c *= self.vertex_color(tri, bary);
+        if !self.colors.is_empty() {
+            // A plain base colour keeps the vertex colours' alpha (cut-outs keep their shape).
+            let v = self.vertex_color(tri, bary);
+            c = if m.plain_base_color {
+                c.xyz().extend(c.w * v.w)
+            } else {
+                c * v
+            };
         }
         c
     }

@@ -9,30 +9,37 @@
 //! to, so the geometric normal `(p1 − p0) × (p2 − p0)` agrees with the vertex normals.
 //! Barycentric coordinates `(u, v)` name the point `(1 − u − v)·p0 + u·p1 + v·p2`.
 
+mod alpha;
 mod gltf;
+pub mod ground;
 mod material;
+mod origin;
 mod shapes;
 mod tangents;
 mod texture;
 
-use glam::{Mat3, Mat4, Vec2, Vec3, Vec4};
+use glam::{DVec3, Mat3, Mat4, Vec2, Vec3, Vec4};
+use std::ops::Range;
 use std::path::Path;
 
 use crate::error::Result;
 use crate::limits::Budget;
 
+pub use alpha::{AlphaMode, AlphaTest, coverage_threshold};
 pub use material::{
     Material, MaterialOverride, MaterialSample, Model, SurfaceMaterial, TextureSlot, UvTransform,
     ior_f0,
 };
+pub use origin::render_origin;
 pub use texture::{Encoding, Sampler, Wrap, srgb_to_linear};
 
 /// A linear RGB texture (sRGB-decoded, or linear data as it was), with its alpha when the image
 /// had one, row-major, row 0 at the top (glTF's UV origin), with its mip pyramid.
 ///
 /// Sampling is bilinear with repeat wrap ([`Texture::sample`]), trilinear over a footprint
-/// ([`Texture::sample_footprint`]), or as a glTF sampler says ([`Texture::lookup`]). The fields are private because the pyramid is made from the
-/// texels once, by the constructors: texels changed afterwards would disagree with it.
+/// ([`Texture::sample_footprint`]), or as a glTF sampler says ([`Texture::lookup`]). The fields
+/// are private because the pyramid is made from the texels once, by the constructors: texels
+/// changed afterwards would disagree with it.
 #[derive(Clone, Debug)]
 pub struct Texture {
     /// Level 0 (the texels as decoded), then each level half the size of the one before, down
@@ -45,6 +52,50 @@ pub struct Texture {
 /// largest f32, so that the turn's translation (pivot − R·pivot, up to three coordinates
 /// summed) plus a turned point (two) cannot reach infinity.
 pub const MAX_TURNED_COORDINATE: f32 = f32::MAX / 8.0;
+
+/// A light placed by the scene file (glTF's `KHR_lights_punctual`), in world space, with its
+/// photometric intensity as the file gives it. File lights stay where the file puts them: a
+/// spin turns the geometry, not them (they light the turning object like the map does).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneLight {
+    /// The file's name for the light, or `light N` (N its index in the file's list).
+    pub name: String,
+    pub kind: SceneLightKind,
+    /// World-space position (unused by a directional light).
+    pub position: Vec3,
+    /// Unit world-space direction the light shines along: its node's −Z (unused by a point
+    /// light).
+    pub direction: Vec3,
+    /// Linear RGB colour, a multiplier of the intensity.
+    pub color: Vec3,
+    /// Lux (lm/m²) for a directional light, candela (lm/sr) for point and spot lights.
+    pub intensity: f32,
+    /// Distance at which a point or spot light's influence ends, if the file sets one.
+    pub range: Option<f32>,
+}
+
+/// The three kinds of `KHR_lights_punctual` light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SceneLightKind {
+    Directional,
+    Point,
+    /// A cone: full intensity within `inner` radians of its axis, none beyond `outer`.
+    Spot {
+        inner: f32,
+        outer: f32,
+    },
+}
+
+impl SceneLightKind {
+    /// `directional`, `point` or `spot`, as the extension spells them.
+    pub fn name(self) -> &'static str {
+        match self {
+            SceneLightKind::Directional => "directional",
+            SceneLightKind::Point => "point",
+            SceneLightKind::Spot { .. } => "spot",
+        }
+    }
+}
 
 /// A perspective camera found in a scene file.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -59,10 +110,57 @@ pub struct SceneCamera {
     pub vfov_deg: f32,
 }
 
-/// All triangles of the default scene in world space.
+/// The triangles one glTF node brought into the scene, and its names (for `[scene] catchers`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Part {
+    /// The node's name, if it has one.
+    pub node: Option<String>,
+    /// Its mesh's name, if it has one.
+    pub mesh: Option<String>,
+    /// Its triangles (indices into [`Scene::triangles`]).
+    pub triangles: Range<usize>,
+}
+
+impl Part {
+    /// Whether `name` is the node's or its mesh's name.
+    pub fn is_named(&self, name: &str) -> bool {
+        self.node.as_deref() == Some(name) || self.mesh.as_deref() == Some(name)
+    }
+}
+
+/// Which way is up in a scene file: glTF's +Y, or +Z (CAD and many exported models), which
+/// [`Scene::stood_up`] turns to +Y.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Up {
+    #[default]
+    Y,
+    Z,
+}
+
+impl std::str::FromStr for Up {
+    type Err = String;
+    fn from_str(s: &str) -> std::result::Result<Up, String> {
+        match s {
+            "y" | "Y" => Ok(Up::Y),
+            "z" | "Z" => Ok(Up::Z),
+            _ => Err(format!("unknown up axis {s:?} (expected y or z)")),
+        }
+    }
+}
+
+impl std::fmt::Display for Up {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Up::Y => "y",
+            Up::Z => "z",
+        })
+    }
+}
+
+/// All triangles of the default scene in world space, counted from [`Scene::origin`].
 #[derive(Clone, Debug, Default)]
 pub struct Scene {
-    /// World-space vertex positions.
+    /// Vertex positions: world space less [`origin`](Self::origin).
     pub positions: Vec<Vec3>,
     /// Unit shading normals per vertex.
     pub normals: Vec<Vec3>,
@@ -87,8 +185,21 @@ pub struct Scene {
     pub textures: Vec<Texture>,
     /// The first perspective camera of the file, if any.
     pub camera: Option<SceneCamera>,
+    /// The file's lights (`KHR_lights_punctual`), one per node that places one.
+    pub lights: Vec<SceneLight>,
+    /// Per triangle: whether it is a shadow catcher (it receives shadows and shows only them,
+    /// as the tile services shade it). Empty when no triangle is.
+    pub catcher: Vec<bool>,
+    /// The glTF nodes that brought triangles, in file order (empty for built-in scenes).
+    pub parts: Vec<Part>,
+    /// The first triangle of the ground envshadow added below the model ([`ground`]), if it
+    /// added one: it is the scene's last triangles, and the model is everything before it.
+    pub added_ground: Option<usize>,
     /// Where it came from: a path, or `builtin:shapes`.
     pub source: String,
+    /// The world-space point the positions (and the file's camera) count from: zero unless
+    /// the scene lies far from the world's origin for its size ([`render_origin`]).
+    pub origin: DVec3,
     /// Things skipped while loading (non-triangle primitives, …); each was also printed to
     /// stderr as `warning: …`.
     pub warnings: Vec<String>,
@@ -161,21 +272,96 @@ impl Scene {
     /// Axis-aligned bounds `(min, max)` of the vertices used by triangles; `(0, 0)` when there
     /// are no triangles.
     pub fn bounds(&self) -> (Vec3, Vec3) {
-        let mut lo = Vec3::splat(f32::INFINITY);
-        let mut hi = Vec3::splat(f32::NEG_INFINITY);
-        for &i in self.triangles.iter().flatten() {
-            let p = self.positions[i as usize];
-            lo = lo.min(p);
-            hi = hi.max(p);
+        bounds_of(&self.positions, &self.triangles)
+    }
+
+    /// Bounds of the model: [`bounds`](Self::bounds) without the ground envshadow added, if
+    /// any (what the camera frames and a spin turns about).
+    pub fn model_bounds(&self) -> (Vec3, Vec3) {
+        let model = self.added_ground.unwrap_or(self.triangles.len());
+        bounds_of(&self.positions, &self.triangles[..model])
+    }
+
+    /// Whether triangle `tri` is a shadow catcher.
+    #[inline]
+    pub fn is_catcher(&self, tri: usize) -> bool {
+        self.catcher.get(tri).copied().unwrap_or(false)
+    }
+
+    /// Makes the triangles `tris` shadow catchers.
+    pub fn set_catcher(&mut self, tris: Range<usize>) {
+        if tris.is_empty() {
+            return;
         }
-        if self.triangles.is_empty() {
-            (Vec3::ZERO, Vec3::ZERO)
-        } else {
-            (lo, hi)
+        self.catcher.resize(self.triangles.len(), false);
+        self.catcher[tris].fill(true);
+    }
+
+    /// Makes the nodes (or meshes) called `names` shadow catchers; the first name no node or
+    /// mesh has is returned as the error.
+    pub fn mark_catchers(&mut self, names: &[String]) -> std::result::Result<(), String> {
+        for name in names {
+            let tris: Vec<Range<usize>> = self
+                .parts
+                .iter()
+                .filter(|p| p.is_named(name))
+                .map(|p| p.triangles.clone())
+                .collect();
+            if tris.is_empty() {
+                return Err(name.clone());
+            }
+            for t in tris {
+                self.set_catcher(t);
+            }
+        }
+        Ok(())
+    }
+
+    /// The scene turned so that `up` points along +Y, the camera with it: for Z-up, the
+    /// rotation of −90° about +X (Blender's own glTF convention: +Z → +Y, +Y → −Z), exact
+    /// (no trigonometry), applied before anything else reads the scene.
+    pub fn stood_up(self, up: Up) -> Scene {
+        match up {
+            Up::Y => self,
+            Up::Z => {
+                let m = Mat4::from_cols(
+                    glam::Vec4::new(1.0, 0.0, 0.0, 0.0),
+                    glam::Vec4::new(0.0, 0.0, -1.0, 0.0),
+                    glam::Vec4::new(0.0, 1.0, 0.0, 0.0),
+                    glam::Vec4::W,
+                );
+                let mut out = self.transformed(m);
+                out.camera = self.camera.map(|c| SceneCamera {
+                    position: m.transform_point3(c.position),
+                    forward: m.transform_vector3(c.forward),
+                    up: m.transform_vector3(c.up),
+                    vfov_deg: c.vfov_deg,
+                });
+                // The file's lights live in the file's world, as its camera does.
+                for l in &mut out.lights {
+                    l.position = m.transform_point3(l.position);
+                    l.direction = m.transform_vector3(l.direction);
+                }
+                // The positions count from the origin, which turns with them.
+                out.origin = m.as_dmat4().transform_point3(self.origin);
+                out
+            }
         }
     }
 
-    /// The three world-space corners of triangle `tri`.
+    /// A world-space point (a spec's camera position, target or pivot) in the scene's
+    /// coordinates, which count from [`origin`](Self::origin); the point itself when that is
+    /// zero.
+    pub fn to_local(&self, world: Vec3) -> Vec3 {
+        (world.as_dvec3() - self.origin).as_vec3()
+    }
+
+    /// A point of the scene's coordinates in world space.
+    pub fn to_world(&self, local: Vec3) -> Vec3 {
+        (local.as_dvec3() + self.origin).as_vec3()
+    }
+
+    /// The three corners of triangle `tri`.
     #[inline]
     pub fn triangle(&self, tri: usize) -> [Vec3; 3] {
         self.triangles[tri].map(|i| self.positions[i as usize])
@@ -245,8 +431,9 @@ impl Scene {
     }
 
     /// A copy with every vertex moved by `m` (normals by its inverse transpose). Winding is
-    /// flipped when `m` mirrors, so geometric and shading normals keep agreeing. The camera is
-    /// left where it was: this moves the objects, not the viewer.
+    /// flipped when `m` mirrors, so geometric and shading normals keep agreeing. The camera and
+    /// the file's lights are left where they were: this moves the objects, not the viewer or
+    /// the lights.
     pub fn transformed(&self, m: Mat4) -> Scene {
         let mut out = self.clone();
         let normal_matrix = normal_matrix(m);
@@ -293,8 +480,9 @@ impl Scene {
         ))
     }
 
-    /// Appends `other`'s triangles, materials and textures (indices shifted). Keeps this scene's
-    /// camera and source, taking `other`'s camera only if this one has none.
+    /// Appends `other`'s triangles, materials and textures (indices shifted, positions moved to
+    /// this scene's origin). Keeps this scene's camera, origin and source, taking `other`'s
+    /// camera only if this one has none.
     pub fn merge(&mut self, other: Scene) {
         let vertices = self.positions.len();
         let vertex_base = vertices as u32;
@@ -304,7 +492,17 @@ impl Scene {
         extend_optional(&mut self.uvs1, vertices, other.uvs1, added, Vec2::ZERO);
         extend_optional(&mut self.tangents, vertices, other.tangents, added, Vec4::X);
         extend_optional(&mut self.colors, vertices, other.colors, added, Vec4::ONE);
-        self.positions.extend(other.positions);
+        let shift = other.origin - self.origin;
+        if shift == DVec3::ZERO {
+            self.positions.extend(other.positions);
+        } else {
+            self.positions.extend(
+                other
+                    .positions
+                    .iter()
+                    .map(|p| (p.as_dvec3() + shift).as_vec3()),
+            );
+        }
         self.normals.extend(other.normals);
         self.uvs.extend(other.uvs);
         self.triangles
@@ -319,9 +517,25 @@ impl Scene {
                 m
             }));
         self.textures.extend(other.textures);
-        if self.camera.is_none() {
-            self.camera = other.camera;
+        let triangle_base = self.triangles.len() - other.triangles.len();
+        if !other.catcher.is_empty() {
+            self.catcher.resize(triangle_base, false);
+            self.catcher.extend(other.catcher);
         }
+        self.parts.extend(other.parts.into_iter().map(|mut p| {
+            p.triangles = p.triangles.start + triangle_base..p.triangles.end + triangle_base;
+            p
+        }));
+        if self.camera.is_none() {
+            self.camera = other.camera.map(|mut c| {
+                c.position = (c.position.as_dvec3() + shift).as_vec3();
+                c
+            });
+        }
+        self.lights.extend(other.lights.into_iter().map(|mut l| {
+            l.position = (l.position.as_dvec3() + shift).as_vec3();
+            l
+        }));
         self.warnings.extend(other.warnings);
     }
 }
@@ -346,6 +560,23 @@ pub(crate) fn extend_optional<T: Copy>(
         to.resize(vertices + added, default);
     } else {
         to.extend(values);
+    }
+}
+
+/// Axis-aligned bounds `(min, max)` of the vertices `triangles` use; `(0, 0)` when there are
+/// none.
+fn bounds_of(positions: &[Vec3], triangles: &[[u32; 3]]) -> (Vec3, Vec3) {
+    let mut lo = Vec3::splat(f32::INFINITY);
+    let mut hi = Vec3::splat(f32::NEG_INFINITY);
+    for &i in triangles.iter().flatten() {
+        let p = positions[i as usize];
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    if triangles.is_empty() {
+        (Vec3::ZERO, Vec3::ZERO)
+    } else {
+        (lo, hi)
     }
 }
 

@@ -322,6 +322,24 @@ impl Texture {
     }
 }
 
+impl Texture {
+    /// The alpha [`lookup`](Self::lookup) gives at `uv` with a zero footprint (level 0:
+    /// bilinear, or the nearest texel for a `NEAREST` magnification filter), without the
+    /// colour: what the alpha test reads ([`super::Scene::alpha`]). 1 without an alpha channel.
+    pub fn alpha_at(&self, uv: Vec2, sampler: &Sampler) -> f32 {
+        let base = &self.levels[0];
+        if base.alpha.is_empty() || !base.readable() {
+            return 1.0;
+        }
+        let wrap = (sampler.wrap_s, sampler.wrap_t);
+        if sampler.mag_nearest {
+            return base.alpha[base.nearest_index(uv, wrap)];
+        }
+        let Taps4 { at, fx, fy } = base.taps(uv, wrap);
+        base.bilinear_alpha(at, fx, fy)
+    }
+}
+
 /// Repeat on both axes.
 const REPEAT: (Wrap, Wrap) = (Wrap::Repeat, Wrap::Repeat);
 
@@ -414,7 +432,8 @@ fn linear_texels(
             Encoding::Linear => rgb,
         });
         if has_alpha {
-            alpha.push(sample(&p[(channels - 1) * size..]));
+            // Coverage: [0, 1] (a float image may hold more).
+            alpha.push(sample(&p[(channels - 1) * size..]).clamp(0.0, 1.0));
         }
     }
     true
@@ -479,11 +498,28 @@ impl Level {
         let alpha = if self.alpha.is_empty() {
             1.0
         } else {
-            let a = |k: usize| self.alpha[at[k]];
-            let lerp = |x: f32, y: f32, s: f32| x * (1.0 - s) + y * s;
-            lerp(lerp(a(0), a(1), fx), lerp(a(2), a(3), fx), fy)
+            self.bilinear_alpha(at, fx, fy)
         };
         rgb.extend(alpha)
+    }
+
+    /// The alpha of a bilinear lookup's taps (the level has alpha).
+    #[inline]
+    fn bilinear_alpha(&self, at: [usize; 4], fx: f32, fy: f32) -> f32 {
+        let a = |k: usize| self.alpha[at[k]];
+        let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
+        lerp(lerp(a(0), a(1), fx), lerp(a(2), a(3), fx), fy)
+    }
+
+    /// The index of the texel whose area holds `uv` (GL `NEAREST`); the level is readable.
+    #[inline]
+    fn nearest_index(&self, uv: Vec2, (ws, wt): (Wrap, Wrap)) -> usize {
+        let uv = if uv.is_finite() { uv } else { Vec2::ZERO };
+        let x = (ws.coordinate(uv.x) * self.width as f32).floor() as i64;
+        let y = (wt.coordinate(uv.y) * self.height as f32).floor() as i64;
+        // u = 1 exactly (clamped or mirrored) is the last texel's edge: it stays in range.
+        wt.index(y.min(self.height as i64 - 1), self.height) * self.width
+            + ws.index(x.min(self.width as i64 - 1), self.width)
     }
 
     /// The texel whose area holds `uv` (GL `NEAREST`), with its alpha.
@@ -491,12 +527,7 @@ impl Level {
         if !self.readable() {
             return Vec4::ONE;
         }
-        let uv = if uv.is_finite() { uv } else { Vec2::ZERO };
-        let x = (ws.coordinate(uv.x) * self.width as f32).floor() as i64;
-        let y = (wt.coordinate(uv.y) * self.height as f32).floor() as i64;
-        // u = 1 exactly (clamped or mirrored) is the last texel's edge: it stays in range.
-        let i = wt.index(y.min(self.height as i64 - 1), self.height) * self.width
-            + ws.index(x.min(self.width as i64 - 1), self.width);
+        let i = self.nearest_index(uv, (ws, wt));
         let alpha = self.alpha.get(i).copied().unwrap_or(1.0);
         self.texels[i].extend(alpha)
     }
@@ -998,6 +1029,74 @@ mod tests {
                 .all(|(a, b)| bits(*a) == bits(*b));
             assert!(same, "{name}: texels differ from to_rgb32f's");
         }
+    }
+
+    #[test]
+    fn alpha_is_kept_as_stored_and_leaves_the_colour_alone() {
+        use image::{DynamicImage, ImageBuffer, ImageFormat};
+        let (w, h) = (16u32, 8u32);
+        let a8 = |n: u32| (n * 37 % 256) as u8;
+        let a16 = |n: u32| (n * 9091 % 65536) as u16;
+        let images: Vec<(&str, DynamicImage, Vec<f32>)> = vec![
+            (
+                "Rgba8",
+                DynamicImage::ImageRgba8(ImageBuffer::from_fn(w, h, |x, y| {
+                    image::Rgba([10, 20, 30, a8(y * w + x)])
+                })),
+                (0..w * h).map(|n| f32::from(a8(n)) / 255.0).collect(),
+            ),
+            (
+                "La8",
+                DynamicImage::ImageLumaA8(ImageBuffer::from_fn(w, h, |x, y| {
+                    image::LumaA([90, a8(y * w + x)])
+                })),
+                (0..w * h).map(|n| f32::from(a8(n)) / 255.0).collect(),
+            ),
+            (
+                "Rgba16",
+                DynamicImage::ImageRgba16(ImageBuffer::from_fn(w, h, |x, y| {
+                    image::Rgba([1000, 2000, 3000, a16(y * w + x)])
+                })),
+                (0..w * h).map(|n| f32::from(a16(n)) / 65535.0).collect(),
+            ),
+        ];
+        for (name, img, want) in images {
+            let mut bytes = std::io::Cursor::new(Vec::new());
+            img.write_to(&mut bytes, ImageFormat::Png).unwrap();
+            let bytes = bytes.into_inner();
+            let t = Texture::decode(&bytes).unwrap();
+            assert!(t.has_alpha(), "{name}");
+            assert_eq!(t.alpha().len(), (w * h) as usize, "{name}");
+            for (n, want) in want.iter().enumerate() {
+                let (x, y) = (n % w as usize, n / w as usize);
+                let uv = Vec2::new((x as f32 + 0.5) / w as f32, (y as f32 + 0.5) / h as f32);
+                assert_eq!(
+                    t.alpha_at(uv, &Sampler::default()),
+                    *want,
+                    "{name} texel {n}"
+                );
+                // The sampler's lookup at level 0 reads the same alpha.
+                assert_eq!(
+                    t.lookup(uv, 0.0, &Sampler::default()).w,
+                    *want,
+                    "{name} {n}"
+                );
+            }
+            let same = t
+                .texels()
+                .iter()
+                .zip(&through_dynamic_image(&bytes))
+                .all(|(a, b)| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits));
+            assert!(same, "{name}: colour changed");
+        }
+        // No alpha channel: opaque.
+        let rgb = DynamicImage::ImageRgb8(ImageBuffer::from_fn(4, 4, |_, _| image::Rgb([1, 2, 3])));
+        let mut bytes = std::io::Cursor::new(Vec::new());
+        rgb.write_to(&mut bytes, ImageFormat::Png).unwrap();
+        let bytes = bytes.into_inner();
+        let t = Texture::decode(&bytes).unwrap();
+        assert!(!t.has_alpha());
+        assert_eq!(t.alpha_at(Vec2::splat(0.3), &Sampler::default()), 1.0);
     }
 
     #[test]

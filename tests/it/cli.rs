@@ -68,7 +68,7 @@ fn render_writes_frames_stats_and_lights_deterministically() {
     // library's one reader of stats.csv, by column name, never by position.
     let stats = fs::read_to_string(out.join("stats.csv")).unwrap();
     assert!(stats.starts_with(
-        "frame,method,lights,width,height,queries,rays_traced,percent_traced,halo_pixels,halo_rays,seconds,wrong_visible"
+        "frame,method,lights,width,height,queries,rays_traced,percent_traced,halo_pixels,halo_rays,thread_seconds,wrong_visible"
     ));
     let rows = read_stats(&out.join("stats.csv")).unwrap();
     assert_eq!(rows.len(), 2, "{rows:?}");
@@ -153,19 +153,20 @@ fn lights_command_writes_json_and_picture() {
     assert!(img.width() >= 256);
 }
 
-/// Runs `envshadow ARGS` expecting a bad-input failure: exit code 2, one line on stderr that
-/// contains every `needle`, no panic, and no frame left in `out`.
+/// Runs `envshadow ARGS` expecting a bad-input failure: exit code 2, the problem on the first
+/// line of stderr containing every `needle`, no panic, and no frame left in `out`. Our errors
+/// are that one line; clap's usage errors (a flag's value refused by its parser) add their
+/// usage and hints below it.
 fn expect_bad_input(args: &[&std::ffi::OsStr], needles: &[&str], out: &Path) {
     let o = common::bin().args(args).output().unwrap();
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "args {args:?}: stderr {err}");
     assert!(!err.contains("panicked"), "{err}");
-    let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
-    assert_eq!(lines.len(), 1, "one line expected: {err}");
+    let line = common::error_line(&err);
     for n in needles {
         assert!(
-            err.to_lowercase().contains(&n.to_lowercase()),
-            "{n:?} not in {err}"
+            line.to_lowercase().contains(&n.to_lowercase()),
+            "{n:?} not in the first line of {err}"
         );
     }
     assert!(frame_files(out).is_empty(), "{:?}", frame_files(out));
@@ -255,7 +256,19 @@ fn bad_inputs_fail_with_one_clear_line_and_no_output() {
     check(render(&good, &["--method", "magic"]), &["magic"]);
     check(
         render(&good, &["--frames", "5..9"]),
-        &["--frames", "outside"],
+        &[
+            "--frames",
+            "frame(s) 5..9 are past the animation's last frame, 0",
+        ],
+    );
+    // A list names the frames outside, and a bad piece is named by clap's message.
+    check(
+        render(&good, &["--frames", "0,2-9"]),
+        &["--frames", "0,2..10: frame(s) 2..10", "numbered from 0"],
+    );
+    check(
+        render(&good, &["--frames", "0,2-x"]),
+        &["--frames", "piece \"2-x\"", "\"x\" is not a frame number"],
     );
 
     // Scene files.
@@ -415,6 +428,13 @@ fn table_and_bench_commands_measure_every_requested_configuration() {
     assert!(!plain.contains("min_voters"), "{plain}");
     assert!(strict.contains("min_voters 4"), "{strict}");
     assert!(p4 > p3, "--min-voters 4 traced {p4} %, the default {p3} %");
+    // Busy voters (the default 4) trace more than without them, and never more than asking
+    // four voters everywhere.
+    let (_, calm) = traced(&["--busy-voters", "0"]);
+    assert!(
+        calm <= p3 && p3 <= p4,
+        "--busy-voters 0 traced {calm} %, the default {p3} %, --min-voters 4 {p4} %"
+    );
 
     let o = common::bin()
         .args(["bench", "--scene"])
@@ -542,5 +562,407 @@ fn resume_removes_the_temporaries_a_killed_render_left() {
         .chain(&["frame_0000.exr", "frame_0001.exr", "stats.csv"])
     {
         assert!(left.iter().any(|l| l == n), "{n} missing: {left:?}");
+    }
+}
+
+#[test]
+fn scene_lights_flag_lights_the_frame_with_the_files_lights_or_ignores_them() {
+    // The circuit board places a sun: by default a note names it and lights.json lists it;
+    // --scene-lights=false says it is ignored and lights.json has the map's lights alone.
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = tmp.path().join("board.toml");
+    let glb = common::assets_dir().join("corpus/objects_on_circuit_board.glb");
+    fs::write(
+        &spec,
+        format!(
+            "[scene]\nfile = \"{}\"\n[lights]\ncount = 20\n[motion]\nframes = 1\n\
+             [render]\nwidth = 32\nheight = 24\n",
+            glb.display()
+        ),
+    )
+    .unwrap();
+    let mut failures = Failures::new();
+    for (flag, note, lights) in [
+        (
+            None,
+            "the scene file's 1 light joins the map's: directional 'Sun'",
+            21,
+        ),
+        (
+            Some("--scene-lights=false"),
+            "the scene file's 1 light ignored ([lights] scene_lights = false)",
+            20,
+        ),
+    ] {
+        failures.case(flag.unwrap_or("default"), || {
+            let out = tmp.path().join(format!("out-{lights}"));
+            let o = common::bin()
+                .arg("render")
+                .arg(&spec)
+                .args(flag)
+                .arg("--out")
+                .arg(&out)
+                .arg("--no-report")
+                .output()
+                .unwrap();
+            let stderr = String::from_utf8_lossy(&o.stderr);
+            assert!(o.status.success(), "{stderr}");
+            assert!(stderr.contains(note), "{stderr}");
+            let json: serde_json::Value =
+                serde_json::from_slice(&fs::read(out.join("lights.json")).unwrap()).unwrap();
+            let listed = json["lights"].as_array().unwrap().len();
+            assert_eq!(listed, lights);
+            assert_eq!(json.get("scene_lights").is_some(), lights == 21);
+        });
+    }
+    failures.assert_none();
+}
+/// `envshadow ARGS`: (exit code, stdout, stderr).
+fn run_bin(args: &[&str]) -> (Option<i32>, String, String) {
+    let o = common::bin().args(args).output().unwrap();
+    (
+        o.status.code(),
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+/// Issue 22, item 7: main.rs kept only the first line of clap's errors, losing the name of
+/// the missing argument and the "did you mean" hint. Usage errors now read as clap writes
+/// them (usage line, tip, exit 2), uncoloured when stderr is not a terminal.
+#[test]
+fn clap_errors_keep_the_missing_argument_and_the_hint() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = shapes_spec(tmp.path(), "");
+    let spec = spec.to_str().unwrap();
+    let mut failures = Failures::new();
+    for (args, needles) in [
+        (
+            &["render"][..],
+            &[
+                "required arguments were not provided",
+                "<SPEC>",
+                "Usage: envshadow render",
+            ][..],
+        ),
+        (
+            &["render", spec, "--frmes", "1"],
+            &[
+                "unexpected argument '--frmes'",
+                "tip:",
+                "'--frames'",
+                "Usage:",
+            ],
+        ),
+        (
+            &["rnder"],
+            &["unrecognized subcommand 'rnder'", "tip:", "'render'"],
+        ),
+        (
+            &["plan", spec],
+            &["required arguments were not provided", "--jobs <N>"],
+        ),
+        (
+            &["render", spec, "--frames", "1-3,x"],
+            &[
+                "'1-3,x'",
+                "piece \"x\"",
+                "A-B (B included)",
+                "A..B (B excluded)",
+            ],
+        ),
+    ] {
+        let (code, out, err) = run_bin(args);
+        let label = args.join(" ");
+        failures.check_eq(code, Some(2), || format!("{label}: exit code"));
+        failures.check(out.is_empty(), || format!("{label}: stdout {out:?}"));
+        for n in needles {
+            failures.check(err.contains(n), || format!("{label}: {n:?} not in {err}"));
+        }
+        failures.check(!err.contains('\u{1b}'), || {
+            format!("{label}: colour codes on a pipe: {err:?}")
+        });
+    }
+    // Help and version are not errors: stdout, exit 0.
+    for args in [&["--help"][..], &["render", "--help"], &["--version"]] {
+        let (code, out, _) = run_bin(args);
+        failures.check_eq(code, Some(0), || format!("{args:?}: exit code"));
+        failures.check(!out.is_empty(), || format!("{args:?}: nothing on stdout"));
+    }
+    failures.assert_none();
+}
+
+/// Issue 22, item 7: `-q` was on 2 of 10 commands and `-v` on none. Both are global: every
+/// command's help lists them, either side of the command's name.
+#[test]
+fn every_command_takes_quiet_and_verbose() {
+    let (_, help, _) = run_bin(&["--help"]);
+    // The commands, from the help's list ("  render  Render an …").
+    let commands: Vec<String> = help
+        .split("Commands:")
+        .nth(1)
+        .unwrap()
+        .split("Options:")
+        .next()
+        .unwrap()
+        .lines()
+        .filter_map(|l| l.strip_prefix("  ").filter(|r| !r.starts_with(' ')))
+        .filter_map(|l| l.split_whitespace().next())
+        .filter(|c| *c != "help")
+        .map(String::from)
+        .collect();
+    assert!(commands.len() >= 13, "{commands:?}");
+    let mut failures = Failures::new();
+    for c in &commands {
+        let (code, out, err) = run_bin(&[c, "--help"]);
+        failures.check_eq(code, Some(0), || format!("{c} --help: {err}"));
+        for flag in ["-q, --quiet", "-v, --verbose"] {
+            failures.check(out.contains(flag), || format!("{c} --help lacks {flag}"));
+        }
+    }
+    // Before the command or after it; not both at once.
+    let (code, out, _) = run_bin(&["-q", "methods"]);
+    failures.check(code == Some(0) && out.contains("(default)"), || {
+        format!("-q methods still lists the methods: {out}")
+    });
+    let (code, _, err) = run_bin(&["methods", "-q", "-v"]);
+    failures.check_eq(code, Some(2), || format!("-q -v: {err}"));
+    failures.check(err.contains("cannot be used with"), || err.clone());
+    failures.assert_none();
+}
+
+/// `-q` prints only errors, `-v` adds a line per tile, the inputs' loading time and each
+/// frame's rays by kind and writing time; the default is in between.
+#[test]
+fn quiet_says_nothing_and_verbose_says_more() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = shapes_spec(tmp.path(), "");
+    let spec = spec.to_str().unwrap();
+    let render = |extra: &[&str]| {
+        let mut a = vec!["render", spec, "--frames", "0,2", "--no-report"];
+        a.extend_from_slice(extra);
+        let (code, out, err) = run_bin(&a);
+        assert_eq!(code, Some(0), "{err}");
+        (out, err)
+    };
+    let (out, err) = render(&["-q"]);
+    assert_eq!((out.as_str(), err.as_str()), ("", ""));
+    let (_, normal) = render(&[]);
+    assert!(normal.contains("frame 2 (") && normal.contains("2 frames rendered"));
+    assert!(!normal.contains(" tile "), "{normal}");
+    let (_, verbose) = render(&["-v"]);
+    // 64x48 in tiles of 16: 12 tiles a frame, one line each.
+    let tiles = verbose.lines().filter(|l| l.contains(" tile ")).count();
+    assert_eq!(tiles, 24, "{verbose}");
+    for needle in [
+        "frame 0 tile 11 [48,32,64,48]: ",
+        "inputs in ",
+        "frame 2: written in ",
+        "at pixels tracing every light",
+    ] {
+        assert!(verbose.contains(needle), "{needle:?} not in {verbose}");
+    }
+    // What a command exists to print stays; its "wrote" lines go with -q.
+    let json = tmp.path().join("l.json");
+    let (code, out, err) = run_bin(&[
+        "lights",
+        "builtin:sky",
+        "-n",
+        "8",
+        "--json",
+        json.to_str().unwrap(),
+        "-q",
+    ]);
+    assert_eq!((code, out.as_str(), err.as_str()), (Some(0), "", ""));
+    assert!(json.exists());
+    let (_, out, _) = run_bin(&["version", "-q"]);
+    assert!(out.starts_with("envshadow "), "{out}");
+}
+
+/// Issue 22, item 7: a log (stderr not a terminal) got one line per frame with no time
+/// elapsed and no estimate of the time left. Each frame's line now ends with both, in
+/// H:MM:SS; the last one's ETA is 0:00:00.
+#[test]
+fn log_lines_carry_elapsed_time_and_eta() {
+    let tmp = tempfile::tempdir().unwrap();
+    let spec = shapes_spec(tmp.path(), "");
+    let log = tmp.path().join("render.log");
+    let status = common::bin()
+        .arg("render")
+        .arg(&spec)
+        .args(["--no-report", "--threads", "1"])
+        .stderr(fs::File::create(&log).unwrap())
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let text = fs::read_to_string(&log).unwrap();
+    let frames: Vec<&str> = text.lines().filter(|l| l.starts_with("frame ")).collect();
+    assert_eq!(frames.len(), 3, "{text}");
+    let hms = |s: &str| {
+        let p: Vec<&str> = s.split(':').collect();
+        p.len() == 3
+            && p[0].parse::<u32>().is_ok()
+            && p[1].len() == 2
+            && p[1].parse::<u32>().is_ok_and(|m| m < 60)
+            && p[2].len() == 2
+            && p[2].parse::<u32>().is_ok_and(|s| s < 60)
+    };
+    for l in &frames {
+        let (_, clock) = l.rsplit_once("; ").unwrap_or_else(|| panic!("{l}"));
+        let (elapsed, eta) = clock
+            .strip_prefix("elapsed ")
+            .and_then(|c| c.split_once(", ETA "))
+            .unwrap_or_else(|| panic!("no elapsed/ETA in {l:?}"));
+        assert!(hms(elapsed) && hms(eta), "{l}");
+    }
+    assert!(frames[2].ends_with("ETA 0:00:00"), "{text}");
+    assert!(text.starts_with("rendering 3 frames of 12 tiles"), "{text}");
+}
+
+/// Issue 22, item 7: `envshadow completions SHELL` for the five shells clap_complete knows;
+/// bash's script completes every command.
+#[test]
+fn completions_name_every_command() {
+    let (code, bash, err) = run_bin(&["completions", "bash"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(bash.contains("complete -F _envshadow"), "{bash}");
+    // The words offered after `envshadow `, and a case for each command's own flags.
+    let top = bash
+        .lines()
+        .find(|l| l.trim_start().starts_with("opts=\"-q -v"))
+        .unwrap_or_else(|| panic!("no top-level word list in {bash}"));
+    for c in [
+        "render",
+        "lights",
+        "bench",
+        "table",
+        "report",
+        "plan",
+        "assemble",
+        "methods",
+        "version",
+        "export",
+        "savings",
+        "completions",
+        "man",
+    ] {
+        assert!(
+            top.split_whitespace().any(|w| w.trim_matches('"') == c),
+            "{c} not offered: {top}"
+        );
+        assert!(bash.contains(&format!("envshadow,{c})")), "no case for {c}");
+    }
+    assert!(bash.contains("--frames") && bash.contains("--quiet"));
+    for shell in ["zsh", "fish", "powershell", "elvish"] {
+        let (code, script, err) = run_bin(&["completions", shell]);
+        assert_eq!(code, Some(0), "{shell}: {err}");
+        assert!(
+            script.contains("render") && script.contains("--frames"),
+            "{shell}"
+        );
+    }
+    let (code, _, err) = run_bin(&["completions", "tcsh"]);
+    assert_eq!(code, Some(2));
+    assert!(
+        err.contains("[possible values: bash, elvish, fish, powershell, zsh]"),
+        "{err}"
+    );
+}
+
+/// Issue 22, item 7: `envshadow man` prints envshadow(1) in roff; `--out DIR` writes a page
+/// per command. The pages are ASCII (other characters as groff's `\[uXXXX]`), so groff reads
+/// them without a warning even without preconv.
+#[test]
+fn man_pages_are_roff_that_groff_reads_without_warnings() {
+    let (code, page, err) = run_bin(&["man"]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(page.contains(".TH envshadow 1 "), "{page}");
+    for section in [".SH NAME", ".SH SYNOPSIS", ".SH OPTIONS", ".SH SUBCOMMANDS"] {
+        assert!(page.contains(section), "{section} missing");
+    }
+    assert!(
+        page.contains("envshadow\\-render(1)"),
+        "the commands' pages named"
+    );
+    assert!(page.is_ascii());
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("man1");
+    let (code, _, err) = run_bin(&["man", "--out", dir.to_str().unwrap(), "-q"]);
+    assert_eq!((code, err.as_str()), (Some(0), ""));
+    // One page per command --help lists (but `help`), and the main page.
+    let (_, help, _) = run_bin(&["--help"]);
+    let mut expected: Vec<String> = help
+        .split("Commands:")
+        .nth(1)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .take_while(|l| !l.trim().is_empty())
+        .filter(|l| l.starts_with("  ") && !l.starts_with("   "))
+        .filter_map(|l| l.split_whitespace().next())
+        .filter(|c| *c != "help")
+        .map(|c| format!("envshadow-{c}.1"))
+        .collect();
+    expected.push("envshadow.1".into());
+    expected.sort();
+    let mut pages = common::file_names(&dir);
+    pages.sort();
+    assert!(expected.len() >= 15, "{help}");
+    assert_eq!(pages, expected);
+    let render = fs::read_to_string(dir.join("envshadow-render.1")).unwrap();
+    assert!(
+        render.contains(".TH envshadow-render 1  \"envshadow "),
+        "{render}"
+    );
+    assert!(render.contains("\\fB\\-\\-frames\\fR"), "{render}");
+    assert_eq!(fs::read_to_string(dir.join("envshadow.1")).unwrap(), page);
+    if !common::require_tools(
+        common::this_test!(),
+        &["groff"],
+        "apt-get install groff-base",
+    ) {
+        return;
+    }
+    for p in &pages {
+        let o = std::process::Command::new("groff")
+            .args(["-man", "-Tutf8", "-ww", "-z"])
+            .arg(dir.join(p))
+            .output()
+            .unwrap();
+        let warnings = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success() && warnings.is_empty(), "{p}: {warnings}");
+    }
+}
+
+/// Issue 22, item 7: `farm.sh --help` printed its usage on stderr and exited 2, as for a
+/// mistake. --help prints on stdout and exits 0 (both scripts); missing arguments still get
+/// the usage on stderr and exit 2.
+#[test]
+fn farm_and_slurm_scripts_print_help_on_stdout() {
+    for script in ["scripts/farm.sh", "scripts/slurm.sh"] {
+        let run = |args: &[&str]| {
+            std::process::Command::new("bash")
+                .arg(script)
+                .args(args)
+                .current_dir(env!("CARGO_MANIFEST_DIR"))
+                .output()
+                .unwrap()
+        };
+        let o = run(&["--help"]);
+        let out = String::from_utf8_lossy(&o.stdout);
+        assert_eq!(o.status.code(), Some(0), "{script} --help");
+        assert!(
+            o.stderr.is_empty(),
+            "{script}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        assert!(
+            out.contains(&format!("{script} ANIM.toml")) && out.contains("Exit: 0"),
+            "{out}"
+        );
+        let o = run(&[]);
+        assert_eq!(o.status.code(), Some(2), "{script} without arguments");
+        assert!(o.stdout.is_empty());
+        assert!(String::from_utf8_lossy(&o.stderr).contains("Exit: 0"));
     }
 }

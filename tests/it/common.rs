@@ -4,6 +4,8 @@
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
+use serde_json::{Value, json};
+
 /// The folder with the shared test assets (bunny glTF, HDR maps): `$ENVSHADOW_ASSETS`, else
 /// `assets/` in the repo (filled by scripts/fetch-assets.sh), else `../shared/assets`.
 pub fn assets_dir() -> PathBuf {
@@ -112,6 +114,21 @@ pub fn animation(body: &str) -> Animation {
 /// The envshadow binary built for these tests.
 pub fn bin() -> std::process::Command {
     std::process::Command::new(env!("CARGO_BIN_EXE_envshadow"))
+}
+
+/// The one line of a refusal on stderr: it starts with `error: ` and is the only line, unless
+/// clap wrote it (a flag's value its parser refused), which adds clap's usage and hints below.
+#[track_caller]
+pub fn error_line(err: &str) -> &str {
+    let lines: Vec<&str> = err.lines().filter(|l| !l.trim().is_empty()).collect();
+    assert!(
+        lines.first().is_some_and(|l| l.starts_with("error: ")),
+        "no error line: {err}"
+    );
+    if !err.contains("For more information, try '--help'.") {
+        assert_eq!(lines.len(), 1, "one line expected: {err}");
+    }
+    lines[0]
 }
 
 /// Whether this is CI's run: `.ci/run` runs with `CI=true` and installs every tool the tests
@@ -330,4 +347,121 @@ pub fn base64(data: &[u8]) -> String {
         }
     }
     s
+}
+
+// ---------------------------------------------------------------------------------------------
+// A small glTF writer: accessors go into one binary buffer, written as `.gltf` + `.bin`, as
+// `.gltf` with a `data:` URI, or as `.glb` (scene loading, scales, the truck of temporal).
+
+#[derive(Clone, Default)]
+pub struct Gltf {
+    pub bin: Vec<u8>,
+    pub views: Vec<Value>,
+    pub accessors: Vec<Value>,
+}
+
+impl Gltf {
+    pub fn view(&mut self, bytes: &[u8]) -> usize {
+        while !self.bin.len().is_multiple_of(4) {
+            self.bin.push(0);
+        }
+        self.views
+            .push(json!({"buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len()}));
+        self.bin.extend_from_slice(bytes);
+        self.views.len() - 1
+    }
+
+    /// A float accessor of `type_` ("VEC2", "VEC3", "VEC4") over `data`.
+    pub fn floats(&mut self, type_: &str, data: &[f32]) -> usize {
+        let n = match type_ {
+            "VEC2" => 2,
+            "VEC3" => 3,
+            "VEC4" => 4,
+            _ => 1,
+        };
+        let bytes: Vec<u8> = data.iter().flat_map(|f| f.to_le_bytes()).collect();
+        let view = self.view(&bytes);
+        let mut acc = json!({"bufferView": view, "componentType": 5126, "count": data.len() / n, "type": type_});
+        if type_ == "VEC3" {
+            // glTF requires min/max on POSITION (f32::min skips NaN); harmless on others.
+            let mut lo = [f32::INFINITY; 3];
+            let mut hi = [f32::NEG_INFINITY; 3];
+            for c in data.chunks(3) {
+                for k in 0..3 {
+                    lo[k] = lo[k].min(c[k]);
+                    hi[k] = hi[k].max(c[k]);
+                }
+            }
+            acc["min"] = json!(lo);
+            acc["max"] = json!(hi);
+        }
+        self.accessors.push(acc);
+        self.accessors.len() - 1
+    }
+
+    pub fn indices(&mut self, data: &[u32]) -> usize {
+        let bytes: Vec<u8> = data.iter().flat_map(|i| i.to_le_bytes()).collect();
+        let view = self.view(&bytes);
+        self.accessors.push(json!({"bufferView": view, "componentType": 5125, "count": data.len(), "type": "SCALAR"}));
+        self.accessors.len() - 1
+    }
+
+    /// The document: `rest` (meshes, nodes, scenes, …) plus buffers, views and accessors.
+    pub fn json(&self, rest: Value, buffer_uri: Option<&str>) -> Value {
+        let mut doc = rest;
+        doc["asset"] = json!({"version": "2.0"});
+        let mut buffer = json!({"byteLength": self.bin.len()});
+        if let Some(uri) = buffer_uri {
+            buffer["uri"] = json!(uri);
+        }
+        doc["buffers"] = json!([buffer]);
+        doc["bufferViews"] = json!(self.views);
+        doc["accessors"] = json!(self.accessors);
+        doc
+    }
+
+    /// Writes `name.gltf` + `name.bin` into `dir`.
+    pub fn write_gltf(&self, dir: &Path, name: &str, rest: Value) -> PathBuf {
+        let bin_name = format!("{name}.bin");
+        std::fs::write(dir.join(&bin_name), &self.bin).unwrap();
+        let path = dir.join(format!("{name}.gltf"));
+        let doc = self.json(rest, Some(&bin_name));
+        std::fs::write(&path, serde_json::to_vec_pretty(&doc).unwrap()).unwrap();
+        path
+    }
+
+    /// Writes `name.gltf` with the buffer inline as a base64 `data:` URI.
+    pub fn write_gltf_data_uri(&self, dir: &Path, name: &str, rest: Value) -> PathBuf {
+        let uri = format!("data:application/octet-stream;base64,{}", base64(&self.bin));
+        let path = dir.join(format!("{name}.gltf"));
+        let doc = self.json(rest, Some(&uri));
+        std::fs::write(&path, serde_json::to_vec(&doc).unwrap()).unwrap();
+        path
+    }
+
+    /// Writes `name.glb` into `dir`.
+    pub fn write_glb(&self, dir: &Path, name: &str, rest: Value) -> PathBuf {
+        let mut json = serde_json::to_vec(&self.json(rest, None)).unwrap();
+        while !json.len().is_multiple_of(4) {
+            json.push(b' ');
+        }
+        let mut bin = self.bin.clone();
+        while !bin.len().is_multiple_of(4) {
+            bin.push(0);
+        }
+        let total = 12 + 8 + json.len() + 8 + bin.len();
+        let mut out = Vec::new();
+        out.extend_from_slice(b"glTF");
+        out.extend_from_slice(&2u32.to_le_bytes());
+        out.extend_from_slice(&(total as u32).to_le_bytes());
+        out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+        out.extend_from_slice(b"JSON");
+        out.extend_from_slice(&json);
+        out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+        out.extend_from_slice(b"BIN\0");
+        out.extend_from_slice(&bin);
+        let path = dir.join(format!("{name}.glb"));
+        std::fs::write(&path, out).unwrap();
+        path
+    }
 }

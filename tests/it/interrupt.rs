@@ -39,7 +39,7 @@ fn frames_done(dir: &Path) -> usize {
         .count()
 }
 
-/// Every file but stats.csv, whose `seconds` column is a timing (and the frame records
+/// Every file but stats.csv, whose `thread_seconds` column is a timing (and the frame records
 /// under `records/`, which hold it too).
 fn contents(dir: &Path) -> BTreeMap<String, Vec<u8>> {
     common::file_names(dir)
@@ -56,7 +56,7 @@ fn contents(dir: &Path) -> BTreeMap<String, Vec<u8>> {
 fn stats_without_time(dir: &Path) -> Vec<FrameStats> {
     let mut rows = read_stats(&dir.join("stats.csv")).unwrap();
     for r in &mut rows {
-        r.seconds = 0.0;
+        r.thread_seconds = 0.0;
     }
     rows
 }

@@ -186,6 +186,68 @@ fn cell_of_matches_brute_force() {
     failures.assert_none();
 }
 
+/// A turning environment (`[motion] kind = "environment"`) turns the sampled lights rigidly:
+/// each direction turned about +Y as `[environment] rotation` turns the map, energies and
+/// solid angles kept, and `cell_of` still finds the nearest turned light.
+#[test]
+fn a_turned_light_set_turns_its_lights_and_their_cells() {
+    let set = LightSet::build(map("rooitou_park_1k.hdr"), 200, Sampler::Sis).unwrap();
+    let mut rng = Rng(0x7124);
+    let mut failures = Failures::new();
+    for degrees in [3.0f32, 90.0, -47.5, 360.0] {
+        failures.case(&format!("{degrees}°"), || {
+            let t = set.turned(degrees);
+            let (s, c) = (degrees.to_radians().sin(), degrees.to_radians().cos());
+            for (a, b) in set.lights.iter().zip(&t.lights) {
+                // +90° takes what was seen along +Z to +X: (x, y, z) → (x c + z s, y, −x s + z c).
+                let want = Vec3::new(
+                    a.dir.x * c + a.dir.z * s,
+                    a.dir.y,
+                    -a.dir.x * s + a.dir.z * c,
+                );
+                assert!((b.dir - want).length() < 1e-5, "{} → {}", a.dir, b.dir);
+                assert_eq!((a.energy, a.solid_angle), (b.energy, b.solid_angle));
+            }
+            let rotation = t.environment.as_ref().unwrap().rotation_deg;
+            assert_eq!(
+                rotation,
+                set.environment.as_ref().unwrap().rotation_deg + degrees
+            );
+            // The nearest turned light, by brute force over the turned directions; a tie
+            // within rounding may go either way.
+            let mut wrong = 0;
+            for _ in 0..20_000 {
+                let d = rng.dir();
+                let mut dots: Vec<(f32, usize)> = t
+                    .lights
+                    .iter()
+                    .enumerate()
+                    .map(|(j, l)| (l.dir.dot(d), j))
+                    .collect();
+                dots.sort_by(|p, q| q.0.total_cmp(&p.0));
+                let got = t.cell_of(d) as usize;
+                if got != dots[0].1 && dots[0].0 - dots[1].0 > 1e-5 {
+                    wrong += 1;
+                }
+                assert_eq!(t.cell_of_near(d, got), got as u32);
+            }
+            assert_eq!(
+                wrong, 0,
+                "directions outside their nearest turned light's cell"
+            );
+            for (j, l) in t.lights.iter().enumerate() {
+                assert_eq!(t.cell_of(l.dir), j as u32, "light {j}");
+            }
+            // Turns add up.
+            let twice = set.turned(degrees / 2.0).turned(degrees / 2.0);
+            for (a, b) in twice.lights.iter().zip(&t.lights) {
+                assert!((a.dir - b.dir).length() < 1e-5);
+            }
+        });
+    }
+    failures.assert_none();
+}
+
 #[test]
 fn cell_of_on_the_cube_edges_and_ties() {
     // Two lights symmetric about the plane z = 0: ties on it go to the lower index.

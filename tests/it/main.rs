@@ -9,11 +9,15 @@
 //! keeps out of the crate): they are compared within tolerances, never written as output.
 #![allow(clippy::disallowed_methods)]
 
+mod alpha;
 mod chaos;
 mod cli;
 mod common;
+mod compositing;
 mod envmap;
 mod farm;
+mod figures;
+mod frames;
 mod fuzz_regressions;
 mod golden;
 mod hostile;
@@ -22,14 +26,18 @@ mod lights;
 mod materials;
 mod maths;
 mod memory;
+mod motion;
 mod outputs;
 mod predict;
+mod punctual;
 mod render;
 mod report;
 mod resume;
 mod samples;
+mod scale;
 mod scene;
 mod simd;
 mod slurm;
 mod speed;
 mod temporal;
+mod truck;

@@ -2,8 +2,8 @@
 //! normal maps and tangents, texture transforms and samplers, emission and occlusion, the
 //! warnings for what is not supported, and `[material]` overrides.
 
+use crate::common::Gltf;
 use crate::common::{self, Failures};
-use crate::scene::Gltf;
 
 use envshadow::coordinator::{Inputs, Silent, render_frame};
 use envshadow::envmap::EnvMap;

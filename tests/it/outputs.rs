@@ -457,6 +457,54 @@ fn video_encodes_every_frame_at_the_renders_frame_rate() {
         info.contains("nb_read_frames=3") && info.contains("r_frame_rate=24/1"),
         "{info}"
     );
+
+    // A farm: `plan --video` records it, the jobs render no video, `assemble` encodes the
+    // assembled frames at the plan's rate.
+    let farm = tmp.path().join("farm");
+    let small = [
+        "--width", "64", "--height", "48", "--lights", "20", "--frames", "0-3",
+    ];
+    let o = common::bin()
+        .arg("plan")
+        .arg(SPEC)
+        .args(small)
+        .args([
+            "--fps", "30", "--video", "--jobs", "2", "--by", "frames", "-q", "--out",
+        ])
+        .arg(&farm)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for k in 0..2 {
+        let o = common::bin()
+            .arg("render")
+            .arg(SPEC)
+            .args(small)
+            .args([
+                "--fps", "30", "--video", "--of", "2", "--by", "frames", "-q", "--out",
+            ])
+            .arg(&farm)
+            .args(["--job", &k.to_string()])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    assert!(!farm.join("video.mp4").exists(), "a job wrote the video");
+    let o = common::bin()
+        .args(["assemble", "--no-report"])
+        .arg(&farm)
+        .output()
+        .unwrap();
+    let said = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success() && said.contains("video: "), "{said}");
+    let info = probe(
+        &farm.join("video.mp4"),
+        "stream=nb_read_frames,r_frame_rate",
+    );
+    assert!(
+        info.contains("nb_read_frames=4") && info.contains("r_frame_rate=30/1"),
+        "{info}"
+    );
 }
 
 /// Without ffmpeg, `envshadow video` and `render --video` stop with exit code 2 and say what

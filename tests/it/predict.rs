@@ -161,7 +161,11 @@ fn flooding_to_contrary_lights_saves_rays_only_where_it_can() {
     // levels: its `contrary-finest` is `all`); boundary methods trace the same under every
     // rule.
     let mut failures = Failures::new();
-    for (name, anim, inputs) in scenes(160, 120, 100) {
+    for (name, mut anim, inputs) in scenes(160, 120, 100) {
+        // The flood rules alone: busy voters ask for more voters where flooding caught a wrong
+        // prediction, so under the scan (whose voters are the same pass's pixels) the flood
+        // rule would also change the prediction's own queue.
+        anim.render.busy_voters = 0;
         for m in Method::all() {
             failures.case(&format!("{name} {m}"), || {
                 let all = Variant {

@@ -71,12 +71,12 @@ fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
-/// `stats.csv`'s rows without the wall-clock column, in file order.
+/// `stats.csv`'s rows without the timing column, in file order.
 fn rows_without_seconds(dir: &Path) -> Vec<String> {
     common::csv_by_name(&dir.join("stats.csv"))
         .into_iter()
         .map(|mut row| {
-            row.remove("seconds");
+            row.remove("thread_seconds");
             format!("{row:?}")
         })
         .collect()

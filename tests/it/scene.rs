@@ -1,133 +1,13 @@
 //! Scene loading: the shared bunny assets, glTF files generated here (hierarchies, textures,
 //! cameras, missing normals, non-triangle primitives, bad inputs), and the built-in shapes.
 
-use crate::common::{self, Failures};
+use crate::common::{self, Failures, Gltf};
 
 use envshadow::error::{InputError, exit_code};
-use envshadow::scene::Scene;
+use envshadow::scene::{AlphaMode, Scene};
 use glam::{Mat4, Vec2, Vec3};
 use serde_json::{Value, json};
-use std::path::{Path, PathBuf};
-
-// ---------------------------------------------------------------------------------------------
-// A small glTF writer: accessors go into one binary buffer, written as `.gltf` + `.bin`, as
-// `.gltf` with a `data:` URI, or as `.glb`.
-
-#[derive(Clone, Default)]
-pub(crate) struct Gltf {
-    bin: Vec<u8>,
-    views: Vec<Value>,
-    accessors: Vec<Value>,
-}
-
-impl Gltf {
-    pub(crate) fn view(&mut self, bytes: &[u8]) -> usize {
-        while !self.bin.len().is_multiple_of(4) {
-            self.bin.push(0);
-        }
-        self.views
-            .push(json!({"buffer": 0, "byteOffset": self.bin.len(), "byteLength": bytes.len()}));
-        self.bin.extend_from_slice(bytes);
-        self.views.len() - 1
-    }
-
-    /// A float accessor of `type_` ("VEC2", "VEC3", "VEC4") over `data`.
-    pub(crate) fn floats(&mut self, type_: &str, data: &[f32]) -> usize {
-        let n = match type_ {
-            "VEC2" => 2,
-            "VEC3" => 3,
-            "VEC4" => 4,
-            _ => 1,
-        };
-        let bytes: Vec<u8> = data.iter().flat_map(|f| f.to_le_bytes()).collect();
-        let view = self.view(&bytes);
-        let mut acc = json!({"bufferView": view, "componentType": 5126, "count": data.len() / n, "type": type_});
-        if type_ == "VEC3" {
-            // glTF requires min/max on POSITION (f32::min skips NaN); harmless on others.
-            let mut lo = [f32::INFINITY; 3];
-            let mut hi = [f32::NEG_INFINITY; 3];
-            for c in data.chunks(3) {
-                for k in 0..3 {
-                    lo[k] = lo[k].min(c[k]);
-                    hi[k] = hi[k].max(c[k]);
-                }
-            }
-            acc["min"] = json!(lo);
-            acc["max"] = json!(hi);
-        }
-        self.accessors.push(acc);
-        self.accessors.len() - 1
-    }
-
-    pub(crate) fn indices(&mut self, data: &[u32]) -> usize {
-        let bytes: Vec<u8> = data.iter().flat_map(|i| i.to_le_bytes()).collect();
-        let view = self.view(&bytes);
-        self.accessors.push(json!({"bufferView": view, "componentType": 5125, "count": data.len(), "type": "SCALAR"}));
-        self.accessors.len() - 1
-    }
-
-    /// The document: `rest` (meshes, nodes, scenes, …) plus buffers, views and accessors.
-    fn json(&self, rest: Value, buffer_uri: Option<&str>) -> Value {
-        let mut doc = rest;
-        doc["asset"] = json!({"version": "2.0"});
-        let mut buffer = json!({"byteLength": self.bin.len()});
-        if let Some(uri) = buffer_uri {
-            buffer["uri"] = json!(uri);
-        }
-        doc["buffers"] = json!([buffer]);
-        doc["bufferViews"] = json!(self.views);
-        doc["accessors"] = json!(self.accessors);
-        doc
-    }
-
-    /// Writes `name.gltf` + `name.bin` into `dir`.
-    fn write_gltf(&self, dir: &Path, name: &str, rest: Value) -> PathBuf {
-        let bin_name = format!("{name}.bin");
-        std::fs::write(dir.join(&bin_name), &self.bin).unwrap();
-        let path = dir.join(format!("{name}.gltf"));
-        let doc = self.json(rest, Some(&bin_name));
-        std::fs::write(&path, serde_json::to_vec_pretty(&doc).unwrap()).unwrap();
-        path
-    }
-
-    /// Writes `name.gltf` with the buffer inline as a base64 `data:` URI.
-    fn write_gltf_data_uri(&self, dir: &Path, name: &str, rest: Value) -> PathBuf {
-        let uri = format!(
-            "data:application/octet-stream;base64,{}",
-            common::base64(&self.bin)
-        );
-        let path = dir.join(format!("{name}.gltf"));
-        let doc = self.json(rest, Some(&uri));
-        std::fs::write(&path, serde_json::to_vec(&doc).unwrap()).unwrap();
-        path
-    }
-
-    /// Writes `name.glb` into `dir`.
-    pub(crate) fn write_glb(&self, dir: &Path, name: &str, rest: Value) -> PathBuf {
-        let mut json = serde_json::to_vec(&self.json(rest, None)).unwrap();
-        while !json.len().is_multiple_of(4) {
-            json.push(b' ');
-        }
-        let mut bin = self.bin.clone();
-        while !bin.len().is_multiple_of(4) {
-            bin.push(0);
-        }
-        let total = 12 + 8 + json.len() + 8 + bin.len();
-        let mut out = Vec::new();
-        out.extend_from_slice(b"glTF");
-        out.extend_from_slice(&2u32.to_le_bytes());
-        out.extend_from_slice(&(total as u32).to_le_bytes());
-        out.extend_from_slice(&(json.len() as u32).to_le_bytes());
-        out.extend_from_slice(b"JSON");
-        out.extend_from_slice(&json);
-        out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
-        out.extend_from_slice(b"BIN\0");
-        out.extend_from_slice(&bin);
-        let path = dir.join(format!("{name}.glb"));
-        std::fs::write(&path, out).unwrap();
-        path
-    }
-}
+use std::path::Path;
 
 fn close(a: Vec3, b: Vec3, tol: f32) -> bool {
     (a - b).abs().max_element() <= tol
@@ -1244,4 +1124,321 @@ fn a_spin_that_would_turn_the_scene_to_infinity_is_refused() {
     assert!(common::file_names(&out).is_empty());
     let o = render("[1e6, 0.0, 1e6]");
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Alpha coverage (issue 24, item 3).
+
+/// A 2 × 2 RGBA PNG: grey texels with alphas 0, 64, 128 and 255, row by row.
+fn rgba_png_2x2() -> Vec<u8> {
+    let mut img = image::RgbaImage::new(2, 2);
+    for (k, a) in [0u8, 64, 128, 255].iter().enumerate() {
+        img.put_pixel(
+            (k % 2) as u32,
+            (k / 2) as u32,
+            image::Rgba([200, 200, 200, *a]),
+        );
+    }
+    let mut out = std::io::Cursor::new(Vec::new());
+    img.write_to(&mut out, image::ImageFormat::Png).unwrap();
+    out.into_inner()
+}
+
+/// Two unit quads side by side in z = 0, the first with material 0, the second with material
+/// 1, both UV-mapped to the whole image (row 0 at the top) and with a COLOR_0 whose alpha is
+/// 1 on the left edge and 0.5 on the right (of each quad); `materials` as given.
+fn two_quads(g: &mut Gltf, png: &[u8], materials: Value) -> Value {
+    let mut primitives = Vec::new();
+    for q in 0..2 {
+        let x = q as f32 * 2.0;
+        let pos = g.floats(
+            "VEC3",
+            &[
+                x,
+                0.0,
+                0.0,
+                x + 1.0,
+                0.0,
+                0.0,
+                x + 1.0,
+                1.0,
+                0.0,
+                x,
+                1.0,
+                0.0,
+            ],
+        );
+        let uv = g.floats("VEC2", &[0.0, 1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0]);
+        let color = g.floats(
+            "VEC4",
+            &[
+                1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 0.5, 1.0, 1.0, 1.0, 0.5, 1.0, 1.0, 1.0, 1.0,
+            ],
+        );
+        let idx = g.indices(&[0, 1, 2, 0, 2, 3]);
+        primitives.push(json!({
+            "attributes": {"POSITION": pos, "TEXCOORD_0": uv, "COLOR_0": color},
+            "indices": idx, "material": q
+        }));
+    }
+    let view = g.view(png);
+    json!({
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0}],
+        "meshes": [{"primitives": primitives}],
+        "materials": materials,
+        "textures": [{"source": 0}],
+        "images": [{"bufferView": view, "mimeType": "image/png"}]
+    })
+}
+
+#[test]
+fn masked_materials_read_texture_factor_and_vertex_alpha() {
+    // Material 0 is MASK (cutoff 0.4, factor alpha 0.5), material 1 OPAQUE, over the same RGBA
+    // image: the mask reads factor × texture alpha × COLOR_0 alpha and is cut out; the opaque
+    // quad is not, and the image's colour is decoded as it would be without alpha.
+    let dir = tempfile::tempdir().unwrap();
+    let mut g = Gltf::default();
+    let doc = two_quads(
+        &mut g,
+        &rgba_png_2x2(),
+        json!([
+            {"name": "leaf", "alphaMode": "MASK", "alphaCutoff": 0.4,
+             "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0.5], "baseColorTexture": {"index": 0}}},
+            {"name": "wall", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}
+        ]),
+    );
+    let scene = Scene::load(&g.write_glb(dir.path(), "alpha", doc)).unwrap();
+    assert_eq!(scene.textures.len(), 1, "one image, decoded once");
+    assert!(scene.textures[0].has_alpha(), "its alpha kept with it");
+    let leaf = &scene.materials[scene.tri_material[0] as usize];
+    assert_eq!(leaf.alpha_mode, AlphaMode::Mask { cutoff: 0.4 });
+    assert_eq!(leaf.base_alpha, 0.5);
+    assert_eq!(leaf.base_color_texture.map(|s| s.texture), Some(0));
+    let wall = &scene.materials[scene.tri_material[2] as usize];
+    assert_eq!(wall.alpha_mode, AlphaMode::Opaque);
+    // Texture alpha at the texel centres, times the factor, times COLOR_0 (1 at x = 0, 0.5 at
+    // x = 1, linear between).
+    let png_alpha = [0.0, 64.0 / 255.0, 128.0 / 255.0, 1.0];
+    for (k, a) in png_alpha.iter().enumerate() {
+        let centre = Vec2::new((k % 2) as f32 * 0.5 + 0.25, (k / 2) as f32 * 0.5 + 0.25);
+        let (t, bary) = locate(&scene, centre);
+        let vertex = 1.0 - 0.5 * centre.x;
+        let want = 0.5 * a * vertex;
+        let got = scene.alpha(t, bary);
+        assert!(
+            (got - want).abs() < 1e-5,
+            "texel {k}: alpha {got}, want {want}"
+        );
+    }
+    let cut = scene.cut_out_triangles();
+    assert_eq!(cut, vec![true, true, false, false]);
+    // The colour is the image's whether or not its alpha is kept.
+    let rgb = envshadow::scene::Texture::decode(&rgba_png_2x2()).unwrap();
+    assert_eq!(rgb.texels(), scene.textures[0].texels());
+    // Opaque only: nothing kept, nothing cut out.
+    let mut g = Gltf::default();
+    let doc = two_quads(
+        &mut g,
+        &rgba_png_2x2(),
+        json!([
+            {"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}},
+            {"pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0.2]}}
+        ]),
+    );
+    let scene = Scene::load(&g.write_glb(dir.path(), "opaque", doc)).unwrap();
+    assert!(
+        scene
+            .materials
+            .iter()
+            .all(|m| m.alpha_mode == AlphaMode::Opaque)
+    );
+    assert!(scene.cut_out_triangles().is_empty());
+}
+
+#[test]
+fn blend_materials_are_named_once_in_a_warning_and_bad_cutoffs_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut g = Gltf::default();
+    let doc = two_quads(
+        &mut g,
+        &rgba_png_2x2(),
+        json!([
+            {"name": "glass", "alphaMode": "BLEND", "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0.3]}},
+            {"name": "glass2", "alphaMode": "BLEND", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}
+        ]),
+    );
+    let mut doc2 = doc.clone();
+    // Both quads use "glass": one warning for it.
+    doc2["meshes"][0]["primitives"][1]["material"] = json!(0);
+    let scene = Scene::load(&g.write_glb(dir.path(), "blend", doc2)).unwrap();
+    let about: Vec<&String> = scene
+        .warnings
+        .iter()
+        .filter(|w| w.contains("BLEND"))
+        .collect();
+    assert_eq!(about.len(), 1, "{:?}", scene.warnings);
+    assert!(
+        about[0].contains("'glass'") && about[0].contains("0.5"),
+        "{}",
+        about[0]
+    );
+    assert_eq!(scene.materials[0].alpha_mode, AlphaMode::Blend);
+    assert_eq!(scene.cut_out_triangles(), vec![true; 4]);
+    let scene = Scene::load(&g.write_glb(dir.path(), "blend2", doc.clone())).unwrap();
+    let names: Vec<bool> = ["'glass'", "'glass2'"]
+        .iter()
+        .map(|n| scene.warnings.iter().filter(|w| w.contains(n)).count() == 1)
+        .collect();
+    assert_eq!(names, vec![true, true], "{:?}", scene.warnings);
+    // A negative cutoff is refused, naming the material.
+    let mut bad = doc;
+    bad["materials"][0] = json!({"alphaMode": "MASK", "alphaCutoff": -0.5});
+    let e = Scene::load(&g.write_glb(dir.path(), "bad", bad)).unwrap_err();
+    assert_eq!(exit_code(&e), envshadow::error::exit::BAD_INPUT, "{e:#}");
+    assert!(
+        format!("{e:#}").contains("material 0: alphaCutoff -0.5"),
+        "{e:#}"
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Lights in the file (KHR_lights_punctual, issue 24, item 4).
+
+/// A triangle (so the file has geometry) and `lights`, each placed by its own node: node k
+/// has `nodes[k]`'s transform and children.
+fn with_lights(g: &mut Gltf, lights: Value, nodes: Value) -> Value {
+    let pos = g.floats("VEC3", &[0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0]);
+    let mut nodes = nodes;
+    let mesh_node = nodes.as_array().unwrap().len();
+    nodes.as_array_mut().unwrap().push(json!({"mesh": 0}));
+    let roots: Vec<usize> = (0..=mesh_node)
+        .filter(|k| {
+            !nodes.as_array().unwrap().iter().any(|n| {
+                n["children"]
+                    .as_array()
+                    .is_some_and(|c| c.contains(&json!(k)))
+            })
+        })
+        .collect();
+    json!({
+        "extensionsUsed": ["KHR_lights_punctual"],
+        "extensionsRequired": ["KHR_lights_punctual"],
+        "extensions": {"KHR_lights_punctual": {"lights": lights}},
+        "scenes": [{"nodes": roots}],
+        "nodes": nodes,
+        "meshes": [{"primitives": [{"attributes": {"POSITION": pos}}]}]
+    })
+}
+
+#[test]
+fn scene_lights_take_their_nodes_world_position_and_direction() {
+    // A sun, a point light under a scaled, translated parent, and a spot turned 90° about +X
+    // (its −Z then points down −Y): world positions and directions, names, defaults.
+    let dir = tempfile::tempdir().unwrap();
+    let mut g = Gltf::default();
+    let s = std::f32::consts::FRAC_1_SQRT_2;
+    let doc = with_lights(
+        &mut g,
+        json!([
+            {"type": "directional", "name": "Sun", "intensity": 6830, "color": [1, 0.9, 0.8]},
+            {"type": "point", "intensity": 100, "range": 7},
+            {"type": "spot", "name": "Spot", "spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.5}}
+        ]),
+        json!([
+            {"extensions": {"KHR_lights_punctual": {"light": 0}}},
+            {"translation": [1, 2, 3], "scale": [2, 2, 2], "children": [2]},
+            {"translation": [0.5, 0, 0], "extensions": {"KHR_lights_punctual": {"light": 1}}},
+            {"translation": [0, 4, 0], "rotation": [-s, 0, 0, s],
+             "extensions": {"KHR_lights_punctual": {"light": 2}}}
+        ]),
+    );
+    let scene = Scene::load(&g.write_glb(dir.path(), "lights", doc)).unwrap();
+    use envshadow::scene::SceneLightKind;
+    assert_eq!(scene.lights.len(), 3, "{:?}", scene.lights);
+    let (sun, point, spot) = (&scene.lights[0], &scene.lights[1], &scene.lights[2]);
+    assert_eq!(
+        (sun.name.as_str(), sun.kind),
+        ("Sun", SceneLightKind::Directional)
+    );
+    assert_close(sun.direction, -Vec3::Z, 1e-6, "sun direction");
+    assert_eq!(
+        (sun.intensity, sun.color),
+        (6830.0, Vec3::new(1.0, 0.9, 0.8))
+    );
+    assert_eq!(
+        (point.name.as_str(), point.kind),
+        ("light 1", SceneLightKind::Point)
+    );
+    assert_close(
+        point.position,
+        Vec3::new(2.0, 2.0, 3.0),
+        1e-6,
+        "point position",
+    );
+    assert_eq!(
+        (point.intensity, point.range, point.color),
+        (100.0, Some(7.0), Vec3::ONE)
+    );
+    assert_eq!(
+        spot.kind,
+        SceneLightKind::Spot {
+            inner: 0.2,
+            outer: 0.5
+        }
+    );
+    assert_eq!(spot.intensity, 1.0, "the extension's default");
+    assert_close(
+        spot.position,
+        Vec3::new(0.0, 4.0, 0.0),
+        1e-6,
+        "spot position",
+    );
+    assert_close(spot.direction, -Vec3::Y, 1e-6, "spot direction");
+}
+
+#[test]
+fn scene_lights_the_extension_forbids_are_refused_naming_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = [
+        (json!({"type": "point", "intensity": -1}), "intensity -1"),
+        (json!({"type": "point", "color": [1, -0.5, 0]}), "color"),
+        (json!({"type": "point", "range": 0}), "range 0"),
+        (
+            json!({"type": "spot", "spot": {"innerConeAngle": 0.6, "outerConeAngle": 0.5}}),
+            "spot cone angles",
+        ),
+        (
+            json!({"type": "spot", "spot": {"outerConeAngle": 2.0}}),
+            "spot cone angles",
+        ),
+    ];
+    let mut failures = Failures::new();
+    for (k, (light, needle)) in cases.into_iter().enumerate() {
+        failures.case(needle, || {
+            let mut g = Gltf::default();
+            let doc = with_lights(
+                &mut g,
+                json!([light]),
+                json!([{"extensions": {"KHR_lights_punctual": {"light": 0}}}]),
+            );
+            let e = Scene::load(&g.write_glb(dir.path(), &format!("bad{k}"), doc)).unwrap_err();
+            assert_eq!(exit_code(&e), envshadow::error::exit::BAD_INPUT, "{e:#}");
+            let msg = format!("{e:#}");
+            assert!(
+                msg.contains("node 0: light 0 ('light 0')") && msg.contains(needle),
+                "{msg}"
+            );
+        });
+    }
+    // A node naming a light the file does not have: refused, not a panic.
+    let mut g = Gltf::default();
+    let doc = with_lights(
+        &mut g,
+        json!([{"type": "point"}]),
+        json!([{"extensions": {"KHR_lights_punctual": {"light": 3}}}]),
+    );
+    let e = Scene::load(&g.write_glb(dir.path(), "dangling", doc)).unwrap_err();
+    assert_eq!(exit_code(&e), envshadow::error::exit::BAD_INPUT, "{e:#}");
+    failures.assert_none();
 }

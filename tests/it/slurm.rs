@@ -144,7 +144,7 @@ fn reference(dir: &Path) -> PathBuf {
 fn stats_without_seconds(path: &Path) -> Vec<FrameStats> {
     let mut rows = read_stats(path).unwrap();
     for r in &mut rows {
-        r.seconds = 0.0;
+        r.thread_seconds = 0.0;
     }
     rows
 }

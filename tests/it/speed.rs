@@ -135,7 +135,9 @@ fn export_writes_the_frame_for_another_renderer() {
         serde_json::from_str(&std::fs::read_to_string(out.join("frame.json")).unwrap()).unwrap();
     assert_eq!(meta["frame"], 3);
     assert_eq!(meta["lights"], 20);
-    assert!(meta["shadow_eps"].as_f64().unwrap() > 0.0);
+    let gamma = meta["shadow_offset_gamma"].as_f64().unwrap();
+    assert!(gamma > 0.0 && gamma < 1e-6, "{gamma}");
+    assert_eq!(meta["origin"], serde_json::json!([0.0, 0.0, 0.0]));
     let tris = meta["triangles"].as_u64().unwrap();
     let ply = std::fs::read(out.join("scene.ply")).unwrap();
     let header_end = ply.windows(11).position(|w| w == b"end_header\n").unwrap() + 11;

@@ -1,0 +1,122 @@
+//! Predicting a pixel while the environment turns (`[motion] kind = "environment"`,
+//! ALGORITHM.md §8 [ours]; docs/temporal.md, "Environment rotation").
+//!
+//! Scene and camera are still, so the pixel's previous self saw the same surface point, whose
+//! visibility over the sphere of directions has not changed; only the lights moved, each
+//! along its circle of latitude by the frame's turn. Light j keeps its previous visibility
+//! unless the previous frame marked it an edge light: its way (the cells a corridor around
+//! its path meets, [`crate::lights::Tracks`]) held both visible and blocked or below-horizon
+//! lights ([`crate::history::Edges::Track`]). A light that rose above the pixel's horizon has
+//! no previous visibility.
+//!
+//! The spatial voters then decide with it, measured on the bunny (docs/temporal.md):
+//! - lights the previous frame is sure of are taken from it unless the spatial voters
+//!   disagree among themselves (a shadow edge passes the pixel: 15 % of such lights had
+//!   changed) or are sure of the opposite (traced, flooding);
+//! - the other lights take the spatial voters' word where they agree, and are traced where
+//!   they do not;
+//! - a traced light floods where its answer contradicts what was expected of it (its previous
+//!   visibility, or the voters' conflicting words), but never into lights the previous frame
+//!   was sure of and the spatial voters did not contradict;
+//! - pixels without spatial voters (the coarse grid, which traces every light in the spatial
+//!   method) are left to the spatial method: their fresh traces, checked against by the
+//!   pixels predicted from them, keep errors from building up along a chain.
+
+use super::correct::{At, correct_closed};
+use super::{Scratch, Uncertainty};
+use crate::bits;
+use crate::buffers::TileBuffers;
+use crate::context::FrameContext;
+use crate::history::Prev;
+
+/// Predicts and corrects region pixel `i` (already begun) from its own previous self in `prev`
+/// (an in-place view) and `spatial`, its valid spatial voters. Returns false, touching
+/// nothing, where the spatial method decides: no spatial voters, or the previous frame's
+/// pixel did not see the same point (a sample other than its pixel's middle one).
+// Word loops index several parallel bitsets at once; iterator chains would hide that.
+#[allow(clippy::needless_range_loop)]
+// The previous frame, the pixel and its spatial voters, the voter threshold, and the flooding.
+#[allow(clippy::too_many_arguments)]
+pub fn solve_in_place(
+    ctx: &FrameContext,
+    bufs: &mut TileBuffers,
+    sc: &mut Scratch,
+    prev: &Prev,
+    i: usize,
+    spatial: &[usize],
+    min_voters: u32,
+    at: At,
+) -> bool {
+    let s = bufs.surf[i];
+    if !s.hit || spatial.is_empty() {
+        return false;
+    }
+    let (r, k) = (bufs.region, ctx.samples.k);
+    let rw = r.width() as usize;
+    let (x, y) = (r.x0 + (i % rw) as u32, r.y0 + (i / rw) as u32);
+    let Some(q) = prev.same_point(x / k, y / k, s.p) else {
+        return false;
+    };
+    let w = bufs.words;
+    let carried = prev.carried();
+    let (above, vis) = (&bufs.above, &bufs.vis);
+    let mine = &above[i * w..(i + 1) * w];
+    // Scratch row 0: the lights flooding may not reach.
+    let closed = &mut sc.ext;
+    for m in 0..w {
+        let my = mine[m];
+        let (a, v, edge) = carried.word(q, m);
+        let (s_blocked, s_sure, s_contested) = spatial_word(above, vis, spatial, w, m, min_voters);
+        // Sure from the previous frame: above the horizon then, no edge on its way, and no
+        // shadow edge passing the pixel now.
+        let t_sure = a & !edge & !s_contested;
+        let t_blocked = t_sure & !v;
+        let conflict = t_sure & s_sure & (t_blocked ^ s_blocked);
+        let settled = (t_sure | s_sure) & !conflict;
+        let blocked = t_blocked | (s_blocked & !t_sure);
+        // A traced light is expected to be what it was (where it was above the horizon).
+        let expect_blocked = a & !v & !settled;
+        sc.pred_vis[m] = my & !((blocked & settled) | expect_blocked);
+        sc.uncertain[m] = my & conflict;
+        sc.queued[m] = my & !settled;
+        closed[m] = my & t_sure & settled;
+    }
+    // Predicted blockers are kept ([ours], docs/methods.md) whatever the spatial order does.
+    let at = At {
+        keep_predicted: true,
+        majority: false,
+        inside: false,
+        ..at
+    };
+    let closed = std::mem::take(&mut sc.ext);
+    correct_closed::<Uncertainty>(ctx, bufs, sc, i, at, &closed[..w]);
+    sc.ext = closed;
+    bufs.temporal[i] = true;
+    true
+}
+
+/// Word `m` of what the spatial voters say, as the uncertainty rule reads them: (blocked,
+/// sure, contested) — at least `min_voters` of them see the light and all of those agree it
+/// is blocked; agree either way; disagree. Shared with the spin rule
+/// ([`super::temporal::solve_temporal`]).
+#[inline]
+pub(super) fn spatial_word(
+    above: &[u64],
+    vis: &[u64],
+    spatial: &[usize],
+    w: usize,
+    m: usize,
+    min_voters: u32,
+) -> (u64, u64, u64) {
+    let (mut all, mut any, mut seen) = (!0u64, 0u64, [0u64; 4]);
+    for (k, &q) in spatial.iter().enumerate() {
+        let a = above[q * w + m];
+        let b = a & !vis[q * w + m];
+        seen[k] = a;
+        all &= !a | b;
+        any |= b;
+    }
+    let enough = bits::at_least(&seen[..spatial.len()], min_voters);
+    let blocked = enough & all & any;
+    (blocked, blocked | (enough & !any), enough & any & !all)
+}
