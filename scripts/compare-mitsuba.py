@@ -97,6 +97,18 @@ def shade(scene, origin, n, albedo, ldir, lenergy, count):
     return albedo * dr.inv_pi * e
 
 
+def shadow_origin(mesh, si, ng, hit, meta):
+    """envshadow's shadow-ray origin (src/offset.rs): the hit point moved along the geometric
+    normal `ng` by its error bound, gamma7 * (|p0| + |p1 - p0| + |p2 - p0|) per axis, projected
+    on |ng|."""
+    face = mesh.face_indices(si.prim_index, hit)
+    p0 = mesh.vertex_position(face.x, hit)
+    p1 = mesh.vertex_position(face.y, hit)
+    p2 = mesh.vertex_position(face.z, hit)
+    err = (dr.abs(p0) + dr.abs(p1 - p0) + dr.abs(p2 - p0)) * meta["shadow_offset_gamma"]
+    return si.p + ng * dr.dot(dr.abs(ng), err)
+
+
 def render(scene, mesh, meta, dirs, ldir, lenergy, count, spp):
     """Every sample's radiance, then each pixel's plain mean of its `spp` consecutive samples;
     returns (pixel RGB, whether every sample of the pixel hit the scene)."""
@@ -111,14 +123,7 @@ def render(scene, mesh, meta, dirs, ldir, lenergy, count, spp):
     ns = dr.select(flip, -ns, ns)
     ns = dr.select((dr.dot(ns, ng) <= 0.0) | ~dr.all(dr.isfinite(ns)), ng, ns)
     albedo = mesh.eval_attribute_3("face_albedo", si, hit)
-    # envshadow's shadow-ray origin (src/offset.rs): the point moved along ng by its error
-    # bound, gamma7 * (|p0| + |p1 - p0| + |p2 - p0|) per axis, projected on |ng|.
-    face = mesh.face_indices(si.prim_index, hit)
-    p0 = mesh.vertex_position(face.x, hit)
-    p1 = mesh.vertex_position(face.y, hit)
-    p2 = mesh.vertex_position(face.z, hit)
-    err = (dr.abs(p0) + dr.abs(p1 - p0) + dr.abs(p2 - p0)) * meta["shadow_offset_gamma"]
-    origin = si.p + ng * dr.dot(dr.abs(ng), err)
+    origin = shadow_origin(mesh, si, ng, hit, meta)
     b = shade(scene, origin, ns, albedo, ldir, lenergy, count)
     b = dr.select(hit, b, 0.0)
     if spp > 1:
@@ -181,7 +186,8 @@ def shade_materials(scene, bsdf, si, origin, n, v, m, ldir, lenergy, count):
     return e_gltf, e_principled
 
 
-def render_materials(scene, meta, dirs, surf, material_normal_mapped, ldir, lenergy, count, spp):
+def render_materials(scene, mesh, meta, dirs, surf, material_normal_mapped, ldir, lenergy, count,
+                     spp):
     """Every sample shaded both ways; returns per-pixel (gltf RGB, principled RGB, pixel
     compared, pixel material)."""
     cam = mi.Point3f(*meta["camera_position"])
@@ -228,7 +234,7 @@ def render_materials(scene, meta, dirs, surf, material_normal_mapped, ldir, lene
     si.uv = mi.Point2f(((index % row) + 0.5) / row, ((index // row) + 0.5) / h)
     si.sh_frame = mi.Frame3f(n)
     si.wi = si.to_local(-d)
-    origin = si.p + ng * meta["shadow_eps"]
+    origin = shadow_origin(mesh, si, ng, hit, meta)
     g, p = shade_materials(scene, bsdf, si, origin, n, -d, m, ldir, lenergy, count)
     occ = mi.Float(col["occlusion"])
     emission = mi.Color3f(col["er"], col["eg"], col["eb"])
@@ -363,7 +369,8 @@ def main():
             lenergy = mi.Color3f(le_np[:, 0], le_np[:, 1], le_np[:, 2])
             if materials_mode:
                 ref_g, ref_p, compared, pixel_material = render_materials(
-                    scene, meta, dirs, surf, normal_mapped, ldir, lenergy, mi.UInt32(count), spp)
+                    scene, mesh, meta, dirs, surf, normal_mapped, ldir, lenergy, mi.UInt32(count),
+                    spp)
                 b, hit = mi.Color3f(0.0), mi.Bool(False)
             else:
                 b, hit = render(scene, mesh, meta, dirs, ldir, lenergy, mi.UInt32(count), spp)

@@ -15,7 +15,7 @@
 //! normal-mapped normal can face away from the eye at silhouettes).
 //!
 //! Written so that a light's terms come from a few per-pixel constants and two dot products
-//! ([`Lobe`], [`LightTerms`]): the SIMD kernels of `crate::shade` do the same operations, in the
+//! ([`Lobe`], [`LightTerms`]): the SIMD kernels of the `shade` module do the same operations, in the
 //! same order, eight lights at a time.
 
 use glam::Vec3;

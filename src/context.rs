@@ -14,7 +14,7 @@ use crate::lights::punctual::SHADOW_END;
 use crate::offset::{hit_point, offset_origin};
 use crate::samples::Samples;
 use crate::scene::{AlphaTest, MaterialSample, Scene, coverage_threshold, footprint_width};
-use crate::shade::{ShadeLights, light_sum};
+use crate::shade::ShadeLights;
 
 /// What a primary ray found at a pixel centre.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -199,19 +199,6 @@ impl<'a> FrameContext<'a> {
             } else {
                 crate::bits::clear(row, first + k);
             }
-        }
-    }
-
-    /// The cosine-weighted irradiance on `s` of the lights in `bits`: the directional ones'
-    /// ([`light_sum`]) and the point and spot lights' ([`crate::shade::point_lights`]).
-    #[inline]
-    pub fn irradiance(&self, s: &Surface, bits: &[u64]) -> Vec3 {
-        let sum = light_sum(&self.shade_lights, s.n, bits);
-        if self.has_points() {
-            let first = self.light_dir.len();
-            sum + crate::shade::point_lights(&self.lights.points, first, s.p, s.n, bits)
-        } else {
-            sum
         }
     }
 

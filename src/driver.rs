@@ -26,7 +26,8 @@ use crate::lattice::{Lattice, LatticePatch};
 use crate::predict::temporal::solve_temporal;
 use crate::predict::turning::solve_in_place;
 use crate::predict::{At, Order, Scratch, Shadows};
-use crate::shade::{LambertCache, radiance_at};
+use crate::radiance::radiance_at;
+use crate::shade::LambertCache;
 use crate::tile::Rect;
 use glam::Vec3;
 

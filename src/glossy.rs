@@ -6,7 +6,7 @@
 //! ([`Glossy::light_share`]), the specular is the split-sum estimate (Karis 2013): the map
 //! convolved with the GGX lobe around the mirror direction ([`Glossy::radiance`]) times the
 //! lobe's integral for the material's Fresnel ([`Glossy::dfg`]), then weighted by the lobe's
-//! share of *visible* light measured over the lights (`crate::shade`), so predicted shadows
+//! share of *visible* light measured over the lights (the `shade` module's sums), so predicted shadows
 //! still darken it and no shadow ray is added. Above that roughness the lights alone are
 //! used; between, the two are blended. docs/materials.md gives the measured errors.
 //!

@@ -48,6 +48,7 @@ pub mod motion;
 pub mod offset;
 pub mod output;
 pub mod predict;
+pub mod radiance;
 pub mod raydump;
 pub mod report;
 pub mod samples;

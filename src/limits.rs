@@ -314,9 +314,11 @@ const READ_VERTEX: u128 = 160;
 /// Bytes per index while one primitive is read: as f64 and u32, and the triangles assembled
 /// and kept (20).
 const READ_INDEX: u128 = 24;
-/// Bytes per texel of a decoded texture: linear RGB f32, its alpha when the image has one, and
-/// their mip pyramid (a third more).
-const TEXTURE_TEXEL: u128 = 22;
+/// Bytes per texel of a decoded texture: linear RGB f32 and its mip pyramid (a third more).
+const TEXTURE_TEXEL: u128 = 16;
+/// Bytes per texel of a texture's alpha, when the image has an alpha channel: f32 and its mip
+/// pyramid (a third more, rounded up).
+const TEXTURE_ALPHA_TEXEL: u128 = 6;
 /// Bytes per texel while a texture is decoded, beyond what it keeps: the decoder's pixels (up
 /// to 16 for RGBA f32) and the rows of the pyramid's first halving (6).
 const TEXTURE_DECODE_TEXEL: u128 = 24;
@@ -363,6 +365,8 @@ pub struct SceneSize {
     /// Bytes of the optional vertex arrays (second texture coordinates, tangents, colours)
     /// over every vertex, when any primitive has them (then every vertex gets them).
     pub extra_vertex_bytes: u64,
+    /// Texels of the decoded textures whose image has an alpha channel (kept beside the colour).
+    pub alpha_texels: u64,
     /// Lights the file places (`KHR_lights_punctual`): each a bit of every sample's bitsets
     /// when they join the map's.
     pub lights: u64,
@@ -466,7 +470,8 @@ impl Budget {
         Estimate {
             scene: arrays * (1 + u128::from(self.posed)),
             bvh: u128::from(s.triangles) * BVH_TRIANGLE * u128::from(self.accels),
-            textures: u128::from(s.texels) * TEXTURE_TEXEL,
+            textures: u128::from(s.texels) * TEXTURE_TEXEL
+                + u128::from(s.alpha_texels) * TEXTURE_ALPHA_TEXEL,
             map: u128::from(self.map_texels) * MAP_TEXEL,
             render: self.render + self.scene_lights_bytes(),
             loading: scene_loading.max(map_loading),
@@ -723,6 +728,11 @@ mod tests {
         b.expect_map(8 << 20, 1000);
         let e = b.estimate();
         assert_eq!(e.textures, (3 << 20) * TEXTURE_TEXEL);
+        // An image with an alpha channel counts its alpha too.
+        let mut cut = b.clone();
+        cut.scene.alpha_texels = 1 << 20;
+        let with_alpha = cut.estimate().textures;
+        assert_eq!(with_alpha, e.textures + (1 << 20) * TEXTURE_ALPHA_TEXEL);
         // The optional vertex arrays (colours, tangents, a second UV set) count their bytes.
         let mut extra = b.clone();
         extra.scene.vertices = 1000;

@@ -1,13 +1,12 @@
 //! Shading kernels: which lights are above a surface's horizon, the Lambertian sum over the
-//! visible ones (ALGORITHM.md §2), and the glTF metallic-roughness sums (`crate::brdf`), as
-//! SSE2/AVX2 kernels that give the same bits as the scalar reference (the lane order is fixed,
-//! so neither thread nor tile changes a sum); and a sample's radiance from them
-//! ([`radiance_at`]).
+//! visible ones (ALGORITHM.md §2), and the glTF metallic-roughness sums (the `brdf` module's),
+//! as SSE2/AVX2 kernels that give the same bits as the scalar reference (the lane order is
+//! fixed, so neither thread nor tile changes a sum); the point and spot lights' sums, one light
+//! at a time. A sample's radiance from them is the `radiance` module's.
 
 use glam::Vec3;
 
-use crate::brdf::{Lobe, MAX_DV, Sums, Weights, light_terms};
-use crate::context::{FrameContext, Surface};
+use crate::brdf::{Lobe, MAX_DV, Sums, light_terms};
 use crate::envmap::LUMINANCE;
 use crate::lights::{Light, LightSet, PointLight};
 
@@ -253,60 +252,6 @@ unsafe fn radiance_avx2(sl: &ShadeLights, n: Vec3, bits: &[u64]) -> [[f32; 8]; 3
     out
 }
 
-/// A sample's radiance (its background aside): the visible lights in `vis` (those above its
-/// horizon in `above`) reflected by its material — Lambertian, or glTF metallic-roughness
-/// (`crate::brdf`) with, where `ctx.glossy` says the lights are too few for the lobe, the
-/// prefiltered environment weighted by the lobe's visible fraction — times its occlusion,
-/// plus the scene file's point and spot lights in `vis` (the same BRDF, exact: one light at a
-/// time; occlusion is the environment's only), plus its emission. Lambertian samples with the
-/// normal and visible lights of the last one `cache` saw reuse its light sum (the same bits).
-pub fn radiance_at(
-    ctx: &FrameContext,
-    s: &Surface,
-    vis: &[u64],
-    above: &[u64],
-    cache: &mut LambertCache,
-) -> Vec3 {
-    let sl = &ctx.shade_lights;
-    let m = &s.material;
-    let points = ctx.has_points();
-    let first = ctx.light_dir.len();
-    let mut lit = if m.lambert {
-        let sum = cache.light_sum(sl, s.n, vis);
-        if points && m.occlusion == 1.0 {
-            // The Lambertian sum over every light, as main shades point lights.
-            return reflect(
-                s.albedo,
-                sum + point_lights(&ctx.lights.points, first, s.p, s.n, vis),
-            ) + m.emission;
-        }
-        reflect(s.albedo, sum)
-    } else {
-        metallic_roughness(ctx, s, vis, above)
-    };
-    // Occlusion darkens the environment's light (all of the light set's); 1 and no emission
-    // leave the bits alone.
-    if m.occlusion != 1.0 {
-        lit *= m.occlusion;
-    }
-    if points {
-        lit += if m.lambert {
-            reflect(
-                s.albedo,
-                point_lights(&ctx.lights.points, first, s.p, s.n, vis),
-            )
-        } else {
-            let lobe = Lobe::new(s.n, -s.dir, m.roughness);
-            let sums = point_sums(&ctx.lights.points, first, s.p, &lobe, vis);
-            Weights::new(s.albedo, m).radiance(&sums)
-        };
-    }
-    if m.emission != Vec3::ZERO {
-        lit += m.emission;
-    }
-    lit
-}
-
 /// The metallic-roughness light sums ([`Sums`]) of the point and spot lights whose bits are set
 /// in `bits` (light k of `points` has bit `first + k`) at point `p` for `lobe`: each light's
 /// irradiance (falloff included, [`PointLight::at`]) in its own direction, one light at a time
@@ -331,50 +276,6 @@ pub fn point_sums(points: &[PointLight], first: usize, p: Vec3, lobe: &Lobe, bit
         sums.s3 += e * (t.dv * t.w);
     }
     sums
-}
-
-/// The glTF metallic-roughness radiance of sample `s` (see [`radiance_at`]).
-fn metallic_roughness(ctx: &FrameContext, s: &Surface, vis: &[u64], above: &[u64]) -> Vec3 {
-    let (sl, glossy) = (&ctx.shade_lights, ctx.glossy);
-    let m = &s.material;
-    let v = -s.dir;
-    let weights = Weights::new(s.albedo, m);
-    let share = glossy.map_or(1.0, |g| g.light_share(m.roughness));
-    if share >= 1.0 {
-        // [ours] The lights resolve the lobe: exact over them, visibility included.
-        let lobe = Lobe::new(s.n, v, m.roughness);
-        let (sums, _) = specular_sums(sl, &lobe, vis, above, false);
-        return weights.radiance(&sums);
-    }
-    let Some(g) = glossy else {
-        unreachable!("share < 1 comes from a glossy environment")
-    };
-    // [ours] Too few lights for the lobe: the environment prefiltered for the roughness, seen
-    // along the mirror direction, times the lobe's share of visible light (measured with a
-    // lobe wide enough to hold several lights), blended with the lights' own specular between
-    // the two roughnesses `Glossy` names. The diffuse sums do not depend on the roughness.
-    let wide = Lobe::new(s.n, v, g.visibility_roughness(m.roughness));
-    let (wide_sums, unshadowed) = specular_sums(sl, &wide, vis, above, true);
-    let visible = if unshadowed > 0.0 {
-        (crate::envmap::luminance(wide_sums.s2) / unshadowed).min(1.0)
-    } else {
-        1.0
-    };
-    let lobe = Lobe::new(s.n, v, m.roughness);
-    let (i2, i3) = g.dfg(lobe.n_dot_v, m.roughness);
-    let mirror = s.n * (2.0 * lobe.n_dot_v) - v;
-    // The map turned as this frame's lights are (`[motion] kind = "environment"`).
-    let mirror = match ctx.env_turn {
-        None => mirror,
-        Some((sin, cos)) => crate::envmap::rotate_y(mirror, (-sin, cos)),
-    };
-    let env = g.radiance(mirror, m.roughness) * visible;
-    let from_env = weights.specular(env * i2, env * i3);
-    if share <= 0.0 {
-        return weights.diffuse(&wide_sums) + from_env;
-    }
-    let (sums, _) = specular_sums(sl, &lobe, vis, above, false);
-    weights.diffuse(&sums) + weights.specular(sums.s2, sums.s3) * share + from_env * (1.0 - share)
 }
 
 /// The Lambertian light sum of the last sample shaded with it, so that a sample with the same
@@ -790,6 +691,46 @@ unsafe fn above_horizon_avx2(x: &[f32], y: &[f32], z: &[f32], n: Vec3, h: f32, o
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::brdf::Weights;
+
+    #[test]
+    fn point_sums_are_the_brdf_of_each_visible_point_light() {
+        // Two point lights, the second's bit clear: the sums' radiance is the first light's
+        // BRDF × irradiance × cosine (brdf::brdf, the scalar reference), the second adds nothing.
+        let m = crate::scene::MaterialSample {
+            lambert: false,
+            metallic: 0.4,
+            roughness: 0.35,
+            ..crate::scene::MaterialSample::default()
+        };
+        let (n, base) = (
+            Vec3::new(0.1, 1.0, 0.2).normalize(),
+            Vec3::new(0.7, 0.4, 0.2),
+        );
+        let v = Vec3::new(-0.3, 0.8, 0.5).normalize();
+        let p = Vec3::new(0.2, 0.0, -0.1);
+        let light = |at: Vec3| PointLight {
+            position: at,
+            intensity: Vec3::new(2.0, 1.5, 1.0),
+            range: f32::INFINITY,
+            spot: None,
+        };
+        let points = [
+            light(Vec3::new(1.0, 2.0, 0.5)),
+            light(Vec3::new(-1.0, 1.0, 0.0)),
+        ];
+        let lobe = Lobe::new(n, v, m.roughness);
+        let bits = [1u64 << 3];
+        let got = Weights::new(base, &m).radiance(&point_sums(&points, 3, p, &lobe, &bits));
+        let i = points[0].at(p).unwrap();
+        let want = crate::brdf::brdf(n, v, i.dir, base, &m) * i.irradiance * n.dot(i.dir);
+        assert!(
+            (got - want).abs().max_element() <= 1e-4 * want.max_element(),
+            "{got} against {want}"
+        );
+        let none = point_sums(&points, 3, p, &lobe, &[0]);
+        assert_eq!(none, Sums::default());
+    }
 
     /// 200 pseudo-random lights (some below any horizon, unequal energies), padded as for a
     /// frame, and random normals and visibility words.

@@ -96,6 +96,12 @@ pub(super) fn load_bytes(bytes: &[u8], path: &Path, budget: &mut Budget) -> Resu
         .iter()
         .map(|d| d.texels * decodings(d))
         .sum();
+    size.alpha_texels = images
+        .distinct
+        .iter()
+        .filter(|d| d.alpha)
+        .map(|d| d.texels * decodings(d))
+        .sum();
     size.largest_texels = images.distinct.iter().map(|d| d.texels).max().unwrap_or(0);
     budget.scene(path, size, size.file_bytes)?;
     let mut loader = Loader {
@@ -670,6 +676,8 @@ enum Encoded {
 struct DistinctImage {
     encoded: Encoded,
     texels: u64,
+    /// The image has an alpha channel: each decoding keeps it.
+    alpha: bool,
     texture: [Option<usize>; 2],
     /// Which encodings the materials read it with.
     encodings: [bool; 2],
@@ -744,7 +752,7 @@ impl Images {
                 images.distinct[d].encodings[encoding_index(encoding)] = true;
                 continue;
             }
-            let (w, h) = Texture::dimensions(bytes)
+            let (w, h, alpha) = Texture::header(bytes)
                 .map_err(|e| input_error(path, format!("{at}: cannot decode: {e}")))?;
             by_digest.insert(digest, images.distinct.len());
             images.of_index.insert(index, images.distinct.len());
@@ -753,6 +761,7 @@ impl Images {
             images.distinct.push(DistinctImage {
                 encoded,
                 texels: u64::from(w) * u64::from(h),
+                alpha,
                 texture: [None; 2],
                 encodings,
             });

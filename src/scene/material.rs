@@ -1,7 +1,7 @@
 //! Materials: the glTF 2.0 metallic-roughness model's parameters and textures, and what they
 //! are at one surface point ([`Scene::material_at`]): base colour, metallic, roughness,
 //! occlusion, emission, the dielectric specular (`KHR_materials_ior`, `KHR_materials_specular`)
-//! and the normal-mapped shading normal. The BRDF that uses them is `crate::brdf`.
+//! and the normal-mapped shading normal. The BRDF that uses them is the `brdf` module's.
 
 use glam::{Vec2, Vec3, Vec4, Vec4Swizzles};
 

@@ -161,6 +161,14 @@ impl Texture {
         Ok((w, h))
     }
 
+    /// [`dimensions`](Self::dimensions), and whether the image has an alpha channel (which the
+    /// texture keeps), from the header alone: no pixel is decoded or allocated.
+    pub fn header(bytes: &[u8]) -> Result<(u32, u32, bool), image::ImageError> {
+        let (w, h) = Texture::dimensions(bytes)?;
+        let alpha = reader(bytes)?.into_decoder()?.color_type().has_alpha();
+        Ok((w, h, alpha))
+    }
+
     /// Decodes an encoded image (PNG or JPEG) to a linear texture, treating it as sRGB:
     /// [`decode_as`](Self::decode_as) with [`Encoding::Srgb`].
     pub fn decode(bytes: &[u8]) -> crate::error::Result<Texture> {

@@ -210,7 +210,7 @@ fn tangents_are_generated_for_normal_maps_or_taken_from_the_file() {
         let doc = json!({
             "scenes": [{"nodes": [0]}],
             // Turned 90° about +Z: a file tangent along +Y ends along −X.
-            "nodes": [{"mesh": 0, "rotation": [0.0, 0.0, 0.70710678, 0.70710678]}],
+            "nodes": [{"mesh": 0, "rotation": [0.0, 0.0, std::f64::consts::FRAC_1_SQRT_2, std::f64::consts::FRAC_1_SQRT_2]}],
             "meshes": [{"primitives": [{"attributes": attributes, "indices": idx, "material": 0}]}],
             "materials": [{"normalTexture": {"index": 0}}],
             "textures": [{"source": 0}],
