@@ -109,9 +109,10 @@ def shadow_origin(mesh, si, ng, hit, meta):
     return si.p + ng * dr.dot(dr.abs(ng), err)
 
 
-def render(scene, mesh, meta, dirs, ldir, lenergy, count, spp):
-    """Every sample's radiance, then each pixel's plain mean of its `spp` consecutive samples;
-    returns (pixel RGB, whether every sample of the pixel hit the scene)."""
+def primary_hits(scene, meta, dirs):
+    """The samples' primary rays as envshadow casts them: (direction, interaction, hit, geometric
+    normal, shading normal), both normals turned to the camera, the shading normal replaced by
+    the geometric one where it points away from the visible side or is not finite."""
     cam = mi.Point3f(*meta["camera_position"])
     d = mi.Vector3f(dirs[:, 0], dirs[:, 1], dirs[:, 2])
     si = scene.ray_intersect(mi.Ray3f(cam, d))
@@ -122,6 +123,13 @@ def render(scene, mesh, meta, dirs, ldir, lenergy, count, spp):
     ng = dr.select(flip, -ng, ng)
     ns = dr.select(flip, -ns, ns)
     ns = dr.select((dr.dot(ns, ng) <= 0.0) | ~dr.all(dr.isfinite(ns)), ng, ns)
+    return d, si, hit, ng, ns
+
+
+def render(scene, mesh, meta, dirs, ldir, lenergy, count, spp):
+    """Every sample's radiance, then each pixel's plain mean of its `spp` consecutive samples;
+    returns (pixel RGB, whether every sample of the pixel hit the scene)."""
+    d, si, hit, ng, ns = primary_hits(scene, meta, dirs)
     albedo = mesh.eval_attribute_3("face_albedo", si, hit)
     origin = shadow_origin(mesh, si, ng, hit, meta)
     b = shade(scene, origin, ns, albedo, ldir, lenergy, count)
@@ -190,16 +198,7 @@ def render_materials(scene, mesh, meta, dirs, surf, material_normal_mapped, ldir
                      spp):
     """Every sample shaded both ways; returns per-pixel (gltf RGB, principled RGB, pixel
     compared, pixel material)."""
-    cam = mi.Point3f(*meta["camera_position"])
-    d = mi.Vector3f(dirs[:, 0], dirs[:, 1], dirs[:, 2])
-    si = scene.ray_intersect(mi.Ray3f(cam, d))
-    hit = si.is_valid()
-    ng = si.n
-    ns = si.sh_frame.n
-    flip = dr.dot(ng, d) > 0.0
-    ng = dr.select(flip, -ng, ng)
-    ns = dr.select(flip, -ns, ns)
-    ns = dr.select((dr.dot(ns, ng) <= 0.0) | ~dr.all(dr.isfinite(ns)), ng, ns)
+    d, si, hit, ng, ns = primary_hits(scene, meta, dirs)
     col = {k: surf[:, i] for i, k in enumerate(SURFACE)}
     mat = col["material"].astype(np.int64)
     mapped = np.array([material_normal_mapped.get(int(k), False) for k in mat]) & (mat >= 0)
