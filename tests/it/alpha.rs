@@ -391,3 +391,45 @@ fn blend_is_coverage_for_camera_rays() {
     }
     failures.assert_none();
 }
+
+#[test]
+fn the_alpha_test_reads_the_base_colour_slot_as_shading_does() {
+    // The panel's alpha texture read through a KHR_texture_transform and a clamping, NEAREST
+    // sampler: the BVH's alpha (Scene::alpha) is the texture's alpha at the transformed
+    // coordinates as that sampler reads them, and the same as the material's own alpha at the
+    // point (what shading reads), so camera rays, shadow rays and shading agree.
+    let mut scene = panel_scene(checker(), AlphaMode::Mask { cutoff: 0.5 });
+    let panel = scene.triangle_count() - 2;
+    let transform = envshadow::scene::UvTransform::new([0.3, -0.2], 0.4, [1.7, 0.6]);
+    let sampler = envshadow::scene::Sampler {
+        wrap_s: envshadow::scene::Wrap::Clamp,
+        wrap_t: envshadow::scene::Wrap::Mirror,
+        mag_nearest: true,
+        mipmaps: true,
+    };
+    let slot = scene.materials[1].base_color_texture.as_mut().unwrap();
+    slot.transform = Some(transform);
+    slot.sampler = sampler;
+    let texture = scene.textures[slot.texture].clone();
+    let (mut differs, mut n) = (0, 0);
+    for tri in [panel, panel + 1] {
+        for k in 0..400 {
+            let (u, v) = ((k % 20) as f32 / 20.0, (k / 20) as f32 / 20.0);
+            if u + v > 1.0 {
+                continue;
+            }
+            let uv = scene.uv(tri, (u, v));
+            let want = texture.alpha_at(transform.apply(uv), &sampler);
+            let got = scene.alpha(tri, (u, v));
+            assert_eq!(got, want, "triangle {tri} at ({u}, {v})");
+            let shading = scene.material_at(tri, (u, v), 0.0, Vec3::Y).sample.alpha;
+            assert_eq!(shading, got, "shading's alpha at ({u}, {v})");
+            differs += usize::from(got != texture.alpha_at(uv, &Default::default()));
+            n += 1;
+        }
+    }
+    assert!(
+        differs > n / 4,
+        "the transform and sampler matter: {differs} of {n}"
+    );
+}
