@@ -6,6 +6,8 @@
 # usage: scripts/compare-mitsuba.sh [SPEC.toml] [--frame F] [--lights N] [--threads 1,2]
 #                                   [--repeat R] [--work DIR] [--methods LIST]
 #                                   [--spp N] [--filter NAME] [--filter-width PX]
+#        scripts/compare-mitsuba.sh --materials [--lights N] [--size WxH] [--threads 2]
+#                                   [--repeat R] [--work DIR] [--methods LIST] [--spp N]
 # Defaults: anims/bunny-turntable.toml, frame 0, 400 lights, threads 1,2, 3 repeats,
 # work folder target/compare-mitsuba, methods brute,grid-nowarp-uncertainty (each entry a
 # method name, optionally with render flags: "grid-nowarp-uncertainty --flood-to contrary";
@@ -13,9 +15,18 @@
 # (its [render] spp, filter, filter_width; 1 sample, the pixel centre, when it sets none).
 # Only pixels whose every sample hits the scene are compared (envshadow shows the
 # environment where a sample misses; the Mitsuba integrator returns 0 there).
+# Glossy materials: the export carries each sample's material (surface.f32), and the python
+# script shades every light with Mitsuba's `principled` BSDF and with the glTF BRDF written in
+# Dr.Jit, reporting relative RMSE per material (docs/materials.md).
+# --materials: the corpus scenes made for it (metal_rough_spheres, golf_ball,
+# alpha_mask_panels, sheen_chair_scene from ../shared/assets/corpus or $CORPUS), each under the
+# studio map from a spec written into the work folder (default framing, --size, default
+# 320x240), one after the other. A file that requires KHR_lights_punctual, which envshadow
+# does not read yet, is compared from a copy that lists it as used, not required (its lights
+# are rendered by neither side).
 # The virtual environment (target/mitsuba-venv, or $MITSUBA_VENV) is made on first use with
-# `pip install mitsuba numpy`. Mitsuba's LLVM variant needs a libLLVM shared library: Debian's
-# libllvm19 (installed with apt-get when missing and run as root); $DRJIT_LIBLLVM_PATH points
+# `pip install mitsuba numpy`. Mitsuba's LLVM variant needs a libLLVM shared library, 16 or
+# later: Debian's libllvm19 (installed with apt-get when missing and run as root); $DRJIT_LIBLLVM_PATH points
 # Dr.Jit at another one.
 set -euo pipefail
 
@@ -32,8 +43,13 @@ METHODS=brute,grid-nowarp-uncertainty
 SAMPLE_FLAGS=()   # --spp/--filter/--filter-width as given: for the export and the check
 WORK=target/compare-mitsuba
 VENV="${MITSUBA_VENV:-target/mitsuba-venv}"
+MATERIALS=0
+SIZE=320x240
+CORPUS="${CORPUS:-$ROOT/../shared/assets/corpus}"
 while [ $# -gt 0 ]; do
   case "$1" in
+    --materials) MATERIALS=1; shift ;;
+    --size) SIZE="$2"; shift 2 ;;
     --frame) FRAME="$2"; shift 2 ;;
     --lights) LIGHTS="$2"; shift 2 ;;
     --threads) THREADS="$2"; shift 2 ;;
@@ -41,22 +57,32 @@ while [ $# -gt 0 ]; do
     --work) WORK="$2"; shift 2 ;;
     --methods) METHODS="$2"; shift 2 ;;
     --spp|--filter|--filter-width) SAMPLE_FLAGS+=("$1" "$2"); shift 2 ;;
-    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,32p' "$0"; exit 0 ;;
     -*) echo "compare-mitsuba.sh: unknown option $1" >&2; exit 2 ;;
     *) SPEC="$1"; shift ;;
   esac
 done
 
-if [ -z "${DRJIT_LIBLLVM_PATH:-}" ] && ! ls /usr/lib/*/libLLVM*.so* >/dev/null 2>&1; then
+# Dr.Jit 1.5 emits LLVM intrinsics that libLLVM 15 and older cannot select ("Cannot select:
+# fminimum"): the newest libLLVM from 16 on, else Debian's libllvm19 is installed.
+newest_llvm() {
+  for v in 21 20 19 18 17 16; do
+    for f in /usr/lib/*/libLLVM-$v.so /usr/lib/*/libLLVM.so.$v* /usr/lib/llvm-$v/lib/libLLVM*.so*; do
+      [ -e "$f" ] && { echo "$f"; return 0; }
+    done
+  done
+  return 1
+}
+if [ -z "${DRJIT_LIBLLVM_PATH:-}" ] && ! newest_llvm >/dev/null; then
   if [ "$(id -u)" = 0 ]; then
     apt-get install -y -qq libllvm19 >/dev/null
   else
-    echo "compare-mitsuba.sh: Mitsuba's LLVM variant needs libLLVM: apt-get install libllvm19 (or set DRJIT_LIBLLVM_PATH)" >&2
+    echo "compare-mitsuba.sh: Mitsuba's LLVM variant needs libLLVM 16 or later: apt-get install libllvm19 (or set DRJIT_LIBLLVM_PATH)" >&2
     exit 2
   fi
 fi
 if [ -z "${DRJIT_LIBLLVM_PATH:-}" ]; then
-  DRJIT_LIBLLVM_PATH="$(ls /usr/lib/*/libLLVM*.so* 2>/dev/null | sort -V | tail -1)"
+  DRJIT_LIBLLVM_PATH="$(newest_llvm)"
   export DRJIT_LIBLLVM_PATH
 fi
 if [ ! -x "$VENV/bin/python" ]; then
@@ -68,8 +94,11 @@ fi
 
 cargo build --release -q
 mkdir -p "$WORK"
-./target/release/envshadow export "$SPEC" --frame "$FRAME" --lights "$LIGHTS" \
-  ${SAMPLE_FLAGS[@]+"${SAMPLE_FLAGS[@]}"} --out "$WORK/export"
+# Absolute: the specs written into it name files in it, and a spec's paths are relative to
+# the spec's own folder.
+WORK="$(cd "$WORK" && pwd)"
+echo "libLLVM: $DRJIT_LIBLLVM_PATH"
+
 # The python script reads the samples from the export (frame.json) and renders envshadow with
 # them; --spp and --filter given here are checked against it. --filter-width is the export's.
 CHECK_FLAGS=()
@@ -78,7 +107,70 @@ for ((i = 0; i < ${#SAMPLE_FLAGS[@]}; i += 2)); do
     --spp|--filter) CHECK_FLAGS+=("${SAMPLE_FLAGS[i]}" "${SAMPLE_FLAGS[i + 1]}") ;;
   esac
 done
-echo "libLLVM: $DRJIT_LIBLLVM_PATH"
-"$VENV/bin/python" "$SCRIPT_DIR/compare-mitsuba.py" "$WORK/export" --spec "$SPEC" \
-  --threads "$THREADS" --repeat "$REPEAT" --work "$WORK" --methods "$METHODS" \
-  ${CHECK_FLAGS[@]+"${CHECK_FLAGS[@]}"}
+
+# compare SPEC WORK: export frame $FRAME of SPEC into WORK/export, then render and compare.
+compare() {
+  local spec="$1" work="$2"
+  mkdir -p "$work"
+  ./target/release/envshadow export "$spec" --frame "$FRAME" --lights "$LIGHTS" \
+    ${SAMPLE_FLAGS[@]+"${SAMPLE_FLAGS[@]}"} --out "$work/export"
+  "$VENV/bin/python" "$SCRIPT_DIR/compare-mitsuba.py" "$work/export" --spec "$spec" \
+    --threads "$THREADS" --repeat "$REPEAT" --work "$work" --methods "$METHODS" \
+    ${CHECK_FLAGS[@]+"${CHECK_FLAGS[@]}"}
+}
+
+if [ "$MATERIALS" = 0 ]; then
+  compare "$SPEC" "$WORK"
+  exit 0
+fi
+
+W="${SIZE%x*}"; H="${SIZE#*x}"
+MAP="$ROOT/../shared/assets/studio_small_03_1k.hdr"
+[ -f "$MAP" ] || MAP="$ROOT/assets/studio_small_03_1k.hdr"
+for name in metal_rough_spheres golf_ball alpha_mask_panels sheen_chair_scene; do
+  glb="$CORPUS/$name.glb"
+  [ -f "$glb" ] || { echo "compare-mitsuba.sh: $glb is missing" >&2; exit 2; }
+  mkdir -p "$WORK/$name"
+  # A copy without KHR_lights_punctual among the required extensions, if it is there.
+  if "$VENV/bin/python" - "$glb" "$WORK/$name/$name.glb" <<'PY'
+import json, struct, sys
+src, dst = sys.argv[1], sys.argv[2]
+b = open(src, "rb").read()
+n = struct.unpack("<I", b[12:16])[0]
+doc = json.loads(b[20:20 + n])
+req = doc.get("extensionsRequired", [])
+if "KHR_lights_punctual" not in req:
+    sys.exit(1)
+doc["extensionsRequired"] = [e for e in req if e != "KHR_lights_punctual"]
+if not doc["extensionsRequired"]:
+    del doc["extensionsRequired"]
+j = json.dumps(doc).encode()
+j += b" " * (-len(j) % 4)
+rest = b[20 + n:]
+head = struct.pack("<4sII", b"glTF", 2, 12 + 8 + len(j) + len(rest))
+open(dst, "wb").write(head + struct.pack("<I4s", len(j), b"JSON") + j + rest)
+PY
+  then
+    echo "$name: compared from a copy with KHR_lights_punctual used, not required"
+    glb="$WORK/$name/$name.glb"
+  fi
+  cat > "$WORK/$name/spec.toml" <<EOF
+# Written by scripts/compare-mitsuba.sh --materials.
+[scene]
+file = "$glb"
+[environment]
+file = "$MAP"
+[lights]
+count = $LIGHTS
+[motion]
+kind = "none"
+frames = 1
+[render]
+width = $W
+height = $H
+[output]
+dir = "$WORK/$name/out"
+EOF
+  echo "## $name"
+  compare "$WORK/$name/spec.toml" "$WORK/$name"
+done

@@ -60,6 +60,14 @@
 //! half = false                  # half-float EXR channels (counts and depth stay float)
 //! fps = 24.0                    # frame rate: the EXR's framesPerSecond, the video's
 //! video = false                 # encode DIR/video.mp4 with ffmpeg at the end
+//! # [material]                  # overrides every material (docs/materials.md)
+//! # base_color = [0.5, 0.5, 0.5]   # linear; replaces factor, texture colour, vertex colours
+//! # roughness = 0.5 ; metallic = 0.0 ; emissive = [0, 0, 0]
+//! # lambert = false             # true: diffuse only (no specular)
+//! # textures = true             # false: no textures but normal maps (and base colour alpha)
+//! # normal_maps = true          # false: no normal maps
+//! # [material.named."Floor"]    # the same keys, for the materials of one name
+//! # roughness = 0.9
 //! ```
 //! Input paths are relative to the spec file's folder; the output folder is relative to the
 //! working directory. Unknown keys are errors.
@@ -75,7 +83,7 @@ use crate::error::{Result, input_error};
 use crate::frames::FrameSet;
 use crate::motion::{Motion, MotionSpecs};
 use crate::output::record::{SettingsRecord, file_sha256};
-use crate::scene::Scene;
+use crate::scene::{MaterialOverride, Scene};
 use crate::settings::{
     Lights, LightsLayer, Output, OutputLayer, Render, RenderLayer, SceneLayer, SceneSettings,
     Source, check_applies,
@@ -102,6 +110,8 @@ struct Spec {
     render: RenderLayer,
     #[serde(default)]
     output: OutputLayer,
+    #[serde(default)]
+    material: MaterialOverride,
 }
 
 #[derive(Debug, Clone, Default, Deserialize)]
@@ -245,6 +255,48 @@ pub struct AnimFlags {
     pub render: RenderLayer,
     #[command(flatten)]
     pub output: OutputLayer,
+    #[command(flatten)]
+    pub material: MaterialFlags,
+}
+
+/// Material overrides from the command line, over the spec's `[material]` table.
+#[derive(Clone, Debug, Default, clap::Args)]
+pub struct MaterialFlags {
+    /// Lookdev: every material a grey clay — base colour 0.5, roughness 0.5, metallic 0, no
+    /// emission, no textures but normal maps (docs/materials.md).
+    #[arg(long)]
+    pub clay: bool,
+    /// Every material Lambertian (diffuse only, no specular), as envshadow shaded before glTF
+    /// materials.
+    #[arg(long)]
+    pub lambert: bool,
+}
+
+impl MaterialFlags {
+    /// The overrides these flags stand for.
+    pub fn overrides(&self) -> MaterialOverride {
+        let mut o = if self.clay {
+            MaterialOverride::clay()
+        } else {
+            MaterialOverride::default()
+        };
+        if self.lambert {
+            o.lambert = Some(true);
+        }
+        o
+    }
+
+    /// The flags given: (name, spelled).
+    fn given(&self) -> Vec<(&'static str, &'static str, String)> {
+        let mut v = Vec::new();
+        if self.clay {
+            v.push(("clay", "clay", "true".to_string()));
+        }
+        if self.lambert {
+            v.push(("lambert", "lambert", "true".to_string()));
+        }
+        v
+    }
 }
 
 impl AnimFlags {
@@ -260,7 +312,8 @@ impl AnimFlags {
             .into_iter()
             .chain(self.lights.given())
             .chain(self.render.given())
-            .chain(self.output.given());
+            .chain(self.output.given())
+            .chain(self.material.given());
         for (key, flag, _) in given {
             if !reads.contains(&key) {
                 bail_input!(format!("--{flag}"), "does not apply to {command}");
@@ -298,6 +351,10 @@ pub struct Animation {
     pub render: Render,
     /// `[output]`: the output folder, the EXR's precision, the frame rate, the video.
     pub output: Output,
+    /// `[material]`: the spec's material overrides …
+    pub materials: MaterialOverride,
+    /// … and the command line's (`--clay`, `--lambert`), applied over them.
+    pub material_flags: MaterialOverride,
 }
 
 impl Animation {
@@ -419,7 +476,12 @@ impl Animation {
             lights: flags.lights.clone().over(spec.lights).resolve(),
             render,
             output: flags.output.clone().over(spec.output).resolve(),
+            materials: spec.material.clone(),
+            material_flags: flags.material.overrides(),
         };
+        if let Some(why) = anim.materials.problem() {
+            bail_input!(path, "[material] {why}");
+        }
         if let Some(r) = &flags.frames {
             let outside = r.at_or_after(anim.frame_count);
             if !outside.is_empty() {
@@ -470,7 +532,8 @@ impl Animation {
         Animation::parse(&text, model, flags)
     }
 
-    /// The loaded `scene` as the spec asks for it: turned upright (`[scene] up`), its named
+    /// The loaded `scene` as the spec asks for it: turned upright (`[scene] up`), its materials
+    /// overridden (`[material]`, `--clay`, `--lambert`), its named
     /// catchers marked (`[scene] catchers`), and a ground added below the model where
     /// `[scene] ground` asks for one — a shadow catcher over a transparent background or with
     /// `shadow_catcher = true`, else diffuse grey.
@@ -478,6 +541,16 @@ impl Animation {
         use crate::scene::ground::{Ground, add_ground, has_ground};
         let settings = &self.scene_settings;
         let mut scene = scene.stood_up(settings.up);
+        // The file's materials as `[material]` and --clay / --lambert say (before a ground of
+        // ours joins them: it keeps its own look).
+        self.materials
+            .apply(&self.material_flags, &mut scene.materials)
+            .map_err(|why| {
+                input_error(
+                    &self.spec_path,
+                    format!("[material] {why} (in {})", scene.source),
+                )
+            })?;
         if let Err(name) = scene.mark_catchers(&self.catchers) {
             let names: Vec<String> = scene
                 .parts
@@ -811,6 +884,13 @@ impl Animation {
             if key != "threads" && key != "tile" {
                 put(&format!("[{}] {key}", Render::TABLE), value);
             }
+        }
+        // Material overrides change pixels: the spec's, then the command line's.
+        for (key, value) in self.materials.given() {
+            put(&format!("[material] {key}"), value);
+        }
+        for (key, value) in self.material_flags.given() {
+            put(&format!("[material] (command line) {key}"), value);
         }
         for (key, _, value) in self.output.layer().given() {
             // The folder and the video change no frame's bytes.

@@ -17,7 +17,7 @@ use clap::Args;
 use rayon::prelude::*;
 
 use crate::accel::{self, Accel, PACKET, ShadowRay};
-use crate::anim::{AnimFlags, Animation, EnvSource};
+use crate::anim::{AnimFlags, Animation, EnvSource, MaterialFlags};
 use crate::coordinator::{Inputs, Silent, render_frame, thread_pool};
 use crate::error::{Result, input_error};
 use crate::film::Counts;
@@ -72,6 +72,9 @@ pub struct BenchArgs {
     /// Render settings.
     #[command(flatten)]
     pub render: RenderSweep,
+    /// Material overrides (`--lambert`: diffuse only, to measure what specular costs).
+    #[command(flatten)]
+    pub material: MaterialFlags,
 }
 
 /// The light counts a measuring command renders when none are given.
@@ -176,8 +179,12 @@ pub fn tuning(sweep: &RenderSweep) -> String {
 }
 
 /// The animation `spec` with the inputs of one light layer (count, sampler) loaded.
-pub fn load(spec: &Path, lights: &LightsLayer) -> Result<(Animation, Inputs)> {
-    load_scene(spec, None, lights)
+pub fn load(
+    spec: &Path,
+    lights: &LightsLayer,
+    material: &MaterialFlags,
+) -> Result<(Animation, Inputs)> {
+    load_scene(spec, None, lights, material)
 }
 
 /// Whether a measuring command's `--scene` names a glTF model rather than a spec.
@@ -194,9 +201,11 @@ pub fn load_scene(
     scene: &Path,
     env: Option<&Path>,
     lights: &LightsLayer,
+    material: &MaterialFlags,
 ) -> Result<(Animation, Inputs)> {
     let flags = AnimFlags {
         lights: lights.clone(),
+        material: material.clone(),
         ..Default::default()
     };
     let mut anim = if is_model(scene) {
@@ -377,7 +386,7 @@ pub fn measure(args: &BenchArgs, mut log: impl FnMut(Log)) -> Result<Vec<BenchRo
     };
     let mut rows = Vec::new();
     for lights in light_layers(&args.lights)? {
-        let (base, inputs) = load_scene(&spec, args.env.as_deref(), &lights)?;
+        let (base, inputs) = load_scene(&spec, args.env.as_deref(), &lights, &args.material)?;
         for w in &inputs.scene.warnings {
             log(Log::Warning(w));
         }

@@ -8,31 +8,37 @@ use crate::accel::{Accel, PACKET};
 use crate::background::{Backdrop, ENVIRONMENT};
 use crate::camera::Camera;
 use crate::envmap::EnvMap;
+use crate::glossy::Glossy;
 use crate::lights::LightSet;
 use crate::lights::punctual::SHADOW_END;
 use crate::offset::{hit_point, offset_origin};
 use crate::samples::Samples;
-use crate::scene::{AlphaTest, Scene, coverage_threshold, footprint_width};
-use crate::shade::{ShadeLights, light_sum};
+use crate::scene::{AlphaTest, MaterialSample, Scene, coverage_threshold, footprint_width};
+use crate::shade::ShadeLights;
 
 /// What a primary ray found at a pixel centre.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Surface {
     /// Hit point.
     pub p: Vec3,
-    /// Unit shading normal, on the side facing the camera.
+    /// Unit shading normal (after the normal map), on the side facing the camera: it decides
+    /// which lights are above the horizon, and shades.
     pub n: Vec3,
     /// Unit geometric normal, on the side facing the camera.
     pub ng: Vec3,
     /// Where shadow rays start: `p` moved along `ng` by a bound on its floating-point error
     /// ([`crate::offset`]), so no ray finds the surface it leaves, at any scale.
     pub origin: Vec3,
-    /// Linear RGB albedo.
+    /// Linear RGB albedo: the material's base colour there (texture and vertex colour
+    /// included).
     pub albedo: Vec3,
-    /// The primary ray's unit direction: where a background sample looks up the map.
+    /// The primary ray's unit direction: where a background sample looks up the map, and the
+    /// view direction (its opposite) for specular.
     pub dir: Vec3,
     /// False for background pixels (the ray left the scene).
     pub hit: bool,
+    /// The rest of the material there: metallic, roughness, occlusion, emission, specular.
+    pub material: MaterialSample,
     /// A shadow catcher: it shows only the shadows it receives (see the `catcher` module).
     pub catcher: bool,
 }
@@ -65,6 +71,9 @@ pub struct FrameContext<'a> {
     /// point-sampled textures (level-0 bilinear lookups). Set by
     /// [`with_samples`](Self::with_samples), see [`texture_footprint`].
     pub texture_footprint: f32,
+    /// The prefiltered environment for lobes too narrow for the lights (none: the lights
+    /// alone); see [`with_glossy`](Self::with_glossy).
+    pub glossy: Option<&'a Glossy>,
     /// The environment's turn this frame beyond the map's own rotation (`[motion] kind =
     /// "environment"`), as (sin, cos): the background turns with the lights.
     pub env_turn: Option<(f32, f32)>,
@@ -96,8 +105,14 @@ impl<'a> FrameContext<'a> {
             shade_lights: ShadeLights::new(lights),
             samples: Samples::one(),
             texture_footprint: 0.0,
+            glossy: None,
             env_turn: None,
         }
+    }
+
+    /// This context with glossy lobes too narrow for the lights shaded from `glossy`.
+    pub fn with_glossy(self, glossy: Option<&'a Glossy>) -> FrameContext<'a> {
+        FrameContext { glossy, ..self }
     }
 
     /// This context with the environment turned by `degrees` about the up axis beyond the
@@ -187,19 +202,6 @@ impl<'a> FrameContext<'a> {
         }
     }
 
-    /// The cosine-weighted irradiance on `s` of the lights in `bits`: the directional ones'
-    /// ([`light_sum`]) and the point and spot lights' ([`crate::shade::point_lights`]).
-    #[inline]
-    pub fn irradiance(&self, s: &Surface, bits: &[u64]) -> Vec3 {
-        let sum = light_sum(&self.shade_lights, s.n, bits);
-        if self.has_points() {
-            let first = self.light_dir.len();
-            sum + crate::shade::point_lights(&self.lights.points, first, s.p, s.n, bits)
-        } else {
-            sum
-        }
-    }
-
     /// Number of u64 words in one pixel's visibility bitset.
     pub fn words(&self) -> usize {
         self.light_count().div_ceil(64)
@@ -223,7 +225,19 @@ impl<'a> FrameContext<'a> {
         let [p0, p1, p2] = self.scene.triangle(tri);
         let (p, err) = hit_point([p0, p1, p2], hit.u, hit.v);
         let mut ng = (p1 - p0).cross(p2 - p0).normalize_or_zero();
-        let mut n = self.scene.shading_normal(tri, (hit.u, hit.v));
+        let bary = (hit.u, hit.v);
+        let footprint = if self.texture_footprint > 0.0 {
+            let angle = self.camera.pixel_angle(dir) * self.texture_footprint;
+            footprint_width(hit.t, angle, ng.dot(dir))
+        } else {
+            0.0
+        };
+        // The material there, and the interpolated normal bent by its normal map (in the
+        // mesh's own orientation, before either normal turns to the camera).
+        let at = self
+            .scene
+            .material_at(tri, bary, footprint, self.scene.shading_normal(tri, bary));
+        let mut n = at.normal;
         // Shade the side the camera sees: both normals turn towards the viewer.
         if ng.dot(dir) > 0.0 {
             ng = -ng;
@@ -234,21 +248,15 @@ impl<'a> FrameContext<'a> {
         if n.dot(ng) <= 0.0 || !n.is_finite() {
             n = ng;
         }
-        let albedo = if self.texture_footprint > 0.0 {
-            let angle = self.camera.pixel_angle(dir) * self.texture_footprint;
-            let width = footprint_width(hit.t, angle, ng.dot(dir));
-            self.scene.albedo_footprint(tri, (hit.u, hit.v), width)
-        } else {
-            self.scene.albedo(tri, (hit.u, hit.v))
-        };
         Surface {
             p,
             n,
             ng,
             origin: offset_origin(p, err, ng),
-            albedo,
+            albedo: at.base_color,
             dir,
             hit: true,
+            material: at.sample,
             catcher: self.scene.is_catcher(tri),
         }
     }

@@ -23,6 +23,7 @@ use crate::driver::{FrameWork, Slot};
 use crate::envmap::EnvMap;
 use crate::error::{Interrupted, Result, input_error};
 use crate::film::{Counts, Film};
+use crate::glossy::Glossy;
 use crate::history::{Carried, CarryPatch, Edges};
 use crate::lights::{LightSet, Tracks};
 use crate::output;
@@ -30,7 +31,7 @@ use crate::output::lock::FolderLock;
 use crate::output::record::{FrameRecord, SettingsRecord};
 use crate::output::runs::RunRecord;
 use crate::output::stats::{FrameStats, StatsFile};
-use crate::scene::Scene;
+use crate::scene::{Model, Scene};
 use crate::temporal::{chains, prev_view};
 use crate::tile::{Rect, Tile};
 
@@ -242,6 +243,9 @@ pub struct Inputs {
     /// The BVH of the unposed scene, built by the first frame that needs it: frames whose
     /// geometry does not move (orbit turntables, still cameras) share one build per run.
     still: OnceLock<Accel>,
+    /// The prefiltered environment, made by the first frame that needs it: only when some
+    /// material is glossier than the lights resolve (see [`Glossy`]).
+    glossy: OnceLock<Option<Glossy>>,
 }
 
 impl Inputs {
@@ -253,7 +257,26 @@ impl Inputs {
             lights,
             backdrop: Backdrop::Environment,
             still: OnceLock::new(),
+            glossy: OnceLock::new(),
         }
+    }
+
+    /// The environment prefiltered for glossy lobes, if any material may need it: one whose
+    /// roughness factor (its texture can only lower it) is below what the map's lights
+    /// resolve.
+    pub fn glossy(&self) -> Option<&Glossy> {
+        self.glossy
+            .get_or_init(|| {
+                let map_lights = self.lights.lights.len();
+                let (_, rough_lights) = Glossy::roughness_range(map_lights);
+                let needed = self
+                    .scene
+                    .materials
+                    .iter()
+                    .any(|m| m.model == Model::MetallicRoughness && m.roughness < rough_lights);
+                needed.then(|| Glossy::build(&self.env, map_lights))
+            })
+            .as_ref()
     }
 
     /// These inputs with rays that leave the scene seeing `backdrop`.
@@ -499,6 +522,11 @@ fn render_tile_list(
     let lights = inputs.lights_at(anim, frame);
     let ctx = FrameContext::new(scene, accel, camera, &lights, &inputs.env)
         .with_samples(samples)
+        .with_glossy(if anim.render.glossy_env {
+            inputs.glossy()
+        } else {
+            None
+        })
         .with_backdrop(&inputs.backdrop)
         .with_environment_turn(anim.motion.environment_degrees(frame));
     let prev_lights;

@@ -26,7 +26,8 @@ use crate::lattice::{Lattice, LatticePatch};
 use crate::predict::temporal::solve_temporal;
 use crate::predict::turning::solve_in_place;
 use crate::predict::{At, Order, Scratch, Shadows};
-use crate::shade::{light_sum, point_lights, reflect, same};
+use crate::radiance::radiance_at;
+use crate::shade::LambertCache;
 use crate::tile::Rect;
 use glam::Vec3;
 
@@ -329,10 +330,8 @@ fn shade(
     let mut albedo = Vec::with_capacity(n);
     let (eye, forward) = (ctx.camera.position, ctx.camera.forward());
     let mut truth = vec![0u64; w];
-    // The last light sum shaded: (normal, sample, sum). A sample with the same normal and the
-    // same visible lights has the same sum, bit for bit — neighbouring samples of a flat or
-    // finely tessellated surface mostly do — and is shaded without the per-light loop.
-    let mut last: Option<(Vec3, usize, Vec3)> = None;
+    // Lambertian samples with the normal and visible lights of the last one reuse its sum.
+    let (mut cache, mut exact_cache) = (LambertCache::default(), LambertCache::default());
     for py in pixels.y0..pixels.y1 {
         for px in pixels.x0..pixels.x1 {
             let mut lit = Vec3::ZERO;
@@ -374,30 +373,16 @@ fn shade(
                     a_sum += s.albedo;
                     let vis = TileBuffers::row(&bufs.vis, q, w);
                     let above = TileBuffers::row(&bufs.above, q, w);
-                    let sum = match last {
-                        Some((n, l, sum))
-                            if same(n, s.n) && TileBuffers::row(&bufs.vis, l, w) == vis =>
-                        {
-                            sum
-                        }
-                        _ => light_sum(&ctx.shade_lights, s.n, vis),
-                    };
-                    last = Some((s.n, q, sum));
                     if s.catcher {
                         // [ours] A catcher's shadow is the map's lights' (its fraction is
                         // against the map's unshadowed light); the file's point and spot
                         // lights do not darken it.
+                        let sum = cache.light_sum(&ctx.shade_lights, s.n, vis);
                         let (c, a) = catchers.sample(ctx, &s, above, sum);
                         lit += c;
                         opacity += a;
                     } else {
-                        let sum = if ctx.has_points() {
-                            let first = ctx.light_dir.len();
-                            sum + point_lights(&ctx.lights.points, first, s.p, s.n, vis)
-                        } else {
-                            sum
-                        };
-                        lit += reflect(s.albedo, sum);
+                        lit += radiance_at(ctx, &s, vis, above, &mut cache);
                         opacity += 1.0;
                     }
                     let n_above = bits::count(above);
@@ -434,10 +419,10 @@ fn shade(
                     counts.wrong_pixels += u64::from(wv + wb > 0);
                     mistakes += (wv + wb) as f32;
                     exact += if s.catcher {
-                        let sum = light_sum(&ctx.shade_lights, s.n, &truth);
+                        let sum = exact_cache.light_sum(&ctx.shade_lights, s.n, &truth);
                         catchers.sample(ctx, &s, above, sum).0
                     } else {
-                        reflect(s.albedo, ctx.irradiance(&s, &truth))
+                        radiance_at(ctx, &s, &truth, above, &mut exact_cache)
                     };
                 }
             }

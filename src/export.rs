@@ -1,12 +1,15 @@
 //! `envshadow export`: one frame's exact inputs for another renderer (scripts/compare-mitsuba.sh):
-//! the posed triangles, vertex normals and per-face albedo as a binary PLY, the lights as
-//! `lights.json`, the primary-ray direction of every sample of every pixel (`--spp`; with one
-//! sample, the pixel centre), and a `frame.json` with the camera, the sample pattern and the
-//! shadow-ray offset. With these, an independent renderer can evaluate exactly what envshadow's
-//! `brute` method does: Lambertian shading of every light at every sample, shadow rays from the
-//! hit point moved along the geometric normal by its error bound (`src/offset.rs`: `dot(|ng|,
-//! err)` with `err = gamma7 · (|p0| + |p1 − p0| + |p2 − p0|)` per axis, `frame.json`'s
-//! `shadow_offset_gamma`), a pixel the plain mean of its samples.
+//! the posed triangles, vertex normals and per-face base colour factor as a binary PLY, the
+//! lights as `lights.json`, the primary-ray direction of every sample of every pixel (`--spp`;
+//! with one sample, the pixel centre), what envshadow's primary ray found at each sample
+//! (`surface.f32`: the material there with its textures read, and the shading normal after
+//! the normal map), the materials' names (`materials.json`), and a `frame.json` with the
+//! camera, the sample pattern and the shadow-ray offset. With these, an independent renderer
+//! can evaluate exactly what envshadow's `brute` method does: the material's BRDF for every
+//! light at every sample, shadow rays from the hit point moved along the geometric normal by
+//! its error bound (`src/offset.rs`: `dot(|ng|, err)` with `err = gamma7 · (|p0| + |p1 − p0| +
+//! |p2 − p0|)` per axis, `frame.json`'s `shadow_offset_gamma`), a pixel the plain mean of its
+//! samples.
 
 use std::fs;
 use std::io::{BufWriter, Write};
@@ -17,9 +20,11 @@ use clap::Args;
 use serde_json::json;
 
 use crate::anim::{AnimFlags, Animation};
+use crate::context::FrameContext;
 use crate::coordinator::Inputs;
 use crate::error::{Result, input_error};
 use crate::output::write_atomic_with;
+use crate::scene::{AlphaTest, Model, coverage_threshold};
 
 #[derive(Args, Debug)]
 pub struct ExportArgs {
@@ -29,11 +34,15 @@ pub struct ExportArgs {
     #[arg(long, default_value_t = 0)]
     pub frame: usize,
     /// The spec's settings export reads — light count and sampler, width and height, samples
-    /// per pixel and the filter — and the folder it writes (`--out DIR`, required):
-    /// scene.ply, lights.json, primary.f32, frame.json.
+    /// per pixel and the filter, material overrides — and the folder it writes (`--out DIR`,
+    /// required): scene.ply, lights.json, primary.f32, surface.f32, materials.json,
+    /// frame.json.
     #[command(flatten)]
     pub flags: AnimFlags,
 }
+
+/// Floats per sample in surface.f32.
+pub const SURFACE_FLOATS: usize = 19;
 
 /// What [`run`] wrote.
 #[derive(Clone, Debug)]
@@ -51,7 +60,9 @@ pub struct Exported {
 }
 
 /// The settings an export reads; the others would change nothing it writes.
-const READS: [&str; 10] = [
+const READS: [&str; 12] = [
+    "clay",
+    "lambert",
     "up",
     "ground",
     "count",
@@ -85,15 +96,6 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
         ));
     }
     let inputs = Inputs::load(&anim)?;
-    if let Some(m) = inputs.scene.materials.iter().find(|m| m.texture.is_some()) {
-        return Err(input_error(
-            &args.spec,
-            format!(
-                "material {:?} is textured; export writes per-face base colours only",
-                m.name
-            ),
-        ));
-    }
     let pivot = anim.pivot(&inputs.scene)?;
     let posed;
     let scene = match anim.scene_transform(args.frame, pivot) {
@@ -167,10 +169,86 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
         Ok(())
     })?;
 
+    // surface.f32: per sample, in primary.f32's order, SURFACE_FLOATS floats: whether the ray
+    // hit, the base colour (3), metallic, roughness, occlusion, emission (3), the dielectric
+    // F0 (3) and F90, 1 for a Lambertian material, the shading normal facing the camera (3),
+    // the material's index in materials.json (−1 for a miss).
+    let accel = scene.accel();
+    let lights = inputs.lights_at(&anim, args.frame);
+    let ctx = FrameContext::new(scene, &accel, camera, &lights, &inputs.env)
+        .with_samples(samples.clone());
+    write_atomic_with(&dir.join("surface.f32"), |tmp| {
+        let mut f = BufWriter::new(fs::File::create(tmp)?);
+        for y in 0..camera.height {
+            for x in 0..camera.width {
+                for j in 0..k {
+                    for i in 0..k {
+                        let (sx, sy) = (x * k + i, y * k + j);
+                        let s = ctx.surface(sx, sy);
+                        // The triangle the sample's ray stopped at, cut-outs as it saw them.
+                        let material = if s.hit {
+                            let cut = AlphaTest::camera(scene, coverage_threshold(x, y, i, j, k));
+                            accel
+                                .intersect_cut(camera.position, ctx.sample_dir(sx, sy), &cut)
+                                .map_or(-1.0, |h| scene.tri_material[h.tri as usize] as f32)
+                        } else {
+                            -1.0
+                        };
+                        let m = &s.material;
+                        let values: [f32; SURFACE_FLOATS] = [
+                            f32::from(u8::from(s.hit)),
+                            s.albedo.x,
+                            s.albedo.y,
+                            s.albedo.z,
+                            m.metallic,
+                            m.roughness,
+                            m.occlusion,
+                            m.emission.x,
+                            m.emission.y,
+                            m.emission.z,
+                            m.f0.x,
+                            m.f0.y,
+                            m.f0.z,
+                            m.f90,
+                            f32::from(u8::from(m.lambert)),
+                            s.n.x,
+                            s.n.y,
+                            s.n.z,
+                            material,
+                        ];
+                        for v in values {
+                            f.write_all(&v.to_le_bytes())?;
+                        }
+                    }
+                }
+            }
+        }
+        f.into_inner().map_err(|e| e.into_error())?.sync_all()?;
+        Ok(())
+    })?;
+    let materials: Vec<serde_json::Value> = scene
+        .materials
+        .iter()
+        .enumerate()
+        .map(|(i, m)| {
+            json!({
+                "index": i,
+                "name": m.name,
+                "lambert": m.model == Model::Lambert,
+                "metallic": m.metallic,
+                "roughness": m.roughness,
+                "textured": m.slots().iter().any(|(_, s)| s.is_some()),
+                "normal_mapped": m.normal_texture.is_some(),
+            })
+        })
+        .collect();
+    crate::output::write_atomic(
+        &dir.join("materials.json"),
+        serde_json::to_string_pretty(&json!({ "materials": materials }))?.as_bytes(),
+    )?;
+
     // The frame's lights: turned with the environment where it turns.
-    inputs
-        .lights_at(&anim, args.frame)
-        .write_json(&dir.join("lights.json"))?;
+    lights.write_json(&dir.join("lights.json"))?;
     let meta = json!({
         "spec": anim.spec_path.display().to_string(),
         "frame": args.frame,
@@ -188,6 +266,7 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
         "origin": inputs.scene.origin.to_array(),
         "triangles": scene.triangles.len(),
         "lights": inputs.lights.len(),
+        "surface_floats": SURFACE_FLOATS,
     });
     crate::output::write_atomic(
         &dir.join("frame.json"),

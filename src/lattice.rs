@@ -250,6 +250,7 @@ mod tests {
                 dir: Vec3::new(0.0, -s, 1.0).normalize(),
                 hit: true,
                 catcher: seed % 2 == 1,
+                ..Surface::default()
             },
             bits: [
                 vec![0xf0f0 ^ k, 0x3 << k],

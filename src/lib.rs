@@ -6,6 +6,8 @@
 //! - [`scene`] loads glTF or builds the `shapes` scene; [`envmap`] loads lat-long maps;
 //!   [`lights`] reduces a map to N directional lights with O(1) cell lookup.
 //! - [`accel`] wraps the BVH; [`camera`] makes primary rays.
+//! - [`brdf`] is the glTF metallic-roughness BRDF; [`shade`] sums it over the visible lights
+//!   (SIMD kernels); [`glossy`] prefilters the map for lobes too narrow for the lights.
 //! - [`predict`] decides each (pixel, light) visibility: traced or predicted.
 //! - [`background`] is what rays leaving the scene see; [`catcher`] shades the background's
 //!   and shadow catchers' share of a pixel (its alpha too).
@@ -23,6 +25,7 @@ pub mod background;
 pub mod bench;
 pub mod bits;
 pub mod blockers;
+pub mod brdf;
 pub mod buffers;
 pub mod camera;
 pub mod cancel;
@@ -36,6 +39,7 @@ pub mod export;
 pub mod farm;
 pub mod film;
 pub mod frames;
+pub mod glossy;
 pub mod history;
 pub mod lattice;
 pub mod lights;
@@ -44,6 +48,7 @@ pub mod motion;
 pub mod offset;
 pub mod output;
 pub mod predict;
+pub mod radiance;
 pub mod raydump;
 pub mod report;
 pub mod samples;

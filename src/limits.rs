@@ -316,12 +316,9 @@ const READ_VERTEX: u128 = 160;
 const READ_INDEX: u128 = 24;
 /// Bytes per texel of a decoded texture: linear RGB f32 and its mip pyramid (a third more).
 const TEXTURE_TEXEL: u128 = 16;
-/// Bytes per texel of a base colour texture's alpha, kept (level 0 only, f32) when a
-/// non-opaque material uses it.
-const TEXTURE_ALPHA_TEXEL: u128 = 4;
-/// Bytes per vertex of `COLOR_0` alpha, kept for every vertex once a non-opaque material's
-/// primitive has one.
-const VERTEX_ALPHA: u128 = 4;
+/// Bytes per texel of a texture's alpha, when the image has an alpha channel: f32 and its mip
+/// pyramid (a third more, rounded up).
+const TEXTURE_ALPHA_TEXEL: u128 = 6;
 /// Bytes per texel while a texture is decoded, beyond what it keeps: the decoder's pixels (up
 /// to 16 for RGBA f32) and the rows of the pyramid's first halving (6).
 const TEXTURE_DECODE_TEXEL: u128 = 24;
@@ -365,10 +362,11 @@ pub struct SceneSize {
     pub textures: u64,
     pub texels: u64,
     pub largest_texels: u64,
-    /// Texels of the images whose alpha is kept (non-opaque materials' base colour).
+    /// Bytes of the optional vertex arrays (second texture coordinates, tangents, colours)
+    /// over every vertex, when any primitive has them (then every vertex gets them).
+    pub extra_vertex_bytes: u64,
+    /// Texels of the decoded textures whose image has an alpha channel (kept beside the colour).
     pub alpha_texels: u64,
-    /// Some non-opaque material's primitive has `COLOR_0` alpha: every vertex keeps one.
-    pub vertex_alpha: bool,
     /// Lights the file places (`KHR_lights_punctual`): each a bit of every sample's bitsets
     /// when they join the map's.
     pub lights: u64,
@@ -461,8 +459,9 @@ impl Budget {
     /// The estimate of what has been counted so far.
     pub fn estimate(&self) -> Estimate {
         let s = &self.scene;
-        let vertex = SCENE_VERTEX + if s.vertex_alpha { VERTEX_ALPHA } else { 0 };
-        let arrays = u128::from(s.vertices) * vertex + u128::from(s.triangles) * SCENE_TRIANGLE;
+        let arrays = u128::from(s.vertices) * SCENE_VERTEX
+            + u128::from(s.extra_vertex_bytes)
+            + u128::from(s.triangles) * SCENE_TRIANGLE;
         let read = u128::from(s.largest_vertices) * READ_VERTEX
             + u128::from(s.largest_indices) * READ_INDEX;
         let decode = u128::from(s.largest_texels) * TEXTURE_DECODE_TEXEL;
@@ -729,17 +728,17 @@ mod tests {
         b.expect_map(8 << 20, 1000);
         let e = b.estimate();
         assert_eq!(e.textures, (3 << 20) * TEXTURE_TEXEL);
-        // An image whose alpha a cut-out material keeps counts its alpha too.
+        // An image with an alpha channel counts its alpha too.
         let mut cut = b.clone();
         cut.scene.alpha_texels = 1 << 20;
         let with_alpha = cut.estimate().textures;
         assert_eq!(with_alpha, e.textures + (1 << 20) * TEXTURE_ALPHA_TEXEL);
-        // Vertex alpha: four bytes more per vertex.
-        let mut va = b.clone();
-        va.scene.vertices = 1000;
-        let without = va.estimate().scene;
-        va.scene.vertex_alpha = true;
-        assert_eq!(va.estimate().scene, without + 1000 * VERTEX_ALPHA);
+        // The optional vertex arrays (colours, tangents, a second UV set) count their bytes.
+        let mut extra = b.clone();
+        extra.scene.vertices = 1000;
+        let without = extra.estimate().scene;
+        extra.scene.extra_vertex_bytes = 1000 * 16;
+        assert_eq!(extra.estimate().scene, without + 1000 * 16);
         assert_eq!(e.map, (8 << 20) * MAP_TEXEL);
         // Loading: the larger of decoding the largest image and decoding or sampling the map.
         let image = (2 << 20) * TEXTURE_DECODE_TEXEL;

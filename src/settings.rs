@@ -381,6 +381,13 @@ settings! {
         /// Filter width in pixels, its full support (0, the default: box 1, triangle 2,
         /// gaussian and blackman-harris 1.5).
         filter_width: f32 = 0.0, flag "filter-width" [value_name = "PX"], check check_filter_width;
+        /// Specular lobes too narrow for the lights (low roughness: the lights would show as
+        /// dots) reflect the environment prefiltered per roughness, weighted by the lobe's
+        /// visible lights (default true); false: the lights alone at every roughness, the
+        /// exact sum over them (docs/materials.md).
+        glossy_env: bool = true,
+            flag "glossy-env" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
+                default_missing_value = "true"], check any;
         /// Shadow method (default grid-nowarp-uncertainty; `envshadow methods` lists them all).
         method: Method = Method::DEFAULT,
             flag "method" [value_name = "METHOD", alias = "methods"], check any;

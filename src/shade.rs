@@ -1,9 +1,13 @@
-//! Shading kernels: which lights are above a surface's horizon, and the Lambertian sum over
-//! the visible ones (ALGORITHM.md §2), as SSE2/AVX2 kernels that give the same bits as the
-//! scalar reference (the lane order is fixed, so neither thread nor tile changes a sum).
+//! Shading kernels: which lights are above a surface's horizon, the Lambertian sum over the
+//! visible ones (ALGORITHM.md §2), and the glTF metallic-roughness sums (the `brdf` module's),
+//! as SSE2/AVX2 kernels that give the same bits as the scalar reference (the lane order is
+//! fixed, so neither thread nor tile changes a sum); the point and spot lights' sums, one light
+//! at a time. A sample's radiance from them is the `radiance` module's.
 
 use glam::Vec3;
 
+use crate::brdf::{Lobe, MAX_DV, Sums, light_terms};
+use crate::envmap::LUMINANCE;
 use crate::lights::{Light, LightSet, PointLight};
 
 /// Light directions and energies as padded flat arrays (length a multiple of 64, zero lights at
@@ -16,6 +20,8 @@ pub struct ShadeLights {
     r: Vec<f32>,
     g: Vec<f32>,
     b: Vec<f32>,
+    /// Luminance of the energy: the weight of a light in a lobe's visible fraction.
+    lum: Vec<f32>,
 }
 
 impl ShadeLights {
@@ -35,9 +41,26 @@ impl ShadeLights {
             r: pad(&|l| l.energy.x),
             g: pad(&|l| l.energy.y),
             b: pad(&|l| l.energy.z),
+            lum: pad(&|l| l.energy.dot(LUMINANCE)),
         }
     }
 }
+
+/// For each byte value, its eight bits as all-ones / zero lane masks, lowest bit first: a lane
+/// outside the set is cleared by a bitwise and, whatever (NaN, infinite) it held.
+const BYTE_BITS: [[u32; 8]; 256] = {
+    let mut t = [[0u32; 8]; 256];
+    let mut v = 0;
+    while v < 256 {
+        let mut l = 0;
+        while l < 8 {
+            t[v][l] = if (v >> l) & 1 == 1 { u32::MAX } else { 0 };
+            l += 1;
+        }
+        v += 1;
+    }
+    t
+};
 
 /// For each byte value, its eight bits as 0.0 / 1.0 multipliers, lowest bit first.
 const BYTE_MASK: [[f32; 8]; 256] = {
@@ -229,6 +252,330 @@ unsafe fn radiance_avx2(sl: &ShadeLights, n: Vec3, bits: &[u64]) -> [[f32; 8]; 3
     out
 }
 
+/// The metallic-roughness light sums ([`Sums`]) of the point and spot lights whose bits are set
+/// in `bits` (light k of `points` has bit `first + k`) at point `p` for `lobe`: each light's
+/// irradiance (falloff included, [`PointLight::at`]) in its own direction, one light at a time
+/// in light order, as [`point_lights`] sums them for Lambert.
+pub fn point_sums(points: &[PointLight], first: usize, p: Vec3, lobe: &Lobe, bits: &[u64]) -> Sums {
+    let mut sums = Sums::default();
+    for (k, l) in points.iter().enumerate() {
+        if !crate::bits::get(bits, first + k) {
+            continue;
+        }
+        let Some(i) = l.at(p) else {
+            continue;
+        };
+        let t = light_terms(lobe, i.dir);
+        if t.cos <= 0.0 {
+            continue;
+        }
+        let e = i.irradiance * t.cos;
+        sums.s0 += e;
+        sums.s1 += e * t.w;
+        sums.s2 += e * t.dv;
+        sums.s3 += e * (t.dv * t.w);
+    }
+    sums
+}
+
+/// The Lambertian light sum of the last sample shaded with it, so that a sample with the same
+/// normal and visible lights — neighbouring samples of a flat or finely tessellated surface
+/// mostly have them — is shaded without the per-light loop, to the same bits. One per tile.
+#[derive(Clone, Debug, Default)]
+pub struct LambertCache {
+    n: Vec3,
+    bits: Vec<u64>,
+    sum: Vec3,
+    valid: bool,
+}
+
+impl LambertCache {
+    /// [`light_sum`] of `n` and `vis`, or the last one's when they are the same.
+    pub fn light_sum(&mut self, sl: &ShadeLights, n: Vec3, vis: &[u64]) -> Vec3 {
+        if self.valid && same(n, self.n) && self.bits == vis {
+            return self.sum;
+        }
+        self.sum = light_sum(sl, n, vis);
+        self.n = n;
+        self.bits.clear();
+        self.bits.extend_from_slice(vis);
+        self.valid = true;
+        self.sum
+    }
+}
+
+/// Clears a lane whose mask bits are zero.
+#[inline]
+fn and(x: f32, mask: u32) -> f32 {
+    f32::from_bits(x.to_bits() & mask)
+}
+
+/// The light sums of the metallic-roughness BRDF (`crate::brdf::Sums`) over the lights of
+/// `vis` for `lobe`, and, with `unshadowed`, `Σ Y cos D Vis` over every light of `above`
+/// (Y the energy's luminance; else 0). Eight lights at a time into eight lanes, added in a
+/// fixed order, as [`light_sum`].
+pub fn specular_sums(
+    sl: &ShadeLights,
+    lobe: &Lobe,
+    vis: &[u64],
+    above: &[u64],
+    unshadowed: bool,
+) -> (Sums, f32) {
+    assert!(vis.len() * 64 <= sl.x.len() && above.len() == vis.len());
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: the light planes hold every light of the bitsets (asserted); AVX2 where detected.
+    let lanes = unsafe {
+        match (crate::simd::has_avx2(), unshadowed) {
+            (true, false) => specular_avx2::<false>(sl, lobe, vis, above),
+            (true, true) => specular_avx2::<true>(sl, lobe, vis, above),
+            (false, false) => specular_sse2::<false>(sl, lobe, vis, above),
+            (false, true) => specular_sse2::<true>(sl, lobe, vis, above),
+        }
+    };
+    #[cfg(not(target_arch = "x86_64"))]
+    let lanes = if unshadowed {
+        specular_lanes::<true>(sl, lobe, vis, above)
+    } else {
+        specular_lanes::<false>(sl, lobe, vis, above)
+    };
+    let sum = |a: &[f32; 8]| ((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]));
+    let rgb = |k: usize| Vec3::new(sum(&lanes[k]), sum(&lanes[k + 1]), sum(&lanes[k + 2]));
+    let sums = Sums {
+        s0: rgb(0),
+        s1: rgb(3),
+        s2: rgb(6),
+        s3: rgb(9),
+    };
+    (sums, sum(&lanes[12]))
+}
+
+/// The 13 × 8 lane sums of [`specular_sums`] (s0, s1, s2, s3 as r, g, b each, then the
+/// unshadowed one), one light at a time: the reference the SIMD kernels follow operation for
+/// operation. `U`: also the unshadowed sum, walking `above` (else `vis`).
+#[cfg_attr(all(target_arch = "x86_64", not(test)), allow(dead_code))]
+fn specular_lanes<const U: bool>(
+    sl: &ShadeLights,
+    lobe: &Lobe,
+    vis: &[u64],
+    above: &[u64],
+) -> [[f32; 8]; 13] {
+    let mut acc = [[0.0f32; 8]; 13];
+    for k in 0..vis.len() {
+        let mut wv = vis[k];
+        let mut wa = if U { above[k] } else { wv };
+        let mut base = k * 64;
+        while wa != 0 {
+            let (bv, ba) = ((wv & 0xff) as usize, (wa & 0xff) as usize);
+            if ba != 0 {
+                for l in 0..8 {
+                    let j = base + l;
+                    let t = light_terms(lobe, Vec3::new(sl.x[j], sl.y[j], sl.z[j]));
+                    let mv = BYTE_BITS[bv][l];
+                    let (cos, w, dv) = (and(t.cos, mv), and(t.w, mv), and(t.dv, mv));
+                    for (c, e) in [&sl.r, &sl.g, &sl.b].into_iter().enumerate() {
+                        let ec = e[j] * cos;
+                        acc[c][l] += ec;
+                        acc[3 + c][l] += ec * w;
+                        let ecd = ec * dv;
+                        acc[6 + c][l] += ecd;
+                        acc[9 + c][l] += ecd * w;
+                    }
+                    if U {
+                        let ma = BYTE_BITS[ba][l];
+                        acc[12][l] += sl.lum[j] * and(t.cos, ma) * and(t.dv, ma);
+                    }
+                }
+            }
+            wv >>= 8;
+            wa >>= 8;
+            base += 8;
+        }
+    }
+    acc
+}
+
+/// [`specular_lanes`] with SSE2, lanes 0–3 and 4–7 in two registers per sum.
+///
+/// # Safety
+/// The light planes hold at least `vis.len() * 64` lights; `above` is as long as `vis`.
+#[cfg(target_arch = "x86_64")]
+unsafe fn specular_sse2<const U: bool>(
+    sl: &ShadeLights,
+    lobe: &Lobe,
+    vis: &[u64],
+    above: &[u64],
+) -> [[f32; 8]; 13] {
+    use std::arch::x86_64::*;
+    let mut out = [[0.0f32; 8]; 13];
+    unsafe {
+        let set = _mm_set1_ps;
+        let (nx, ny, nz) = (set(lobe.n.x), set(lobe.n.y), set(lobe.n.z));
+        let (vx, vy, vz) = (set(lobe.v.x), set(lobe.v.y), set(lobe.v.z));
+        let (nv, a2, oma2) = (set(lobe.n_dot_v), set(lobe.a2), set(lobe.one_minus_a2));
+        let (kv, c, quarter, one, max_dv) =
+            (set(lobe.kv), set(lobe.c), set(0.25), set(1.0), set(MAX_DV));
+        let mut acc = [_mm_setzero_ps(); 26];
+        for k in 0..vis.len() {
+            let mut wv = vis[k];
+            let mut wa = if U { above[k] } else { wv };
+            let mut base = k * 64;
+            while wa != 0 {
+                let (bv, ba) = ((wv & 0xff) as usize, (wa & 0xff) as usize);
+                if ba != 0 {
+                    for h in 0..2 {
+                        let j = base + 4 * h;
+                        let ld = |v: &[f32]| _mm_loadu_ps(v.as_ptr().add(j));
+                        let mask = |b: usize| {
+                            _mm_castsi128_ps(_mm_loadu_si128(
+                                BYTE_BITS[b].as_ptr().add(4 * h) as *const __m128i
+                            ))
+                        };
+                        let (lx, ly, lz) = (ld(&sl.x), ld(&sl.y), ld(&sl.z));
+                        let (add, sub, mul) = (
+                            |a, b| _mm_add_ps(a, b),
+                            |a, b| _mm_sub_ps(a, b),
+                            |a, b| _mm_mul_ps(a, b),
+                        );
+                        let cos = add(add(mul(nx, lx), mul(ny, ly)), mul(nz, lz));
+                        let (hx, hy, hz) = (add(vx, lx), add(vy, ly), add(vz, lz));
+                        let hh = add(add(mul(hx, hx), mul(hy, hy)), mul(hz, hz));
+                        let vh = _mm_sqrt_ps(mul(hh, quarter));
+                        let t = sub(one, vh);
+                        let t2 = mul(t, t);
+                        let w = mul(mul(t2, t2), t);
+                        let cx = sub(mul(ny, hz), mul(nz, hy));
+                        let cy = sub(mul(nz, hx), mul(nx, hz));
+                        let cz = sub(mul(nx, hy), mul(ny, hx));
+                        let cross = add(add(mul(cx, cx), mul(cy, cy)), mul(cz, cz));
+                        let sum = add(nv, cos);
+                        let q = add(mul(mul(sum, sum), a2), cross);
+                        let kl = _mm_sqrt_ps(add(mul(mul(cos, cos), oma2), a2));
+                        let den = mul(mul(q, q), add(mul(cos, kv), mul(nv, kl)));
+                        let dv = _mm_div_ps(mul(c, mul(hh, hh)), den);
+                        let dv = _mm_min_ps(dv, max_dv);
+                        let mv = mask(bv);
+                        let (cm, wm, dm) =
+                            (_mm_and_ps(cos, mv), _mm_and_ps(w, mv), _mm_and_ps(dv, mv));
+                        for (ch, e) in [&sl.r, &sl.g, &sl.b].into_iter().enumerate() {
+                            let ec = _mm_mul_ps(ld(e), cm);
+                            let a = |k: usize| 2 * k + h;
+                            acc[a(ch)] = _mm_add_ps(acc[a(ch)], ec);
+                            acc[a(3 + ch)] = _mm_add_ps(acc[a(3 + ch)], _mm_mul_ps(ec, wm));
+                            let ecd = _mm_mul_ps(ec, dm);
+                            acc[a(6 + ch)] = _mm_add_ps(acc[a(6 + ch)], ecd);
+                            acc[a(9 + ch)] = _mm_add_ps(acc[a(9 + ch)], _mm_mul_ps(ecd, wm));
+                        }
+                        if U {
+                            let ma = mask(ba);
+                            let y = _mm_mul_ps(ld(&sl.lum), _mm_and_ps(cos, ma));
+                            acc[24 + h] =
+                                _mm_add_ps(acc[24 + h], _mm_mul_ps(y, _mm_and_ps(dv, ma)));
+                        }
+                    }
+                }
+                wv >>= 8;
+                wa >>= 8;
+                base += 8;
+            }
+        }
+        for k in 0..13 {
+            _mm_storeu_ps(out[k].as_mut_ptr(), acc[2 * k]);
+            _mm_storeu_ps(out[k].as_mut_ptr().add(4), acc[2 * k + 1]);
+        }
+    }
+    out
+}
+
+/// [`specular_lanes`] with AVX2 (no FMA), eight lanes in one register per sum.
+///
+/// # Safety
+/// As [`specular_sse2`], on a CPU with AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn specular_avx2<const U: bool>(
+    sl: &ShadeLights,
+    lobe: &Lobe,
+    vis: &[u64],
+    above: &[u64],
+) -> [[f32; 8]; 13] {
+    use std::arch::x86_64::*;
+    let mut out = [[0.0f32; 8]; 13];
+    unsafe {
+        let set = |x: f32| _mm256_set1_ps(x);
+        let (nx, ny, nz) = (set(lobe.n.x), set(lobe.n.y), set(lobe.n.z));
+        let (vx, vy, vz) = (set(lobe.v.x), set(lobe.v.y), set(lobe.v.z));
+        let (nv, a2, oma2) = (set(lobe.n_dot_v), set(lobe.a2), set(lobe.one_minus_a2));
+        let (kv, c, quarter, one, max_dv) =
+            (set(lobe.kv), set(lobe.c), set(0.25), set(1.0), set(MAX_DV));
+        let mut acc = [_mm256_setzero_ps(); 13];
+        for k in 0..vis.len() {
+            let mut wv = vis[k];
+            let mut wa = if U { above[k] } else { wv };
+            let mut base = k * 64;
+            while wa != 0 {
+                let (bv, ba) = ((wv & 0xff) as usize, (wa & 0xff) as usize);
+                if ba != 0 {
+                    let ld = |v: &[f32]| _mm256_loadu_ps(v.as_ptr().add(base));
+                    let mask = |b: usize| {
+                        _mm256_castsi256_ps(_mm256_loadu_si256(
+                            BYTE_BITS[b].as_ptr() as *const __m256i
+                        ))
+                    };
+                    let (lx, ly, lz) = (ld(&sl.x), ld(&sl.y), ld(&sl.z));
+                    let (add, sub, mul) = (
+                        |a, b| _mm256_add_ps(a, b),
+                        |a, b| _mm256_sub_ps(a, b),
+                        |a, b| _mm256_mul_ps(a, b),
+                    );
+                    let cos = add(add(mul(nx, lx), mul(ny, ly)), mul(nz, lz));
+                    let (hx, hy, hz) = (add(vx, lx), add(vy, ly), add(vz, lz));
+                    let hh = add(add(mul(hx, hx), mul(hy, hy)), mul(hz, hz));
+                    let vh = _mm256_sqrt_ps(mul(hh, quarter));
+                    let t = sub(one, vh);
+                    let t2 = mul(t, t);
+                    let w = mul(mul(t2, t2), t);
+                    let cx = sub(mul(ny, hz), mul(nz, hy));
+                    let cy = sub(mul(nz, hx), mul(nx, hz));
+                    let cz = sub(mul(nx, hy), mul(ny, hx));
+                    let cross = add(add(mul(cx, cx), mul(cy, cy)), mul(cz, cz));
+                    let sum = add(nv, cos);
+                    let q = add(mul(mul(sum, sum), a2), cross);
+                    let kl = _mm256_sqrt_ps(add(mul(mul(cos, cos), oma2), a2));
+                    let den = mul(mul(q, q), add(mul(cos, kv), mul(nv, kl)));
+                    let dv = _mm256_div_ps(mul(c, mul(hh, hh)), den);
+                    let dv = _mm256_min_ps(dv, max_dv);
+                    let mv = mask(bv);
+                    let (cm, wm, dm) = (
+                        _mm256_and_ps(cos, mv),
+                        _mm256_and_ps(w, mv),
+                        _mm256_and_ps(dv, mv),
+                    );
+                    for (ch, e) in [&sl.r, &sl.g, &sl.b].into_iter().enumerate() {
+                        let ec = _mm256_mul_ps(ld(e), cm);
+                        acc[ch] = _mm256_add_ps(acc[ch], ec);
+                        acc[3 + ch] = _mm256_add_ps(acc[3 + ch], _mm256_mul_ps(ec, wm));
+                        let ecd = _mm256_mul_ps(ec, dm);
+                        acc[6 + ch] = _mm256_add_ps(acc[6 + ch], ecd);
+                        acc[9 + ch] = _mm256_add_ps(acc[9 + ch], _mm256_mul_ps(ecd, wm));
+                    }
+                    if U {
+                        let ma = mask(ba);
+                        let y = _mm256_mul_ps(ld(&sl.lum), _mm256_and_ps(cos, ma));
+                        acc[12] = _mm256_add_ps(acc[12], _mm256_mul_ps(y, _mm256_and_ps(dv, ma)));
+                    }
+                }
+                wv >>= 8;
+                wa >>= 8;
+                base += 8;
+            }
+        }
+        for k in 0..13 {
+            _mm256_storeu_ps(out[k].as_mut_ptr(), acc[k]);
+        }
+    }
+    out
+}
+
 /// Sets `out`'s bits for the lights above the horizon of normal `n` (`n·ω > 0`, the products
 /// summed in glam's dot order `(x + y) + z`), four or eight lights per instruction.
 #[inline]
@@ -344,6 +691,46 @@ unsafe fn above_horizon_avx2(x: &[f32], y: &[f32], z: &[f32], n: Vec3, h: f32, o
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::brdf::Weights;
+
+    #[test]
+    fn point_sums_are_the_brdf_of_each_visible_point_light() {
+        // Two point lights, the second's bit clear: the sums' radiance is the first light's
+        // BRDF × irradiance × cosine (brdf::brdf, the scalar reference), the second adds nothing.
+        let m = crate::scene::MaterialSample {
+            lambert: false,
+            metallic: 0.4,
+            roughness: 0.35,
+            ..crate::scene::MaterialSample::default()
+        };
+        let (n, base) = (
+            Vec3::new(0.1, 1.0, 0.2).normalize(),
+            Vec3::new(0.7, 0.4, 0.2),
+        );
+        let v = Vec3::new(-0.3, 0.8, 0.5).normalize();
+        let p = Vec3::new(0.2, 0.0, -0.1);
+        let light = |at: Vec3| PointLight {
+            position: at,
+            intensity: Vec3::new(2.0, 1.5, 1.0),
+            range: f32::INFINITY,
+            spot: None,
+        };
+        let points = [
+            light(Vec3::new(1.0, 2.0, 0.5)),
+            light(Vec3::new(-1.0, 1.0, 0.0)),
+        ];
+        let lobe = Lobe::new(n, v, m.roughness);
+        let bits = [1u64 << 3];
+        let got = Weights::new(base, &m).radiance(&point_sums(&points, 3, p, &lobe, &bits));
+        let i = points[0].at(p).unwrap();
+        let want = crate::brdf::brdf(n, v, i.dir, base, &m) * i.irradiance * n.dot(i.dir);
+        assert!(
+            (got - want).abs().max_element() <= 1e-4 * want.max_element(),
+            "{got} against {want}"
+        );
+        let none = point_sums(&points, 3, p, &lobe, &[0]);
+        assert_eq!(none, Sums::default());
+    }
 
     /// 200 pseudo-random lights (some below any horizon, unequal energies), padded as for a
     /// frame, and random normals and visibility words.
@@ -372,6 +759,7 @@ mod tests {
             r: pad(energy.iter().map(|e| e.x).collect()),
             g: pad(energy.iter().map(|e| e.y).collect()),
             b: pad(energy.iter().map(|e| e.z).collect()),
+            lum: pad(energy.iter().map(|e| e.dot(LUMINANCE)).collect()),
         };
         let mut cases = Vec::new();
         for _ in 0..300 {
@@ -404,6 +792,96 @@ mod tests {
                     let avx = unsafe { radiance_avx2(&sl, *n, bits) };
                     assert_eq!(bitwise(avx), bitwise(reference));
                 }
+            }
+        }
+    }
+
+    /// Views from every side of the normal (below its horizon too, as normal maps make them),
+    /// roughness from a mirror's to 1.
+    fn lobes(n: Vec3, k: usize) -> Vec<Lobe> {
+        let views = [
+            Vec3::new(0.3, 0.8, 0.5),
+            Vec3::new(-0.9, 0.1, 0.2),
+            Vec3::new(0.0, -0.3, 1.0),
+            n,
+            -n,
+        ];
+        let rough = [0.0, 0.05, 0.3, 0.7, 1.0];
+        views
+            .iter()
+            .map(|v| {
+                Lobe::new(
+                    n,
+                    ((*v + n * 0.5).normalize_or(n)).normalize(),
+                    rough[k % 5],
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn specular_kernels_give_the_reference_lanes_bit_for_bit() {
+        let (sl, cases) = setup();
+        let bitwise = |a: [[f32; 8]; 13]| a.map(|c| c.map(f32::to_bits));
+        for (k, (n, vis)) in cases.iter().enumerate() {
+            let mut above = [0u64; 4];
+            above_horizon(&sl, *n, &mut above);
+            for lobe in lobes(*n, k) {
+                let plain = specular_lanes::<false>(&sl, &lobe, vis, &above);
+                let unshadowed = specular_lanes::<true>(&sl, &lobe, vis, &above);
+                assert!(plain.iter().flatten().all(|v| v.is_finite()));
+                assert!(unshadowed.iter().flatten().all(|v| v.is_finite()));
+                // Walking `above` instead of `vis` changes none of the shadowed sums.
+                assert_eq!(bitwise(plain)[..12], bitwise(unshadowed)[..12]);
+                #[cfg(target_arch = "x86_64")]
+                {
+                    // SAFETY: the planes hold 256 lights, the bitsets cover 256.
+                    unsafe {
+                        let sse = specular_sse2::<false>(&sl, &lobe, vis, &above);
+                        assert_eq!(bitwise(sse), bitwise(plain), "case {k}");
+                        let sse = specular_sse2::<true>(&sl, &lobe, vis, &above);
+                        assert_eq!(bitwise(sse), bitwise(unshadowed), "case {k}");
+                        if std::arch::is_x86_feature_detected!("avx2") {
+                            let avx = specular_avx2::<false>(&sl, &lobe, vis, &above);
+                            assert_eq!(bitwise(avx), bitwise(plain), "case {k}");
+                            let avx = specular_avx2::<true>(&sl, &lobe, vis, &above);
+                            assert_eq!(bitwise(avx), bitwise(unshadowed), "case {k}");
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_specular_sums_are_the_brdf_summed_light_by_light() {
+        // Against `brdf::brdf` one light at a time (another order of the same products: close,
+        // not the same bits).
+        let (sl, cases) = setup();
+        let base = Vec3::new(0.7, 0.5, 0.2);
+        for (k, (n, vis)) in cases.iter().enumerate().take(60) {
+            let mut above = [0u64; 4];
+            above_horizon(&sl, *n, &mut above);
+            for lobe in lobes(*n, k).into_iter().take(3) {
+                let roughness = [0.0, 0.05, 0.3, 0.7, 1.0][k % 5];
+                let m = crate::scene::MaterialSample {
+                    lambert: false,
+                    metallic: [0.0, 1.0, 0.3][k % 3],
+                    roughness,
+                    ..Default::default()
+                };
+                let (sums, _) = specular_sums(&sl, &lobe, vis, &above, false);
+                let got = Weights::new(base, &m).radiance(&sums);
+                let mut want = Vec3::ZERO;
+                for j in 0..200 {
+                    if vis[j / 64] >> (j % 64) & 1 == 1 {
+                        let l = Vec3::new(sl.x[j], sl.y[j], sl.z[j]);
+                        let e = Vec3::new(sl.r[j], sl.g[j], sl.b[j]);
+                        want += crate::brdf::brdf(*n, lobe.v, l, base, &m) * e * n.dot(l);
+                    }
+                }
+                let err = ((got - want).abs() / want.abs().max(Vec3::splat(1e-3))).max_element();
+                assert!(err < 1e-3, "case {k}: {got} vs {want}");
             }
         }
     }

@@ -166,7 +166,7 @@ pub fn measure(args: &TableArgs, mut log: impl FnMut(Log)) -> Result<Vec<TableRo
     let pool = thread_pool(threads)?;
     let mut rows = Vec::new();
     for lights in light_layers(&args.lights)? {
-        let (base, inputs) = load(&spec, &lights)?;
+        let (base, inputs) = load(&spec, &lights, &Default::default())?;
         for w in &inputs.scene.warnings {
             log(Log::Warning(w));
         }

@@ -57,6 +57,7 @@ pub fn origin() -> Surface {
         dir: Vec3::NEG_Y,
         hit: true,
         catcher: false,
+        ..Surface::default()
     }
 }
 

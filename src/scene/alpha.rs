@@ -11,11 +11,10 @@
 //!   (to within 1/k²) and of what lies behind it, each lit and shadowed as itself. Shadow rays
 //!   treat it as a mask at 0.5. The loader warns once per such material.
 //!
-//! Alpha is looked up bilinearly at the texture's full resolution for camera and shadow rays
-//! alike (not filtered over a sample's footprint), so a camera ray and a shadow ray that meet
-//! the same point agree on whether the surface is there.
-
-use glam::Vec2;
+//! Alpha is looked up at the base colour texture's full resolution (bilinear, or the nearest
+//! texel for a `NEAREST` magnification filter, wrapped as its sampler says) for camera and
+//! shadow rays alike (not filtered over a sample's footprint), so a camera ray and a shadow ray
+//! that meet the same point agree on whether the surface is there.
 
 use super::Scene;
 use crate::accel::Cutout;
@@ -44,118 +43,43 @@ impl AlphaMode {
     }
 }
 
-/// A material's coverage: its alpha mode and the base colour alpha it reads.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Alpha {
-    pub mode: AlphaMode,
-    /// The base colour factor's alpha.
-    pub factor: f32,
-    /// Index into [`Scene::alpha_maps`] of the base colour texture's alpha, if it has one and
-    /// the material is not opaque.
-    pub map: Option<usize>,
-}
-
-impl Alpha {
-    /// Opaque, alpha 1, no map.
-    pub const OPAQUE: Alpha = Alpha {
-        mode: AlphaMode::Opaque,
-        factor: 1.0,
-        map: None,
-    };
-}
-
-impl Default for Alpha {
-    fn default() -> Alpha {
-        Alpha::OPAQUE
-    }
-}
-
-/// The alpha channel of a base colour texture, level 0 only, row 0 at the top, as stored in
-/// the image (alpha is linear: no sRGB decoding).
-#[derive(Clone, Debug)]
-pub struct AlphaMap {
-    width: usize,
-    height: usize,
-    /// Shared: the posed copies of a spinning scene keep the same texels.
-    texels: std::sync::Arc<[f32]>,
-}
-
-impl AlphaMap {
-    /// A map of `width × height` alphas; `None` if `texels` does not hold that many.
-    pub fn new(width: usize, height: usize, texels: Vec<f32>) -> Option<AlphaMap> {
-        if width.checked_mul(height)? != texels.len() {
-            return None;
-        }
-        Some(AlphaMap {
-            width,
-            height,
-            texels: texels.into(),
-        })
-    }
-
-    /// `(width, height)` in texels.
-    pub fn size(&self) -> (usize, usize) {
-        (self.width, self.height)
-    }
-
-    fn texel(&self, x: i64, y: i64) -> f32 {
-        let x = x.rem_euclid(self.width as i64) as usize;
-        let y = y.rem_euclid(self.height as i64) as usize;
-        self.texels[y * self.width + x]
-    }
-
-    /// Bilinear lookup at `uv` with repeat wrap, texel centres and rows as
-    /// [`super::Texture::sample`] has them; 1 for an empty map, texel (0, 0)'s neighbourhood
-    /// for a non-finite `uv`.
-    pub fn sample(&self, uv: Vec2) -> f32 {
-        if self.width == 0 || self.height == 0 {
-            return 1.0;
-        }
-        let uv = if uv.is_finite() { uv } else { Vec2::ZERO };
-        let x = uv.x.rem_euclid(1.0) * self.width as f32 - 0.5;
-        let y = uv.y.rem_euclid(1.0) * self.height as f32 - 0.5;
-        let (x0, y0) = (x.floor(), y.floor());
-        let (fx, fy) = (x - x0, y - y0);
-        let (x0, y0) = (x0 as i64, y0 as i64);
-        let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
-        let top = lerp(self.texel(x0, y0), self.texel(x0 + 1, y0), fx);
-        let bottom = lerp(self.texel(x0, y0 + 1), self.texel(x0 + 1, y0 + 1), fx);
-        lerp(top, bottom, fy)
-    }
-}
-
 impl Scene {
     /// The base colour alpha at barycentric `(u, v)` of triangle `tri`: the material's factor ×
-    /// its texture's alpha at the interpolated UV × the interpolated `COLOR_0` alpha (each 1
-    /// where absent). Looked up whatever the alpha mode; opaque materials ignore it.
+    /// its base colour texture's alpha (level 0, through the texture's slot: its coordinate set,
+    /// `KHR_texture_transform` and sampler) × the interpolated `COLOR_0` alpha (each 1 where
+    /// absent). Looked up whatever the alpha mode; opaque materials ignore it.
     pub fn alpha(&self, tri: usize, bary: (f32, f32)) -> f32 {
-        let alpha = &self.materials[self.tri_material[tri] as usize].alpha;
-        let mut a = alpha.factor;
-        if let Some(map) = alpha.map.and_then(|m| self.alpha_maps.get(m)) {
-            a *= map.sample(self.uv(tri, bary));
+        let m = &self.materials[self.tri_material[tri] as usize];
+        let mut a = m.base_alpha;
+        if let Some(slot) = &m.base_color_texture
+            && let Some(texture) = self.textures.get(slot.texture)
+            && texture.has_alpha()
+        {
+            a *= texture.alpha_at(self.slot_uv(slot, tri, bary), &slot.sampler);
         }
-        if !self.vertex_alpha.is_empty() {
-            let [i0, i1, i2] = self.triangles[tri].map(|i| i as usize);
-            let (u, v) = bary;
-            let va = &self.vertex_alpha;
-            a *= va[i0] * (1.0 - u - v) + va[i1] * u + va[i2] * v;
+        if !self.colors.is_empty() {
+            a *= self.vertex_color(tri, bary).w;
         }
         a
     }
 
     /// Which triangles the BVH must treat as cut out ([`crate::accel::Accel::build_with_cutouts`]):
     /// those of `MASK` and `BLEND` materials, but for a constant alpha (no texture alpha, no
-    /// vertex alpha) that covers the whole surface anyway. Empty when none is.
+    /// vertex colours) that covers the whole surface anyway. Empty when none is.
     pub fn cut_out_triangles(&self) -> Vec<bool> {
         let cut: Vec<bool> = self
             .materials
             .iter()
             .map(|m| {
-                let varies = m.alpha.map.is_some() || !self.vertex_alpha.is_empty();
-                match m.alpha.mode {
+                let texture_alpha = m
+                    .base_color_texture
+                    .and_then(|s| self.textures.get(s.texture))
+                    .is_some_and(|t| t.has_alpha());
+                let varies = texture_alpha || !self.colors.is_empty();
+                match m.alpha_mode {
                     AlphaMode::Opaque => false,
-                    AlphaMode::Mask { cutoff } => varies || m.alpha.factor < cutoff,
-                    AlphaMode::Blend => varies || m.alpha.factor < 1.0,
+                    AlphaMode::Mask { cutoff } => varies || m.base_alpha < cutoff,
+                    AlphaMode::Blend => varies || m.base_alpha < 1.0,
                 }
             })
             .collect();
@@ -205,9 +129,7 @@ impl Cutout for AlphaTest<'_> {
     #[inline]
     fn stops(&self, tri: u32, u: f32, v: f32) -> bool {
         let tri = tri as usize;
-        let mode = self.scene.materials[self.scene.tri_material[tri] as usize]
-            .alpha
-            .mode;
+        let mode = self.scene.materials[self.scene.tri_material[tri] as usize].alpha_mode;
         let alpha = || self.scene.alpha(tri, (u, v));
         match (mode, self.coverage) {
             (AlphaMode::Opaque, _) => true,
@@ -262,19 +184,5 @@ mod tests {
         let mean = t.iter().sum::<f32>() / 64.0;
         assert!((mean - 0.5).abs() < 0.1, "{mean}");
         assert!(t.iter().any(|&t| t < 0.2) && t.iter().any(|&t| t > 0.8));
-    }
-
-    #[test]
-    fn alpha_maps_sample_bilinearly_with_repeat_wrap() {
-        let m = AlphaMap::new(2, 1, vec![0.0, 1.0]).unwrap();
-        assert_eq!(m.sample(Vec2::new(0.25, 0.5)), 0.0);
-        assert_eq!(m.sample(Vec2::new(0.75, 0.5)), 1.0);
-        assert_eq!(m.sample(Vec2::new(0.5, 0.5)), 0.5);
-        // Across the wrap, halfway between the last texel and the first.
-        assert_eq!(m.sample(Vec2::new(1.0, 0.5)), 0.5);
-        assert_eq!(m.sample(Vec2::new(-0.25, 0.5)), 1.0);
-        assert_eq!(m.sample(Vec2::new(f32::NAN, 0.5)), 0.5);
-        assert_eq!(AlphaMap::new(0, 0, vec![]).unwrap().sample(Vec2::ZERO), 1.0);
-        assert!(AlphaMap::new(2, 2, vec![1.0]).is_none());
     }
 }

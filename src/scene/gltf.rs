@@ -6,7 +6,7 @@
 //! that does not match its semantic, a bad percent-encoding in a URI) and give errors that do
 //! not say which mesh or accessor is at fault.
 
-use glam::{DMat4, DVec3, Vec2, Vec3};
+use glam::{DMat4, DVec3, Vec2, Vec3, Vec4};
 use sha2::{Digest, Sha256};
 use std::collections::HashMap;
 use std::ops::Range;
@@ -16,9 +16,11 @@ use ::gltf::accessor::{DataType, Dimensions};
 use ::gltf::mesh::{Mode, Semantic};
 use ::gltf::{Accessor, Document, Node, Primitive};
 
+use super::material::{Material, TextureSlot, UvTransform};
+use super::texture::{Encoding, Sampler, Wrap};
 use super::{
-    Alpha, AlphaMode, Material, Part, Scene, SceneCamera, SceneLight, SceneLightKind, Texture,
-    normal_matrix,
+    AlphaMode, Part, Scene, SceneCamera, SceneLight, SceneLightKind, Texture, extend_optional,
+    normal_matrix, tangents,
 };
 use crate::bail_input;
 use crate::error::{Result, input_error};
@@ -86,13 +88,19 @@ pub(super) fn load_bytes(bytes: &[u8], path: &Path, budget: &mut Budget) -> Resu
     let read: u64 = buffers.iter().map(|b| b.len() as u64).sum();
     let images = Images::read(path, &base, &document, &buffers, &used)?;
     size.file_bytes = bytes.len() as u64 + read + images.owned_bytes();
-    size.textures = images.distinct.len() as u64;
-    size.texels = images.distinct.iter().map(|d| d.texels).sum();
+    // An image read both as sRGB and as linear data is decoded once for each.
+    let decodings = |d: &DistinctImage| d.encodings.iter().filter(|&&e| e).count() as u64;
+    size.textures = images.distinct.iter().map(decodings).sum();
+    size.texels = images
+        .distinct
+        .iter()
+        .map(|d| d.texels * decodings(d))
+        .sum();
     size.alpha_texels = images
         .distinct
         .iter()
         .filter(|d| d.alpha)
-        .map(|d| d.texels)
+        .map(|d| d.texels * decodings(d))
         .sum();
     size.largest_texels = images.distinct.iter().map(|d| d.texels).max().unwrap_or(0);
     budget.scene(path, size, size.file_bytes)?;
@@ -107,8 +115,11 @@ pub(super) fn load_bytes(bytes: &[u8], path: &Path, budget: &mut Budget) -> Resu
         material_map: HashMap::new(),
         images,
         default_material: None,
+        unsupported_extensions_seen: Default::default(),
+        warned: Default::default(),
     };
     loader.walk()?;
+    loader.warn_extensions();
     let scene = loader.scene;
     if scene.triangles.is_empty() {
         // One line: what was skipped explains why nothing is left.
@@ -358,40 +369,176 @@ fn is_triangles(mode: Mode) -> bool {
     )
 }
 
-/// The texture coordinate set a primitive's material samples its base colour with.
-fn tex_coord_set(primitive: &Primitive) -> u32 {
-    primitive
-        .material()
-        .pbr_metallic_roughness()
-        .base_color_texture()
-        .map_or(0, |info| info.tex_coord())
+/// The extensions whose meaning the loader implements. A file that uses another gets one
+/// warning naming it (and, for a material's, each material that uses it); one that
+/// *requires* another is refused by the `gltf` crate's validation.
+const SUPPORTED_EXTENSIONS: &[&str] = &[
+    "KHR_lights_punctual",
+    "KHR_texture_transform",
+    "KHR_materials_emissive_strength",
+    "KHR_materials_ior",
+    "KHR_materials_specular",
+];
+
+/// One texture a material uses: which slot, the texture, the `TEXCOORD` set its info names,
+/// its `KHR_texture_transform` (and that one's `texCoord` override), how its texels are
+/// encoded.
+struct TextureRef<'a> {
+    slot: &'static str,
+    texture: ::gltf::Texture<'a>,
+    tex_coord: u32,
+    transform: Option<UvTransform>,
+    transform_tex_coord: Option<u32>,
+    encoding: Encoding,
 }
 
-/// The `COLOR_0` accessor whose alpha a primitive's coverage reads: a four-component one, on
-/// a primitive whose material is not opaque (an opaque material ignores alpha, and a
-/// three-component colour has alpha 1).
-fn vertex_alpha_accessor<'a>(primitive: &Primitive<'a>) -> Option<Accessor<'a>> {
-    if primitive.material().alpha_mode() == ::gltf::material::AlphaMode::Opaque {
-        return None;
+impl TextureRef<'_> {
+    /// The `TEXCOORD` set read: the transform's override, else the info's.
+    fn set(&self) -> u32 {
+        self.transform_tex_coord.unwrap_or(self.tex_coord)
     }
-    primitive
-        .get(&Semantic::Colors(0))
-        .filter(|a| a.dimensions() == Dimensions::Vec4)
+}
+
+/// A `KHR_texture_transform` object read from JSON (the normal and occlusion texture infos,
+/// whose transform the `gltf` crate does not parse): (transform, texCoord override).
+fn transform_of_json(value: Option<&::gltf::json::Value>) -> (Option<UvTransform>, Option<u32>) {
+    let Some(v) = value else {
+        return (None, None);
+    };
+    let pair = |key: &str, default: [f32; 2]| {
+        v.get(key)
+            .and_then(|a| a.as_array())
+            .and_then(|a| Some([a.first()?.as_f64()? as f32, a.get(1)?.as_f64()? as f32]))
+            .unwrap_or(default)
+    };
+    let rotation = v.get("rotation").and_then(|r| r.as_f64()).unwrap_or(0.0) as f32;
+    let tex_coord = v
+        .get("texCoord")
+        .and_then(|t| t.as_u64())
+        .map(|t| t.min(u64::from(u32::MAX)) as u32);
+    let transform = UvTransform::new(
+        pair("offset", [0.0, 0.0]),
+        rotation,
+        pair("scale", [1.0, 1.0]),
+    );
+    (Some(transform), tex_coord)
+}
+
+/// The textures a material uses, in slot order.
+fn texture_refs<'a>(material: &::gltf::Material<'a>) -> Vec<TextureRef<'a>> {
+    let mut refs = Vec::new();
+    let mut info = |slot, info: Option<::gltf::texture::Info<'a>>, encoding| {
+        if let Some(info) = info {
+            let t = info.texture_transform();
+            refs.push(TextureRef {
+                slot,
+                texture: info.texture(),
+                tex_coord: info.tex_coord(),
+                transform: t
+                    .as_ref()
+                    .map(|t| UvTransform::new(t.offset(), t.rotation(), t.scale())),
+                transform_tex_coord: t.as_ref().and_then(|t| t.tex_coord()),
+                encoding,
+            });
+        }
+    };
+    let pbr = material.pbr_metallic_roughness();
+    info("baseColorTexture", pbr.base_color_texture(), Encoding::Srgb);
+    info(
+        "metallicRoughnessTexture",
+        pbr.metallic_roughness_texture(),
+        Encoding::Linear,
+    );
+    info(
+        "emissiveTexture",
+        material.emissive_texture(),
+        Encoding::Srgb,
+    );
+    if let Some(spec) = material.specular() {
+        info("specularTexture", spec.specular_texture(), Encoding::Linear);
+        info(
+            "specularColorTexture",
+            spec.specular_color_texture(),
+            Encoding::Srgb,
+        );
+    }
+    if let Some(n) = material.normal_texture() {
+        let (transform, transform_tex_coord) =
+            transform_of_json(n.extension_value("KHR_texture_transform"));
+        refs.push(TextureRef {
+            slot: "normalTexture",
+            texture: n.texture(),
+            tex_coord: n.tex_coord(),
+            transform,
+            transform_tex_coord,
+            encoding: Encoding::Linear,
+        });
+    }
+    if let Some(o) = material.occlusion_texture() {
+        let (transform, transform_tex_coord) =
+            transform_of_json(o.extension_value("KHR_texture_transform"));
+        refs.push(TextureRef {
+            slot: "occlusionTexture",
+            texture: o.texture(),
+            tex_coord: o.tex_coord(),
+            transform,
+            transform_tex_coord,
+            encoding: Encoding::Linear,
+        });
+    }
+    refs
+}
+
+/// The `TEXCOORD` sets a primitive's material reads (0 and 1; others read 0, with a warning).
+fn tex_coord_sets(primitive: &Primitive) -> [bool; 2] {
+    let mut sets = [true, false];
+    for r in texture_refs(&primitive.material()) {
+        if r.set() == 1 {
+            sets[1] = true;
+        }
+    }
+    sets
+}
+
+/// Whether a primitive's material has a normal map (its tangents are then read or made).
+fn normal_mapped(primitive: &Primitive) -> bool {
+    primitive.material().normal_texture().is_some()
+}
+
+/// The renderer's sampler for a glTF texture's.
+fn sampler_of(texture: &::gltf::Texture) -> Sampler {
+    use ::gltf::texture::{MagFilter, MinFilter, WrappingMode};
+    let s = texture.sampler();
+    let wrap = |w| match w {
+        WrappingMode::Repeat => Wrap::Repeat,
+        WrappingMode::ClampToEdge => Wrap::Clamp,
+        WrappingMode::MirroredRepeat => Wrap::Mirror,
+    };
+    Sampler {
+        wrap_s: wrap(s.wrap_s()),
+        wrap_t: wrap(s.wrap_t()),
+        mag_nearest: s.mag_filter() == Some(MagFilter::Nearest),
+        // No filter given: the implementation's choice, which is the pyramid.
+        mipmaps: !matches!(s.min_filter(), Some(MinFilter::Nearest | MinFilter::Linear)),
+    }
 }
 
 /// [`count`]'s answer, in the order its comment gives, and the render origin
 /// ([`super::render_origin`]) of the placed positions' bounds.
-type Counted = (SceneSize, Vec<ImageUse>, DVec3);
+type Counted = (SceneSize, Vec<(usize, usize, Encoding)>, DVec3);
 
 /// What the default scene will hold, from the JSON alone: the vertices and (at most) triangles
 /// of every primitive the loader will read, once per node that places its mesh, and the
-/// largest of them; and the images their materials use, as (material, image, whether its alpha
-/// is kept) in the order the loader meets them. Accessors too large to read are refused here,
-/// as the loader would.
+/// largest of them; and the images their materials use, as (material, image, encoding) in the
+/// order the loader meets them. Accessors too large to read are refused here, as the loader
+/// would.
 fn count(path: &Path, document: &Document) -> Result<Counted> {
     let mut size = SceneSize::default();
     let mut used = Vec::new();
     let mut bounds = Some((DVec3::INFINITY, DVec3::NEG_INFINITY));
+    // Whether any primitive has a second texture coordinate set, tangents, colours: then every
+    // vertex of the scene gets them.
+    let (mut uv1, mut tangents, mut colors) = (false, false, false);
     walk(path, document, |node, world| {
         size.lights += u64::from(node.light().is_some());
         let Some(mesh) = node.mesh() else {
@@ -410,16 +557,20 @@ fn count(path: &Path, document: &Document) -> Result<Counted> {
             let Some(positions) = primitive.get(&Semantic::Positions) else {
                 continue;
             };
-            let set = tex_coord_set(&primitive);
-            let colors = vertex_alpha_accessor(&primitive);
-            size.vertex_alpha |= colors.is_some();
+            let sets = tex_coord_sets(&primitive);
+            let mapped = normal_mapped(&primitive);
             let attributes = [
                 Some(positions.clone()),
                 primitive.get(&Semantic::Normals),
-                primitive.get(&Semantic::TexCoords(set)),
+                primitive.get(&Semantic::TexCoords(0)),
+                primitive.get(&Semantic::TexCoords(1)).filter(|_| sets[1]),
+                primitive.get(&Semantic::Tangents).filter(|_| mapped),
+                primitive.get(&Semantic::Colors(0)),
                 primitive.indices(),
-                colors,
             ];
+            uv1 |= sets[1];
+            tangents |= mapped;
+            colors |= primitive.get(&Semantic::Colors(0)).is_some();
             for acc in attributes.iter().flatten() {
                 check_values(path, &at, acc)?;
             }
@@ -435,19 +586,22 @@ fn count(path: &Path, document: &Document) -> Result<Counted> {
             size.largest_vertices = size.largest_vertices.max(vertices);
             size.largest_indices = size.largest_indices.max(indices);
             let material = primitive.material();
-            if let (Some(m), Some(info)) = (
-                material.index(),
-                material.pbr_metallic_roughness().base_color_texture(),
-            ) {
-                used.push(ImageUse {
-                    material: m,
-                    image: info.texture().source().index(),
-                    alpha: material.alpha_mode() != ::gltf::material::AlphaMode::Opaque,
-                });
+            if let Some(m) = material.index() {
+                for r in texture_refs(&material) {
+                    used.push((m, r.texture.source().index(), r.encoding));
+                }
             }
         }
         Ok(())
     })?;
+    // Tangents may split vertices (MikkTSpace at mirrored UV seams): counted as one more
+    // vertex in four where any primitive is normal-mapped. [ours] a bound seen to hold on the
+    // corpus, not a proof.
+    if tangents {
+        size.vertices += size.vertices / 4;
+    }
+    let per_vertex = 8 * u64::from(uv1) + 16 * u64::from(tangents) + 16 * u64::from(colors);
+    size.extra_vertex_bytes = size.vertices * per_vertex;
     let origin = bounds.map_or(DVec3::ZERO, |(lo, hi)| super::render_origin(lo, hi));
     Ok((size, used, origin))
 }
@@ -517,24 +671,24 @@ enum Encoded {
     Gone,
 }
 
-/// A material's use of an image as its base colour texture.
-#[derive(Clone, Copy)]
-struct ImageUse {
-    material: usize,
-    image: usize,
-    /// The material is not opaque: its alpha channel is kept.
-    alpha: bool,
-}
-
-/// One distinct image: its bytes until decoded, its texels, its scene texture (and alpha map)
-/// once decoded.
+/// One distinct image: its bytes until decoded, its texels, its scene textures once decoded
+/// (one per encoding a material reads it with: sRGB, linear).
 struct DistinctImage {
     encoded: Encoded,
     texels: u64,
-    /// Some non-opaque material uses it: its alpha is kept.
+    /// The image has an alpha channel: each decoding keeps it.
     alpha: bool,
-    texture: Option<usize>,
-    alpha_map: Option<usize>,
+    texture: [Option<usize>; 2],
+    /// Which encodings the materials read it with.
+    encodings: [bool; 2],
+}
+
+/// Index of an encoding in [`DistinctImage::texture`].
+fn encoding_index(e: Encoding) -> usize {
+    match e {
+        Encoding::Srgb => 0,
+        Encoding::Linear => 1,
+    }
 }
 
 /// The images the materials use, read and identified before any is decoded. Images with the
@@ -554,21 +708,16 @@ impl Images {
         base: &Path,
         document: &Document,
         buffers: &[Vec<u8>],
-        used: &[ImageUse],
+        used: &[(usize, usize, Encoding)],
     ) -> Result<Images> {
         let mut images = Images {
             of_index: HashMap::new(),
             distinct: Vec::new(),
         };
         let mut by_digest: HashMap<[u8; 32], usize> = HashMap::new();
-        for &ImageUse {
-            material,
-            image: index,
-            alpha,
-        } in used
-        {
+        for &(material, index, encoding) in used {
             if let Some(&d) = images.of_index.get(&index) {
-                images.distinct[d].alpha |= alpha;
+                images.distinct[d].encodings[encoding_index(encoding)] = true;
                 continue;
             }
             let at = format!("material {material}: image {index}");
@@ -600,19 +749,21 @@ impl Images {
             let digest: [u8; 32] = Sha256::digest(bytes).into();
             if let Some(&d) = by_digest.get(&digest) {
                 images.of_index.insert(index, d);
-                images.distinct[d].alpha |= alpha;
+                images.distinct[d].encodings[encoding_index(encoding)] = true;
                 continue;
             }
-            let (w, h) = Texture::dimensions(bytes)
+            let (w, h, alpha) = Texture::header(bytes)
                 .map_err(|e| input_error(path, format!("{at}: cannot decode: {e}")))?;
             by_digest.insert(digest, images.distinct.len());
             images.of_index.insert(index, images.distinct.len());
+            let mut encodings = [false; 2];
+            encodings[encoding_index(encoding)] = true;
             images.distinct.push(DistinctImage {
                 encoded,
                 texels: u64::from(w) * u64::from(h),
                 alpha,
-                texture: None,
-                alpha_map: None,
+                texture: [None; 2],
+                encodings,
             });
         }
         Ok(images)
@@ -651,6 +802,11 @@ struct Loader<'a> {
     images: Images,
     /// Scene index of the default grey material, once some primitive needed it.
     default_material: Option<u32>,
+    /// Material extensions some material's warning already named.
+    unsupported_extensions_seen: std::collections::HashSet<String>,
+    /// Materials already warned about for a primitive attribute they lack or the renderer
+    /// ignores (one warning per material and kind).
+    warned: std::collections::HashSet<(u32, &'static str)>,
 }
 
 impl Loader<'_> {
@@ -843,51 +999,53 @@ impl Loader<'_> {
         };
 
         let material = self.material(primitive.material())?;
-        let tex_coord = tex_coord_set(primitive);
-        let uvs = match primitive.get(&Semantic::TexCoords(tex_coord)) {
-            Some(acc) => {
-                let uvs = self.read_floats::<2>(&at, &acc)?;
-                let name = format!("TEXCOORD_{tex_coord}");
-                self.check_count(&at, &acc, &name, uvs.len(), &pos_acc, count)?;
-                if let Some(i) = uvs.iter().position(|v| !v.iter().all(|c| c.is_finite())) {
-                    bail_input!(
-                        self.path,
-                        "{at}: accessor {} ({name}): element {i} is not finite",
-                        acc.index()
-                    );
-                }
-                Some(uvs)
+        let sets = tex_coord_sets(primitive);
+        let textured = self.scene.materials[material as usize]
+            .slots()
+            .iter()
+            .any(|(_, s)| s.is_some());
+        let uvs = self.read_uvs(&at, primitive, 0, &pos_acc, count)?;
+        if uvs.is_none() && textured {
+            self.warn_material(
+                material,
+                "no_uv",
+                format!("{at}: the material's textures use TEXCOORD_0, which the primitive lacks; sampled at (0, 0)"),
+            );
+        }
+        let uvs1 = if sets[1] {
+            let uvs1 = self.read_uvs(&at, primitive, 1, &pos_acc, count)?;
+            if uvs1.is_none() {
+                self.warn_material(
+                    material,
+                    "no_uv1",
+                    format!("{at}: the material's textures use TEXCOORD_1, which the primitive lacks; sampled at (0, 0)"),
+                );
             }
-            None => {
-                if self.scene.materials[material as usize].texture.is_some() {
-                    self.warn(format!(
-                        "{at}: the material's texture uses TEXCOORD_{tex_coord}, which the primitive lacks; sampled at (0, 0)"
-                    ));
-                }
-                None
-            }
+            Some(uvs1.unwrap_or_else(|| vec![[0.0; 2]; count]))
+        } else {
+            None
         };
-
-        // COLOR_0's alpha, for a non-opaque material's coverage (clamped to [0, 1]).
-        let vertex_alpha = match vertex_alpha_accessor(primitive) {
-            Some(acc) => {
-                let colors = self.read_floats::<4>(&at, &acc)?;
-                self.check_count(&at, &acc, "COLOR_0", colors.len(), &pos_acc, count)?;
-                if let Some(i) = colors.iter().position(|c| !c[3].is_finite()) {
-                    bail_input!(
-                        self.path,
-                        "{at}: accessor {} (COLOR_0): element {i} is not finite",
-                        acc.index()
-                    );
-                }
-                Some(
-                    colors
-                        .iter()
-                        .map(|c| c[3].clamp(0.0, 1.0))
-                        .collect::<Vec<f32>>(),
-                )
-            }
+        let colors = match primitive.get(&Semantic::Colors(0)) {
+            Some(acc) => Some(self.read_colors(&at, &acc, &pos_acc, count)?),
             None => None,
+        };
+        if primitive.get(&Semantic::Colors(1)).is_some() {
+            self.warn_material(
+                material,
+                "color1",
+                format!(
+                    "{at}: COLOR_1 and later vertex colours are not supported (COLOR_0 is read)"
+                ),
+            );
+        }
+        let normal_slot = self.scene.materials[material as usize].normal_texture;
+        let file_tangents = match (&normal_slot, primitive.get(&Semantic::Tangents)) {
+            (Some(_), Some(acc)) => {
+                let t = self.read_floats::<4>(&at, &acc)?;
+                self.check_count(&at, &acc, "TANGENT", t.len(), &pos_acc, count)?;
+                Some(t)
+            }
+            _ => None,
         };
 
         let indices: Vec<u32> = match primitive.indices() {
@@ -967,6 +1125,79 @@ impl Loader<'_> {
             None => smooth,
         };
 
+        let mut uvs: Vec<Vec2> = match uvs {
+            Some(uvs) => uvs.into_iter().map(Vec2::from_array).collect(),
+            None => vec![Vec2::ZERO; count],
+        };
+        let mut uvs1: Option<Vec<Vec2>> =
+            uvs1.map(|u| u.into_iter().map(Vec2::from_array).collect());
+        let mut world_pos = world_pos;
+        let mut world_nrm = world_nrm;
+        let mut colors = colors;
+        // Tangents for a normal map: the file's, moved to world space like any surface
+        // direction, else MikkTSpace's over the normal map's own (transformed) coordinates.
+        // Zero where none can be had: the normal map is then not applied there.
+        let tangents: Option<Vec<Vec4>> = match (normal_slot, file_tangents) {
+            (None, _) => None,
+            (Some(_), Some(t)) => {
+                let handedness = if world.determinant() < 0.0 { -1.0 } else { 1.0 };
+                let world_f32 = world.as_mat4();
+                Some(
+                    t.iter()
+                        .map(|t| {
+                            let v = world_f32
+                                .transform_vector3(Vec3::new(t[0], t[1], t[2]))
+                                .normalize_or_zero();
+                            let w = if t[3] < 0.0 { -1.0 } else { 1.0 };
+                            if v.is_finite() && v != Vec3::ZERO {
+                                v.extend(w * handedness)
+                            } else {
+                                Vec4::ZERO
+                            }
+                        })
+                        .collect(),
+                )
+            }
+            (Some(slot), None) => {
+                let source = match (slot.tex_coord, &uvs1) {
+                    (1, Some(u1)) => u1,
+                    _ => &uvs,
+                };
+                let mapped: Vec<Vec2> = match &slot.transform {
+                    Some(t) => source.iter().map(|&uv| t.apply(uv)).collect(),
+                    None => source.clone(),
+                };
+                let mut split = Vec::new();
+                match tangents::generate(&world_pos, &world_nrm, &mapped, &mut tris, &mut split) {
+                    Some(t) => {
+                        // Copies of split vertices: every attribute follows.
+                        for &v in &split {
+                            let v = v as usize;
+                            world_pos.push(world_pos[v]);
+                            world_nrm.push(world_nrm[v]);
+                            uvs.push(uvs[v]);
+                            if let Some(u1) = &mut uvs1 {
+                                u1.push(u1[v]);
+                            }
+                            if let Some(c) = &mut colors {
+                                c.push(c[v]);
+                            }
+                        }
+                        Some(t)
+                    }
+                    None => {
+                        self.warn_material(
+                            material,
+                            "tangents",
+                            format!("{at}: no tangents can be made (no texture coordinate area); the normal map is not applied"),
+                        );
+                        Some(vec![Vec4::ZERO; world_pos.len()])
+                    }
+                }
+            }
+        };
+        let count = world_pos.len();
+
         let vertex_base = self.scene.positions.len();
         if vertex_base + count > crate::limits::MAX_VERTICES {
             bail_input!(
@@ -984,31 +1215,32 @@ impl Loader<'_> {
                 crate::limits::MAX_TRIANGLES
             );
         }
-        let has_alpha = vertex_alpha.is_some() || !self.scene.vertex_alpha.is_empty();
-        if vertex_alpha.is_some() && self.scene.vertex_alpha.is_empty() {
-            // The first primitive with vertex alpha: room for every vertex the scene will
-            // hold (the positions were reserved for them all), 1 for those before it.
-            let all = self.scene.positions.capacity().max(vertex_base + count);
-            self.scene.vertex_alpha = try_vec(all, "the scene's vertex alphas")
-                .map_err(|e| anyhow::Error::new(e).context(self.path.display().to_string()))?;
-            self.scene.vertex_alpha.resize(vertex_base, 1.0);
-        }
-        if has_alpha {
-            match vertex_alpha {
-                Some(a) => self.scene.vertex_alpha.extend(a),
-                None => self.scene.vertex_alpha.resize(vertex_base + count, 1.0),
-            }
-        }
+        let scene = &mut self.scene;
+        extend_optional(
+            &mut scene.uvs1,
+            vertex_base,
+            uvs1.unwrap_or_default(),
+            count,
+            Vec2::ZERO,
+        );
+        extend_optional(
+            &mut scene.tangents,
+            vertex_base,
+            tangents.unwrap_or_default(),
+            count,
+            Vec4::ZERO,
+        );
+        extend_optional(
+            &mut scene.colors,
+            vertex_base,
+            colors.unwrap_or_default(),
+            count,
+            Vec4::ONE,
+        );
         let vertex_base = vertex_base as u32;
         self.scene.positions.extend(world_pos);
         self.scene.normals.extend(world_nrm);
-        match uvs {
-            Some(uvs) => self.scene.uvs.extend(uvs.into_iter().map(Vec2::from_array)),
-            None => self
-                .scene
-                .uvs
-                .extend(std::iter::repeat_n(Vec2::ZERO, count)),
-        }
+        self.scene.uvs.extend(uvs);
         self.scene
             .tri_material
             .extend(std::iter::repeat_n(material, tris.len()));
@@ -1016,6 +1248,76 @@ impl Loader<'_> {
             .triangles
             .extend(tris.into_iter().map(|t| t.map(|i| i + vertex_base)));
         Ok(())
+    }
+
+    /// One warning per material and `kind` (a primitive attribute it lacks or that is
+    /// ignored), however many primitives use the material.
+    fn warn_material(&mut self, material: u32, kind: &'static str, message: String) {
+        if self.warned.insert((material, kind)) {
+            let name = self.scene.materials[material as usize].name.clone();
+            self.warn(format!("{message} (material {name:?})"));
+        }
+    }
+
+    /// `TEXCOORD_<set>` of a primitive, checked (count, finite), if it has one.
+    fn read_uvs(
+        &self,
+        at: &str,
+        primitive: &Primitive,
+        set: u32,
+        pos_acc: &Accessor,
+        count: usize,
+    ) -> Result<Option<Vec<[f32; 2]>>> {
+        let Some(acc) = primitive.get(&Semantic::TexCoords(set)) else {
+            return Ok(None);
+        };
+        let uvs = self.read_floats::<2>(at, &acc)?;
+        let name = format!("TEXCOORD_{set}");
+        self.check_count(at, &acc, &name, uvs.len(), pos_acc, count)?;
+        if let Some(i) = uvs.iter().position(|v| !v.iter().all(|c| c.is_finite())) {
+            bail_input!(
+                self.path,
+                "{at}: accessor {} ({name}): element {i} is not finite",
+                acc.index()
+            );
+        }
+        Ok(Some(uvs))
+    }
+
+    /// `COLOR_0` (VEC3 or VEC4; floats or normalised integers) as linear RGBA, alpha 1 for
+    /// VEC3; checked (count, finite).
+    fn read_colors(
+        &self,
+        at: &str,
+        acc: &Accessor,
+        pos_acc: &Accessor,
+        count: usize,
+    ) -> Result<Vec<Vec4>> {
+        let colors: Vec<Vec4> = match acc.dimensions() {
+            Dimensions::Vec3 => self
+                .read_floats::<3>(at, acc)?
+                .into_iter()
+                .map(|c| Vec3::from_array(c).extend(1.0))
+                .collect(),
+            _ => self
+                .read_floats::<4>(at, acc)?
+                .into_iter()
+                .map(Vec4::from_array)
+                .collect(),
+        };
+        self.check_count(at, acc, "COLOR_0", colors.len(), pos_acc, count)?;
+        if let Some(i) = colors.iter().position(|c| !c.is_finite()) {
+            bail_input!(
+                self.path,
+                "{at}: accessor {} (COLOR_0): element {i} is not finite",
+                acc.index()
+            );
+        }
+        // Alpha is coverage: clamped to [0, 1] (the alpha test compares it with cutoffs).
+        Ok(colors
+            .into_iter()
+            .map(|c| c.truncate().extend(c.w.clamp(0.0, 1.0)))
+            .collect())
     }
 
     fn check_count(
@@ -1038,7 +1340,8 @@ impl Loader<'_> {
         Ok(())
     }
 
-    /// The scene material for a glTF material (converted once), or the default grey.
+    /// The scene material for a glTF material (converted once), or the default grey. What the
+    /// material uses that the renderer does not do is named in one warning per material.
     fn material(&mut self, material: ::gltf::Material) -> Result<u32> {
         let Some(index) = material.index() else {
             if let Some(i) = self.default_material {
@@ -1052,16 +1355,10 @@ impl Loader<'_> {
         if let Some(&i) = self.material_map.get(&index) {
             return Ok(i);
         }
-        let pbr = material.pbr_metallic_roughness();
-        let [r, g, b, factor_alpha] = pbr.base_color_factor();
-        let base_color = Vec3::new(r, g, b);
-        if !base_color.is_finite() || !factor_alpha.is_finite() {
-            bail_input!(self.path, "material {index}: baseColorFactor is not finite");
-        }
         let name = material
             .name()
             .map_or_else(|| format!("material {index}"), str::to_string);
-        let mode = match material.alpha_mode() {
+        let alpha_mode = match material.alpha_mode() {
             ::gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
             ::gltf::material::AlphaMode::Mask => {
                 let cutoff = material.alpha_cutoff().unwrap_or(0.5);
@@ -1083,58 +1380,160 @@ impl Loader<'_> {
                 AlphaMode::Blend
             }
         };
-        let (texture, alpha_map) = match pbr.base_color_texture() {
-            Some(info) => {
-                let (t, a) = self.texture(index, info.texture().source())?;
-                (Some(t), a)
+        let at = format!("material {index} ({name:?})");
+        let finite = |what: &str, values: &[f32]| -> Result<()> {
+            if values.iter().all(|v| v.is_finite()) {
+                Ok(())
+            } else {
+                bail_input!(self.path, "{at}: {what} is not finite ({values:?})")
             }
-            None => (None, None),
         };
+        let pbr = material.pbr_metallic_roughness();
+        let [r, g, b, alpha] = pbr.base_color_factor();
+        finite("baseColorFactor", &[r, g, b, alpha])?;
+        let (metallic, roughness) = (pbr.metallic_factor(), pbr.roughness_factor());
+        finite("metallicFactor", &[metallic])?;
+        finite("roughnessFactor", &[roughness])?;
+        let emissive = material.emissive_factor();
+        finite("emissiveFactor", &emissive)?;
+        let strength = material.emissive_strength().unwrap_or(1.0);
+        finite("KHR_materials_emissive_strength", &[strength])?;
+        let ior = material.ior().unwrap_or(1.5);
+        finite("KHR_materials_ior", &[ior])?;
+        let (mut specular, mut specular_color) = (1.0, Vec3::ONE);
+        if let Some(spec) = material.specular() {
+            specular = spec.specular_factor();
+            let c = spec.specular_color_factor();
+            finite("KHR_materials_specular", &[specular, c[0], c[1], c[2]])?;
+            specular_color = Vec3::from_array(c);
+        }
+        let mut m = Material {
+            name: name.clone(),
+            base_color: Vec3::new(r, g, b),
+            base_alpha: alpha,
+            alpha_mode,
+            metallic,
+            roughness,
+            emissive: Vec3::from_array(emissive) * strength,
+            // [ours] An ior of 0 stands for an infinite one in the extension (F0 = 1); so does
+            // the formula's limit, which `ior_f0` reaches from 1e6.
+            ior: if ior == 0.0 { 1e6 } else { ior },
+            specular,
+            specular_color,
+            ..Material::default()
+        };
+        if let Some(n) = material.normal_texture() {
+            m.normal_scale = n.scale();
+            finite("normalTexture.scale", &[m.normal_scale])?;
+        }
+        if let Some(o) = material.occlusion_texture() {
+            m.occlusion_strength = o.strength();
+            finite("occlusionTexture.strength", &[m.occlusion_strength])?;
+        }
+        let mut unsupported: Vec<String> = Vec::new();
+        for r in texture_refs(&material) {
+            let set = match r.set() {
+                s @ (0 | 1) => s as u8,
+                s => {
+                    unsupported.push(format!(
+                        "{} reads TEXCOORD_{s} (sets 0 and 1 are read; it reads TEXCOORD_0)",
+                        r.slot
+                    ));
+                    0
+                }
+            };
+            let texture = self.texture(index, r.texture.source(), r.encoding)?;
+            let slot = Some(TextureSlot {
+                texture,
+                tex_coord: set,
+                transform: r.transform,
+                sampler: sampler_of(&r.texture),
+            });
+            match r.slot {
+                "baseColorTexture" => m.base_color_texture = slot,
+                "metallicRoughnessTexture" => m.metallic_roughness_texture = slot,
+                "emissiveTexture" => m.emissive_texture = slot,
+                "specularTexture" => m.specular_texture = slot,
+                "specularColorTexture" => m.specular_color_texture = slot,
+                "normalTexture" => m.normal_texture = slot,
+                _ => m.occlusion_texture = slot,
+            }
+        }
+        // Material extensions the `gltf` crate does not parse (or we did not enable) come back
+        // as JSON: every one of them is one we do not implement.
+        if let Some(others) = material.extensions() {
+            let mut names: Vec<&String> = others.keys().collect();
+            names.sort();
+            for ext in names {
+                self.unsupported_extensions_seen.insert(ext.clone());
+                unsupported.push(format!("{ext} is not supported (ignored)"));
+            }
+        }
+        if !unsupported.is_empty() {
+            self.warn(format!(
+                "material {index} ({name:?}): {}",
+                unsupported.join("; ")
+            ));
+        }
         let i = self.scene.materials.len() as u32;
-        self.scene.materials.push(Material {
-            name,
-            base_color,
-            texture,
-            alpha: Alpha {
-                mode,
-                factor: factor_alpha,
-                map: alpha_map.filter(|_| mode != AlphaMode::Opaque),
-            },
-        });
+        self.scene.materials.push(m);
         self.material_map.insert(index, i);
         Ok(i)
     }
 
-    /// Decodes an image once and returns its scene texture index, and its alpha map's if some
-    /// non-opaque material uses it and it has alpha; an image with the same bytes as one
-    /// already decoded returns that one's.
-    fn texture(&mut self, material: usize, image: ::gltf::Image) -> Result<(usize, Option<usize>)> {
+    /// Warns once about the extensions the file uses that are not implemented, beyond the
+    /// material extensions each material's warning already named.
+    fn warn_extensions(&mut self) {
+        let mut others: Vec<String> = self
+            .document
+            .extensions_used()
+            .filter(|e| !SUPPORTED_EXTENSIONS.contains(e))
+            .filter(|e| !self.unsupported_extensions_seen.contains(*e))
+            .map(str::to_string)
+            .collect();
+        others.sort();
+        others.dedup();
+        if !others.is_empty() {
+            self.warn(format!(
+                "extensions not supported (ignored): {}",
+                others.join(", ")
+            ));
+        }
+    }
+
+    /// Decodes an image once per encoding and returns its scene texture index; an image with
+    /// the same bytes as one already decoded returns that one's.
+    fn texture(
+        &mut self,
+        material: usize,
+        image: ::gltf::Image,
+        encoding: Encoding,
+    ) -> Result<usize> {
         let index = image.index();
         let Some(&d) = self.images.of_index.get(&index) else {
             // `count` saw every primitive the loader reads, and with it every image.
             anyhow::bail!("{}: image {index} was not counted", self.path.display());
         };
+        let e = encoding_index(encoding);
         let distinct = &mut self.images.distinct[d];
-        if let Some(t) = distinct.texture {
-            return Ok((t, distinct.alpha_map));
+        if let Some(t) = distinct.texture[e] {
+            return Ok(t);
         }
         let at = format!("material {material}: image {index}");
-        let bytes = bytes_of(&distinct.encoded, &self.buffers);
-        let (texture, alpha) = Texture::decode_with_alpha(bytes, distinct.alpha).map_err(|e| {
-            match e.downcast::<NoMemory>() {
+        let texture = Texture::decode_as(bytes_of(&distinct.encoded, &self.buffers), encoding)
+            .map_err(|e| match e.downcast::<NoMemory>() {
                 Ok(e) => anyhow::Error::new(e).context(format!("{}: {at}", self.path.display())),
                 Err(e) => input_error(self.path, format!("{at}: cannot decode: {e}")),
-            }
-        })?;
-        distinct.encoded = Encoded::Gone;
+            })?;
         let t = self.scene.textures.len();
         self.scene.textures.push(texture);
-        distinct.texture = Some(t);
-        if let Some(alpha) = alpha {
-            distinct.alpha_map = Some(self.scene.alpha_maps.len());
-            self.scene.alpha_maps.push(alpha);
+        distinct.texture[e] = Some(t);
+        // Its bytes go once every decoding the materials ask for is done.
+        let wanted = distinct.encodings;
+        if (0..2).all(|k| !wanted[k] || distinct.texture[k].is_some()) {
+            distinct.encoded = Encoded::Gone;
         }
-        Ok((t, distinct.alpha_map))
+        Ok(t)
     }
 
     /// Reads a float attribute of `N` components (VEC2/VEC3); integer components are converted,

@@ -272,12 +272,10 @@ pub fn add_ground(scene: &mut Scene, catcher: bool) {
     let first_tri = scene.triangles.len();
     let base = scene.positions.len() as u32;
     let material = scene.materials.len() as u32;
-    scene.materials.push(Material {
-        name: GROUND_NAME.into(),
-        base_color: Vec3::splat(GROUND_ALBEDO),
-        texture: None,
-        alpha: super::Alpha::OPAQUE,
-    });
+    // [ours] Lambertian, as the ground always was: a plain surface to receive shadows.
+    scene
+        .materials
+        .push(Material::lambert(GROUND_NAME, Vec3::splat(GROUND_ALBEDO)));
     scene.positions.push(centre);
     for &r in &rings {
         for k in 0..SEGMENTS {
@@ -288,6 +286,23 @@ pub fn add_ground(scene: &mut Scene, catcher: bool) {
     let added = scene.positions.len() - base as usize;
     scene.normals.extend(std::iter::repeat_n(Vec3::Y, added));
     scene.uvs.extend(std::iter::repeat_n(Vec2::ZERO, added));
+    // The optional per-vertex arrays, where the model has them, get the ground's defaults.
+    let before = base as usize;
+    super::extend_optional(&mut scene.uvs1, before, Vec::new(), added, Vec2::ZERO);
+    super::extend_optional(
+        &mut scene.tangents,
+        before,
+        Vec::new(),
+        added,
+        glam::Vec4::X,
+    );
+    super::extend_optional(
+        &mut scene.colors,
+        before,
+        Vec::new(),
+        added,
+        glam::Vec4::ONE,
+    );
     // Counter-clockwise seen from +Y: angles grow from +X towards +Z, so (centre, next, this).
     let vertex = |ring: usize, k: u32| base + 1 + ring as u32 * SEGMENTS + k % SEGMENTS;
     for k in 0..SEGMENTS {

@@ -1,4 +1,4 @@
-//! Scenes: triangle meshes flattened to world space, with Lambertian materials.
+//! Scenes: triangle meshes flattened to world space, with glTF metallic-roughness materials.
 //!
 //! A [`Scene`] is one flat triangle soup: every glTF primitive of the default scene, already
 //! transformed to world space, with one material per triangle. [`Scene::load`] reads glTF
@@ -12,58 +12,40 @@
 mod alpha;
 mod gltf;
 pub mod ground;
+mod material;
 mod origin;
 mod shapes;
+mod tangents;
 mod texture;
 
-use glam::{DVec3, Mat3, Mat4, Vec2, Vec3};
+use glam::{DVec3, Mat3, Mat4, Vec2, Vec3, Vec4};
 use std::ops::Range;
 use std::path::Path;
 
 use crate::error::Result;
 use crate::limits::Budget;
 
-pub use alpha::{Alpha, AlphaMap, AlphaMode, AlphaTest, coverage_threshold};
+pub use alpha::{AlphaMode, AlphaTest, coverage_threshold};
+pub use material::{
+    Material, MaterialOverride, MaterialSample, Model, SurfaceMaterial, TextureSlot, UvTransform,
+    ior_f0,
+};
 pub use origin::render_origin;
-pub use texture::srgb_to_linear;
+pub use texture::{Encoding, Sampler, Wrap, srgb_to_linear};
 
-/// An sRGB-decoded (linear) RGB texture, row-major, row 0 at the top (glTF's UV origin), with
-/// its mip pyramid.
+/// A linear RGB texture (sRGB-decoded, or linear data as it was), with its alpha when the image
+/// had one, row-major, row 0 at the top (glTF's UV origin), with its mip pyramid.
 ///
-/// Sampling is bilinear with repeat wrap ([`Texture::sample`]), or trilinear over a footprint
-/// ([`Texture::sample_footprint`]). The fields are private because the pyramid is made from the
-/// texels once, by the constructors: texels changed afterwards would disagree with it.
+/// Sampling is bilinear with repeat wrap ([`Texture::sample`]), trilinear over a footprint
+/// ([`Texture::sample_footprint`]), or as a glTF sampler says ([`Texture::lookup`]). The fields
+/// are private because the pyramid is made from the texels once, by the constructors: texels
+/// changed afterwards would disagree with it.
 #[derive(Clone, Debug)]
 pub struct Texture {
     /// Level 0 (the texels as decoded), then each level half the size of the one before, down
     /// to 1 × 1; only level 0 when the texture is empty. Shared: the posed copies of a
     /// spinning scene keep the same texels.
     levels: std::sync::Arc<[texture::Level]>,
-}
-
-/// A Lambertian material: albedo = base_color × texture(uv).
-#[derive(Clone, Debug)]
-pub struct Material {
-    /// The file's material name, or `material N`, or `default` for primitives without one.
-    pub name: String,
-    /// Linear RGB base colour factor.
-    pub base_color: Vec3,
-    /// Index into [`Scene::textures`] of the base colour texture, if any.
-    pub texture: Option<usize>,
-    /// Coverage: glTF's alpha mode and the base colour alpha it reads.
-    pub alpha: Alpha,
-}
-
-impl Material {
-    /// The material given to primitives that have none: 0.8 grey, untextured.
-    pub fn default_grey() -> Material {
-        Material {
-            name: "default".to_string(),
-            base_color: Vec3::splat(0.8),
-            texture: None,
-            alpha: Alpha::OPAQUE,
-        }
-    }
 }
 
 /// The largest coordinate a turned scene (a spin) may have, it or its pivot: an eighth of the
@@ -184,20 +166,23 @@ pub struct Scene {
     pub normals: Vec<Vec3>,
     /// Per vertex; (0, 0) where the file had none.
     pub uvs: Vec<Vec2>,
+    /// `TEXCOORD_1` per vertex, or empty when no material of the scene reads it (then set 1
+    /// reads set 0); (0, 0) where a primitive had none.
+    pub uvs1: Vec<Vec2>,
+    /// Unit tangent per vertex (xyz, world space) and the bitangent's handedness (w = ±1):
+    /// the file's `TANGENT`, or MikkTSpace's; empty when no material has a normal map.
+    pub tangents: Vec<Vec4>,
+    /// `COLOR_0` per vertex, linear RGBA, or empty when no primitive has one (white where a
+    /// primitive has none).
+    pub colors: Vec<Vec4>,
     /// Vertex indices per triangle, counter-clockwise around the shading normal.
     pub triangles: Vec<[u32; 3]>,
     /// Material index per triangle.
     pub tri_material: Vec<u32>,
     /// Materials referenced by `tri_material`.
     pub materials: Vec<Material>,
-    /// Textures referenced by [`Material::texture`].
+    /// Textures referenced by the materials' [`TextureSlot`]s.
     pub textures: Vec<Texture>,
-    /// Base colour alphas referenced by [`Alpha::map`] (the alpha of textures that non-opaque
-    /// materials use).
-    pub alpha_maps: Vec<AlphaMap>,
-    /// `COLOR_0` alpha per vertex, or empty: kept only when a non-opaque material's primitive
-    /// has one (1 for every other vertex then).
-    pub vertex_alpha: Vec<f32>,
     /// The first perspective camera of the file, if any.
     pub camera: Option<SceneCamera>,
     /// The file's lights (`KHR_lights_punctual`), one per node that places one.
@@ -410,13 +395,9 @@ impl Scene {
     }
 
     /// Linear albedo at barycentric `(u, v)` of triangle `tri`: the material's base colour times
-    /// its texture (if any) sampled at the interpolated UV.
+    /// its texture (if any) sampled at the interpolated UV, times the vertex colour (if any).
     pub fn albedo(&self, tri: usize, bary: (f32, f32)) -> Vec3 {
-        let material = &self.materials[self.tri_material[tri] as usize];
-        match material.texture.and_then(|t| self.textures.get(t)) {
-            Some(texture) => material.base_color * texture.sample(self.uv(tri, bary)),
-            None => material.base_color,
-        }
+        self.base_color_at(tri, bary, 0.0).truncate()
     }
 
     /// UV units per world unit on triangle `tri`: `sqrt(UV area / world area)`, so that a width
@@ -446,14 +427,7 @@ impl Scene {
     /// Where that footprint is at most one texel (also zero, negative or NaN) this is exactly
     /// [`albedo`](Self::albedo), bit for bit.
     pub fn albedo_footprint(&self, tri: usize, bary: (f32, f32), footprint_world: f32) -> Vec3 {
-        let material = &self.materials[self.tri_material[tri] as usize];
-        match material.texture.and_then(|t| self.textures.get(t)) {
-            Some(texture) => {
-                let footprint = footprint_world * self.uv_density(tri);
-                material.base_color * texture.sample_footprint(self.uv(tri, bary), footprint)
-            }
-            None => material.base_color,
-        }
+        self.base_color_at(tri, bary, footprint_world).truncate()
     }
 
     /// A copy with every vertex moved by `m` (normals by its inverse transpose). Winding is
@@ -471,6 +445,15 @@ impl Scene {
             // A singular `m` flattens normals; keep the old one rather than a zero vector.
             if t != Vec3::ZERO {
                 *n = t;
+            }
+        }
+        // Tangents are surface directions: they move with `m` itself; a mirror flips the
+        // bitangent's handedness, as it flips the winding.
+        let handedness = if m.determinant() < 0.0 { -1.0 } else { 1.0 };
+        for t in &mut out.tangents {
+            let moved = m.transform_vector3(t.truncate()).normalize_or_zero();
+            if moved != Vec3::ZERO {
+                *t = moved.extend(t.w * handedness);
             }
         }
         if m.determinant() < 0.0 {
@@ -501,19 +484,14 @@ impl Scene {
     /// this scene's origin). Keeps this scene's camera, origin and source, taking `other`'s
     /// camera only if this one has none.
     pub fn merge(&mut self, other: Scene) {
-        let vertex_base = self.positions.len() as u32;
+        let vertices = self.positions.len();
+        let vertex_base = vertices as u32;
         let material_base = self.materials.len() as u32;
         let texture_base = self.textures.len();
-        let alpha_base = self.alpha_maps.len();
-        if !self.vertex_alpha.is_empty() || !other.vertex_alpha.is_empty() {
-            self.vertex_alpha.resize(self.positions.len(), 1.0);
-            if other.vertex_alpha.is_empty() {
-                let n = self.positions.len() + other.positions.len();
-                self.vertex_alpha.resize(n, 1.0);
-            } else {
-                self.vertex_alpha.extend(&other.vertex_alpha);
-            }
-        }
+        let added = other.positions.len();
+        extend_optional(&mut self.uvs1, vertices, other.uvs1, added, Vec2::ZERO);
+        extend_optional(&mut self.tangents, vertices, other.tangents, added, Vec4::X);
+        extend_optional(&mut self.colors, vertices, other.colors, added, Vec4::ONE);
         let shift = other.origin - self.origin;
         if shift == DVec3::ZERO {
             self.positions.extend(other.positions);
@@ -533,12 +511,12 @@ impl Scene {
             .extend(other.tri_material.iter().map(|m| m + material_base));
         self.materials
             .extend(other.materials.into_iter().map(|mut m| {
-                m.texture = m.texture.map(|t| t + texture_base);
-                m.alpha.map = m.alpha.map.map(|a| a + alpha_base);
+                for slot in m.slots_mut().into_iter().flatten() {
+                    slot.texture += texture_base;
+                }
                 m
             }));
         self.textures.extend(other.textures);
-        self.alpha_maps.extend(other.alpha_maps);
         let triangle_base = self.triangles.len() - other.triangles.len();
         if !other.catcher.is_empty() {
             self.catcher.resize(triangle_base, false);
@@ -559,6 +537,29 @@ impl Scene {
             l
         }));
         self.warnings.extend(other.warnings);
+    }
+}
+
+/// Appends `added` vertices' values of an optional per-vertex array (empty = every vertex has
+/// `default`) to `to`, which holds `vertices` vertices' or is empty: the result is empty when
+/// both are, else one value per vertex, defaults filled in on whichever side had none.
+pub(crate) fn extend_optional<T: Copy>(
+    to: &mut Vec<T>,
+    vertices: usize,
+    values: Vec<T>,
+    added: usize,
+    default: T,
+) {
+    if to.is_empty() && values.is_empty() {
+        return;
+    }
+    if to.is_empty() {
+        to.resize(vertices, default);
+    }
+    if values.is_empty() {
+        to.resize(vertices + added, default);
+    } else {
+        to.extend(values);
     }
 }
 

@@ -88,12 +88,9 @@ impl Builder {
     /// Starts a new object with its own material, placed by `xf`.
     fn begin(&mut self, name: &str, color: Vec3, xf: Mat4) {
         self.material = self.scene.materials.len() as u32;
-        self.scene.materials.push(Material {
-            name: name.to_string(),
-            base_color: color,
-            texture: None,
-            alpha: super::Alpha::OPAQUE,
-        });
+        // [ours] Lambertian, as the paper's scenes were shaded: the built-in scene's frames
+        // stay what they were before glTF materials.
+        self.scene.materials.push(Material::lambert(name, color));
         self.xf = xf;
         self.nm = normal_matrix(xf);
     }

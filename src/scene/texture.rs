@@ -1,12 +1,58 @@
-//! Texture decoding (sRGB → linear at load), the mip pyramid, and sampling.
+//! Texture decoding (sRGB → linear at load, or linear data as it is), the mip pyramid, and
+//! sampling with a glTF sampler's wrap modes and filters.
 //!
 //! Determinism: the pyramid and the samplers use only + − × ÷, floor and `libm` (pure Rust),
 //! never the host's libm, so every host gets the same bits.
 
-use glam::{Vec2, Vec3};
+use glam::{Vec2, Vec3, Vec4};
 use image::ImageDecoder;
 
-use super::{AlphaMap, Texture};
+use super::Texture;
+
+/// How a texture's colour channels are encoded: base colour and emissive textures are sRGB,
+/// the others (metallic-roughness, normal, occlusion, specular) linear data (glTF 2.0 §3.9).
+/// Alpha is linear in both.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Encoding {
+    Srgb,
+    Linear,
+}
+
+/// How a coordinate outside [0, 1] is brought back (glTF's `wrapS` / `wrapT`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Wrap {
+    /// The texture tiles (GL `REPEAT`, glTF's default).
+    #[default]
+    Repeat,
+    /// The edge texels extend (GL `CLAMP_TO_EDGE`).
+    Clamp,
+    /// Every other tile is mirrored (GL `MIRRORED_REPEAT`).
+    Mirror,
+}
+
+/// A glTF sampler as the renderer uses it: the wrap mode per axis, whether magnification is
+/// nearest-texel (else bilinear), and whether minification uses the mip pyramid (glTF's
+/// `*_MIPMAP_*` minification filters, and no filter given: the default) or level 0 only.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Sampler {
+    pub wrap_s: Wrap,
+    pub wrap_t: Wrap,
+    pub mag_nearest: bool,
+    pub mipmaps: bool,
+}
+
+impl Default for Sampler {
+    /// Repeat on both axes, bilinear, mip-mapped: what the renderer did before samplers, and
+    /// glTF's default sampler.
+    fn default() -> Sampler {
+        Sampler {
+            wrap_s: Wrap::Repeat,
+            wrap_t: Wrap::Repeat,
+            mag_nearest: false,
+            mipmaps: true,
+        }
+    }
+}
 
 /// The sRGB electro-optical transfer function: an sRGB-encoded value in [0, 1] to linear.
 pub fn srgb_to_linear(c: f32) -> f32 {
@@ -17,12 +63,14 @@ pub fn srgb_to_linear(c: f32) -> f32 {
     }
 }
 
-/// One level of a texture's pyramid: linear RGB texels, row-major, row 0 at the top.
+/// One level of a texture's pyramid: linear RGB texels, row-major, row 0 at the top, and the
+/// alpha of each texel when the image had an alpha channel (empty when it had none: opaque).
 #[derive(Clone, Debug)]
 pub(super) struct Level {
     width: usize,
     height: usize,
     texels: Vec<Vec3>,
+    alpha: Vec<f32>,
 }
 
 impl Texture {
@@ -57,7 +105,22 @@ impl Texture {
         }
         // Small textures made in memory: a refused pyramid level would be a bug's, not an
         // input's; decoded ones go through `try_from_linear`.
-        Texture::try_from_linear(width, height, texels).ok()
+        Texture::try_from_linear(width, height, texels, Vec::new()).ok()
+    }
+
+    /// A texture from linear RGB texels and their alpha (row-major, row 0 at the top), used
+    /// as given. `None` if either does not hold `width × height` values.
+    pub fn from_linear_alpha(
+        width: usize,
+        height: usize,
+        texels: Vec<Vec3>,
+        alpha: Vec<f32>,
+    ) -> Option<Texture> {
+        let n = width.checked_mul(height)?;
+        if n != texels.len() || n != alpha.len() {
+            return None;
+        }
+        Texture::try_from_linear(width, height, texels, alpha).ok()
     }
 
     /// [`Texture::from_linear`] for a size already checked, with each pyramid level asked of
@@ -66,12 +129,15 @@ impl Texture {
         width: usize,
         height: usize,
         texels: Vec<Vec3>,
+        alpha: Vec<f32>,
     ) -> Result<Texture, crate::limits::NoMemory> {
         debug_assert_eq!(width * height, texels.len());
+        debug_assert!(alpha.is_empty() || alpha.len() == texels.len());
         let mut levels = vec![Level {
             width,
             height,
             texels,
+            alpha,
         }];
         if width > 0 && height > 0 {
             while let Some(next) = levels.last().and_then(Level::half).transpose()? {
@@ -95,25 +161,30 @@ impl Texture {
         Ok((w, h))
     }
 
-    /// Decodes an encoded image (PNG or JPEG) to a linear texture, treating it as sRGB and
-    /// ignoring alpha. 16-bit images are decoded from their full precision.
+    /// [`dimensions`](Self::dimensions), and whether the image has an alpha channel (which the
+    /// texture keeps), from the header alone: no pixel is decoded or allocated.
+    pub fn header(bytes: &[u8]) -> Result<(u32, u32, bool), image::ImageError> {
+        let (w, h) = Texture::dimensions(bytes)?;
+        let alpha = reader(bytes)?.into_decoder()?.color_type().has_alpha();
+        Ok((w, h, alpha))
+    }
+
+    /// Decodes an encoded image (PNG or JPEG) to a linear texture, treating it as sRGB:
+    /// [`decode_as`](Self::decode_as) with [`Encoding::Srgb`].
+    pub fn decode(bytes: &[u8]) -> crate::error::Result<Texture> {
+        Texture::decode_as(bytes, Encoding::Srgb)
+    }
+
+    /// Decodes an encoded image (PNG or JPEG) to a linear texture: its colour channels sRGB
+    /// decoded, or taken as they are for [`Encoding::Linear`] data; its alpha, if it has one,
+    /// kept (linear). 16-bit images are decoded from their full precision.
     /// Images over [`crate::limits::MAX_TEXTURE_TEXELS`] or 16384 on a side are refused before
     /// their pixels are allocated ([`Texture::dimensions`]).
     ///
     /// Errors: the decoder's [`image::ImageError`], or [`crate::limits::NoMemory`] when the
     /// system refuses a buffer (the decoder's pixels, the texels, a pyramid level): each is
     /// asked for before it is filled, so a refusal is an error rather than an abort.
-    pub fn decode(bytes: &[u8]) -> crate::error::Result<Texture> {
-        Ok(Texture::decode_with_alpha(bytes, false)?.0)
-    }
-
-    /// [`Texture::decode`], and with `keep_alpha` the image's alpha channel as an
-    /// [`AlphaMap`] (linear, as stored; `None` for an image without alpha). The texture's
-    /// texels are the same bits either way.
-    pub fn decode_with_alpha(
-        bytes: &[u8],
-        keep_alpha: bool,
-    ) -> crate::error::Result<(Texture, Option<AlphaMap>)> {
+    pub fn decode_as(bytes: &[u8], encoding: Encoding) -> crate::error::Result<Texture> {
         let (w, h) = Texture::dimensions(bytes)?;
         let decoder = reader(bytes)?.into_decoder()?;
         let color = decoder.color_type();
@@ -130,13 +201,15 @@ impl Texture {
         decoder.read_image(&mut pixels)?;
         let n = w as usize * h as usize;
         let mut texels = crate::limits::try_vec(n, "a texture's texels")?;
-        let mut alpha = if keep_alpha && color.has_alpha() {
-            Some(crate::limits::try_vec(n, "a texture's alpha")?)
+        let mut alpha = if color.has_alpha() {
+            crate::limits::try_vec(n, "a texture's alpha")?
         } else {
-            None
+            Vec::new()
         };
-        let decoded = linear_texels(color, &pixels, &mut texels, alpha.as_mut());
-        if !decoded || texels.len() != n || alpha.as_ref().is_some_and(|a| a.len() != n) {
+        if !linear_texels(color, encoding, &pixels, &mut texels, &mut alpha)
+            || texels.len() != n
+            || !(alpha.is_empty() || alpha.len() == n)
+        {
             return Err(
                 image::ImageError::Parameter(image::error::ParameterError::from_kind(
                     image::error::ParameterErrorKind::DimensionMismatch,
@@ -146,9 +219,9 @@ impl Texture {
         }
         // The decoder's pixels are gone before the pyramid is built: a lower peak.
         drop(pixels);
-        let (w, h) = (w as usize, h as usize);
-        let alpha = alpha.and_then(|a| AlphaMap::new(w, h, a));
-        Ok((Texture::try_from_linear(w, h, texels)?, alpha))
+        Ok(Texture::try_from_linear(
+            w as usize, h as usize, texels, alpha,
+        )?)
     }
 
     /// Width in texels (of level 0).
@@ -164,6 +237,16 @@ impl Texture {
     /// The `width × height` linear RGB texels of level 0, row 0 first.
     pub fn texels(&self) -> &[Vec3] {
         &self.levels[0].texels
+    }
+
+    /// The alpha of level 0's texels, row 0 first; empty for an image without alpha.
+    pub fn alpha(&self) -> &[f32] {
+        &self.levels[0].alpha
+    }
+
+    /// Whether the image had an alpha channel (else every texel is opaque: alpha 1).
+    pub fn has_alpha(&self) -> bool {
+        !self.levels[0].alpha.is_empty()
     }
 
     /// Number of pyramid levels: 1 + ⌊log2(max(width, height))⌋, or 1 for an empty texture.
@@ -184,7 +267,7 @@ impl Texture {
     /// colour is returned at its centre. Returns white for an empty texture and texel (0, 0)'s
     /// neighbourhood for non-finite `uv`.
     pub fn sample(&self, uv: Vec2) -> Vec3 {
-        self.levels[0].bilinear(uv)
+        self.levels[0].bilinear(uv, REPEAT)
     }
 
     /// The texture filtered over a footprint `footprint` wide in UV units (1 = the whole
@@ -206,12 +289,98 @@ impl Texture {
         let n = level.floor();
         let t = level - n;
         let n = n as usize;
-        let fine = self.levels[n].bilinear(uv);
+        let fine = self.levels[n].bilinear(uv, REPEAT);
         if t == 0.0 {
             fine
         } else {
-            fine.lerp(self.levels[n + 1].bilinear(uv), t)
+            fine.lerp(self.levels[n + 1].bilinear(uv, REPEAT), t)
         }
+    }
+
+    /// The texture as a glTF `sampler` reads it at `uv`, filtered over a footprint
+    /// `footprint` wide in UV units: RGB and alpha (1 without an alpha channel).
+    ///
+    /// With the default sampler (repeat, bilinear, mip-mapped) the colour is exactly
+    /// [`sample_footprint`](Self::sample_footprint)'s, bit for bit. A footprint of at most one
+    /// texel magnifies: bilinear at level 0, or the nearest texel for a `NEAREST` magnification
+    /// filter. A larger one minifies: trilinear over the pyramid, or bilinear at level 0 for a
+    /// minification filter without mipmaps. Wrapping per axis as the sampler says.
+    pub fn lookup(&self, uv: Vec2, footprint: f32, sampler: &Sampler) -> Vec4 {
+        let wrap = (sampler.wrap_s, sampler.wrap_t);
+        let base = &self.levels[0];
+        let texels = footprint * base.width.max(base.height) as f32;
+        let magnified = texels.is_nan() || texels <= 1.0 || self.levels.len() == 1;
+        if magnified && sampler.mag_nearest {
+            return base.nearest(uv, wrap);
+        }
+        if magnified || !sampler.mipmaps {
+            return base.bilinear4(uv, wrap);
+        }
+        let last = (self.levels.len() - 1) as f32;
+        let level = libm::log2f(texels).max(0.0).min(last);
+        let n = level.floor();
+        let t = level - n;
+        let n = n as usize;
+        let fine = self.levels[n].bilinear4(uv, wrap);
+        if t == 0.0 {
+            fine
+        } else {
+            fine.lerp(self.levels[n + 1].bilinear4(uv, wrap), t)
+        }
+    }
+}
+
+impl Texture {
+    /// The alpha [`lookup`](Self::lookup) gives at `uv` with a zero footprint (level 0:
+    /// bilinear, or the nearest texel for a `NEAREST` magnification filter), without the
+    /// colour: what the alpha test reads ([`super::Scene::alpha`]). 1 without an alpha channel.
+    pub fn alpha_at(&self, uv: Vec2, sampler: &Sampler) -> f32 {
+        let base = &self.levels[0];
+        if base.alpha.is_empty() || !base.readable() {
+            return 1.0;
+        }
+        let wrap = (sampler.wrap_s, sampler.wrap_t);
+        if sampler.mag_nearest {
+            return base.alpha[base.nearest_index(uv, wrap)];
+        }
+        let Taps4 { at, fx, fy } = base.taps(uv, wrap);
+        base.bilinear_alpha(at, fx, fy)
+    }
+}
+
+/// Repeat on both axes.
+const REPEAT: (Wrap, Wrap) = (Wrap::Repeat, Wrap::Repeat);
+
+impl Wrap {
+    /// A texture coordinate brought into [0, 1] (repeat: its fraction, first, so that large
+    /// coordinates keep their precision; clamp: clamped; mirror: folded over a period of 2).
+    #[inline]
+    fn coordinate(self, u: f32) -> f32 {
+        match self {
+            Wrap::Repeat => u.rem_euclid(1.0),
+            Wrap::Clamp => u.clamp(0.0, 1.0),
+            Wrap::Mirror => {
+                let t = u.rem_euclid(2.0);
+                if t > 1.0 { 2.0 - t } else { t }
+            }
+        }
+    }
+
+    /// A texel index `i` (one beyond either edge at most, as a bilinear footprint reaches)
+    /// brought into `0..n`.
+    #[inline]
+    fn index(self, i: i64, n: usize) -> usize {
+        let n = n as i64;
+        let i = match self {
+            Wrap::Repeat => i.rem_euclid(n),
+            Wrap::Clamp => i.clamp(0, n - 1),
+            // Period 2n: the mirrored copy reads n−1 … 0.
+            Wrap::Mirror => {
+                let t = i.rem_euclid(2 * n);
+                if t >= n { 2 * n - 1 - t } else { t }
+            }
+        };
+        i as usize
     }
 }
 
@@ -231,13 +400,14 @@ fn reader(bytes: &[u8]) -> image::ImageResult<image::ImageReader<std::io::Cursor
 /// samples, as the decoder wrote them) to `out`: samples scaled to [0, 1] exactly as the
 /// `image` crate's `to_rgb32f` does (the textures are then the same bits as when it decoded
 /// them, without its second copy of every pixel), grey copied to R, G and B; then sRGB
-/// decoded. Alpha, where the colour type has it, is appended to `alpha` if given (scaled the
-/// same way, not decoded: glTF's alpha is linear). `false` for a colour type it does not know.
+/// decoded, unless `encoding` is linear. The alpha channel, if the colour type has one, goes
+/// to `alpha` as it is (scaled to [0, 1]). `false` for a colour type it does not know.
 fn linear_texels(
     color: image::ColorType,
+    encoding: Encoding,
     pixels: &[u8],
     out: &mut Vec<Vec3>,
-    mut alpha: Option<&mut Vec<f32>>,
+    alpha: &mut Vec<f32>,
 ) -> bool {
     use image::ColorType as C;
     let (size, channels) = match color {
@@ -258,45 +428,116 @@ fn linear_texels(
         2 => f32::from(u16::from_ne_bytes([b[0], b[1]])) * (1.0 / 65535.0),
         _ => f32::from_ne_bytes([b[0], b[1], b[2], b[3]]),
     };
+    let has_alpha = color.has_alpha();
     for p in pixels.chunks_exact(size * channels) {
         let rgb = if channels < 3 {
             Vec3::splat(grey(p))
         } else {
             Vec3::new(sample(p), sample(&p[size..]), sample(&p[2 * size..]))
         };
-        out.push(rgb.map(srgb_to_linear));
-        if let Some(a) = alpha.as_deref_mut()
-            && color.has_alpha()
-        {
-            a.push(sample(&p[(channels - 1) * size..]).clamp(0.0, 1.0));
+        out.push(match encoding {
+            Encoding::Srgb => rgb.map(srgb_to_linear),
+            Encoding::Linear => rgb,
+        });
+        if has_alpha {
+            // Coverage: [0, 1] (a float image may hold more).
+            alpha.push(sample(&p[(channels - 1) * size..]).clamp(0.0, 1.0));
         }
     }
     true
 }
 
+/// The four texels a bilinear lookup reads (row-major indices: top left, top right, bottom
+/// left, bottom right) and the blend weights across and down.
+struct Taps4 {
+    at: [usize; 4],
+    fx: f32,
+    fy: f32,
+}
+
 impl Level {
-    /// The texel at integer coordinates, wrapped (repeat) into range.
-    fn texel(&self, x: i64, y: i64) -> Vec3 {
-        let x = x.rem_euclid(self.width as i64) as usize;
-        let y = y.rem_euclid(self.height as i64) as usize;
-        self.texels[y * self.width + x]
+    /// Whether the level has texels to read (an empty texture reads as white).
+    fn readable(&self) -> bool {
+        self.width > 0 && self.height > 0 && self.texels.len() >= self.width * self.height
     }
 
-    /// [`Texture::sample`] on this level.
-    fn bilinear(&self, uv: Vec2) -> Vec3 {
-        if self.width == 0 || self.height == 0 || self.texels.len() < self.width * self.height {
-            return Vec3::ONE;
-        }
+    /// The taps of a bilinear lookup at `uv`: texel `(i, j)` covers `u ∈ [i/w, (i+1)/w)`,
+    /// `v ∈ [j/h, (j+1)/h)` and is exact at its centre. Non-finite `uv` reads at (0, 0).
+    #[inline]
+    fn taps(&self, uv: Vec2, (ws, wt): (Wrap, Wrap)) -> Taps4 {
         let uv = if uv.is_finite() { uv } else { Vec2::ZERO };
         // Wrap first so large coordinates keep their precision in the fraction.
-        let x = uv.x.rem_euclid(1.0) * self.width as f32 - 0.5;
-        let y = uv.y.rem_euclid(1.0) * self.height as f32 - 0.5;
+        let x = ws.coordinate(uv.x) * self.width as f32 - 0.5;
+        let y = wt.coordinate(uv.y) * self.height as f32 - 0.5;
         let (x0, y0) = (x.floor(), y.floor());
         let (fx, fy) = (x - x0, y - y0);
         let (x0, y0) = (x0 as i64, y0 as i64);
-        let top = self.texel(x0, y0).lerp(self.texel(x0 + 1, y0), fx);
-        let bottom = self.texel(x0, y0 + 1).lerp(self.texel(x0 + 1, y0 + 1), fx);
+        let (xa, xb) = (ws.index(x0, self.width), ws.index(x0 + 1, self.width));
+        let (ya, yb) = (wt.index(y0, self.height), wt.index(y0 + 1, self.height));
+        let w = self.width;
+        Taps4 {
+            at: [ya * w + xa, ya * w + xb, yb * w + xa, yb * w + xb],
+            fx,
+            fy,
+        }
+    }
+
+    /// [`Texture::sample`] on this level, wrapped by `wrap`.
+    fn bilinear(&self, uv: Vec2, wrap: (Wrap, Wrap)) -> Vec3 {
+        if !self.readable() {
+            return Vec3::ONE;
+        }
+        let Taps4 { at, fx, fy } = self.taps(uv, wrap);
+        let t = |k: usize| self.texels[at[k]];
+        let top = t(0).lerp(t(1), fx);
+        let bottom = t(2).lerp(t(3), fx);
         top.lerp(bottom, fy)
+    }
+
+    /// [`bilinear`](Self::bilinear) with the alpha beside it (1 where there is none): the
+    /// colour is the same bits.
+    fn bilinear4(&self, uv: Vec2, wrap: (Wrap, Wrap)) -> Vec4 {
+        if !self.readable() {
+            return Vec4::ONE;
+        }
+        let Taps4 { at, fx, fy } = self.taps(uv, wrap);
+        let t = |k: usize| self.texels[at[k]];
+        let rgb = t(0).lerp(t(1), fx).lerp(t(2).lerp(t(3), fx), fy);
+        let alpha = if self.alpha.is_empty() {
+            1.0
+        } else {
+            self.bilinear_alpha(at, fx, fy)
+        };
+        rgb.extend(alpha)
+    }
+
+    /// The alpha of a bilinear lookup's taps (the level has alpha).
+    #[inline]
+    fn bilinear_alpha(&self, at: [usize; 4], fx: f32, fy: f32) -> f32 {
+        let a = |k: usize| self.alpha[at[k]];
+        let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
+        lerp(lerp(a(0), a(1), fx), lerp(a(2), a(3), fx), fy)
+    }
+
+    /// The index of the texel whose area holds `uv` (GL `NEAREST`); the level is readable.
+    #[inline]
+    fn nearest_index(&self, uv: Vec2, (ws, wt): (Wrap, Wrap)) -> usize {
+        let uv = if uv.is_finite() { uv } else { Vec2::ZERO };
+        let x = (ws.coordinate(uv.x) * self.width as f32).floor() as i64;
+        let y = (wt.coordinate(uv.y) * self.height as f32).floor() as i64;
+        // u = 1 exactly (clamped or mirrored) is the last texel's edge: it stays in range.
+        wt.index(y.min(self.height as i64 - 1), self.height) * self.width
+            + ws.index(x.min(self.width as i64 - 1), self.width)
+    }
+
+    /// The texel whose area holds `uv` (GL `NEAREST`), with its alpha.
+    fn nearest(&self, uv: Vec2, (ws, wt): (Wrap, Wrap)) -> Vec4 {
+        if !self.readable() {
+            return Vec4::ONE;
+        }
+        let i = self.nearest_index(uv, (ws, wt));
+        let alpha = self.alpha.get(i).copied().unwrap_or(1.0);
+        self.texels[i].extend(alpha)
     }
 
     /// The next pyramid level: each side halved, rounded down, at least 1; `None` at 1 × 1.
@@ -333,10 +574,29 @@ impl Level {
         for t in &taps_y {
             texels.extend((0..w2).map(|x| t.apply(|j| rows[j * w2 + x])));
         }
+        // Alpha the same way, as the fourth channel it is.
+        let mut alpha = Vec::new();
+        if !self.alpha.is_empty() {
+            let buffers = crate::limits::try_vec(w2 * h, "a texture's pyramid")
+                .and_then(|r| Ok((r, crate::limits::try_vec(w2 * h2, "a texture's pyramid")?)));
+            let (mut rows, out) = match buffers {
+                Ok(b) => b,
+                Err(e) => return Some(Err(e)),
+            };
+            alpha = out;
+            for y in 0..h {
+                let row = &self.alpha[y * w..(y + 1) * w];
+                rows.extend(taps_x.iter().map(|t| t.apply_scalar(|j| row[j])));
+            }
+            for t in &taps_y {
+                alpha.extend((0..w2).map(|x| t.apply_scalar(|j| rows[j * w2 + x])));
+            }
+        }
         Some(Ok(Level {
             width: w2,
             height: h2,
             texels,
+            alpha,
         }))
     }
 }
@@ -353,6 +613,15 @@ impl Taps {
     /// `Σ weight_k · texel(first + k)`, in order.
     fn apply(&self, texel: impl Fn(usize) -> Vec3) -> Vec3 {
         let mut sum = Vec3::ZERO;
+        for (k, &w) in self.weights[..self.len].iter().enumerate() {
+            sum += texel(self.first + k) * w;
+        }
+        sum
+    }
+
+    /// [`apply`](Self::apply) for one channel.
+    fn apply_scalar(&self, texel: impl Fn(usize) -> f32) -> f32 {
+        let mut sum = 0.0;
         for (k, &w) in self.weights[..self.len].iter().enumerate() {
             sum += texel(self.first + k) * w;
         }
@@ -803,34 +1072,39 @@ mod tests {
             let mut bytes = std::io::Cursor::new(Vec::new());
             img.write_to(&mut bytes, ImageFormat::Png).unwrap();
             let bytes = bytes.into_inner();
-            let (t, alpha) = Texture::decode_with_alpha(&bytes, true).unwrap();
-            let alpha = alpha.expect(name);
-            assert_eq!(alpha.size(), (w as usize, h as usize), "{name}");
+            let t = Texture::decode(&bytes).unwrap();
+            assert!(t.has_alpha(), "{name}");
+            assert_eq!(t.alpha().len(), (w * h) as usize, "{name}");
             for (n, want) in want.iter().enumerate() {
                 let (x, y) = (n % w as usize, n / w as usize);
                 let uv = Vec2::new((x as f32 + 0.5) / w as f32, (y as f32 + 0.5) / h as f32);
-                assert_eq!(alpha.sample(uv), *want, "{name} texel {n}");
+                assert_eq!(
+                    t.alpha_at(uv, &Sampler::default()),
+                    *want,
+                    "{name} texel {n}"
+                );
+                // The sampler's lookup at level 0 reads the same alpha.
+                assert_eq!(
+                    t.lookup(uv, 0.0, &Sampler::default()).w,
+                    *want,
+                    "{name} {n}"
+                );
             }
-            let plain = Texture::decode(&bytes).unwrap();
-            assert_eq!(t.texels(), plain.texels(), "{name}: colour changed");
-            assert!(
-                Texture::decode_with_alpha(&bytes, false)
-                    .unwrap()
-                    .1
-                    .is_none()
-            );
+            let same = t
+                .texels()
+                .iter()
+                .zip(&through_dynamic_image(&bytes))
+                .all(|(a, b)| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits));
+            assert!(same, "{name}: colour changed");
         }
-        // No alpha channel: no map.
+        // No alpha channel: opaque.
         let rgb = DynamicImage::ImageRgb8(ImageBuffer::from_fn(4, 4, |_, _| image::Rgb([1, 2, 3])));
         let mut bytes = std::io::Cursor::new(Vec::new());
         rgb.write_to(&mut bytes, ImageFormat::Png).unwrap();
         let bytes = bytes.into_inner();
-        assert!(
-            Texture::decode_with_alpha(&bytes, true)
-                .unwrap()
-                .1
-                .is_none()
-        );
+        let t = Texture::decode(&bytes).unwrap();
+        assert!(!t.has_alpha());
+        assert_eq!(t.alpha_at(Vec2::splat(0.3), &Sampler::default()), 1.0);
     }
 
     #[test]

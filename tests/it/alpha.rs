@@ -9,7 +9,7 @@ use envshadow::envmap::EnvMap;
 use envshadow::film::Film;
 use envshadow::lights::{Light, LightSet, Sampler};
 use envshadow::predict::Method;
-use envshadow::scene::{Alpha, AlphaMap, AlphaMode, Material, Scene};
+use envshadow::scene::{AlphaMode, Material, Scene, Texture, TextureSlot};
 use glam::{Vec2, Vec3};
 
 /// Alpha texels of the test masks (a side).
@@ -41,14 +41,12 @@ fn checker() -> Vec<f32> {
 /// (material 1, UV = (x + ½, z + ½)) whose coverage is `mode` over the alpha texels `alpha`.
 fn panel_scene(alpha: Vec<f32>, mode: AlphaMode) -> Scene {
     let mut scene = common::scene_with_materials(&[0.5, 0.8]);
-    scene
-        .alpha_maps
-        .push(AlphaMap::new(SIDE, SIDE, alpha).unwrap());
-    scene.materials[1].alpha = Alpha {
-        mode,
-        factor: 1.0,
-        map: Some(0),
-    };
+    // A white base colour texture carrying the alpha.
+    let white = vec![Vec3::ONE; SIDE * SIDE];
+    let texture = Texture::from_linear_alpha(SIDE, SIDE, white, alpha).unwrap();
+    scene.materials[1].base_color_texture = Some(TextureSlot::plain(scene.textures.len()));
+    scene.textures.push(texture);
+    scene.materials[1].alpha_mode = mode;
     common::add_plane(&mut scene, 40.0, 0.0, 0);
     let base = scene.positions.len() as u32;
     for (x, z) in [(-0.5, -0.5), (0.5, -0.5), (0.5, 0.5), (-0.5, 0.5)] {
@@ -262,6 +260,7 @@ fn packets_blockers_and_single_rays_agree_on_cut_out_geometry() {
             dir: -Vec3::Y,
             hit: true,
             catcher: false,
+            ..Surface::default()
         };
         let lights: Vec<u32> = (0..ctx.light_count() as u32)
             .filter(|&j| ctx.light_dir[j as usize].y > 0.0)
@@ -296,14 +295,19 @@ fn alpha_mask_panels_cast_the_shape_of_their_textures() {
     let masked: Vec<&Material> = scene
         .materials
         .iter()
-        .filter(|m| matches!(m.alpha.mode, AlphaMode::Mask { .. }))
+        .filter(|m| matches!(m.alpha_mode, AlphaMode::Mask { .. }))
         .collect();
     assert_eq!(masked.len(), 3, "perforated, lattice, leafy_noise");
-    assert!(masked.iter().all(|m| m.alpha.map.is_some()));
-    assert_eq!(scene.alpha_maps.len(), 3);
+    let mut maps: Vec<usize> = masked
+        .iter()
+        .filter_map(|m| m.base_color_texture.map(|s| s.texture))
+        .filter(|&t| scene.textures[t].has_alpha())
+        .collect();
+    maps.dedup();
+    assert_eq!(maps.len(), 3, "each its own base colour alpha");
     let mut opaque = scene.clone();
     for m in &mut opaque.materials {
-        m.alpha = Alpha::OPAQUE;
+        m.alpha_mode = AlphaMode::Opaque;
     }
     let light = LightSet::from_lights(vec![Light {
         dir: Vec3::new(0.1, 0.6, 1.0).normalize(),
@@ -386,4 +390,46 @@ fn blend_is_coverage_for_camera_rays() {
         });
     }
     failures.assert_none();
+}
+
+#[test]
+fn the_alpha_test_reads_the_base_colour_slot_as_shading_does() {
+    // The panel's alpha texture read through a KHR_texture_transform and a clamping, NEAREST
+    // sampler: the BVH's alpha (Scene::alpha) is the texture's alpha at the transformed
+    // coordinates as that sampler reads them, and the same as the material's own alpha at the
+    // point (what shading reads), so camera rays, shadow rays and shading agree.
+    let mut scene = panel_scene(checker(), AlphaMode::Mask { cutoff: 0.5 });
+    let panel = scene.triangle_count() - 2;
+    let transform = envshadow::scene::UvTransform::new([0.3, -0.2], 0.4, [1.7, 0.6]);
+    let sampler = envshadow::scene::Sampler {
+        wrap_s: envshadow::scene::Wrap::Clamp,
+        wrap_t: envshadow::scene::Wrap::Mirror,
+        mag_nearest: true,
+        mipmaps: true,
+    };
+    let slot = scene.materials[1].base_color_texture.as_mut().unwrap();
+    slot.transform = Some(transform);
+    slot.sampler = sampler;
+    let texture = scene.textures[slot.texture].clone();
+    let (mut differs, mut n) = (0, 0);
+    for tri in [panel, panel + 1] {
+        for k in 0..400 {
+            let (u, v) = ((k % 20) as f32 / 20.0, (k / 20) as f32 / 20.0);
+            if u + v > 1.0 {
+                continue;
+            }
+            let uv = scene.uv(tri, (u, v));
+            let want = texture.alpha_at(transform.apply(uv), &sampler);
+            let got = scene.alpha(tri, (u, v));
+            assert_eq!(got, want, "triangle {tri} at ({u}, {v})");
+            let shading = scene.material_at(tri, (u, v), 0.0, Vec3::Y).sample.alpha;
+            assert_eq!(shading, got, "shading's alpha at ({u}, {v})");
+            differs += usize::from(got != texture.alpha_at(uv, &Default::default()));
+            n += 1;
+        }
+    }
+    assert!(
+        differs > n / 4,
+        "the transform and sampler matter: {differs} of {n}"
+    );
 }

@@ -92,12 +92,7 @@ pub fn scene_with_materials(albedos: &[f32]) -> Scene {
         materials: albedos
             .iter()
             .enumerate()
-            .map(|(i, &a)| Material {
-                name: format!("m{i}"),
-                base_color: Vec3::splat(a),
-                texture: None,
-                alpha: envshadow::scene::Alpha::OPAQUE,
-            })
+            .map(|(i, &a)| Material::lambert(&format!("m{i}"), Vec3::splat(a)))
             .collect(),
         source: "test".into(),
         ..Default::default()

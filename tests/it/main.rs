@@ -23,6 +23,7 @@ mod golden;
 mod hostile;
 mod interrupt;
 mod lights;
+mod materials;
 mod maths;
 mod memory;
 mod motion;

@@ -336,7 +336,11 @@ fn materials_sharing_an_image_decode_it_once() {
     std::fs::write(&path, textured(images, &[&red, &red])).unwrap();
     let scene = Scene::load(&path).unwrap();
     assert_eq!(scene.textures.len(), 2, "two distinct images");
-    let used: Vec<Option<usize>> = scene.materials.iter().map(|m| m.texture).collect();
+    let used: Vec<Option<usize>> = scene
+        .materials
+        .iter()
+        .map(|m| m.base_color_texture.map(|s| s.texture))
+        .collect();
     let red_t = used[0];
     assert_eq!(
         used,

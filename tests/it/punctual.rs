@@ -6,12 +6,13 @@
 use crate::common::{self, Failures};
 
 use envshadow::anim::{AnimFlags, Animation};
+use envshadow::brdf::brdf;
 use envshadow::coordinator::{Inputs, Silent, render_frame, thread_pool};
 use envshadow::envmap::EnvMap;
 use envshadow::film::Film;
 use envshadow::lights::{LightSet, Sampler};
 use envshadow::predict::Method;
-use envshadow::scene::{Scene, SceneLight, SceneLightKind};
+use envshadow::scene::{Material, Scene, SceneLight, SceneLightKind};
 use glam::Vec3;
 use std::path::Path;
 
@@ -383,6 +384,7 @@ fn packets_and_single_rays_agree_on_point_lights() {
             dir: -Vec3::Y,
             hit: true,
             catcher: false,
+            ..Surface::default()
         };
         // The file lights (the last three) with some map lights in one packet.
         let mut lights: Vec<u32> = all.iter().copied().step_by(7).take(29).collect();
@@ -478,4 +480,55 @@ fn lights_json_keeps_the_scene_files_lights() {
         assert_eq!(back.neighbors(j), inputs.lights.neighbors(j), "light {j}");
     }
     assert!(back.neighbors(21).is_empty() && back.neighbors(22).is_empty());
+}
+
+#[test]
+fn point_lights_shade_metallic_roughness_materials_with_the_gltf_brdf() {
+    // A point light over a glossy, partly metallic ground: every pixel is the glTF BRDF of
+    // the light's direction and the pixel's view, times the irradiance (brdf::brdf, the scalar
+    // reference), not the Lambertian share alone. Roughness 0.4: the lights' own sums, no
+    // glossy environment.
+    let l = Vec3::new(0.4, 1.5, -0.3);
+    let cd = 683.0 * 3.0;
+    let mut scene = ground();
+    scene.materials[0] = Material {
+        base_color: Vec3::new(0.8, 0.5, 0.3),
+        metallic: 0.3,
+        roughness: 0.4,
+        ..Material::default()
+    };
+    let sample = scene.material_at(0, (0.3, 0.3), 0.0, Vec3::Y).sample;
+    assert!(!sample.lambert);
+    let point = light(SceneLightKind::Point, l, -Vec3::Y, cd);
+    let colour = point.color;
+    let inputs = Inputs::new(scene, black_env(), dark_map_and(&[point]));
+    let anim = looking_down(64, Method::BRUTE);
+    let cam = anim.camera(&inputs.scene, 0).unwrap();
+    let (film, _) = render_frame(&anim, &inputs, 0, None, &Silent).unwrap();
+    let (w, h) = (anim.render.width, anim.render.height);
+    let (mut lit, mut beyond_lambert) = (0, 0);
+    for y in 0..h {
+        for x in 0..w {
+            let d = cam.ray_dir(x, y);
+            let p = cam.position + d * (-cam.position.y / d.y);
+            let to = l - p;
+            let dir = to.normalize();
+            let e = colour * (cd / 683.0) / to.length_squared();
+            let f = brdf(Vec3::Y, -d, dir, Vec3::new(0.8, 0.5, 0.3), &sample);
+            let want = f * e * dir.y.max(0.0);
+            let got = Vec3::from_array(film.beauty[(y * w + x) as usize]);
+            assert!(
+                (got - want).abs().max_element() <= 2e-3 * want.max_element() + 1e-6,
+                "pixel ({x}, {y}): {got}, want {want}"
+            );
+            let lambert = Vec3::new(0.8, 0.5, 0.3) * 0.7 / std::f32::consts::PI * e * dir.y;
+            lit += usize::from(want.max_element() > 0.0);
+            beyond_lambert +=
+                usize::from((want - lambert).abs().max_element() > 1e-3 * want.max_element());
+        }
+    }
+    assert!(
+        lit > 1000 && beyond_lambert > 1000,
+        "{lit} lit, {beyond_lambert} with specular"
+    );
 }

@@ -323,10 +323,16 @@ fn textured_file(g: &mut Gltf, image: Value, extra_view: Option<&[u8]>) -> Value
     })
 }
 
-/// Finds a triangle and barycentrics whose interpolated UV is `uv`.
+/// Finds a triangle and barycentrics whose interpolated UV is `uv` (of TEXCOORD_1 where the
+/// scene has it: the textured files here read that set).
 fn locate(scene: &Scene, uv: Vec2) -> (usize, (f32, f32)) {
+    let uvs = if scene.uvs1.is_empty() {
+        &scene.uvs
+    } else {
+        &scene.uvs1
+    };
     for t in 0..scene.triangle_count() {
-        let [a, b, c] = scene.triangles[t].map(|i| scene.uvs[i as usize]);
+        let [a, b, c] = scene.triangles[t].map(|i| uvs[i as usize]);
         let (e1, e2, d) = (b - a, c - a, uv - a);
         let det = e1.perp_dot(e2);
         let u = d.perp_dot(e2) / det;
@@ -433,10 +439,8 @@ impl CheckerGround {
             triangles: vec![[0, 2, 1], [0, 3, 2]],
             tri_material: vec![0, 0],
             materials: vec![Material {
-                name: "checker".into(),
-                base_color: Vec3::ONE,
-                texture: Some(0),
-                alpha: envshadow::scene::Alpha::OPAQUE,
+                base_color_texture: Some(envshadow::scene::TextureSlot::plain(0)),
+                ..Material::lambert("checker", Vec3::ONE)
             }],
             textures: vec![texture],
             ..Scene::default()
@@ -1206,12 +1210,13 @@ fn masked_materials_read_texture_factor_and_vertex_alpha() {
     );
     let scene = Scene::load(&g.write_glb(dir.path(), "alpha", doc)).unwrap();
     assert_eq!(scene.textures.len(), 1, "one image, decoded once");
-    assert_eq!(scene.alpha_maps.len(), 1, "its alpha kept once");
+    assert!(scene.textures[0].has_alpha(), "its alpha kept with it");
     let leaf = &scene.materials[scene.tri_material[0] as usize];
-    assert_eq!(leaf.alpha.mode, AlphaMode::Mask { cutoff: 0.4 });
-    assert_eq!((leaf.alpha.factor, leaf.alpha.map), (0.5, Some(0)));
+    assert_eq!(leaf.alpha_mode, AlphaMode::Mask { cutoff: 0.4 });
+    assert_eq!(leaf.base_alpha, 0.5);
+    assert_eq!(leaf.base_color_texture.map(|s| s.texture), Some(0));
     let wall = &scene.materials[scene.tri_material[2] as usize];
-    assert_eq!(wall.alpha, envshadow::scene::Alpha::OPAQUE);
+    assert_eq!(wall.alpha_mode, AlphaMode::Opaque);
     // Texture alpha at the texel centres, times the factor, times COLOR_0 (1 at x = 0, 0.5 at
     // x = 1, linear between).
     let png_alpha = [0.0, 64.0 / 255.0, 128.0 / 255.0, 1.0];
@@ -1242,7 +1247,12 @@ fn masked_materials_read_texture_factor_and_vertex_alpha() {
         ]),
     );
     let scene = Scene::load(&g.write_glb(dir.path(), "opaque", doc)).unwrap();
-    assert!(scene.alpha_maps.is_empty() && scene.vertex_alpha.is_empty());
+    assert!(
+        scene
+            .materials
+            .iter()
+            .all(|m| m.alpha_mode == AlphaMode::Opaque)
+    );
     assert!(scene.cut_out_triangles().is_empty());
 }
 
@@ -1273,7 +1283,7 @@ fn blend_materials_are_named_once_in_a_warning_and_bad_cutoffs_refused() {
         "{}",
         about[0]
     );
-    assert_eq!(scene.materials[0].alpha.mode, AlphaMode::Blend);
+    assert_eq!(scene.materials[0].alpha_mode, AlphaMode::Blend);
     assert_eq!(scene.cut_out_triangles(), vec![true; 4]);
     let scene = Scene::load(&g.write_glb(dir.path(), "blend2", doc.clone())).unwrap();
     let names: Vec<bool> = ["'glass'", "'glass2'"]
