@@ -114,8 +114,9 @@ fn temporal_prediction_agrees_with_brute_force_within_its_stated_error() {
 
 /// A turning environment (issue 22, item 3) at the size the acceptance figures are measured
 /// at (640×480, 200 lights, 3° per frame): a whole chain of the default key-frame interval,
-/// each frame against brute force within 0.05 % wrong pairs, tracing less than 60 % of what
-/// the spatial method traces for the same frame (54–55 % on this map when written).
+/// each frame against brute force within 0.05 % wrong pairs, tracing less than 70 % of what
+/// the spatial method traces for the same frame (54–55 % on this map when written; 62–63 %
+/// since every traced light floods, which found thin occluders between two lights).
 #[test]
 fn environment_turntable_agrees_with_brute_force_within_0_05_percent() {
     let dir = tempfile::tempdir().unwrap();
@@ -141,7 +142,7 @@ fn environment_turntable_agrees_with_brute_force_within_0_05_percent() {
                 let (_, s) = render_frame(&spatial, &inputs, f, None, &Silent).unwrap();
                 let share = c.rays as f64 / s.counts.rays as f64;
                 assert!(
-                    c.temporal_pixels > 0 && share < 0.6,
+                    c.temporal_pixels > 0 && share < 0.7,
                     "{:.1} % of the spatial rays",
                     share * 100.0
                 );
