@@ -547,10 +547,13 @@ fn render_tile_list(
         None => None,
     };
     // The methods run on the samples: their spacings grow with the samples per pixel side.
-    let shadows = anim
-        .render
-        .method
-        .build(anim.render.params().for_samples(side), prev.as_ref());
+    let shadows = anim.render.method.build(
+        anim.render
+            .params()
+            .for_samples(side)
+            .for_cutouts(accel.has_cutouts()),
+        prev.as_ref(),
+    );
     let work = FrameWork {
         ctx: &ctx,
         shadows: &shadows,

@@ -407,7 +407,7 @@ settings! {
         /// `contrary` at the grid's finest level, whose wrong pairs mislead no coarser pixel,
         /// and `all` above it, about a fifth fewer rays than `all` for a few percent more wrong
         /// pairs (docs/methods.md).
-        flood_to: FloodTo = FloodTo::ContraryFinest,
+        flood_to: FloodTo = FloodTo::Auto,
             flag "flood-to" [value_name = "RULE"], check any;
         /// Grid methods with --spp above 1: at the finest level, whose voters lie one sample
         /// apart inside a pixel, take a light on which three of four voters agree from them

@@ -163,10 +163,13 @@ fn trace_queue<F: Flood>(
                 let nb = ctx.lights.neighbor_bits(j);
                 for m in 0..w {
                     let to = match at.flood_to {
-                        // `ContraryFinest` is resolved per pass by the driver
-                        // (`FloodTo::at_level`), `Adaptive` per pixel (`At::for_voters`),
-                        // before they get here.
-                        FloodTo::All | FloodTo::ContraryFinest | FloodTo::Adaptive => !0,
+                        // `Auto` is resolved per frame (`Params::for_cutouts`),
+                        // `ContraryFinest` per pass by the driver (`FloodTo::at_level`),
+                        // `Adaptive` per pixel (`At::for_voters`), before they get here.
+                        FloodTo::All
+                        | FloodTo::ContraryFinest
+                        | FloodTo::Adaptive
+                        | FloodTo::Auto => !0,
                         FloodTo::Contrary if visible => !sc.pred_vis[m],
                         FloodTo::Contrary => sc.pred_vis[m],
                     };

@@ -325,6 +325,15 @@ impl Params {
             ..self
         }
     }
+
+    /// The parameters for a frame whose geometry has cut-out triangles (`cutouts`) or not:
+    /// the flood rule [`FloodTo::Auto`] decided.
+    pub fn for_cutouts(self, cutouts: bool) -> Params {
+        Params {
+            flood_to: self.flood_to.resolved(cutouts),
+            ..self
+        }
+    }
 }
 
 impl fmt::Display for Method {
@@ -399,8 +408,9 @@ mod tests {
                     let finest = order == "grid" && pass >= 7;
                     let want = At {
                         flood_to: match flood_to {
-                            FloodTo::ContraryFinest if finest => FloodTo::Contrary,
-                            FloodTo::ContraryFinest => FloodTo::All,
+                            // `Auto` not resolved for cut-outs reads as contrary-finest.
+                            FloodTo::ContraryFinest | FloodTo::Auto if finest => FloodTo::Contrary,
+                            FloodTo::ContraryFinest | FloodTo::Auto => FloodTo::All,
                             f => f,
                         },
                         keep_blockers: warp && !(order == "grid" && pass == 8),
@@ -418,6 +428,27 @@ mod tests {
             }
         }
         assert!(failures.is_empty(), "{}", failures.join("\n"));
+    }
+
+    #[test]
+    fn auto_floods_to_all_lights_only_where_the_frame_has_cut_outs() {
+        let auto = Params {
+            flood_to: FloodTo::Auto,
+            ..Params::default()
+        };
+        assert_eq!(auto.for_cutouts(true).flood_to, FloodTo::All);
+        assert_eq!(auto.for_cutouts(false).flood_to, FloodTo::ContraryFinest);
+        for f in [
+            FloodTo::All,
+            FloodTo::ContraryFinest,
+            FloodTo::Contrary,
+            FloodTo::Adaptive,
+        ] {
+            for cutouts in [false, true] {
+                assert_eq!(f.resolved(cutouts), f, "a rule the user chose is kept");
+            }
+        }
+        assert_eq!("auto".parse::<FloodTo>(), Ok(FloodTo::Auto));
     }
 
     /// With 4 × 4 samples per pixel (k = 4, h0 = 16 → 64 on the lattice: passes 0..=12, the

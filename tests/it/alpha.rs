@@ -206,6 +206,32 @@ fn validate_counts_wrong_pairs_against_the_alpha_tested_geometry() {
 }
 
 #[test]
+fn the_default_flood_rule_floods_to_all_lights_where_shadows_fall_through_cut_outs() {
+    // `--flood-to auto` (the default): `all` on a frame with cut-out triangles, where contrary
+    // flooding misses the lights beside a hole; `contrary-finest` on one without.
+    use envshadow::predict::FloodTo;
+    let render = |inputs: &Inputs, flood_to: FloodTo| {
+        let (mut a, _) = sky_panel(100);
+        a.render.flood_to = flood_to;
+        let (film, stats) = render_frame(&a, inputs, 0, None, &Silent).unwrap();
+        (film.beauty, stats.counts.rays)
+    };
+    let (anim, cut) = sky_panel(100);
+    assert_eq!(anim.render.flood_to, FloodTo::Auto, "the default");
+    let auto = render(&cut, FloodTo::Auto);
+    assert_eq!(auto, render(&cut, FloodTo::All));
+    assert_ne!(auto.1, render(&cut, FloodTo::ContraryFinest).1);
+    let opaque = Inputs::new(
+        panel_scene(checker(), AlphaMode::Opaque),
+        EnvMap::builtin_sky(),
+        LightSet::build(&EnvMap::builtin_sky(), 100, Sampler::Sis).unwrap(),
+    );
+    let auto = render(&opaque, FloodTo::Auto);
+    assert_eq!(auto, render(&opaque, FloodTo::ContraryFinest));
+    assert_ne!(auto.1, render(&opaque, FloodTo::All).1);
+}
+
+#[test]
 fn cut_out_frames_do_not_depend_on_tiles_or_threads() {
     let (anim, inputs) = sky_panel(64);
     let mut failures = Failures::new();
