@@ -262,7 +262,7 @@ fn packets_blockers_and_single_rays_agree_on_cut_out_geometry() {
     // From points on the ground under and around the panel, to every light of the sky: a
     // packet's answers are the single rays', a blocker is found exactly when the single ray
     // is blocked, and some rays pass through the holes that the opaque panel would stop.
-    use envshadow::context::{FrameContext, Surface};
+    use envshadow::context::FrameContext;
     let (anim, inputs) = sky_panel(200);
     let accel = inputs.scene.accel();
     assert!(accel.has_cutouts());
@@ -271,23 +271,8 @@ fn packets_blockers_and_single_rays_agree_on_cut_out_geometry() {
     let opaque = envshadow::accel::Accel::build(&inputs.scene.positions, &inputs.scene.triangles);
     let (mut through, mut blocked) = (0, 0);
     for k in 0..400 {
-        let p = Vec3::new(
-            (k % 20) as f32 * 0.1 - 1.0,
-            0.0,
-            (k / 20) as f32 * 0.1 - 1.0,
-        );
-        let s = Surface {
-            p,
-            // Off the ground (y = 0) by a bound on a hit point's rounding there.
-            origin: envshadow::offset::offset_origin(p, Vec3::splat(1e-6), Vec3::Y),
-            n: Vec3::Y,
-            ng: Vec3::Y,
-            albedo: Vec3::ONE,
-            dir: -Vec3::Y,
-            hit: true,
-            catcher: false,
-            ..Surface::default()
-        };
+        let s = common::ground_surface((k % 20) as f32 * 0.1 - 1.0, (k / 20) as f32 * 0.1 - 1.0);
+        let p = s.p;
         let lights: Vec<u32> = (0..ctx.light_count() as u32)
             .filter(|&j| ctx.light_dir[j as usize].y > 0.0)
             .collect();

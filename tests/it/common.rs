@@ -99,6 +99,22 @@ pub fn scene_with_materials(albedos: &[f32]) -> Scene {
     }
 }
 
+/// A lit point (`x`, 0, `z`) of a ground in the plane y = 0, facing up, its shadow
+/// rays leaving from just above it (off by a bound on a hit point's rounding there).
+pub fn ground_surface(x: f32, z: f32) -> envshadow::context::Surface {
+    let p = Vec3::new(x, 0.0, z);
+    envshadow::context::Surface {
+        p,
+        origin: envshadow::offset::offset_origin(p, Vec3::splat(1e-6), Vec3::Y),
+        n: Vec3::Y,
+        ng: Vec3::Y,
+        albedo: Vec3::ONE,
+        dir: -Vec3::Y,
+        hit: true,
+        ..Default::default()
+    }
+}
+
 /// An animation from spec text (with `[scene] builtin = "shapes"` prepended) for tests that
 /// supply their own inputs.
 pub fn animation(body: &str) -> Animation {

@@ -361,7 +361,7 @@ fn scene_light_frames_do_not_depend_on_tiles_or_threads() {
 fn packets_and_single_rays_agree_on_point_lights() {
     // Rays to point and spot lights end at the light: a packet mixing them with directional
     // lights answers as each ray alone, and a blocker lies before the light.
-    use envshadow::context::{FrameContext, Surface};
+    use envshadow::context::FrameContext;
     let (anim, inputs) = shapes_with_scene_lights(100);
     let accel = inputs.scene.accel();
     let camera = anim.camera(&inputs.scene, 0).unwrap();
@@ -369,23 +369,8 @@ fn packets_and_single_rays_agree_on_point_lights() {
     let all: Vec<u32> = (0..ctx.light_count() as u32).collect();
     let (mut blocked, mut checked) = (0, 0);
     for k in 0..300 {
-        let p = Vec3::new(
-            (k % 20) as f32 * 0.2 - 2.0,
-            0.0,
-            (k / 20) as f32 * 0.2 - 1.5,
-        );
-        let s = Surface {
-            p,
-            // Off the ground (y = 0) by a bound on a hit point's rounding there.
-            origin: envshadow::offset::offset_origin(p, Vec3::splat(1e-6), Vec3::Y),
-            n: Vec3::Y,
-            ng: Vec3::Y,
-            albedo: Vec3::ONE,
-            dir: -Vec3::Y,
-            hit: true,
-            catcher: false,
-            ..Surface::default()
-        };
+        let s = common::ground_surface((k % 20) as f32 * 0.2 - 2.0, (k / 20) as f32 * 0.2 - 1.5);
+        let p = s.p;
         // The file lights (the last three) with some map lights in one packet.
         let mut lights: Vec<u32> = all.iter().copied().step_by(7).take(29).collect();
         lights.extend(&all[all.len() - 3..]);
