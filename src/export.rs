@@ -1,10 +1,13 @@
 //! `envshadow export`: one frame's exact inputs for another renderer (scripts/compare-mitsuba.sh):
-//! the posed triangles, vertex normals and per-face base colour factor as a binary PLY, the
-//! lights as `lights.json`, the primary-ray direction of every sample of every pixel (`--spp`;
-//! with one sample, the pixel centre), what envshadow's primary ray found at each sample
-//! (`surface.f32`: the material there with its textures read, and the shading normal after
-//! the normal map), the materials' names (`materials.json`), and a `frame.json` with the
-//! camera, the sample pattern and the shadow-ray offset. With these, an independent renderer
+//! the posed triangles, vertex normals, texture coordinates and `COLOR_0` alpha, and per face
+//! the base colour factor and material index, as a binary PLY; the lights as `lights.json`, the
+//! primary-ray direction of every sample of every pixel (`--spp`; with one sample, the pixel
+//! centre), what envshadow's primary ray found at each sample (`surface.f32`: the material
+//! there with its textures read, and the shading normal after the normal map), the materials
+//! (`materials.json`: names, and the alpha mode, cutoff and base colour alpha with the alpha
+//! texture's slot, so another renderer can cut out what envshadow cuts out; each alpha
+//! texture's decoded level 0 as `alpha_T.f32`), and a `frame.json` with the camera, the sample
+//! pattern and the shadow-ray offset. With these, an independent renderer
 //! can evaluate exactly what envshadow's `brute` method does: the material's BRDF for every
 //! light at every sample, shadow rays from the hit point moved along the geometric normal by
 //! its error bound (`src/offset.rs`: `dot(|ng|, err)` with `err = gamma7 · (|p0| + |p1 − p0| +
@@ -24,7 +27,7 @@ use crate::context::FrameContext;
 use crate::coordinator::Inputs;
 use crate::error::{Result, input_error};
 use crate::output::write_atomic_with;
-use crate::scene::{AlphaTest, Model, coverage_threshold};
+use crate::scene::{AlphaMode, AlphaTest, Model, TextureSlot, Wrap, coverage_threshold};
 
 #[derive(Args, Debug)]
 pub struct ExportArgs {
@@ -110,7 +113,10 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
     let dir = &dir;
     fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
 
-    // scene.ply: float vertices and normals; faces with their material's linear albedo.
+    // scene.ply: per vertex its position, normal, texture coordinates (sets 0 and 1; set 1 is
+    // set 0 where the scene has no second set) and `COLOR_0` alpha (1 without vertex colours);
+    // per face its material's linear base colour factor and the material's index in
+    // materials.json.
     write_atomic_with(&dir.join("scene.ply"), |tmp| {
         let mut f = BufWriter::new(fs::File::create(tmp)?);
         write!(
@@ -118,17 +124,31 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
             "ply\nformat binary_little_endian 1.0\ncomment envshadow export of {} frame {}\n\
              element vertex {}\nproperty float x\nproperty float y\nproperty float z\n\
              property float nx\nproperty float ny\nproperty float nz\n\
+             property float u\nproperty float v\nproperty float u1\nproperty float v1\n\
+             property float alpha\n\
              element face {}\nproperty list uchar int vertex_indices\n\
-             property float r\nproperty float g\nproperty float b\nend_header\n",
+             property float r\nproperty float g\nproperty float b\nproperty int material\n\
+             end_header\n",
             anim.spec_path.display(),
             args.frame,
             scene.positions.len(),
             scene.triangles.len()
         )?;
-        for (p, n) in scene.positions.iter().zip(&scene.normals) {
-            for c in p.to_array().into_iter().chain(n.to_array()) {
+        let uvs1 = if scene.uvs1.is_empty() {
+            &scene.uvs
+        } else {
+            &scene.uvs1
+        };
+        for (i, (p, n)) in scene.positions.iter().zip(&scene.normals).enumerate() {
+            let alpha = scene.colors.get(i).map_or(1.0, |c| c.w);
+            let uv = scene.uvs[i]
+                .to_array()
+                .into_iter()
+                .chain(uvs1[i].to_array());
+            for c in p.to_array().into_iter().chain(n.to_array()).chain(uv) {
                 f.write_all(&c.to_le_bytes())?;
             }
+            f.write_all(&alpha.to_le_bytes())?;
         }
         for (t, &m) in scene.triangles.iter().zip(&scene.tri_material) {
             f.write_all(&[3u8])?;
@@ -139,6 +159,7 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
             for c in albedo.to_array() {
                 f.write_all(&c.to_le_bytes())?;
             }
+            f.write_all(&(m as i32).to_le_bytes())?;
         }
         f.into_inner().map_err(|e| e.into_error())?.sync_all()?;
         Ok(())
@@ -226,11 +247,28 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
         f.into_inner().map_err(|e| e.into_error())?.sync_all()?;
         Ok(())
     })?;
+    // Each cut-out material's alpha, and the level 0 alpha of the textures they read.
+    let mut cut_out = vec![false; scene.materials.len()];
+    for (&m, &c) in scene.tri_material.iter().zip(&scene.cut_out_triangles()) {
+        cut_out[m as usize] |= c;
+    }
+    let mut alpha_files = std::collections::BTreeSet::new();
     let materials: Vec<serde_json::Value> = scene
         .materials
         .iter()
         .enumerate()
         .map(|(i, m)| {
+            let alpha_texture = m
+                .base_color_texture
+                .filter(|s| scene.textures.get(s.texture).is_some_and(|t| t.has_alpha()));
+            if let Some(slot) = alpha_texture {
+                alpha_files.insert(slot.texture);
+            }
+            let (mode, cutoff) = match m.alpha_mode {
+                AlphaMode::Opaque => ("OPAQUE", None),
+                AlphaMode::Mask { cutoff } => ("MASK", Some(cutoff)),
+                AlphaMode::Blend => ("BLEND", None),
+            };
             json!({
                 "index": i,
                 "name": m.name,
@@ -239,9 +277,26 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
                 "roughness": m.roughness,
                 "textured": m.slots().iter().any(|(_, s)| s.is_some()),
                 "normal_mapped": m.normal_texture.is_some(),
+                "alpha_mode": mode,
+                "alpha_cutoff": cutoff,
+                "base_alpha": m.base_alpha,
+                // Whether the BVH tests its triangles' alpha at all (Scene::cut_out_triangles).
+                "cut_out": cut_out[i],
+                "alpha_texture": alpha_texture.map(|slot| alpha_slot_json(scene, &slot)),
             })
         })
         .collect();
+    for &t in &alpha_files {
+        let texture = &scene.textures[t];
+        write_atomic_with(&dir.join(format!("alpha_{t}.f32")), |tmp| {
+            let mut f = BufWriter::new(fs::File::create(tmp)?);
+            for a in texture.alpha() {
+                f.write_all(&a.to_le_bytes())?;
+            }
+            f.into_inner().map_err(|e| e.into_error())?.sync_all()?;
+            Ok(())
+        })?;
+    }
     crate::output::write_atomic(
         &dir.join("materials.json"),
         serde_json::to_string_pretty(&json!({ "materials": materials }))?.as_bytes(),
@@ -281,5 +336,28 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
         spp: samples.spp(),
         dir: dir.clone(),
         warnings: inputs.scene.warnings.clone(),
+    })
+}
+
+/// An alpha texture's slot for materials.json: the file of its level 0 alpha (`width ×
+/// height` little-endian f32, row 0 first: v = 0 at row 0's edge), the texture coordinate set,
+/// `KHR_texture_transform` as the rows of its 2 × 3 matrix, the sampler's wrap modes and
+/// whether it magnifies to the nearest texel (else bilinear; the alpha test reads level 0).
+fn alpha_slot_json(scene: &crate::scene::Scene, slot: &TextureSlot) -> serde_json::Value {
+    let texture = &scene.textures[slot.texture];
+    let wrap = |w: Wrap| match w {
+        Wrap::Repeat => "repeat",
+        Wrap::Clamp => "clamp",
+        Wrap::Mirror => "mirror",
+    };
+    json!({
+        "file": format!("alpha_{}.f32", slot.texture),
+        "width": texture.width(),
+        "height": texture.height(),
+        "tex_coord": slot.tex_coord,
+        "transform": slot.transform.map(|t| t.m),
+        "wrap_s": wrap(slot.sampler.wrap_s),
+        "wrap_t": wrap(slot.sampler.wrap_t),
+        "nearest": slot.sampler.mag_nearest,
     })
 }

@@ -444,3 +444,87 @@ fn the_alpha_test_reads_the_base_colour_slot_as_shading_does() {
         "the transform and sampler matter: {differs} of {n}"
     );
 }
+
+#[test]
+fn export_describes_cut_outs_for_another_renderer() {
+    // scripts/compare-mitsuba.py cuts out what envshadow cuts out from the export alone: each
+    // masked material's mode, cutoff and alpha texture (its level 0 as written), and per
+    // vertex the texture coordinates, per face the material, in the PLY.
+    let path = common::assets_dir().join("corpus/alpha_mask_panels.glb");
+    let scene = Scene::load(&path).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let spec = dir.path().join("spec.toml");
+    std::fs::write(
+        &spec,
+        format!(
+            "[scene]\nfile = {:?}\n[environment]\nfile = {:?}\n[motion]\nkind = \"none\"\n\
+             frames = 1\n[render]\nwidth = 32\nheight = 24\n",
+            path,
+            common::asset("studio_small_03_1k.hdr")
+        ),
+    )
+    .unwrap();
+    let out = dir.path().join("exp");
+    let run = common::bin()
+        .args(["export", "--lights", "20", "--out"])
+        .arg(&out)
+        .arg(&spec)
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{run:?}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("materials.json")).unwrap())
+            .unwrap();
+    let exported = json["materials"].as_array().unwrap();
+    let mut masked = 0;
+    for m in &scene.materials {
+        let e = exported
+            .iter()
+            .find(|e| e["name"] == m.name.as_str())
+            .unwrap();
+        let AlphaMode::Mask { cutoff } = m.alpha_mode else {
+            assert_eq!(e["alpha_mode"], "OPAQUE", "{e}");
+            assert_eq!(e["cut_out"], false, "{e}");
+            continue;
+        };
+        masked += 1;
+        assert_eq!(e["alpha_mode"], "MASK", "{e}");
+        assert_eq!(e["alpha_cutoff"].as_f64(), Some(f64::from(cutoff)), "{e}");
+        assert_eq!(e["cut_out"], true, "{e}");
+        let slot = m.base_color_texture.unwrap();
+        let texture = &scene.textures[slot.texture];
+        let t = &e["alpha_texture"];
+        assert_eq!(t["width"].as_u64(), Some(texture.width() as u64), "{e}");
+        assert_eq!(t["height"].as_u64(), Some(texture.height() as u64), "{e}");
+        assert_eq!(t["wrap_s"], "repeat", "{e}");
+        let bytes = std::fs::read(out.join(t["file"].as_str().unwrap())).unwrap();
+        let alpha: Vec<f32> = bytes
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+            .collect();
+        assert_eq!(alpha, texture.alpha(), "{}'s alpha, level 0", m.name);
+    }
+    assert_eq!(masked, 3);
+
+    // The PLY: 11 floats a vertex (u, v at 6 and 7), the material index last in a face.
+    let ply = std::fs::read(out.join("scene.ply")).unwrap();
+    let end = ply.windows(11).position(|w| w == b"end_header\n").unwrap() + 11;
+    let header = String::from_utf8_lossy(&ply[..end]);
+    assert!(header.contains("property float u\nproperty float v\nproperty float u1\n"));
+    assert!(header.contains("property float b\nproperty int material\nend_header"));
+    let f = |at: usize| f32::from_le_bytes(ply[at..at + 4].try_into().unwrap());
+    let nv = scene.positions.len();
+    for (i, uv) in scene.uvs.iter().enumerate() {
+        assert_eq!(
+            Vec2::new(f(end + 44 * i + 24), f(end + 44 * i + 28)),
+            *uv,
+            "vertex {i}"
+        );
+    }
+    for (t, &m) in scene.tri_material.iter().enumerate() {
+        let at = end + 44 * nv + 29 * t + 25;
+        let got = i32::from_le_bytes(ply[at..at + 4].try_into().unwrap());
+        let name = exported[got as usize]["name"].as_str().unwrap();
+        assert_eq!(name, scene.materials[m as usize].name, "face {t}");
+    }
+}

@@ -148,8 +148,15 @@ fn export_writes_the_frame_for_another_renderer() {
     };
     assert_eq!(count("element face"), tris);
     let verts = count("element vertex");
-    // 6 floats per vertex; per face a count byte, 3 indices and 3 albedo floats.
-    assert_eq!(ply.len() as u64 - header_end as u64, verts * 24 + tris * 25);
+    // 11 floats per vertex (position, normal, two texture coordinate sets, alpha); per face a
+    // count byte, 3 indices, 3 albedo floats and the material index.
+    assert_eq!(ply.len() as u64 - header_end as u64, verts * 44 + tris * 29);
+    let materials: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("materials.json")).unwrap())
+            .unwrap();
+    let first = &materials["materials"][0];
+    assert_eq!(first["alpha_mode"], "OPAQUE", "{first}");
+    assert_eq!(first["cut_out"], false, "{first}");
     // The spec renders 4 samples per pixel: a direction for each.
     assert_eq!(meta["spp"], 4);
     let primary = std::fs::read(out.join("primary.f32")).unwrap();
