@@ -8,6 +8,7 @@
 #                                   [--spp N] [--filter NAME] [--filter-width PX]
 #        scripts/compare-mitsuba.sh --materials [--lights N] [--size WxH] [--threads 2]
 #                                   [--repeat R] [--work DIR] [--methods LIST] [--spp N]
+#                                   [--scenes NAME,NAME]
 # Defaults: anims/bunny-turntable.toml, frame 0, 400 lights, threads 1,2, 3 repeats,
 # work folder target/compare-mitsuba, methods brute,grid-nowarp-uncertainty (each entry a
 # method name, optionally with render flags: "grid-nowarp-uncertainty --flood-to contrary";
@@ -17,17 +18,20 @@
 # environment where a sample misses; the Mitsuba integrator returns 0 there).
 # Glossy materials: the export carries each sample's material (surface.f32), and the python
 # script shades every light with Mitsuba's `principled` BSDF and with the glTF BRDF written in
-# Dr.Jit, reporting relative RMSE per material (docs/materials.md).
+# Dr.Jit, reporting relative RMSE per material, then both glTF BRDF evaluations against the
+# same BRDF in float64 (docs/materials.md). Cut-outs (alpha MASK/BLEND) are honoured on the
+# Mitsuba side from the export (materials.json's alpha, alpha_T.f32, the PLY's texture
+# coordinates) with Dr.Jit's texture lookup, for camera and shadow rays.
 # --materials: the corpus scenes made for it (metal_rough_spheres, golf_ball,
 # alpha_mask_panels, sheen_chair_scene from ../shared/assets/corpus or $CORPUS), each under the
 # studio map from a spec written into the work folder (default framing, --size, default
-# 320x240), one after the other. A file that requires KHR_lights_punctual, which envshadow
-# does not read yet, is compared from a copy that lists it as used, not required (its lights
-# are rendered by neither side).
+# 320x240), one after the other (--scenes: only those named). The files' own lights
+# (KHR_lights_punctual: the sheen chair has one) are left out on both sides ([lights]
+# scene_lights = false): the references sum the map's lights only.
 # The virtual environment (target/mitsuba-venv, or $MITSUBA_VENV) is made on first use with
 # `pip install mitsuba numpy`. Mitsuba's LLVM variant needs a libLLVM shared library, 16 or
-# later: Debian's libllvm19 (installed with apt-get when missing and run as root); $DRJIT_LIBLLVM_PATH points
-# Dr.Jit at another one.
+# later: Debian's libllvm19 (installed with apt-get when missing and run as root);
+# $DRJIT_LIBLLVM_PATH points Dr.Jit at another one.
 set -euo pipefail
 
 SCRIPT_DIR="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -46,10 +50,12 @@ VENV="${MITSUBA_VENV:-target/mitsuba-venv}"
 MATERIALS=0
 SIZE=320x240
 CORPUS="${CORPUS:-$ROOT/../shared/assets/corpus}"
+SCENES="metal_rough_spheres golf_ball alpha_mask_panels sheen_chair_scene"
 while [ $# -gt 0 ]; do
   case "$1" in
     --materials) MATERIALS=1; shift ;;
     --size) SIZE="$2"; shift 2 ;;
+    --scenes) SCENES="${2//,/ }"; shift 2 ;;
     --frame) FRAME="$2"; shift 2 ;;
     --lights) LIGHTS="$2"; shift 2 ;;
     --threads) THREADS="$2"; shift 2 ;;
@@ -57,7 +63,7 @@ while [ $# -gt 0 ]; do
     --work) WORK="$2"; shift 2 ;;
     --methods) METHODS="$2"; shift 2 ;;
     --spp|--filter|--filter-width) SAMPLE_FLAGS+=("$1" "$2"); shift 2 ;;
-    -h|--help) sed -n '2,32p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,34p' "$0"; exit 0 ;;
     -*) echo "compare-mitsuba.sh: unknown option $1" >&2; exit 2 ;;
     *) SPEC="$1"; shift ;;
   esac
@@ -127,33 +133,10 @@ fi
 W="${SIZE%x*}"; H="${SIZE#*x}"
 MAP="$ROOT/../shared/assets/studio_small_03_1k.hdr"
 [ -f "$MAP" ] || MAP="$ROOT/assets/studio_small_03_1k.hdr"
-for name in metal_rough_spheres golf_ball alpha_mask_panels sheen_chair_scene; do
+for name in $SCENES; do
   glb="$CORPUS/$name.glb"
   [ -f "$glb" ] || { echo "compare-mitsuba.sh: $glb is missing" >&2; exit 2; }
   mkdir -p "$WORK/$name"
-  # A copy without KHR_lights_punctual among the required extensions, if it is there.
-  if "$VENV/bin/python" - "$glb" "$WORK/$name/$name.glb" <<'PY'
-import json, struct, sys
-src, dst = sys.argv[1], sys.argv[2]
-b = open(src, "rb").read()
-n = struct.unpack("<I", b[12:16])[0]
-doc = json.loads(b[20:20 + n])
-req = doc.get("extensionsRequired", [])
-if "KHR_lights_punctual" not in req:
-    sys.exit(1)
-doc["extensionsRequired"] = [e for e in req if e != "KHR_lights_punctual"]
-if not doc["extensionsRequired"]:
-    del doc["extensionsRequired"]
-j = json.dumps(doc).encode()
-j += b" " * (-len(j) % 4)
-rest = b[20 + n:]
-head = struct.pack("<4sII", b"glTF", 2, 12 + 8 + len(j) + len(rest))
-open(dst, "wb").write(head + struct.pack("<I4s", len(j), b"JSON") + j + rest)
-PY
-  then
-    echo "$name: compared from a copy with KHR_lights_punctual used, not required"
-    glb="$WORK/$name/$name.glb"
-  fi
   cat > "$WORK/$name/spec.toml" <<EOF
 # Written by scripts/compare-mitsuba.sh --materials.
 [scene]
@@ -162,6 +145,7 @@ file = "$glb"
 file = "$MAP"
 [lights]
 count = $LIGHTS
+scene_lights = false
 [motion]
 kind = "none"
 frames = 1
