@@ -39,7 +39,7 @@ pub struct ExportArgs {
     /// The spec's settings export reads — light count and sampler, width and height, samples
     /// per pixel and the filter, material overrides — and the folder it writes (`--out DIR`,
     /// required): scene.ply, lights.json, primary.f32, surface.f32, materials.json,
-    /// frame.json.
+    /// frame.json, and alpha_T.f32 for each alpha texture of a cut-out material.
     #[command(flatten)]
     pub flags: AnimFlags,
 }
