@@ -73,8 +73,7 @@ impl View {
     /// of the encoded value, found among the linear values where it steps
     /// ([`srgb_8bit`]) — the same bytes without a `powf` per channel.
     pub fn to_8bit(self, rgb: [f32; 3], exposure: f32) -> [u8; 3] {
-        self.display_light(rgb.map(|c| c * exposure))
-            .map(srgb_8bit)
+        self.display_light(rgb.map(|c| c * exposure)).map(srgb_8bit)
     }
 }
 
@@ -383,16 +382,17 @@ mod tests {
         let code = |x: f32| (srgb_encode(x) * 255.0 + 0.5) as u8;
         let top = 1.0f32.to_bits();
         let chunks = 1024u32;
-        let bad = (0..chunks)
-            .into_par_iter()
-            .find_map_any(|c| {
-                let (a, b) = (top / chunks * c, (top / chunks * (c + 1)).min(top));
-                let end = if c + 1 == chunks { top + 1 } else { b };
-                (a..end)
-                    .map(f32::from_bits)
-                    .find(|&x| srgb_8bit(x) != code(x))
-            });
-        assert_eq!(bad, None, "first float where the table and the encoding part");
+        let bad = (0..chunks).into_par_iter().find_map_any(|c| {
+            let (a, b) = (top / chunks * c, (top / chunks * (c + 1)).min(top));
+            let end = if c + 1 == chunks { top + 1 } else { b };
+            (a..end)
+                .map(f32::from_bits)
+                .find(|&x| srgb_8bit(x) != code(x))
+        });
+        assert_eq!(
+            bad, None,
+            "first float where the table and the encoding part"
+        );
         for x in [f32::NAN, -1.0, -0.0, 1.0000001, 2.0, 1e30, f32::INFINITY] {
             assert_eq!(srgb_8bit(x), code(x), "{x}");
         }
