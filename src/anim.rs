@@ -19,7 +19,7 @@
 //! scene_lights = true           # also the glTF file's own lights (KHR_lights_punctual)
 //! [camera]
 //! target = [0.0, 0.5, 0.0]      # default: the scene's bounding-box centre
-//! distance = 7.0                # default: frames the scene's bounding sphere
+//! distance = 7.0                # default: frames the model as it turns (at most 9/10 of the frame)
 //! elevation = 25.0              # degrees above the horizon
 //! azimuth = 20.0                # degrees from +Z towards +X
 //! vfov = 40.0                   # vertical field of view, degrees
@@ -224,6 +224,56 @@ pub enum EnvSource {
 }
 
 pub use crate::motion::MotionKind;
+
+/// The share of the frame's half-width and half-height an auto-framed model fills at most
+/// [ours]: a margin of a twentieth on each side, as a product turntable leaves.
+const FRAME_FILL: f32 = 0.9;
+
+/// Rim points sampled on each of the swept cylinder's two circles when framing it.
+const FRAME_RIM: usize = 64;
+
+/// The volume a model sweeps as it turns about a vertical line (a turntable's orbit or spin,
+/// both about the vertical through the camera target): a cylinder about `axis` of `radius`,
+/// from height `y.0` to `y.1`.
+struct Swept {
+    axis: Vec3,
+    radius: f32,
+    y: (f32, f32),
+}
+
+impl Swept {
+    /// How far from `axis` (its point) a camera looking back along `back` (unit, from the
+    /// target towards the camera) must stand for the whole cylinder to fill at most
+    /// [`FRAME_FILL`] of its frame, whatever the turn — so the model stays in frame at every
+    /// angle without the slack a bounding sphere leaves around flat or long models. A point at
+    /// `o` from the target, seen from `d · back`, lies at depth `d − o·back` and must have
+    /// `|o·right| ≤ depth · tan(hfov/2) · fill` (likewise up): the least `d` is the largest of
+    /// `o·back + |o·right| / (tan · fill)` over the rims ([`FRAME_RIM`] points each, the
+    /// circles' extremes within cos(π/64) of it, inside the margin). Scale-free, and never
+    /// inside the cylinder's bounding sphere.
+    fn framing_distance(&self, back: Vec3, up: Vec3, vfov_deg: f32, aspect: f32) -> f32 {
+        let forward = -back;
+        let right = forward.cross(up.normalize()).normalize_or_zero();
+        let cam_up = right.cross(forward);
+        let tan_v = libm::tanf(vfov_deg.to_radians() * 0.5) * FRAME_FILL;
+        let tan_h = tan_v * aspect;
+        let mut dist = 0.0f32;
+        let mut reach = 0.0f32;
+        for k in 0..FRAME_RIM {
+            let a = std::f32::consts::TAU * k as f32 / FRAME_RIM as f32;
+            let (sa, ca) = (libm::sinf(a), libm::cosf(a));
+            for y in [self.y.0, self.y.1] {
+                let o = Vec3::new(self.radius * ca, y - self.axis.y, self.radius * sa);
+                let need = (o.dot(right).abs() / tan_h).max(o.dot(cam_up).abs() / tan_v);
+                dist = dist.max(o.dot(back) + need);
+                reach = reach.max(o.length());
+            }
+        }
+        // A model with no extent still gets a camera some way off (any positive distance
+        // frames a point).
+        dist.max(reach * 1.05).max(f32::MIN_POSITIVE)
+    }
+}
 
 /// How the camera is placed.
 #[derive(Clone, Debug, PartialEq)]
@@ -501,7 +551,8 @@ impl Animation {
 
     /// The default turntable of a model (`envshadow render model.glb`), `flags` over it: the
     /// camera orbits the model in [`MODEL_FRAMES`] frames, framed as a spec without `[camera]`
-    /// target or distance frames it (the model's bounding sphere, 25° above the horizon); the
+    /// target or distance frames it (the cylinder the model sweeps as it turns, 25° above the
+    /// horizon, filling nine tenths of the frame); the
     /// built-in sky at a quarter of its intensity (as the default animation has it) or the
     /// map `env`; 200 lights; 640×480 at 4 samples per pixel; a ground if
     /// the model has none (`[scene] ground = "auto"`); frames in `out/<model's name>/`.
@@ -772,17 +823,22 @@ impl Animation {
             let position = match rig.position {
                 Some(p) => scene.to_local(p),
                 None => {
-                    let dist = rig.distance.unwrap_or_else(|| {
-                        radius / libm::sinf(rig.vfov_deg.to_radians() * 0.5) * 1.05
-                    });
                     let (el, az) = (rig.elevation_deg.to_radians(), rig.azimuth_deg.to_radians());
-                    target
-                        + dist
-                            * Vec3::new(
-                                libm::cosf(el) * libm::sinf(az),
-                                libm::sinf(el),
-                                libm::cosf(el) * libm::cosf(az),
-                            )
+                    let back = Vec3::new(
+                        libm::cosf(el) * libm::sinf(az),
+                        libm::sinf(el),
+                        libm::cosf(el) * libm::cosf(az),
+                    );
+                    let dist = rig.distance.unwrap_or_else(|| {
+                        let swept = Swept {
+                            axis: target,
+                            radius: scene.model_radius_about(target),
+                            y: (lo.y, hi.y),
+                        };
+                        let aspect = self.render.width as f32 / self.render.height as f32;
+                        swept.framing_distance(back, rig.up, rig.vfov_deg, aspect)
+                    });
+                    target + dist * back
                 }
             };
             (position, target, rig.vfov_deg)

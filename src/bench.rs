@@ -31,7 +31,7 @@ use crate::settings::{
 pub struct BenchArgs {
     /// `shapes`, `bunny` (anims/shapes-turntable.toml, anims/bunny-turntable.toml), a spec
     /// file, or a glTF model (`.glb`, `.gltf`): an auto-framed turntable of it (the camera
-    /// framing its bounding sphere, 25° up, 40° field of view; see --env).
+    /// framing the model as it turns, 25° up, 40° field of view; see --env).
     #[arg(long, default_value = "bunny")]
     pub scene: String,
     /// The environment map instead of the spec's (for a model: instead of the built-in sky):

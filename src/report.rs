@@ -26,6 +26,7 @@ use crate::envmap::EnvMap;
 use crate::error::{Result, input_error};
 use crate::film::Channel;
 use crate::lights::{self, LightSet};
+use crate::output::record::{FrameRecord, count_histogram, finite_max, parse_histogram};
 use crate::output::{self, frame_path};
 use crate::predict::Method;
 use crate::video::VIDEO_FILE;
@@ -284,23 +285,6 @@ pub(crate) fn draw_lines(
 /// of the map black.
 const RAYS_SCALE_PERCENTILE: f64 = 99.5;
 
-/// Histogram of a count channel (non-negative whole numbers, such as `rays`): bin k counts the
-/// samples that round to k.
-fn count_histogram(values: &[f32]) -> Vec<u64> {
-    const MAX_BIN: usize = 1 << 20;
-    let mut hist = Vec::new();
-    for &v in values {
-        if v.is_finite() && v >= 0.0 {
-            let b = (v.round() as usize).min(MAX_BIN);
-            if b >= hist.len() {
-                hist.resize(b + 1, 0);
-            }
-            hist[b] += 1;
-        }
-    }
-    hist
-}
-
 /// The `p`-th percentile of the samples a histogram of counts describes.
 fn histogram_percentile(hist: &[u64], p: f64) -> f32 {
     let n: u64 = hist.iter().sum();
@@ -361,21 +345,28 @@ fn scan_frame(dir: &Path, out: &Path, frame: usize, gif: bool) -> Scan {
         }
         Err(e) => problems.push(format!("{}: {e}", file_name(&png))),
     }
+    // The colour scales' figures from the frame's record where its files are the recorded
+    // ones (sizes: cheap), else from the EXR itself (a folder from an earlier version).
+    let recorded = FrameRecord::read(dir, frame)
+        .filter(|r| r.sizes_match(dir))
+        .and_then(|r| Some((parse_histogram(&r.rays_histogram)?, r.wrong_max)))
+        .filter(|(hist, _)| !hist.is_empty());
     let exr = frame_path(dir, frame, "exr");
-    match output::exr::read_frame(&exr) {
-        Ok(f) => {
-            scan.exr_ok = true;
-            if let Some(r) = f.channel(Channel::Rays.name()) {
-                scan.rays_hist = count_histogram(r);
+    if let Some((hist, wrong_max)) = recorded {
+        scan.exr_ok = true;
+        scan.rays_hist = hist;
+        scan.wrong_max = wrong_max;
+    } else {
+        match output::exr::read_frame(&exr) {
+            Ok(f) => {
+                scan.exr_ok = true;
+                if let Some(r) = f.channel(Channel::Rays.name()) {
+                    scan.rays_hist = count_histogram(r);
+                }
+                scan.wrong_max = f.channel(Channel::Wrong.name()).map(finite_max);
             }
-            scan.wrong_max = f.channel(Channel::Wrong.name()).map(|w| {
-                w.iter()
-                    .copied()
-                    .filter(|v| v.is_finite())
-                    .fold(0.0, f32::max)
-            });
+            Err(e) => problems.push(format!("{}: {e:#}", file_name(&exr))),
         }
-        Err(e) => problems.push(format!("{}: {e:#}", file_name(&exr))),
     }
     if !problems.is_empty() {
         scan.problem = Some(problems.join("; "));
@@ -383,19 +374,29 @@ fn scan_frame(dir: &Path, out: &Path, frame: usize, gif: bool) -> Scan {
     scan
 }
 
+/// A frame's rays and wrong-pair heat maps (file names), and a problem reading its EXR.
+type HeatMaps = (Option<String>, Option<String>, Option<String>);
+
 /// Writes one frame's heat maps (`rays_NNNN.jpg`, and `wrong_NNNN.png` when the EXR has a
 /// `wrong` channel: single wrong pixels would smear in a JPEG) into `out`, at most
-/// [`MAP_WIDTH`] wide; returns their file names.
+/// [`MAP_WIDTH`] wide; returns their file names, and what kept them from being made if the
+/// EXR does not read.
 fn heat_maps(
     dir: &Path,
     out: &Path,
     frame: usize,
     rays_top: f32,
     wrong_top: f32,
-) -> Result<(Option<String>, Option<String>)> {
-    let f = output::exr::read_frame(&frame_path(dir, frame, "exr"))?;
+) -> Result<HeatMaps> {
+    let exr = frame_path(dir, frame, "exr");
+    let f = match output::exr::read_frame(&exr) {
+        Ok(f) => f,
+        // A file the record vouched for by its size alone may still not read: said on the
+        // frame, as when the first pass reads it.
+        Err(e) => return Ok((None, None, Some(format!("{}: {e:#}", file_name(&exr))))),
+    };
     let (w, h) = (f.width as u32, f.height as u32);
-    let mut names = (None, None);
+    let mut names = (None, None, None);
     if let Some(rays) = f.channel(Channel::Rays.name()) {
         let mut img = RgbImage::new(w, h);
         for (p, v) in img.pixels_mut().zip(rays) {
@@ -469,25 +470,29 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
         .fold(0.0f32, f32::max);
 
     // Pass 2: the heat maps.
-    let maps: Vec<(Option<String>, Option<String>)> = rows
+    let maps: Vec<HeatMaps> = rows
         .par_iter()
         .zip(&scans)
         .map(|(r, s)| {
             if s.exr_ok {
                 heat_maps(dir, &out, r.frame, rays_max, wrong_max)
             } else {
-                Ok((None, None))
+                Ok((None, None, None))
             }
         })
         .collect::<Result<_>>()?;
     let mut images = Vec::new();
     let mut previews = Vec::new();
-    for (s, (rays_map, wrong_map)) in scans.into_iter().zip(maps) {
+    for (s, (rays_map, wrong_map, unread)) in scans.into_iter().zip(maps) {
+        let problem = match (s.problem, unread) {
+            (Some(a), Some(b)) => Some(format!("{a}; {b}")),
+            (a, b) => a.or(b),
+        };
         images.push(FrameImages {
             thumb: s.thumb,
             rays_map,
             wrong_map,
-            problem: s.problem,
+            problem,
         });
         previews.extend(s.gif);
     }

@@ -52,21 +52,28 @@ impl View {
 
     /// Linear Rec.709 RGB, exposure applied, to sRGB-encoded display values in [0, 1].
     pub fn display(self, rgb: [f32; 3]) -> [f32; 3] {
+        self.display_light(rgb).map(srgb_encode)
+    }
+
+    /// [`display`](Self::display) before the sRGB encoding: linear display light (not
+    /// clipped for `standard`, which the encoding clips).
+    fn display_light(self, rgb: [f32; 3]) -> [f32; 3] {
         let rgb = rgb.map(sanitize);
         match self {
-            View::Standard => rgb.map(srgb_encode),
+            View::Standard => rgb,
             View::Filmic => {
                 let white = hable(HABLE_WHITE);
-                rgb.map(|c| srgb_encode(hable((HABLE_BIAS * c).min(HABLE_WHITE)) / white))
+                rgb.map(|c| hable((HABLE_BIAS * c).min(HABLE_WHITE)) / white)
             }
-            View::Agx => agx(rgb).map(srgb_encode),
+            View::Agx => agx(rgb),
         }
     }
 
-    /// [`display`](Self::display) of `rgb · exposure`, as 8 bits.
+    /// [`display`](Self::display) of `rgb · exposure`, as 8 bits: `(c · 255 + 0.5) as u8`
+    /// of the encoded value, found among the linear values where it steps
+    /// ([`srgb_8bit`]) — the same bytes without a `powf` per channel.
     pub fn to_8bit(self, rgb: [f32; 3], exposure: f32) -> [u8; 3] {
-        self.display(rgb.map(|c| c * exposure))
-            .map(|c| (c * 255.0 + 0.5) as u8)
+        self.display_light(rgb.map(|c| c * exposure)).map(srgb_8bit)
     }
 }
 
@@ -111,6 +118,44 @@ pub fn srgb_encode(x: f32) -> f32 {
     } else {
         1.055 * libm::powf(x, 1.0 / 2.4) - 0.055
     }
+}
+
+/// The 8-bit sRGB code of linear display light `x`: `(srgb_encode(x) · 255 + 0.5) as u8`,
+/// bit for bit (`srgb_8bit_is_the_rounded_encoding_for_every_float`, over every f32 of
+/// [0, 1]), as the count of the 255 linear values where that code steps up that are ≤ x.
+/// The encoding is monotone over the floats (the same test), so the count is the code; NaN
+/// is below every step, as the encoding makes it 0.
+#[inline]
+pub fn srgb_8bit(x: f32) -> u8 {
+    srgb_steps().partition_point(|&t| t <= x) as u8
+}
+
+/// The linear value of each 8-bit sRGB code's first float: entry k − 1 is the smallest f32
+/// whose [`srgb_encode`] rounds to k or more. Found once, by bisection over the float bits
+/// of [0, 1] (positive floats order as their bits), with the encoding itself, so they hold
+/// for whatever `libm` gives.
+fn srgb_steps() -> &'static [f32; 255] {
+    static STEPS: std::sync::OnceLock<[f32; 255]> = std::sync::OnceLock::new();
+    STEPS.get_or_init(|| {
+        let code = |bits: u32| (srgb_encode(f32::from_bits(bits)) * 255.0 + 0.5) as u8;
+        let mut steps = [0.0f32; 255];
+        let mut lo = 0u32;
+        for (k, step) in steps.iter_mut().enumerate() {
+            let want = k as u8 + 1;
+            // Smallest bits in [lo, 1.0's] with code ≥ want; 1.0 gives 255.
+            let mut hi = 1.0f32.to_bits();
+            while lo < hi {
+                let mid = lo + (hi - lo) / 2;
+                if code(mid) >= want {
+                    hi = mid;
+                } else {
+                    lo = mid + 1;
+                }
+            }
+            *step = f32::from_bits(lo);
+        }
+        steps
+    })
 }
 
 // Hable's filmic curve ("Filmic Tonemapping Operators", GDC 2010; filmicworlds.com).
@@ -327,6 +372,29 @@ mod tests {
             let c = k as f32 / 1000.0;
             let old = (srgb_encode(c * 1.5) * 255.0 + 0.5) as u8;
             assert_eq!(View::Standard.to_8bit([c; 3], 1.5), [old; 3]);
+        }
+    }
+
+    #[test]
+    fn srgb_8bit_is_the_rounded_encoding_for_every_float() {
+        // Every f32 of [0, 1] (their bits run 0 ..= 1.0's in order), then around and beyond.
+        use rayon::prelude::*;
+        let code = |x: f32| (srgb_encode(x) * 255.0 + 0.5) as u8;
+        let top = 1.0f32.to_bits();
+        let chunks = 1024u32;
+        let bad = (0..chunks).into_par_iter().find_map_any(|c| {
+            let (a, b) = (top / chunks * c, (top / chunks * (c + 1)).min(top));
+            let end = if c + 1 == chunks { top + 1 } else { b };
+            (a..end)
+                .map(f32::from_bits)
+                .find(|&x| srgb_8bit(x) != code(x))
+        });
+        assert_eq!(
+            bad, None,
+            "first float where the table and the encoding part"
+        );
+        for x in [f32::NAN, -1.0, -0.0, 1.0000001, 2.0, 1e30, f32::INFINITY] {
+            assert_eq!(srgb_8bit(x), code(x), "{x}");
         }
     }
 

@@ -164,6 +164,8 @@ pub fn publish_frame(
         png_bytes: png.len() as u64,
         png_sha256: record::sha256(&png),
         stats_row: header.stats.csv_row(),
+        rays_histogram: record::histogram_text(&record::count_histogram(&film.rays)),
+        wrong_max: film.wrong.as_deref().map(record::finite_max),
     };
     write_atomic(&frame_path(dir, frame, "png"), &png)?;
     rec.write(dir)?;

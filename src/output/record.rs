@@ -142,6 +142,68 @@ pub struct FrameRecord {
     pub png_sha256: String,
     /// The frame's `stats.csv` row.
     pub stats_row: String,
+    /// The frame's rays per pixel ([`count_histogram`] of its `shadow.rays` channel) as
+    /// `rays:pixels` pairs of the non-empty bins, for the report's colour scale without
+    /// decoding the EXR ([`histogram_text`]); empty in records of earlier versions.
+    #[serde(default)]
+    pub rays_histogram: String,
+    /// With validation, the most wrong pairs of any pixel (its `shadow.wrong` channel).
+    #[serde(default)]
+    pub wrong_max: Option<f32>,
+}
+
+/// Histogram of a count channel (non-negative whole numbers, such as the rays per pixel):
+/// bin k counts the values that round to k (at most 2^20; NaN and negative values are left out).
+pub fn count_histogram(values: &[f32]) -> Vec<u64> {
+    const MAX_BIN: usize = 1 << 20;
+    let mut hist = Vec::new();
+    for &v in values {
+        if v.is_finite() && v >= 0.0 {
+            let b = (v.round() as usize).min(MAX_BIN);
+            if b >= hist.len() {
+                hist.resize(b + 1, 0);
+            }
+            hist[b] += 1;
+        }
+    }
+    hist
+}
+
+/// The largest finite value of a channel (0 if none).
+pub fn finite_max(values: &[f32]) -> f32 {
+    values
+        .iter()
+        .copied()
+        .filter(|v| v.is_finite())
+        .fold(0.0, f32::max)
+}
+
+/// A histogram as `bin:count` pairs of its non-empty bins, space-separated.
+pub fn histogram_text(hist: &[u64]) -> String {
+    let pairs: Vec<String> = hist
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| **c > 0)
+        .map(|(b, c)| format!("{b}:{c}"))
+        .collect();
+    pairs.join(" ")
+}
+
+/// [`histogram_text`] read back; `None` if the text is not one (or has a bin beyond 2^20).
+pub fn parse_histogram(text: &str) -> Option<Vec<u64>> {
+    let mut hist = Vec::new();
+    for pair in text.split_whitespace() {
+        let (b, c) = pair.split_once(':')?;
+        let (b, c): (usize, u64) = (b.parse().ok()?, c.parse().ok()?);
+        if b > 1 << 20 {
+            return None;
+        }
+        if b >= hist.len() {
+            hist.resize(b + 1, 0);
+        }
+        hist[b] += c;
+    }
+    Some(hist)
 }
 
 impl FrameRecord {
@@ -206,6 +268,22 @@ impl FrameRecord {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn histograms_read_back_from_their_text() {
+        let values = [0.0, 0.0, 3.0, 2.6, f32::NAN, -1.0, 40.0, f32::INFINITY];
+        let hist = count_histogram(&values);
+        assert_eq!(hist.len(), 41);
+        assert_eq!((hist[0], hist[3], hist[40]), (2, 2, 1));
+        let text = histogram_text(&hist);
+        assert_eq!(text, "0:2 3:2 40:1");
+        assert_eq!(parse_histogram(&text), Some(hist));
+        assert_eq!(parse_histogram(""), Some(vec![]));
+        for bad in ["0:2 x", "3", "1:-2", "2000000:1"] {
+            assert_eq!(parse_histogram(bad), None, "{bad}");
+        }
+        assert_eq!(finite_max(&values), 40.0);
+    }
 
     fn record(pairs: &[(&str, &str)]) -> SettingsRecord {
         SettingsRecord {

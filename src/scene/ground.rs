@@ -73,8 +73,9 @@ const MIN_SHARE: f32 = 0.25;
 /// default material, so a default-grey model stands out from it).
 pub const GROUND_ALBEDO: f32 = 0.5;
 /// The added ground's radius, in radii of the model's bounding sphere: with the default
-/// camera (40° field of view, 25° above the horizon, framing the bounding sphere) the frame's
-/// top edge looks 5° below the horizon and meets the ground at most about 29 radii away, so
+/// camera (40° field of view, 25° above the horizon, framing the cylinder the model sweeps:
+/// at most about 3.2 radii away) the frame's top edge looks 5° below the horizon and meets
+/// the ground at most about 30 radii away, so
 /// the ground's edge stays out of view, and shadows of lights down to 2° above the horizon
 /// fall on it.
 pub const GROUND_RADII: f32 = 32.0;

@@ -282,6 +282,19 @@ impl Scene {
         bounds_of(&self.positions, &self.triangles[..model])
     }
 
+    /// The farthest any point of the model (not an added ground) lies from the vertical line
+    /// through `axis`: the radius of the cylinder the model sweeps as it turns about that line
+    /// (a turntable's spin or orbit).
+    pub fn model_radius_about(&self, axis: Vec3) -> f32 {
+        let model = self.added_ground.unwrap_or(self.triangles.len());
+        let mut r2 = 0.0f32;
+        for &i in self.triangles[..model].iter().flatten() {
+            let d = self.positions[i as usize] - axis;
+            r2 = r2.max(d.x * d.x + d.z * d.z);
+        }
+        r2.sqrt()
+    }
+
     /// Whether triangle `tri` is a shadow catcher.
     #[inline]
     pub fn is_catcher(&self, tri: usize) -> bool {

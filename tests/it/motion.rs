@@ -286,3 +286,50 @@ fn bad_motion_sequences_are_refused_naming_the_key() {
     }
     failures.assert_none();
 }
+
+/// The default turntable of a model (`envshadow render model.glb`) frames the cylinder the
+/// model sweeps as it turns: every vertex of the model stays inside the frame at every angle,
+/// and the model fills most of it at its widest (a bounding sphere left a long, flat model
+/// such as the toy plane at half the frame).
+#[test]
+fn the_default_turntable_keeps_the_turning_model_in_frame_and_fills_it() {
+    let mut failures = Failures::new();
+    for (model, least_fill) in [
+        // 0.50 with the bounding sphere; 0.72 as the turning cylinder.
+        ("corpus/toy_plane.glb", 0.65),
+        ("corpus/lion_statue.glb", 0.6),
+        ("bunny.glb", 0.6),
+    ] {
+        failures.case(model, || {
+            let path = common::asset(model);
+            let anim = Animation::of_model(&path, None, &AnimFlags::default()).unwrap();
+            let inputs = Inputs::load(&anim).unwrap();
+            let scene = &inputs.scene;
+            let (w, h) = (anim.render.width as f32, anim.render.height as f32);
+            let model_tris = scene.added_ground.unwrap_or(scene.triangles.len());
+            let frames = anim.motion.segments()[0].frames.clone();
+            let mut widest = 0.0f32;
+            for frame in frames.step_by(3) {
+                let cam = anim.camera(scene, frame).unwrap();
+                let (mut lo, mut hi) = ((f32::MAX, f32::MAX), (f32::MIN, f32::MIN));
+                for &v in scene.triangles[..model_tris].iter().flatten() {
+                    let (x, y) = cam
+                        .project(scene.positions[v as usize])
+                        .expect("a vertex behind the camera");
+                    lo = (lo.0.min(x), lo.1.min(y));
+                    hi = (hi.0.max(x), hi.1.max(y));
+                }
+                assert!(
+                    lo.0 >= 0.0 && lo.1 >= 0.0 && hi.0 <= w && hi.1 <= h,
+                    "frame {frame}: the model spans ({lo:?})–({hi:?}) of {w}×{h}"
+                );
+                widest = widest.max(((hi.0 - lo.0) / w).max((hi.1 - lo.1) / h));
+            }
+            assert!(
+                widest >= least_fill,
+                "at its widest the model fills {widest:.2} of the frame (want ≥ {least_fill})"
+            );
+        });
+    }
+    failures.assert_none();
+}

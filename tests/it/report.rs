@@ -371,3 +371,75 @@ fn report_sets_the_papers_figure_beside_ours_and_says_when_the_map_is_gone() {
     assert!(html.contains("nowhere/missing.hdr"));
     check_references(&out, &html);
 }
+
+/// The heat maps' colour scales come from the frame records (no EXR decoded for them) when the
+/// files are the recorded ones; a folder whose records do not carry the figures (an earlier
+/// version's) gets the very same maps from the EXRs.
+#[test]
+fn report_scales_from_the_records_match_those_from_the_exrs() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (out, _) = rebuilt_report(tmp.path(), true);
+    let maps = ["rays_0000.jpg", "rays_0002.jpg", "wrong_0001.png"];
+    let read = |out: &Path| -> Vec<Vec<u8>> {
+        maps.iter()
+            .map(|m| fs::read(out.join("report").join(m)).unwrap())
+            .collect()
+    };
+    let from_records = read(&out);
+    let record = out.join("records/frame_0001.json");
+    let text = fs::read_to_string(&record).unwrap();
+    assert!(text.contains("\"rays_histogram\": \"0:"), "{text}");
+    assert!(text.contains("\"wrong_max\": "), "{text}");
+    let edit = |f: usize, change: &dyn Fn(&mut serde_json::Map<String, serde_json::Value>)| {
+        let path = out.join(format!("records/frame_{f:04}.json"));
+        let mut v: serde_json::Value =
+            serde_json::from_str(&fs::read_to_string(&path).unwrap()).unwrap();
+        change(v.as_object_mut().unwrap());
+        fs::write(&path, serde_json::to_string_pretty(&v).unwrap()).unwrap();
+    };
+    // The records are what the scale is read from: a record saying most pixels traced 1000
+    // rays darkens every map.
+    let saved = fs::read(&record).unwrap();
+    edit(1, &|o| {
+        o.insert("rays_histogram".into(), "0:1 1000:100000".into());
+    });
+    let o = common::bin().arg("report").arg(&out).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        read(&out)[0] != from_records[0],
+        "the record's histogram was not read"
+    );
+    fs::write(&record, saved).unwrap();
+    for f in 0..3 {
+        edit(f, &|o| {
+            o.remove("rays_histogram");
+            o.remove("wrong_max");
+        });
+    }
+    let o = common::bin().arg("report").arg(&out).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        from_records == read(&out),
+        "the maps differ without the records' figures"
+    );
+}
+
+/// An EXR of the recorded size that does not decode is named on its frame; the report is
+/// still written.
+#[test]
+fn report_names_an_unreadable_exr_its_record_vouched_for() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (out, _) = rebuilt_report(tmp.path(), false);
+    let exr = out.join("frame_0001.exr");
+    let len = fs::metadata(&exr).unwrap().len() as usize;
+    fs::write(&exr, vec![0u8; len]).unwrap();
+    let o = common::bin().arg("report").arg(&out).output().unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let html = fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(
+        html.contains("frame_0001.exr") && html.contains("not a readable EXR"),
+        "the page does not name the bad EXR"
+    );
+    assert!(!out.join("report/rays_0001.jpg").exists());
+    assert!(out.join("report/rays_0002.jpg").is_file());
+}
