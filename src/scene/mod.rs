@@ -278,17 +278,21 @@ impl Scene {
     /// Bounds of the model: [`bounds`](Self::bounds) without the ground envshadow added, if
     /// any (what the camera frames and a spin turns about).
     pub fn model_bounds(&self) -> (Vec3, Vec3) {
-        let model = self.added_ground.unwrap_or(self.triangles.len());
-        bounds_of(&self.positions, &self.triangles[..model])
+        bounds_of(&self.positions, self.model_triangles())
+    }
+
+    /// The model's triangles: all of them but the ground envshadow added, if any (it comes
+    /// last).
+    pub fn model_triangles(&self) -> &[[u32; 3]] {
+        &self.triangles[..self.added_ground.unwrap_or(self.triangles.len())]
     }
 
     /// The farthest any point of the model (not an added ground) lies from the vertical line
     /// through `axis`: the radius of the cylinder the model sweeps as it turns about that line
     /// (a turntable's spin or orbit).
     pub fn model_radius_about(&self, axis: Vec3) -> f32 {
-        let model = self.added_ground.unwrap_or(self.triangles.len());
         let mut r2 = 0.0f32;
-        for &i in self.triangles[..model].iter().flatten() {
+        for &i in self.model_triangles().iter().flatten() {
             let d = self.positions[i as usize] - axis;
             r2 = r2.max(d.x * d.x + d.z * d.z);
         }

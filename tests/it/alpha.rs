@@ -507,9 +507,7 @@ fn export_describes_cut_outs_for_another_renderer() {
     assert_eq!(masked, 3);
 
     // The PLY: 11 floats a vertex (u, v at 6 and 7), the material index last in a face.
-    let ply = std::fs::read(out.join("scene.ply")).unwrap();
-    let end = ply.windows(11).position(|w| w == b"end_header\n").unwrap() + 11;
-    let header = String::from_utf8_lossy(&ply[..end]);
+    let (ply, end, header) = common::read_ply(&out.join("scene.ply"));
     assert!(header.contains("property float u\nproperty float v\nproperty float u1\n"));
     assert!(header.contains("property float b\nproperty int material\nend_header"));
     let f = |at: usize| f32::from_le_bytes(ply[at..at + 4].try_into().unwrap());

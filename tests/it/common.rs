@@ -333,6 +333,14 @@ pub fn without_halo(c: envshadow::film::Counts) -> envshadow::film::Counts {
     }
 }
 
+/// A binary PLY file's bytes, where its header ends, and the header.
+pub fn read_ply(path: &Path) -> (Vec<u8>, usize, String) {
+    let ply = std::fs::read(path).unwrap();
+    let end = ply.windows(11).position(|w| w == b"end_header\n").unwrap() + 11;
+    let header = String::from_utf8_lossy(&ply[..end]).into_owned();
+    (ply, end, header)
+}
+
 /// The names in `dir`, sorted (none when it does not exist).
 pub fn file_names(dir: &Path) -> Vec<String> {
     let mut v: Vec<String> = std::fs::read_dir(dir)

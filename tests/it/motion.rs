@@ -306,13 +306,12 @@ fn the_default_turntable_keeps_the_turning_model_in_frame_and_fills_it() {
             let inputs = Inputs::load(&anim).unwrap();
             let scene = &inputs.scene;
             let (w, h) = (anim.render.width as f32, anim.render.height as f32);
-            let model_tris = scene.added_ground.unwrap_or(scene.triangles.len());
             let frames = anim.motion.segments()[0].frames.clone();
             let mut widest = 0.0f32;
             for frame in frames.step_by(3) {
                 let cam = anim.camera(scene, frame).unwrap();
                 let (mut lo, mut hi) = ((f32::MAX, f32::MAX), (f32::MIN, f32::MIN));
-                for &v in scene.triangles[..model_tris].iter().flatten() {
+                for &v in scene.model_triangles().iter().flatten() {
                     let (x, y) = cam
                         .project(scene.positions[v as usize])
                         .expect("a vertex behind the camera");

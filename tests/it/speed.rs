@@ -139,9 +139,7 @@ fn export_writes_the_frame_for_another_renderer() {
     assert!(gamma > 0.0 && gamma < 1e-6, "{gamma}");
     assert_eq!(meta["origin"], serde_json::json!([0.0, 0.0, 0.0]));
     let tris = meta["triangles"].as_u64().unwrap();
-    let ply = std::fs::read(out.join("scene.ply")).unwrap();
-    let header_end = ply.windows(11).position(|w| w == b"end_header\n").unwrap() + 11;
-    let header = String::from_utf8_lossy(&ply[..header_end]);
+    let (ply, header_end, header) = common::read_ply(&out.join("scene.ply"));
     let count = |what: &str| -> u64 {
         let line = header.lines().find(|l| l.starts_with(what)).unwrap();
         line.split_whitespace().last().unwrap().parse().unwrap()
