@@ -96,6 +96,10 @@ name = lambda p: os.path.splitext(os.path.basename(p))[0]
 runs = {}
 for r in rows:
     runs.setdefault((name(r["scene"]), name(r["environment"])), {})[r["method"]] = r
+# A bench flag swept after `--` (`-- --pixel-majority=true,false`) labels its rows with the
+# method and the setting: each label is summarised as a method of its own.
+labels = [r["method"] for r in rows if r["method"] not in ("none", "brute")]
+methods += [l for l in dict.fromkeys(labels) if l not in methods]
 print(f"| model | map | method | % traced | wrong pairs % | rel. RMSE | none s | brute s | method s | brute ÷ method | method ÷ none |")
 print("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|")
 summary = {m: [] for m in methods}

@@ -411,9 +411,10 @@ settings! {
             flag "flood-to" [value_name = "RULE"], check any;
         /// Grid methods with --spp above 1: at the finest level, whose voters lie one sample
         /// apart inside a pixel, take a light on which three of four voters agree from them
-        /// instead of tracing it (default true): about a fifth fewer rays at 16 spp for more
-        /// wrong pairs, still fewer than at 1 spp (docs/methods.md).
-        pixel_majority: bool = true,
+        /// instead of tracing it (default false): a sixth fewer rays on the corpus at 4 spp,
+        /// but five times the wrong pairs where shadows are finer than a pixel (cut-outs, thin
+        /// parts) and several times the image error (docs/samples.md).
+        pixel_majority: bool = false,
             flag "pixel-majority" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
                 default_missing_value = "true"], check any;
         /// Uncertainty methods: predict a light only if every valid voter (at least

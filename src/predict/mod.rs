@@ -276,8 +276,9 @@ pub struct Params {
     /// inside a pixel), a light on which three of four voters agree is taken from them rather
     /// than traced: a straight shadow edge that leaves three of the four corners of a square on
     /// one side leaves its centre there too. These samples vote for no one, and a mistake
-    /// costs a pixel one of its k² samples. At 16 spp on the bunny it saves about a fifth of
-    /// the rays for 3.5× the wrong pairs, still below those at 1 spp (BENCHMARKS.md).
+    /// costs a pixel one of its k² samples. Off by default: on the corpus at 4 spp it saved a
+    /// sixth of the rays for five times the wrong pairs, 0.27 % on the cut-out panels
+    /// (BENCHMARKS.md, "Three voters of four inside a pixel").
     pub pixel_majority: bool,
     /// [ours] Voters must share the pixel's surface: a neighbour whose normal turns more than
     /// about 37° from the pixel's, or whose point lies more than about 17° off the pixel's
@@ -304,7 +305,7 @@ impl Default for Params {
             min_voters: 3,
             flood_to: FloodTo::ContraryFinest,
             scan_block: 64,
-            pixel_majority: true,
+            pixel_majority: false,
             surface_voters: false,
             all_voters: false,
             busy_voters: 4,
