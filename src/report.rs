@@ -9,7 +9,7 @@
 //! a contact sheet of numbered thumbnails (JPEG); then the lights; the per-frame detail (heat
 //! maps, figures) and the other plots come collapsed (`<details>`), their images loaded only
 //! when opened. Thumbnails and heat maps are JPEG, so the report's folder stays small: about
-//! 3.5 MB for the default animation's 144 frames at 640×480 (5.2 MB with the GIF).
+//! 2.4 MB for the default animation's 96 frames at 640×480 (3.6 MB with the GIF).
 //!
 //! Plots are drawn without text (plotters' bitmap backend with no font feature) and labelled
 //! in HTML, so the report needs no system fonts.
