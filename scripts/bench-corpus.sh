@@ -17,6 +17,8 @@
 #
 # Prints a markdown table and, last, one line per method:
 #   corpus: median A× faster than brute (min B×), traced C–D %, wrong pairs ≤ E %
+# A bench flag swept after `--` (e.g. `-- --pixel-majority=true,false`) is timed interleaved
+# with the rest in one process; each of its settings is summarised as a method of its own.
 # "% traced" counts every ray a frame traced, tiles' halos included. Keeps the raw CSV in the
 # work folder (default target/bench-corpus/corpus.csv). $ENVSHADOW_BIN measures another build.
 set -euo pipefail
