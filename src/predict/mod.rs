@@ -275,8 +275,8 @@ pub struct Params {
     /// [ours] With samples per pixel, at the grid's finest level (voters one sample apart,
     /// inside a pixel), a light on which three of four voters agree is taken from them rather
     /// than traced: a straight shadow edge that leaves three of the four corners of a square on
-    /// one side leaves its centre there too. These samples vote for no one, and a mistake
-    /// costs a pixel one of its k² samples. Off by default: on the corpus at 4 spp it saved a
+    /// one side leaves its centre there too. A mistake misleads only samples of the same
+    /// pixel (the finest level's diagonal pass votes for its axis pass). Off by default: on the corpus at 4 spp it saved a
     /// sixth of the rays for five times the wrong pairs, 0.27 % on the cut-out panels
     /// (BENCHMARKS.md, "Three voters of four inside a pixel").
     pub pixel_majority: bool,

@@ -6,13 +6,14 @@ use std::path::Path;
 
 use crate::common::{self, Failures};
 
-use envshadow::anim::Animation;
+use envshadow::anim::{AnimFlags, Animation};
 use envshadow::coordinator::{Inputs, Silent, render_frame, thread_pool};
 use envshadow::envmap::EnvMap;
 use envshadow::film::{Counts, Film};
 use envshadow::lights::{LightSet, Sampler};
 use envshadow::predict::Method;
 use envshadow::samples::Filter;
+use envshadow::settings::{LightsLayer, RenderLayer};
 use glam::{Vec2, Vec3};
 
 /// The built-in shapes under the built-in sky, small.
@@ -414,8 +415,6 @@ fn temporal_prediction_saves_rays_at_sixteen_samples_too() {
 /// The corpus's cut-out panels (`alpha_mask_panels.glb`), auto-framed under studio_small_03,
 /// 100 lights, frame 0, validated against brute force.
 fn panels(width: u32, height: u32, spp: u32) -> Counts {
-    use envshadow::anim::AnimFlags;
-    use envshadow::settings::{LightsLayer, RenderLayer};
     let flags = AnimFlags {
         lights: LightsLayer {
             count: Some(100),
