@@ -289,6 +289,14 @@ fn check_busy_voters(v: &u32) -> std::result::Result<(), String> {
     }
 }
 
+fn check_percent(v: &u32) -> std::result::Result<(), String> {
+    if *v <= 100 {
+        Ok(())
+    } else {
+        Err("must be a percentage, 0 (off) to 100".into())
+    }
+}
+
 fn check_scan_block(v: &u32) -> std::result::Result<(), String> {
     if *v >= 8 {
         Ok(())
@@ -428,6 +436,12 @@ settings! {
         /// everywhere): more tracing where shadows are finer than the voters' spacing, thin
         /// and busy models (BENCHMARKS.md, issue 23).
         busy_voters: u32 = 4, flag "busy-voters" [value_name = "K"], check check_busy_voters;
+        /// Uncertainty methods: a pixel whose voters leave at least this share of its lights
+        /// (percent) to trace traces all of them, in full packets from its point, and is exact
+        /// (default 40; 0: off): on the corpus, half the wrong pairs of cut-out models for
+        /// about the same rays (BENCHMARKS.md, issue 23).
+        trace_all_share: u32 = 40, flag "trace-all-share" [value_name = "PERCENT"],
+            check check_percent;
         /// Uncertainty and boundary methods: a neighbour votes only if it lies on the pixel's
         /// surface (its normal within about 37° of the pixel's, its point within about 17° of
         /// the pixel's tangent plane); default false (BENCHMARKS.md, issue 23).
@@ -537,6 +551,7 @@ impl Render {
             surface_voters: self.surface_voters,
             all_voters: self.all_voters,
             busy_voters: self.busy_voters,
+            trace_all_share: self.trace_all_share,
             k: 1,
         }
     }

@@ -209,6 +209,11 @@ fn trace_queue<F: Flood>(
             }
         }
     }
+    forget_votes(sc);
+}
+
+/// Clears the warped-blocker tallies the pixel's vote left in the scratch.
+pub(super) fn forget_votes(sc: &mut Scratch) {
     for &c in &sc.touched {
         sc.best_dot[c as usize] = f32::NEG_INFINITY;
         sc.votes[c as usize] = 0;

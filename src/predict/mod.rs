@@ -293,6 +293,15 @@ pub struct Params {
     /// spacing, so a light only some voters see is traced. On the corpus it kept every frame
     /// under 0.05 % wrong pairs for 6 % more rays (BENCHMARKS.md, "Issue 23").
     pub busy_voters: u32,
+    /// [ours] A pixel whose prediction leaves at least this share (percent) of its
+    /// above-horizon lights uncertain traces every one of them in full packets instead of
+    /// correcting the prediction light by light (0: off; default 40). Such a pixel's voters
+    /// know little of it (they straddle a crease or a cut-out's holes), so the lights they
+    /// agree on are the ones they mislead it on; past some share, flooding traces most of the
+    /// rest anyway, in short waves, and a full packet's rays cost a quarter as much each. On
+    /// the corpus it halved the cut-out panels' wrong pairs for about the same rays
+    /// (BENCHMARKS.md, "Tracing every light where the voters know little").
+    pub trace_all_share: u32,
     /// Samples per pixel side: the lattice the method works on holds k × k samples per pixel
     /// (1: one sample at the pixel centre). Set by [`for_samples`](Self::for_samples).
     pub k: u32,
@@ -309,6 +318,7 @@ impl Default for Params {
             surface_voters: false,
             all_voters: false,
             busy_voters: 4,
+            trace_all_share: 40,
             k: 1,
         }
     }

@@ -53,6 +53,7 @@ pub struct Predict<V, F> {
     surface_voters: bool,
     all_voters: bool,
     busy_voters: u32,
+    trace_all_share: u32,
     rules: PhantomData<(V, F)>,
 }
 
@@ -65,6 +66,11 @@ impl<V: Vote, F: Flood> Predict<V, F> {
             all_voters: params.all_voters && F::READS.contains(&"all_voters"),
             busy_voters: if F::READS.contains(&"busy_voters") {
                 params.busy_voters
+            } else {
+                0
+            },
+            trace_all_share: if F::READS.contains(&"trace_all_share") {
+                params.trace_all_share
             } else {
                 0
             },
@@ -152,9 +158,41 @@ impl<V: Vote, F: Flood> Rule for Predict<V, F> {
             sc.queued[m] = unsure;
         }
         F::queue_more(ctx, &bufs.above[i * w..(i + 1) * w], sc);
+        if self.trace_all_share > 0 && self.too_unsure(bufs, sc, i) {
+            trace_all_instead(ctx, bufs, sc, i, at);
+            return;
+        }
         // 3–4. Trace the queue, flooding; keep the blockers.
         correct::<F>(ctx, bufs, sc, i, at);
     }
+}
+
+impl<V, F> Predict<V, F> {
+    /// Whether the prediction in the scratch leaves at least `trace_all_share` percent of
+    /// pixel `i`'s above-horizon lights to trace.
+    #[inline]
+    fn too_unsure(&self, bufs: &TileBuffers, sc: &Scratch, i: usize) -> bool {
+        let w = bufs.words;
+        let above = bits::count(&bufs.above[i * w..(i + 1) * w]);
+        let queued = bits::count(&sc.queued);
+        above > 0 && queued * 100 >= self.trace_all_share * above
+    }
+}
+
+/// [ours] Pixel `i`, predicted in the scratch, traces every above-horizon light instead
+/// ([`Params::trace_all_share`](super::Params::trace_all_share)), like a pixel without voters:
+/// its rays count as every-light rays and it reports no flood fixes (counting the predictions
+/// its trace found wrong as fixes, so that its neighbours ask four voters, traced 5–8 % more
+/// on the cut-out panels for 2–4 % fewer wrong pairs: BENCHMARKS.md).
+fn trace_all_instead(
+    ctx: &FrameContext,
+    bufs: &mut TileBuffers,
+    sc: &mut Scratch,
+    i: usize,
+    at: At,
+) {
+    bufs.trace_all(ctx, i, at.keep_blockers);
+    super::correct::forget_votes(sc);
 }
 
 /// The `voters` of pixel `i` on its surface, into `out`; returns how many. A voter's normal
@@ -190,4 +228,80 @@ fn majority(bufs: &TileBuffers, voters: &[usize], m: usize, above: &[u64; 4]) ->
         all_above & bits::at_least(&blocked, 3),
         all_above & bits::at_least(&vis, 3),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::testkit::{DOWN, Frame, R, UP, at, buffers, list, origin, set_of, star};
+    use super::super::{FloodTo, NoWarp, Uncertainty};
+    use super::*;
+    use crate::buffers::RaySplit;
+    use glam::Vec3;
+
+    /// The origin under the roof, with four voters beside it that agree UP is blocked (it is
+    /// visible) and disagree on the three lights the roof blocks: 3 of its 7 lights (43 %)
+    /// are uncertain. Returns what solving it with `--trace-all-share share` gives: (traced,
+    /// visible, split).
+    fn solve_with_share(share: u32) -> (Vec<usize>, Vec<usize>, RaySplit) {
+        let frame = Frame::new(&star());
+        let ctx = frame.ctx();
+        let w = ctx.words();
+        let near = [(-0.01, 0.0), (0.01, 0.0), (0.0, -0.01), (0.0, 0.01)];
+        let mut surfaces = vec![origin()];
+        surfaces.extend(near.map(|(x, z)| at(Vec3::new(x, 0.0, z))));
+        let (mut bufs, mut sc) = buffers(&ctx, &surfaces);
+        let lights: Vec<usize> = (0..DOWN).collect();
+        let roofed = [R[0], R[1], R[5]];
+        for q in 0..5 {
+            bufs.above[q * w..(q + 1) * w].copy_from_slice(&set_of(w, &lights));
+            if q == 0 {
+                continue; // the pixel decided: nothing visible yet, as `begin_pixel` leaves it
+            }
+            let seen: Vec<usize> = lights
+                .iter()
+                .copied()
+                .filter(|&j| j != UP && (q <= 2 || !roofed.contains(&j)))
+                .collect();
+            bufs.vis[q * w..(q + 1) * w].copy_from_slice(&set_of(w, &seen));
+        }
+        let rule = Predict::<NoWarp, Uncertainty>::new(&Params {
+            trace_all_share: share,
+            ..Params::default()
+        });
+        let at = At {
+            flood_to: FloodTo::Contrary,
+            keep_blockers: false,
+            keep_predicted: false,
+            majority: false,
+            inside: false,
+        };
+        rule.solve(&ctx, &mut bufs, &mut sc, 0, &[1, 2, 3, 4], at);
+        (list(&bufs.traced[..w]), list(&bufs.vis[..w]), bufs.split[0])
+    }
+
+    #[test]
+    fn a_pixel_uncertain_of_its_share_of_lights_traces_them_all() {
+        let (traced, vis, split) = solve_with_share(40);
+        assert_eq!(traced, (0..DOWN).collect::<Vec<_>>(), "every light traced");
+        assert_eq!(vis, [UP, R[2], R[3], R[4]], "the truth");
+        // UP, predicted blocked by every voter, is found visible by the trace.
+        let want = RaySplit {
+            every: 7,
+            flooded: 0,
+            fixes: 0,
+        };
+        assert_eq!(split, want);
+    }
+
+    #[test]
+    fn below_its_share_a_pixel_corrects_the_prediction_light_by_light() {
+        for share in [0, 50] {
+            let (traced, _, split) = solve_with_share(share);
+            assert_eq!(split.every, 0, "share {share}: traced {traced:?}");
+            assert!(traced.len() < DOWN, "share {share}: traced {traced:?}");
+            for j in [R[0], R[1], R[5]] {
+                assert!(traced.contains(&j), "share {share}: uncertain {j} traced");
+            }
+        }
+    }
 }

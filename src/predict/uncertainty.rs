@@ -18,6 +18,7 @@ impl Flood for Uncertainty {
         "surface_voters",
         "all_voters",
         "busy_voters",
+        "trace_all_share",
     ];
 
     fn min_voters(setting: u32) -> u32 {
