@@ -182,8 +182,8 @@ impl<V, F> Predict<V, F> {
 /// [ours] Pixel `i`, predicted in the scratch, traces every above-horizon light instead
 /// ([`Params::trace_all_share`](super::Params::trace_all_share)), like a pixel without voters:
 /// its rays count as every-light rays and it reports no flood fixes (counting the predictions
-/// its trace found wrong as fixes, so that its neighbours ask four voters, traced 5–8 % more
-/// on the cut-out panels for 2–4 % fewer wrong pairs: BENCHMARKS.md).
+/// its trace found wrong as fixes, so that its neighbours ask four voters, traced 5–9 % more
+/// on the cut-out panels and the metal spheres for 1–4 % fewer wrong pairs: BENCHMARKS.md).
 fn trace_all_instead(
     ctx: &FrameContext,
     bufs: &mut TileBuffers,
