@@ -57,6 +57,8 @@ struct Row {
     lights: usize,
     width: u32,
     height: u32,
+    /// Samples per pixel.
+    spp: u32,
     queries: u64,
     /// Every ray the frame traced, tiles' halos included.
     rays: u64,
@@ -92,6 +94,7 @@ fn read_stats(path: &Path) -> Result<Vec<Row>> {
                 lights: f.lights,
                 width: f.width,
                 height: f.height,
+                spp: f.spp,
                 queries: c.queries,
                 rays: c.traced(),
                 percent: c.percent_traced(),
@@ -803,7 +806,10 @@ fn page(
     let validated: Vec<&Row> = rows.iter().filter(|r| r.wrong.is_some()).collect();
     let method = distinct(rows.iter().map(|r| r.method.clone()));
     let nlights = distinct(rows.iter().map(|r| r.lights));
-    let res = distinct(rows.iter().map(|r| format!("{}×{}", r.width, r.height)));
+    let res = distinct(rows.iter().map(|r| match r.spp {
+        1 => format!("{}×{}", r.width, r.height),
+        n => format!("{}×{} ({n} samples per pixel)", r.width, r.height),
+    }));
     let env_line = match lights::read_json(&dir.join("lights.json")) {
         Ok(set) => match &set.environment {
             Some(e) => format!(

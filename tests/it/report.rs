@@ -236,6 +236,10 @@ fn report_pages_reference_only_local_images_that_decode() {
             let rays_map = image::open(out.join("report/rays_0000.jpg")).unwrap();
             assert_eq!((rays_map.width(), rays_map.height()), (48, 36));
             assert!(html.contains("grid-nowarp-uncertainty") && html.contains("48×36"));
+            assert!(
+                !html.contains("samples per pixel"),
+                "one sample per pixel is the plain resolution"
+            );
             assert!(html.contains("shadow rays per second"));
         });
     }
@@ -299,6 +303,20 @@ fn report_pages_load_in_chromium_without_console_errors() {
         });
     }
     failures.assert_none();
+}
+
+#[test]
+fn report_names_the_samples_per_pixel_beside_the_resolution() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (spec, out) = tiny_spec(tmp.path(), false);
+    render(&spec, &["--spp", "4"]);
+    let html = fs::read_to_string(out.join("report.html")).unwrap();
+    let lead = &html[at(&html, "class=\"lead\"")..];
+    assert!(
+        lead.starts_with("class=\"lead\">3 frames at 48×36 (4 samples per pixel), 20 lights"),
+        "{}",
+        &lead[..lead.find("</p>").unwrap_or(lead.len())]
+    );
 }
 
 #[test]
