@@ -226,6 +226,18 @@ fn bad_inputs_fail_with_one_clear_line_and_no_output() {
     check(render(&shapes, &["--spp", "5"]), &["--spp 5", "square"]);
     check(render(&shapes, &["--spp", "0"]), &["--spp 0", "square"]);
     check(
+        render(&shapes, &["--trace-all-share", "101"]),
+        &["--trace-all-share 101", "percentage"],
+    );
+    let p = write_spec(
+        "share.toml",
+        &format!("{base}[scene]\nbuiltin = \"shapes\"\n[render]\ntrace_all_share = 150\n"),
+    );
+    check(
+        render(&p, &[]),
+        &["share.toml", "[render] trace_all_share = 150", "percentage"],
+    );
+    check(
         render(&shapes, &["--filter", "lanczos"]),
         &["lanczos", "blackman-harris"],
     );
