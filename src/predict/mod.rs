@@ -276,9 +276,9 @@ pub struct Params {
     /// inside a pixel), a light on which three of four voters agree is taken from them rather
     /// than traced: a straight shadow edge that leaves three of the four corners of a square on
     /// one side leaves its centre there too. A mistake misleads only samples of the same
-    /// pixel (the finest level's diagonal pass votes for its axis pass). Off by default: on the corpus at 4 spp it saved a
-    /// sixth of the rays for five times the wrong pairs, 0.27 % on the cut-out panels
-    /// (BENCHMARKS.md, "Three voters of four inside a pixel").
+    /// pixel (the finest level's diagonal pass votes for its axis pass). Off by default: on
+    /// the corpus at 4 spp it saved a sixth of the rays for five times the wrong pairs, 0.27 %
+    /// on the cut-out panels (BENCHMARKS.md, "Three voters of four inside a pixel").
     pub pixel_majority: bool,
     /// [ours] Voters must share the pixel's surface: a neighbour whose normal turns more than
     /// about 37° from the pixel's, or whose point lies more than about 17° off the pixel's

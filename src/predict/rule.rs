@@ -4,7 +4,7 @@
 
 use std::marker::PhantomData;
 
-use super::correct::{At, correct};
+use super::correct::{At, correct, forget_votes};
 use super::{Flood, Params, Scratch, Vote};
 use crate::bits;
 use crate::buffers::TileBuffers;
@@ -59,17 +59,18 @@ pub struct Predict<V, F> {
 
 impl<V: Vote, F: Flood> Predict<V, F> {
     pub fn new(params: &Params) -> Predict<V, F> {
+        // Settings only some flood rules read (not `boundary`'s one voter) are off for the rest.
+        let reads = |key: &str| F::READS.contains(&key);
         Predict {
             min_voters: F::min_voters(params.min_voters),
             surface_voters: params.surface_voters,
-            // Only where the flood rule counts voters at all (not `boundary`'s one voter).
-            all_voters: params.all_voters && F::READS.contains(&"all_voters"),
-            busy_voters: if F::READS.contains(&"busy_voters") {
+            all_voters: params.all_voters && reads("all_voters"),
+            busy_voters: if reads("busy_voters") {
                 params.busy_voters
             } else {
                 0
             },
-            trace_all_share: if F::READS.contains(&"trace_all_share") {
+            trace_all_share: if reads("trace_all_share") {
                 params.trace_all_share
             } else {
                 0
@@ -159,7 +160,13 @@ impl<V: Vote, F: Flood> Rule for Predict<V, F> {
         }
         F::queue_more(ctx, &bufs.above[i * w..(i + 1) * w], sc);
         if self.trace_all_share > 0 && self.too_unsure(bufs, sc, i) {
-            trace_all_instead(ctx, bufs, sc, i, at);
+            // [ours] The voters know little here: every light is traced, as at a pixel without
+            // voters, and counted as every-light rays with no flood fixes. (Counting the
+            // predictions the trace found wrong as fixes, so that neighbours ask four voters,
+            // traced 5–9 % more on the cut-out panels and the metal spheres for 1–4 % fewer
+            // wrong pairs: BENCHMARKS.md.)
+            bufs.trace_all(ctx, i, at.keep_blockers);
+            forget_votes(sc);
             return;
         }
         // 3–4. Trace the queue, flooding; keep the blockers.
@@ -177,22 +184,6 @@ impl<V, F> Predict<V, F> {
         let queued = bits::count(&sc.queued);
         above > 0 && queued * 100 >= self.trace_all_share * above
     }
-}
-
-/// [ours] Pixel `i`, predicted in the scratch, traces every above-horizon light instead
-/// ([`Params::trace_all_share`](super::Params::trace_all_share)), like a pixel without voters:
-/// its rays count as every-light rays and it reports no flood fixes (counting the predictions
-/// its trace found wrong as fixes, so that its neighbours ask four voters, traced 5–9 % more
-/// on the cut-out panels and the metal spheres for 1–4 % fewer wrong pairs: BENCHMARKS.md).
-fn trace_all_instead(
-    ctx: &FrameContext,
-    bufs: &mut TileBuffers,
-    sc: &mut Scratch,
-    i: usize,
-    at: At,
-) {
-    bufs.trace_all(ctx, i, at.keep_blockers);
-    super::correct::forget_votes(sc);
 }
 
 /// The `voters` of pixel `i` on its surface, into `out`; returns how many. A voter's normal
