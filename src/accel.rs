@@ -59,6 +59,9 @@ impl Cutout for Opaque {
 
 /// A bounding volume hierarchy over a triangle soup, built once per frame geometry.
 pub struct Accel {
+    /// This hierarchy among every one built in the process: what a [`ShadowCache`]'s entries
+    /// belong to.
+    id: u64,
     bvh: CwBvh,
     /// Triangles in the BVH's primitive order, so a leaf indexes them directly.
     tris: Vec<Triangle>,
@@ -95,6 +98,7 @@ impl Accel {
             .collect();
         if soup.is_empty() {
             return Accel {
+                id: next_id(),
                 bvh: CwBvh::default(),
                 tris: Vec::new(),
                 scene_index: Vec::new(),
@@ -127,6 +131,7 @@ impl Accel {
             }
         }
         Accel {
+            id: next_id(),
             bvh,
             tris,
             scene_index,
@@ -308,6 +313,38 @@ impl Accel {
         cut: &C,
     ) -> u32 {
         assert!(dirs.len() <= PACKET, "a packet holds at most {PACKET} rays");
+        let origins = [origin; PACKET];
+        self.occluded_rays_unrecorded_within(&origins[..dirs.len()], dirs, tmax, cut)
+    }
+
+    /// Up to [`PACKET`] shadow rays, each from its own origin, traced together: bit r is set
+    /// when the ray from `origins[r]` along `dirs[r]` is blocked before `tmax[r]`. The same
+    /// answers as [`occluded_within`](Self::occluded_within) one ray at a time. Built for the
+    /// parallel rays of one directional light from nearby points (a tile's queries of that
+    /// light), which walk nearly the same nodes; rays from one origin are the other case.
+    pub fn occluded_rays_within<C: Cutout + ?Sized>(
+        &self,
+        origins: &[Vec3],
+        dirs: &[Vec3],
+        tmax: &[f32],
+        cut: &C,
+    ) -> u32 {
+        for (o, d) in origins.iter().zip(dirs) {
+            record(*o, *d);
+        }
+        self.occluded_rays_unrecorded_within(origins, dirs, tmax, cut)
+    }
+
+    /// [`occluded_rays_within`](Self::occluded_rays_within) without the recording hook.
+    pub fn occluded_rays_unrecorded_within<C: Cutout + ?Sized>(
+        &self,
+        origins: &[Vec3],
+        dirs: &[Vec3],
+        tmax: &[f32],
+        cut: &C,
+    ) -> u32 {
+        assert!(dirs.len() <= PACKET, "a packet holds at most {PACKET} rays");
+        assert!(origins.len() == dirs.len(), "an origin for every ray");
         assert!(tmax.len() >= dirs.len(), "a ray end for every ray");
         if self.tris.is_empty() || dirs.is_empty() {
             return 0;
@@ -316,16 +353,102 @@ impl Accel {
         if crate::simd::has_avx2() {
             let cut = self.cut_with(cut);
             // SAFETY: AVX2 was detected on this CPU.
-            return unsafe { avx2::occluded_packet(self, origin.into(), dirs, tmax, &cut) };
+            return unsafe { avx2::occluded_packet(self, origins, dirs, tmax, &cut, None) };
         }
         // Without AVX2, one ray at a time: the same answers.
         let mut blocked = 0;
-        for (r, d) in dirs.iter().enumerate() {
-            if self.occluded_unrecorded_within(origin, *d, tmax[r], cut) {
+        for (r, (o, d)) in origins.iter().zip(dirs).enumerate() {
+            if self.occluded_unrecorded_within(*o, *d, tmax[r], cut) {
                 blocked |= 1 << r;
             }
         }
         blocked
+    }
+
+    /// [`occluded_rays_within`](Self::occluded_rays_within) through a [`ShadowCache`]: ray r,
+    /// towards light `lights[r]`, is first tested against the triangles that last blocked
+    /// that light (a neighbouring point's ray, nearly always); a hit there is a hit the
+    /// traversal would find, so only the rays the cache does not block are traced, and each
+    /// one found blocked leaves its blockers in the cache. The same answers, for less work
+    /// where shadows are coherent.
+    pub fn occluded_rays_cached<C: Cutout + ?Sized>(
+        &self,
+        origins: &[Vec3],
+        dirs: &[Vec3],
+        tmax: &[f32],
+        cut: &C,
+        lights: &[u32],
+        cache: &mut ShadowCache,
+    ) -> u32 {
+        for (o, d) in origins.iter().zip(dirs) {
+            record(*o, *d);
+        }
+        self.occluded_rays_cached_unrecorded(origins, dirs, tmax, cut, lights, cache)
+    }
+
+    /// [`occluded_rays_cached`](Self::occluded_rays_cached) without the recording hook.
+    pub fn occluded_rays_cached_unrecorded<C: Cutout + ?Sized>(
+        &self,
+        origins: &[Vec3],
+        dirs: &[Vec3],
+        tmax: &[f32],
+        cut: &C,
+        lights: &[u32],
+        cache: &mut ShadowCache,
+    ) -> u32 {
+        let n = dirs.len();
+        assert!(n <= PACKET, "a packet holds at most {PACKET} rays");
+        assert!(origins.len() == n && lights.len() == n, "an origin and a light for every ray");
+        assert!(tmax.len() >= n, "a ray end for every ray");
+        if self.tris.is_empty() || n == 0 {
+            return 0;
+        }
+        #[cfg(target_arch = "x86_64")]
+        if crate::simd::has_avx2() {
+            let cut = self.cut_with(cut);
+            cache.fit(self.id, lights);
+            let mut blocked = 0u32;
+            // The rays the cache leaves, packed.
+            let (mut o, mut d, mut e) = ([Vec3::ZERO; PACKET], [Vec3::ZERO; PACKET], [0.0; PACKET]);
+            let mut slot = [0usize; PACKET];
+            let mut rest = 0;
+            for r in 0..n {
+                let g = cache.groups[lights[r] as usize];
+                if !g.is_empty() {
+                    let ray = ray(origins[r], dirs[r], tmax[r]);
+                    // SAFETY: the group came from this hierarchy's leaves (`fit` empties a
+                    // cache another hierarchy filled); AVX2 was detected.
+                    let (t, _) = unsafe {
+                        leaf::hit_avx2(&self.planes, g.base as usize, g.bits, &ray, &cut)
+                    };
+                    if t < ray.tmax {
+                        blocked |= 1 << r;
+                        cache.hits += 1;
+                        continue;
+                    }
+                }
+                (o[rest], d[rest], e[rest], slot[rest]) = (origins[r], dirs[r], tmax[r], r);
+                rest += 1;
+            }
+            if rest == 0 {
+                return blocked;
+            }
+            let mut groups = [LeafGroup::default(); PACKET];
+            // SAFETY: AVX2 was detected on this CPU.
+            let traced = unsafe {
+                avx2::occluded_packet(self, &o[..rest], &d[..rest], &e, &cut, Some(&mut groups))
+            };
+            let mut m = traced;
+            while m != 0 {
+                let k = m.trailing_zeros() as usize;
+                m &= m - 1;
+                blocked |= 1 << slot[k];
+                cache.groups[lights[slot[k]] as usize] = groups[k];
+            }
+            return blocked;
+        }
+        let _ = (lights, cache);
+        self.occluded_rays_unrecorded_within(origins, dirs, tmax, cut)
     }
 
     /// [`occluded`](Self::occluded) without the recording hook: what a replay measures.
@@ -743,6 +866,78 @@ mod leaf {
     }
 }
 
+/// The triangles of one hierarchy node's leaf children: a packet's blocked ray records the
+/// node where it was blocked, for the next ray towards the same light.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LeafGroup {
+    /// The node's first triangle (BVH primitive order).
+    base: u32,
+    /// Its leaf children's triangles, bit k for triangle `base + k` (0: none).
+    bits: u32,
+}
+
+impl LeafGroup {
+    /// Every triangle of `node`'s leaf children.
+    #[inline]
+    fn of(node: &CwBvhNode) -> LeafGroup {
+        let mut bits = 0u32;
+        for (c, &meta) in node.child_meta.iter().enumerate() {
+            if node.imask & (1 << c) == 0 && meta != 0 {
+                bits |= ((meta >> 5) as u32 & 7) << (meta & 0x1f);
+            }
+        }
+        LeafGroup {
+            base: node.primitive_base_idx,
+            bits,
+        }
+    }
+
+    fn is_empty(&self) -> bool {
+        self.bits == 0
+    }
+}
+
+/// A shadow cache (Haines and Greenberg's light buffer, reduced to one entry per light): for
+/// each light, the leaf triangles that last blocked a ray towards it. Neighbouring points are
+/// mostly blocked by the same few triangles, so a blocked ray is usually answered by one leaf
+/// test instead of a walk from the root. It only ever shortens the work: a ray the cached
+/// triangles do not block is traced in full. One per thread, cleared for each hierarchy.
+#[derive(Clone, Debug, Default)]
+pub struct ShadowCache {
+    /// The hierarchy the entries belong to.
+    accel: u64,
+    groups: Vec<LeafGroup>,
+    /// Rays the cache answered (for the bench's counters).
+    pub hits: u64,
+}
+
+impl ShadowCache {
+    /// Forgets every light's blockers (a new hierarchy, or a new tile).
+    pub fn clear(&mut self) {
+        self.groups.fill(LeafGroup::default());
+    }
+
+    /// Entries of hierarchy `accel` (emptied if they were another's), with room for every
+    /// light in `lights`.
+    #[inline]
+    fn fit(&mut self, accel: u64, lights: &[u32]) {
+        if self.accel != accel {
+            self.clear();
+            self.accel = accel;
+        }
+        let need = lights.iter().max().map_or(0, |&j| j as usize + 1);
+        if self.groups.len() < need {
+            self.groups.resize(need, LeafGroup::default());
+        }
+    }
+}
+
+/// A new hierarchy's [`Accel::id`] (never 0, the id of no hierarchy).
+fn next_id() -> u64 {
+    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+    NEXT.fetch_add(1, Ordering::Relaxed)
+}
+
 /// obvhs's ray from `origin` along `dir` over t in [0, tmax), with negative zeros in the direction
 /// made positive: obvhs takes the inverse of −0 as −1/ε but picks a box's near and far planes by
 /// `d < 0`, false for −0, so a ray along an axis written with −0 (`-Vec3::Y`) missed every box.
@@ -870,8 +1065,9 @@ mod avx2 {
     use super::*;
     use std::arch::x86_64::*;
 
-    /// Up to [`PACKET`] shadow rays from one origin traversed together: bit r of the result
-    /// is set when `dirs[r]` is occluded. Each ray meets a node's children through exactly
+    /// Up to [`PACKET`] shadow rays traversed together, ray r from `origins[r]` along
+    /// `dirs[r]` (one origin and many directions: a pixel's lights; many origins and one
+    /// direction: a light's pixels): bit r of the result is set when ray r is occluded. Each ray meets a node's children through exactly
     /// the operations of [`node_hits_avx2`] (its slab ends chosen by its direction's signs, by
     /// a blend instead of a branch), so it reaches exactly the leaves it would reach alone, and
     /// tests them with [`leaf::hit_avx2`]: the answers are the single-ray answers. What the
@@ -880,10 +1076,11 @@ mod avx2 {
     #[target_feature(enable = "avx2")]
     pub(super) fn occluded_packet<C: Cutout + ?Sized>(
         accel: &Accel,
-        origin: Vec3A,
+        origins: &[Vec3],
         dirs: &[Vec3],
         tmax: &[f32],
         cut: &Cut<C>,
+        mut groups: Option<&mut [LeafGroup; PACKET]>,
     ) -> u32 {
         use std::mem::MaybeUninit;
         const STACK: usize = 256;
@@ -893,8 +1090,10 @@ mod avx2 {
         let mut inv = [Vec3A::ZERO; PACKET];
         let mut sign = [0u8; PACKET];
         let mut dir = [Vec3A::ZERO; PACKET];
-        for (r, d) in dirs.iter().enumerate() {
-            let single = ray(origin.into(), *d, f32::INFINITY);
+        let mut org = [Vec3A::ZERO; PACKET];
+        for (r, (o, d)) in origins.iter().zip(dirs).enumerate() {
+            org[r] = (*o).into();
+            let single = ray(*o, *d, f32::INFINITY);
             (dir[r], inv[r]) = (single.direction, single.inv_direction);
             let d = single.direction;
             sign[r] = (d.x < 0.0) as u8 | ((d.y < 0.0) as u8) << 1 | ((d.z < 0.0) as u8) << 2;
@@ -937,7 +1136,7 @@ mod avx2 {
                 widen(&node.child_max_z),
             );
             let extent = node.compute_extent();
-            let pmo = Vec3A::from(node.p) - origin;
+            let p = Vec3A::from(node.p);
             let mut acc = _mm256_setzero_si256();
             let mut mm = m;
             while mm != 0 {
@@ -945,7 +1144,7 @@ mod avx2 {
                 mm &= mm - 1;
                 // node_hits_avx2's `inv` and `org`, the same products.
                 let ri = extent * inv[r];
-                let ro = pmo * inv[r];
+                let ro = (p - org[r]) * inv[r];
                 let slab = |lo: __m256, hi: __m256, i: f32, o: f32, sw: __m256| {
                     let (i, o) = (_mm256_set1_ps(i), _mm256_set1_ps(o));
                     let a = _mm256_add_ps(_mm256_mul_ps(lo, i), o);
@@ -989,7 +1188,7 @@ mod avx2 {
                 let r = leaf_rays.trailing_zeros() as usize;
                 leaf_rays &= leaf_rays - 1;
                 let ray = Ray {
-                    origin,
+                    origin: org[r],
                     direction: dir[r],
                     inv_direction: inv[r],
                     tmin: 0.0,
@@ -1007,6 +1206,9 @@ mod avx2 {
                 };
                 if t < ray.tmax {
                     done |= 1 << r;
+                    if let Some(g) = groups.as_deref_mut() {
+                        g[r] = LeafGroup::of(node);
+                    }
                 }
             }
             if done == all {
@@ -1014,9 +1216,9 @@ mod avx2 {
             }
             if top + 8 > STACK {
                 // Deeper than any hierarchy we build; finish the open rays one at a time.
-                for (r, d) in dirs.iter().enumerate() {
+                for (r, (o, d)) in origins.iter().zip(dirs).enumerate() {
                     if done & (1 << r) == 0
-                        && accel.occluded_unrecorded_within(origin.into(), *d, tmax[r], cut.test)
+                        && accel.occluded_unrecorded_within(*o, *d, tmax[r], cut.test)
                     {
                         done |= 1 << r;
                     }

@@ -281,33 +281,91 @@ pub struct Split {
     pub blocked: u64,
 }
 
-/// Traces `rays` on the current pool in chunks of [`REPLAY_CHUNK`]; returns the occluded count.
-/// One at a time (`packets` false), as another tracer's single-ray query would; or as a frame
-/// traces them, each run of up to [`PACKET`] consecutive rays from one origin (a pixel's) as
-/// one packet.
-pub fn replay(accel: &Accel, rays: &[ShadowRay], packets: bool) -> u64 {
+/// How a replay groups the rays it traces together.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Grouping {
+    /// One ray at a time, as another tracer's single-ray query would.
+    Single,
+    /// Each run of up to [`PACKET`] consecutive rays from one origin (a pixel's) as one
+    /// packet: how a frame traced them before they were grouped by light.
+    Origin,
+    /// As [`Origin`](Self::Origin), through a [`ShadowCache`] keyed by direction: each ray
+    /// first tested against what last blocked its direction.
+    OriginCached,
+    /// Within each chunk, the rays sorted by direction (stably) and each run of up to
+    /// [`PACKET`] parallel rays as one packet: a light's queries from nearby points.
+    Direction,
+}
+
+/// `rays` with each chunk of [`REPLAY_CHUNK`] sorted by direction, and within a direction
+/// by their origins' place on a Morton curve over the chunk's bounds: the order
+/// [`Grouping::Direction`] traces (sorted before timing, as a frame would collect a light's
+/// queries while deciding them).
+pub fn by_direction(rays: &[ShadowRay]) -> Vec<ShadowRay> {
+    let mut sorted = rays.to_vec();
+    for c in sorted.chunks_mut(REPLAY_CHUNK) {
+        let (lo, hi) = c.iter().fold((glam::Vec3::MAX, glam::Vec3::MIN), |(l, h), r| {
+            (l.min(r.origin), h.max(r.origin))
+        });
+        let scale = 1023.0 / (hi - lo).max(glam::Vec3::splat(1e-30));
+        let spread = |v: u32| {
+            let mut x = v as u64 & 0x3ff;
+            x = (x | x << 16) & 0x0300_00ff;
+            x = (x | x << 8) & 0x0300_f00f;
+            x = (x | x << 4) & 0x030c_30c3;
+            (x | x << 2) & 0x0924_9249
+        };
+        let morton = |o: glam::Vec3| {
+            let q = ((o - lo) * scale).as_uvec3();
+            spread(q.x) | spread(q.y) << 1 | spread(q.z) << 2
+        };
+        c.sort_by_cached_key(|r| {
+            (r.dir.x.to_bits(), r.dir.y.to_bits(), r.dir.z.to_bits(), morton(r.origin))
+        });
+    }
+    sorted
+}
+
+/// Traces `rays` on the current pool in chunks of [`REPLAY_CHUNK`], grouped as `grouping`
+/// says (for [`Grouping::Direction`], `rays` as [`by_direction`] sorts them); returns the
+/// occluded count.
+pub fn replay(accel: &Accel, rays: &[ShadowRay], grouping: Grouping) -> u64 {
     rays.par_chunks(REPLAY_CHUNK)
         .map(|c| {
-            if !packets {
-                return c
-                    .iter()
-                    .filter(|r| accel.occluded_unrecorded(r.origin, r.dir))
-                    .count() as u64;
-            }
+            let same: fn(&ShadowRay, &ShadowRay) -> bool = match grouping {
+                Grouping::Single => {
+                    return c
+                        .iter()
+                        .filter(|r| accel.occluded_unrecorded(r.origin, r.dir))
+                        .count() as u64;
+                }
+                Grouping::Origin | Grouping::OriginCached => |a, b| a.origin == b.origin,
+                Grouping::Direction => |a, b| a.dir == b.dir,
+            };
             let mut blocked = 0;
+            let mut cache = accel::ShadowCache::default();
+            let mut keys = [0u32; PACKET];
             let mut dirs = [glam::Vec3::ZERO; PACKET];
+            let mut origins = [glam::Vec3::ZERO; PACKET];
+            let inf = [f32::INFINITY; PACKET];
             let mut i = 0;
             while i < c.len() {
-                let origin = c[i].origin;
+                let first = c[i];
                 let mut n = 0;
-                while i < c.len() && c[i].origin == origin && n < PACKET {
+                while i < c.len() && same(&c[i], &first) && n < PACKET {
                     dirs[n] = c[i].dir;
+                    origins[n] = c[i].origin;
+                    let d = c[i].dir;
+                    keys[n] = (d.x.to_bits() ^ d.y.to_bits().rotate_left(11) ^ d.z.to_bits().rotate_left(22)).wrapping_mul(0x9e37_79b9) >> 20;
                     n += 1;
                     i += 1;
                 }
-                blocked += accel
-                    .occluded_packet_unrecorded(origin, &dirs[..n])
-                    .count_ones() as u64;
+                blocked += if grouping == Grouping::OriginCached {
+                    accel.occluded_rays_cached_unrecorded(&origins[..n], &dirs[..n], &inf, &accel::Opaque, &keys[..n], &mut cache)
+                } else {
+                    accel.occluded_rays_unrecorded_within(&origins[..n], &dirs[..n], &inf, &accel::Opaque)
+                }
+                .count_ones() as u64;
             }
             blocked
         })
@@ -463,7 +521,7 @@ pub fn measure(args: &BenchArgs, mut log: impl FnMut(Log)) -> Result<Vec<BenchRo
                             pool.install(|| frame_accel(&base, &inputs, frame))?;
                             build.push(t.elapsed().as_secs_f64());
                             let t = Instant::now();
-                            blocked = pool.install(|| replay(accel, rays, true));
+                            blocked = pool.install(|| replay(accel, rays, Grouping::Origin));
                             shadow.push(t.elapsed().as_secs_f64());
                         }
                         Some(Split {
@@ -679,14 +737,17 @@ pub fn replay_table(path: &Path, args: &BenchArgs) -> Result<String> {
     // One at a time: the work of another tracer's single-ray query. Packets: as a frame
     // traces them. Alternated, so both see the same machine load.
     let tracers = [
-        ("envshadow (obvhs), one ray at a time", false),
-        ("envshadow (obvhs), packets from one origin", true),
+        ("envshadow (obvhs), one ray at a time", Grouping::Single),
+        ("envshadow (obvhs), packets from one origin", Grouping::Origin),
+        ("envshadow (obvhs), packets of parallel rays", Grouping::Direction),
+        ("envshadow (obvhs), packets from one origin, shadow cache", Grouping::OriginCached),
     ];
     let threads = if args.render.threads.is_empty() {
         vec![1, 2]
     } else {
         args.render.threads.clone()
     };
+    let sorted = by_direction(&dump.rays);
     for &threads in &threads {
         let pool = thread_pool(threads)?;
         let mut times = vec![Vec::new(); tracers.len()];
@@ -694,7 +755,12 @@ pub fn replay_table(path: &Path, args: &BenchArgs) -> Result<String> {
         for _ in 0..args.repeat {
             for (k, &(_, packets)) in tracers.iter().enumerate() {
                 let t = Instant::now();
-                blocked[k] = pool.install(|| replay(&accel, &dump.rays, packets));
+                let rays = if packets == Grouping::Direction {
+                    &sorted
+                } else {
+                    &dump.rays
+                };
+                blocked[k] = pool.install(|| replay(&accel, rays, packets));
                 times[k].push(t.elapsed().as_secs_f64());
             }
         }
