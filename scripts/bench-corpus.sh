@@ -102,9 +102,13 @@ for r in rows:
 # method and the setting: each label is summarised as a method of its own.
 labels = [r["method"] for r in rows if r["method"] not in ("none", "brute")]
 methods += [l for l in dict.fromkeys(labels) if l not in methods]
-print(f"| model | map | method | % traced | wrong pairs % | rel. RMSE | none s | brute s | method s | brute ÷ method | method ÷ none |")
-print("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+print(f"| model | map | method | % traced | wrong pairs % | rel. RMSE | none s | brute s | method s | brute ÷ method | method ÷ none | traced query ÷ brute ray |")
+print("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
 summary = {m: [] for m in methods}
+def per_ray(shadow, traced, brute_shadow, queries):
+    if traced <= 0 or queries <= 0 or brute_shadow <= 0:
+        return None
+    return (shadow / traced) / (brute_shadow / queries)
 for (model, env), by in sorted(runs.items()):
     none, brute = by.get("none"), by.get("brute")
     for m in methods:
@@ -113,13 +117,17 @@ for (model, env), by in sorted(runs.items()):
             continue
         s, sb, sn = float(r["seconds"]), float(brute["seconds"]), float(none["seconds"])
         pct, wrong, rel = float(r["percent_traced"]), float(r["wrong_percent"]), float(r["rel_rmse"])
-        summary[m].append((sb / s, pct, wrong))
-        print(f"| {model} | {env} | {m} | {pct:.2f} | {wrong:.4f} | {rel:.5f} | {sn:.3f} | {sb:.3f} | {s:.3f} | {sb / s:.2f}× | {s / sn:.2f}× |")
+        # What the method's shadows cost per ray it traced, over what brute force's cost per
+        # ray: ((method − none) ÷ rays traced) ÷ ((brute − none) ÷ queries).
+        cost = per_ray(s - sn, int(r["rays_traced"]), sb - sn, int(brute["queries"]))
+        summary[m].append((sb / s, pct, wrong, s / sn, cost))
+        shown = f"{cost:.2f}×" if cost is not None else "–"
+        print(f"| {model} | {env} | {m} | {pct:.2f} | {wrong:.4f} | {rel:.5f} | {sn:.3f} | {sb:.3f} | {s:.3f} | {sb / s:.2f}× | {s / sn:.2f}× | {shown} |")
 for line in open(failed):
     model, env, msg = line.rstrip("\n").split("\t", 2)
     # The reason, without the file names the loader's message repeats.
     msg = msg.split("invalid glTF: ", 1)[-1].split(model + ": ")[-1]
-    print(f"| {name(model)} | {name(env)} | does not load: {msg[:200]} | | | | | | | | |")
+    print(f"| {name(model)} | {name(env)} | does not load: {msg[:200]} | | | | | | | | | |")
 print()
 if rows:
     r0 = rows[0]
@@ -138,4 +146,9 @@ for m in methods:
           f"median traced {statistics.median(pcts):.1f} %")
     print(f"{label}: median {statistics.median(ratios):.1f}× faster than brute (min {min(ratios):.1f}×), "
           f"traced {min(pcts):.1f}–{max(pcts):.1f} %, wrong pairs ≤ {max(wrongs):.3f} %")
+    over_none = [x[3] for x in v]
+    costs = [x[4] for x in v if x[4] is not None]
+    cost = (f"{statistics.median(costs):.2f}× (max {max(costs):.2f}×)" if costs else "–")
+    print(f"{label}: median {statistics.median(over_none):.1f}× the frame without shadows "
+          f"(max {max(over_none):.1f}×); a traced query costs a median {cost} brute force's ray")
 EOF

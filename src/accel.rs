@@ -398,7 +398,10 @@ impl Accel {
     ) -> u32 {
         let n = dirs.len();
         assert!(n <= PACKET, "a packet holds at most {PACKET} rays");
-        assert!(origins.len() == n && lights.len() == n, "an origin and a light for every ray");
+        assert!(
+            origins.len() == n && lights.len() == n,
+            "an origin and a light for every ray"
+        );
         assert!(tmax.len() >= n, "a ray end for every ray");
         if self.tris.is_empty() || n == 0 {
             return 0;
@@ -1568,6 +1571,65 @@ mod tests {
         assert_eq!(
             Accel::build(&[], &[]).occluded_packet(Vec3::ZERO, &[Vec3::Y]),
             0
+        );
+    }
+
+    /// Parallel rays from many origins (a light's queries from a patch of points) and the
+    /// shadow cache: the single-ray answers, ray for ray; the cache must also answer some
+    /// rays itself (neighbouring origins blocked by the same leaf), or it would not be tested.
+    #[test]
+    fn parallel_packets_and_the_shadow_cache_answer_exactly_as_single_rays() {
+        let mut rng = Lcg(77);
+        let accel = soup(&mut rng, 3000, 2.0, 0.3);
+        let other = soup(&mut rng, 50, 2.0, 0.3);
+        let mut cache = ShadowCache::default();
+        let (mut rays, mut blocked) = (0, 0);
+        let inf = [f32::INFINITY; PACKET];
+        for k in 0..400 {
+            let n = 1 + k % PACKET;
+            let light = (k % 7) as u32;
+            let dir = (rng.vec() * 2.0 - 1.0).normalize_or(Vec3::Y);
+            let centre = rng.vec() * 5.0 - 2.5;
+            let origins: Vec<Vec3> = (0..n).map(|_| centre + rng.vec() * 0.05).collect();
+            let dirs = vec![dir; n];
+            let lights = vec![light; n];
+            let single: u32 = origins
+                .iter()
+                .enumerate()
+                .map(|(r, o)| u32::from(accel.occluded_unrecorded(*o, dir)) << r)
+                .sum();
+            let packed = accel.occluded_rays_unrecorded_within(&origins, &dirs, &inf, &Opaque);
+            assert_eq!(packed, single, "parallel packet {k}");
+            let cached = accel.occluded_rays_cached_unrecorded(
+                &origins, &dirs, &inf, &Opaque, &lights, &mut cache,
+            );
+            assert_eq!(cached, single, "cached packet {k}");
+            // A cache another hierarchy filled is emptied, never read.
+            let o = other.occluded_rays_cached_unrecorded(
+                &origins,
+                &dirs,
+                &inf,
+                &Opaque,
+                &lights,
+                &mut ShadowCache { ..cache.clone() },
+            );
+            let alone: u32 = origins
+                .iter()
+                .enumerate()
+                .map(|(r, p)| u32::from(other.occluded_unrecorded(*p, dir)) << r)
+                .sum();
+            assert_eq!(o, alone, "another hierarchy's packet {k}");
+            rays += n;
+            blocked += single.count_ones() as usize;
+        }
+        assert!(
+            blocked > rays / 5 && blocked < rays * 4 / 5,
+            "{blocked} of {rays}"
+        );
+        assert!(
+            cache.hits > 0 && cache.hits < blocked as u64,
+            "{} cache hits",
+            cache.hits
         );
     }
 

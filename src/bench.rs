@@ -304,9 +304,11 @@ pub enum Grouping {
 pub fn by_direction(rays: &[ShadowRay]) -> Vec<ShadowRay> {
     let mut sorted = rays.to_vec();
     for c in sorted.chunks_mut(REPLAY_CHUNK) {
-        let (lo, hi) = c.iter().fold((glam::Vec3::MAX, glam::Vec3::MIN), |(l, h), r| {
-            (l.min(r.origin), h.max(r.origin))
-        });
+        let (lo, hi) = c
+            .iter()
+            .fold((glam::Vec3::MAX, glam::Vec3::MIN), |(l, h), r| {
+                (l.min(r.origin), h.max(r.origin))
+            });
         let scale = 1023.0 / (hi - lo).max(glam::Vec3::splat(1e-30));
         let spread = |v: u32| {
             let mut x = v as u64 & 0x3ff;
@@ -320,7 +322,12 @@ pub fn by_direction(rays: &[ShadowRay]) -> Vec<ShadowRay> {
             spread(q.x) | spread(q.y) << 1 | spread(q.z) << 2
         };
         c.sort_by_cached_key(|r| {
-            (r.dir.x.to_bits(), r.dir.y.to_bits(), r.dir.z.to_bits(), morton(r.origin))
+            (
+                r.dir.x.to_bits(),
+                r.dir.y.to_bits(),
+                r.dir.z.to_bits(),
+                morton(r.origin),
+            )
         });
     }
     sorted
@@ -356,14 +363,30 @@ pub fn replay(accel: &Accel, rays: &[ShadowRay], grouping: Grouping) -> u64 {
                     dirs[n] = c[i].dir;
                     origins[n] = c[i].origin;
                     let d = c[i].dir;
-                    keys[n] = (d.x.to_bits() ^ d.y.to_bits().rotate_left(11) ^ d.z.to_bits().rotate_left(22)).wrapping_mul(0x9e37_79b9) >> 20;
+                    keys[n] = (d.x.to_bits()
+                        ^ d.y.to_bits().rotate_left(11)
+                        ^ d.z.to_bits().rotate_left(22))
+                    .wrapping_mul(0x9e37_79b9)
+                        >> 20;
                     n += 1;
                     i += 1;
                 }
                 blocked += if grouping == Grouping::OriginCached {
-                    accel.occluded_rays_cached_unrecorded(&origins[..n], &dirs[..n], &inf, &accel::Opaque, &keys[..n], &mut cache)
+                    accel.occluded_rays_cached_unrecorded(
+                        &origins[..n],
+                        &dirs[..n],
+                        &inf,
+                        &accel::Opaque,
+                        &keys[..n],
+                        &mut cache,
+                    )
                 } else {
-                    accel.occluded_rays_unrecorded_within(&origins[..n], &dirs[..n], &inf, &accel::Opaque)
+                    accel.occluded_rays_unrecorded_within(
+                        &origins[..n],
+                        &dirs[..n],
+                        &inf,
+                        &accel::Opaque,
+                    )
                 }
                 .count_ones() as u64;
             }
@@ -494,6 +517,11 @@ pub fn measure(args: &BenchArgs, mut log: impl FnMut(Log)) -> Result<Vec<BenchRo
         if still {
             inputs.still_accel();
         }
+        // The environment prefiltered for glossy lobes is built once per run too (by its first
+        // frame, on the pool): without this the first timed render paid for it, which was
+        // the whole of a `--repeat 1` none frame's lead on the metal spheres.
+        let pool = thread_pool(threads.iter().copied().max().unwrap_or(0))?;
+        pool.install(|| inputs.glossy());
         for &threads in &threads {
             let pool = thread_pool(threads)?;
             // Round robin: each repeat renders every variant once, so a slow spell of the
@@ -562,6 +590,35 @@ impl BenchRow {
         self.rays + self.halo_rays
     }
 
+    /// The row of `method` among `rows` measured like this one (same lights, threads, size
+    /// and samples per pixel).
+    pub fn peer<'a>(&self, rows: &'a [BenchRow], method: Method) -> Option<&'a BenchRow> {
+        rows.iter().find(|o| {
+            o.variant.method == method
+                && (o.lights, o.threads, o.width, o.height, o.spp)
+                    == (self.lights, self.threads, self.width, self.height, self.spp)
+        })
+    }
+
+    /// What this method's shadows cost per ray it traced, over what brute force pays per ray:
+    /// ((frame − none) ÷ rays traced) ÷ ((brute − none) ÷ queries), from the `none` and
+    /// `brute` rows measured beside it. 1 would mean a traced query costs what a brute-force
+    /// ray does, bookkeeping included. `None` for `none` and `brute` themselves, without
+    /// both peers, or without rays.
+    pub fn cost_per_traced(&self, rows: &[BenchRow]) -> Option<f64> {
+        if self.variant.method == Method::NONE || self.variant.method == Method::BRUTE {
+            return None;
+        }
+        let none = self.peer(rows, Method::NONE)?;
+        let brute = self.peer(rows, Method::BRUTE)?;
+        let brute_shadow = brute.seconds - none.seconds;
+        if self.traced() == 0 || brute.queries == 0 || brute_shadow <= 0.0 {
+            return None;
+        }
+        let mine = (self.seconds - none.seconds) / self.traced() as f64;
+        Some(mine / (brute_shadow / brute.queries as f64))
+    }
+
     /// [`traced`](Self::traced) as a percentage of the queries (0 without queries).
     pub fn percent_traced(&self) -> f64 {
         if self.queries > 0 {
@@ -592,12 +649,15 @@ pub fn markdown(rows: &[BenchRow]) -> String {
         );
         rule.push_str("---:|---:|---:|---:|---:|");
     }
+    let with_cost = rows.iter().any(|r| r.cost_per_traced(rows).is_some());
+    if with_cost {
+        s.push_str(" traced query ÷ brute ray |");
+        rule.push_str("---:|");
+    }
     s.push_str(&rule);
     s.push('\n');
     for r in rows {
-        let none_row = rows.iter().find(|o| {
-            o.lights == r.lights && o.threads == r.threads && o.variant.method == Method::NONE
-        });
+        let none_row = r.peer(rows, Method::NONE);
         let none = none_row
             .map(|o| format!("{:.2}", r.seconds / o.seconds))
             .unwrap_or_else(|| "–".into());
@@ -621,6 +681,12 @@ pub fn markdown(rows: &[BenchRow]) -> String {
         }
         if with_split {
             s.push_str(&split_cells(r, none_row));
+        }
+        if with_cost {
+            match r.cost_per_traced(rows) {
+                Some(c) => s.push_str(&format!(" {c:.2} |")),
+                None => s.push_str(" – |"),
+            }
         }
         s.push('\n');
     }
@@ -738,9 +804,18 @@ pub fn replay_table(path: &Path, args: &BenchArgs) -> Result<String> {
     // traces them. Alternated, so both see the same machine load.
     let tracers = [
         ("envshadow (obvhs), one ray at a time", Grouping::Single),
-        ("envshadow (obvhs), packets from one origin", Grouping::Origin),
-        ("envshadow (obvhs), packets of parallel rays", Grouping::Direction),
-        ("envshadow (obvhs), packets from one origin, shadow cache", Grouping::OriginCached),
+        (
+            "envshadow (obvhs), packets from one origin",
+            Grouping::Origin,
+        ),
+        (
+            "envshadow (obvhs), packets of parallel rays",
+            Grouping::Direction,
+        ),
+        (
+            "envshadow (obvhs), packets from one origin, shadow cache",
+            Grouping::OriginCached,
+        ),
     ];
     let threads = if args.render.threads.is_empty() {
         vec![1, 2]
@@ -806,4 +881,62 @@ pub fn heading(args: &BenchArgs, rows: &[BenchRow]) -> String {
         args.repeat,
         builds
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::settings::RenderLayer;
+
+    fn row(method: Method, seconds: f64, queries: u64, rays: u64, spp: u32) -> BenchRow {
+        BenchRow {
+            lights: 400,
+            width: 64,
+            height: 48,
+            spp,
+            threads: 1,
+            variant: Variant {
+                layer: RenderLayer::default(),
+                method,
+                label: method.to_string(),
+            },
+            seconds,
+            queries,
+            rays,
+            halo_rays: rays / 4,
+            build_in_frame: false,
+            split: None,
+            accuracy: None,
+        }
+    }
+
+    /// none 1 s, brute 11 s for 1000 queries (10 ms a ray); the default 2 s with 32 + 8
+    /// rays traced at its tiles and halos (25 ms a ray): 2.5× brute force's cost per ray. Rows of another size of
+    /// sample are not its peers, and `none` and `brute` have no such cost.
+    #[test]
+    fn a_traced_query_is_costed_against_brute_forces_ray_measured_beside_it() {
+        let rows = vec![
+            row(Method::NONE, 1.0, 1000, 0, 1),
+            row(Method::BRUTE, 11.0, 1000, 1000, 1),
+            row(Method::DEFAULT, 2.0, 1000, 32, 1),
+            row(Method::NONE, 3.0, 4000, 0, 4),
+            row(Method::DEFAULT, 5.0, 4000, 40, 4),
+        ];
+        let cost = rows[2].cost_per_traced(&rows).expect("peers measured");
+        assert!((cost - 2.5).abs() < 1e-12, "{cost}");
+        assert_eq!(
+            rows[4].cost_per_traced(&rows),
+            None,
+            "no brute row at 4 spp"
+        );
+        assert_eq!(rows[0].cost_per_traced(&rows), None);
+        assert_eq!(rows[1].cost_per_traced(&rows), None);
+        let table = markdown(&rows);
+        assert!(table.contains("traced query ÷ brute ray"), "{table}");
+        let line = table.lines().nth(4).unwrap();
+        assert!(line.ends_with(" 2.50 |"), "{line}");
+        // The 4-spp row's `× none` is against the 4-spp none row (5 ÷ 3), not the 1-spp one.
+        let line = table.lines().last().unwrap();
+        assert!(line.contains("| 1.67 |"), "{line}");
+    }
 }

@@ -41,6 +41,10 @@ pub struct TileBuffers {
     ///
     /// [`prepare`]: Self::prepare
     pub valid: Vec<bool>,
+    /// Pixels that may vote: valid, and their primary ray hit the scene. Kept beside `surf`
+    /// so a pixel's voters are checked without loading their surfaces (a cache miss each, a
+    /// sixth of a pixel's bookkeeping at 4 spp).
+    pub voter: Vec<bool>,
     /// Lights above each pixel's horizon: its shadow queries.
     pub above: Vec<u64>,
     /// Lights visible from each pixel (traced or predicted).
@@ -85,6 +89,8 @@ impl TileBuffers {
         self.needed.resize(n, false);
         self.valid.clear();
         self.valid.resize(n, false);
+        self.voter.clear();
+        self.voter.resize(n, false);
         for v in [&mut self.above, &mut self.vis, &mut self.traced] {
             grow(v, nw);
         }
@@ -101,6 +107,7 @@ impl TileBuffers {
     pub fn reset_pixel(&mut self, i: usize) {
         let w = self.words;
         self.valid[i] = true;
+        self.voter[i] = self.surf[i].hit;
         self.vis[i * w..(i + 1) * w].fill(0);
         self.traced[i * w..(i + 1) * w].fill(0);
         self.rays[i] = 0;

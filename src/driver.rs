@@ -136,7 +136,7 @@ impl FrameWork<'_> {
         let mut nv = 0;
         for &(vx, vy) in &candidates[..n] {
             let q = bufs.region.index(vx, vy);
-            if bufs.valid[q] && bufs.surf[q].hit {
+            if bufs.voter[q] {
                 voters[nv] = q;
                 nv += 1;
             }

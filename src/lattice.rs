@@ -106,6 +106,7 @@ impl Lattice {
         let w = self.words;
         bufs.valid[i] = true;
         bufs.surf[i] = self.surf[k];
+        bufs.voter[i] = self.surf[k].hit;
         let src = &self.bits[k * 3 * w..(k + 1) * 3 * w];
         bufs.above[i * w..(i + 1) * w].copy_from_slice(&src[..w]);
         bufs.vis[i * w..(i + 1) * w].copy_from_slice(&src[w..2 * w]);

@@ -5,7 +5,7 @@ use crate::common::{self, Failures};
 
 use envshadow::accel::{self, Accel};
 use envshadow::anim::{AnimFlags, Animation};
-use envshadow::bench::replay;
+use envshadow::bench::{Grouping, by_direction, replay};
 use envshadow::context::FrameContext;
 use envshadow::coordinator::{Inputs, Silent, render_frame, thread_pool};
 use envshadow::predict::Method;
@@ -80,19 +80,31 @@ fn recorded_rays_are_the_frames_rays_and_a_dump_replays_them_identically() {
             let rebuilt = Accel::build(&positions, &tris);
             let blocked = thread_pool(1)
                 .unwrap()
-                .install(|| replay(&frame_accel, &rays, false));
+                .install(|| replay(&frame_accel, &rays, Grouping::Single));
             assert!(
                 blocked > 0 && blocked < rays.len() as u64,
                 "{method}: {blocked}"
             );
-            // Packets from one origin answer exactly as single rays do.
+            // Packets from one origin, packets of parallel rays from many origins and the
+            // shadow cache answer exactly as single rays do.
+            let sorted = by_direction(&dump.rays);
             for threads in [1, 2] {
                 let pool = thread_pool(threads).unwrap();
-                for packets in [false, true] {
+                for grouping in [
+                    Grouping::Single,
+                    Grouping::Origin,
+                    Grouping::OriginCached,
+                    Grouping::Direction,
+                ] {
+                    let rays = if grouping == Grouping::Direction {
+                        &sorted
+                    } else {
+                        &dump.rays
+                    };
                     assert_eq!(
-                        pool.install(|| replay(&rebuilt, &dump.rays, packets)),
+                        pool.install(|| replay(&rebuilt, rays, grouping)),
                         blocked,
-                        "{method}: {threads} threads, packets {packets}"
+                        "{method}: {threads} threads, {grouping:?}"
                     );
                 }
             }
