@@ -15,8 +15,11 @@
 # (bench's rule), then each method rendered once more with --validate (untimed: --accuracy).
 # A model envshadow cannot load is a row saying why, not a gap in the table.
 #
-# Prints a markdown table and, last, one line per method:
+# Prints a markdown table and, last, lines per method:
 #   corpus: median A× faster than brute (min B×), traced C–D %, wrong pairs ≤ E %
+#   corpus: a traced query costs a median F× (max G×) brute force's ray; the frame is a
+#   median H× the frame without shadows (max I×)
+# (a traced query's cost: ((method − none) ÷ rays traced) ÷ ((brute − none) ÷ queries)).
 # A bench flag swept after `--` (e.g. `-- --pixel-majority=true,false`) is timed interleaved
 # with the rest in one process; each of its settings is summarised as a method of its own.
 # "% traced" counts every ray a frame traced, tiles' halos included. Keeps the raw CSV in the
@@ -50,7 +53,7 @@ while [ $# -gt 0 ]; do
     --method) METHODS="$2"; shift 2 ;;
     --work) WORK="$2"; shift 2 ;;
     --) shift; EXTRA=("$@"); break ;;
-    -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,26p' "$0"; exit 0 ;;
     *) echo "bench-corpus.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -149,6 +152,7 @@ for m in methods:
     over_none = [x[3] for x in v]
     costs = [x[4] for x in v if x[4] is not None]
     cost = (f"{statistics.median(costs):.2f}× (max {max(costs):.2f}×)" if costs else "–")
-    print(f"{label}: median {statistics.median(over_none):.1f}× the frame without shadows "
-          f"(max {max(over_none):.1f}×); a traced query costs a median {cost} brute force's ray")
+    print(f"{label}: a traced query costs a median {cost} brute force's ray; the frame is a "
+          f"median {statistics.median(over_none):.1f}× the frame without shadows "
+          f"(max {max(over_none):.1f}×)")
 EOF

@@ -187,6 +187,7 @@ mod tests {
             surf: vec![Surface::default(); n],
             needed: vec![false; n],
             valid: vec![false; n],
+            voter: vec![false; n],
             above: vec![0; n * words],
             vis: vec![0; n * words],
             traced: vec![0; n * words],

@@ -347,5 +347,12 @@ fn bench_corpus_summarises_each_swept_setting_as_a_method() {
             1,
             "{summary} in\n{stdout}"
         );
+        // What a traced query costs against brute force's ray, per setting (issue 36).
+        let cost = format!("corpus ({label}): a traced query costs a median ");
+        assert_eq!(stdout.matches(&cost).count(), 1, "{cost} in\n{stdout}");
     }
+    assert!(
+        stdout.contains("| traced query ÷ brute ray |"),
+        "the table's cost column in\n{stdout}"
+    );
 }
