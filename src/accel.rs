@@ -450,7 +450,8 @@ impl Accel {
             }
             return blocked;
         }
-        let _ = (lights, cache);
+        // Without AVX2 the rays are traced in full and the cache is left as it was.
+        cache.fit(self.id, lights);
         self.occluded_rays_unrecorded_within(origins, dirs, tmax, cut)
     }
 
@@ -881,6 +882,7 @@ pub struct LeafGroup {
 
 impl LeafGroup {
     /// Every triangle of `node`'s leaf children.
+    #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
     #[inline]
     fn of(node: &CwBvhNode) -> LeafGroup {
         let mut bits = 0u32;
@@ -895,6 +897,7 @@ impl LeafGroup {
         }
     }
 
+    #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
     fn is_empty(&self) -> bool {
         self.bits == 0
     }
