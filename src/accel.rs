@@ -1,8 +1,11 @@
 //! Ray queries against the scene's triangles: our small interface over the obvhs CWBVH.
 //!
 //! Closest hit for camera rays ([`Accel::intersect`]), an occlusion test for shadow rays
-//! ([`Accel::occluded`]) and the same test reporting where the ray was blocked
-//! ([`Accel::blocker`], for the warping predictors). obvhs's own naming is hidden here
+//! ([`Accel::occluded`]; in packets from one origin, [`Accel::occluded_packet`], or from one
+//! origin per ray, [`Accel::occluded_rays_within`]) and the same test reporting where the ray
+//! was blocked ([`Accel::blocker`], for the warping predictors). [`ShadowCache`] answers a
+//! blocked ray from what last blocked its light; frames do not use it (it costs the default's
+//! rays more than it saves, BENCHMARKS.md issue 36), `envshadow bench --replay` measures it. obvhs's own naming is hidden here
 //! (its `ray_traverse_miss` returns true when nothing is hit).
 //!
 //! Cut-out triangles (glTF's alpha-tested materials) are marked when the hierarchy is built
