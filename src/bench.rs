@@ -289,8 +289,8 @@ pub enum Grouping {
     /// Each run of up to [`PACKET`] consecutive rays from one origin (a pixel's) as one
     /// packet: how a frame traced them before they were grouped by light.
     Origin,
-    /// As [`Origin`](Self::Origin), through a [`ShadowCache`] keyed by direction: each ray
-    /// first tested against what last blocked its direction.
+    /// As [`Origin`](Self::Origin), through a [`ShadowCache`](accel::ShadowCache) keyed by
+    /// direction: each ray first tested against what last blocked its direction.
     OriginCached,
     /// Within each chunk, the rays sorted by direction (stably) and each run of up to
     /// [`PACKET`] parallel rays as one packet: a light's queries from nearby points.
