@@ -411,10 +411,13 @@ settings! {
         min_voters: u32 = 3, flag "min-voters" [value_name = "K"], check check_min_voters;
         /// Uncertainty methods: which neighbour lights a flooding trace also traces — `all`
         /// untraced ones; `contrary`: only those predicted opposite to the traced answer, about
-        /// a third fewer rays with more wrong pairs; `contrary-finest` (the default):
-        /// `contrary` at the grid's finest level, whose wrong pairs mislead no coarser pixel,
-        /// and `all` above it, about a fifth fewer rays than `all` for a few percent more wrong
-        /// pairs (docs/methods.md).
+        /// a third fewer rays with more wrong pairs; `contrary-finest`: `contrary` at the
+        /// grid's finest level, whose wrong pairs mislead no coarser pixel, and `all` above it,
+        /// about a fifth fewer rays than `all` for a few percent more wrong pairs; `adaptive`:
+        /// `all` where a voter's flooding caught a wrong prediction, `contrary` elsewhere;
+        /// `auto` (the default): `all` for a frame with cut-out (alpha MASK or BLEND)
+        /// triangles, whose holes contrary flooding misses, `contrary-finest` otherwise
+        /// (docs/methods.md).
         flood_to: FloodTo = FloodTo::Auto,
             flag "flood-to" [value_name = "RULE"], check any;
         /// Grid methods with --spp above 1: at the finest level, whose voters lie one sample

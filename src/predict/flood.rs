@@ -41,7 +41,8 @@ pub enum FloodTo {
     /// Every untraced above-horizon neighbour light: a ring around each uncertain or
     /// mispredicted light [ALGORITHM.md §6].
     All,
-    /// [ours, the default] [`Contrary`](Self::Contrary) at the pixels of the grid's finest
+    /// [ours; what [`Auto`](Self::Auto), the default, takes without cut-outs]
+    /// [`Contrary`](Self::Contrary) at the pixels of the grid's finest
     /// level (spacing 1: three pixels in four), [`All`](Self::All) at the coarser levels. A
     /// wrong pair at a coarse pixel is a wrong vote for every finer pixel it predicts; at the
     /// finest level it reaches at most the last pass's pixels, and those vote for nobody. On
@@ -128,8 +129,11 @@ impl std::str::FromStr for FloodTo {
             .into_iter()
             .find(|f| f.name() == s)
             .ok_or_else(|| {
+                let names: Vec<&str> = FloodTo::ALL.iter().map(|f| f.name()).collect();
+                let (last, rest) = names.split_last().expect("flood rules");
                 format!(
-                    "unknown flood rule {s:?}; expected all, contrary-finest, contrary or adaptive"
+                    "unknown flood rule {s:?}; expected {} or {last}",
+                    rest.join(", ")
                 )
             })
     }

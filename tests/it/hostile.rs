@@ -478,7 +478,7 @@ fn every_kind_of_broken_input_is_refused_with_one_located_line() {
             "flood.toml",
             "[render] flood_to",
             "\"some\"",
-            "all, contrary-finest, contrary or adaptive",
+            "all, contrary-finest, contrary, adaptive or auto",
         ],
     );
     c.render(
@@ -488,7 +488,7 @@ fn every_kind_of_broken_input_is_refused_with_one_located_line() {
         &[
             "--flood-to",
             "most",
-            "all, contrary-finest, contrary or adaptive",
+            "all, contrary-finest, contrary, adaptive or auto",
         ],
     );
 
