@@ -289,9 +289,6 @@ pub enum Grouping {
     /// Each run of up to [`PACKET`] consecutive rays from one origin (a pixel's) as one
     /// packet: how a frame traced them before they were grouped by light.
     Origin,
-    /// As [`Origin`](Self::Origin), through a [`ShadowCache`](accel::ShadowCache) keyed by
-    /// direction: each ray first tested against what last blocked its direction.
-    OriginCached,
     /// Within each chunk, the rays sorted by direction (stably) and each run of up to
     /// [`PACKET`] parallel rays as one packet: a light's queries from nearby points.
     Direction,
@@ -346,12 +343,10 @@ pub fn replay(accel: &Accel, rays: &[ShadowRay], grouping: Grouping) -> u64 {
                         .filter(|r| accel.occluded_unrecorded(r.origin, r.dir))
                         .count() as u64;
                 }
-                Grouping::Origin | Grouping::OriginCached => |a, b| a.origin == b.origin,
+                Grouping::Origin => |a, b| a.origin == b.origin,
                 Grouping::Direction => |a, b| a.dir == b.dir,
             };
             let mut blocked = 0;
-            let mut cache = accel::ShadowCache::default();
-            let mut keys = [0u32; PACKET];
             let mut dirs = [glam::Vec3::ZERO; PACKET];
             let mut origins = [glam::Vec3::ZERO; PACKET];
             let inf = [f32::INFINITY; PACKET];
@@ -362,24 +357,12 @@ pub fn replay(accel: &Accel, rays: &[ShadowRay], grouping: Grouping) -> u64 {
                 while i < c.len() && same(&c[i], &first) && n < PACKET {
                     dirs[n] = c[i].dir;
                     origins[n] = c[i].origin;
-                    let d = c[i].dir;
-                    keys[n] = (d.x.to_bits()
-                        ^ d.y.to_bits().rotate_left(11)
-                        ^ d.z.to_bits().rotate_left(22))
-                    .wrapping_mul(0x9e37_79b9)
-                        >> 20;
                     n += 1;
                     i += 1;
                 }
-                blocked += if grouping == Grouping::OriginCached {
-                    accel.occluded_rays_cached_unrecorded(
-                        &origins[..n],
-                        &dirs[..n],
-                        &inf,
-                        &accel::Opaque,
-                        &keys[..n],
-                        &mut cache,
-                    )
+                // Packets from one origin as frames trace them; parallel rays each from its own.
+                let hit = if grouping == Grouping::Origin {
+                    accel.occluded_packet_unrecorded(first.origin, &dirs[..n])
                 } else {
                     accel.occluded_rays_unrecorded_within(
                         &origins[..n],
@@ -387,8 +370,8 @@ pub fn replay(accel: &Accel, rays: &[ShadowRay], grouping: Grouping) -> u64 {
                         &inf,
                         &accel::Opaque,
                     )
-                }
-                .count_ones() as u64;
+                };
+                blocked += hit.count_ones() as u64;
             }
             blocked
         })
@@ -811,10 +794,6 @@ pub fn replay_table(path: &Path, args: &BenchArgs) -> Result<String> {
         (
             "envshadow (obvhs), packets of parallel rays",
             Grouping::Direction,
-        ),
-        (
-            "envshadow (obvhs), packets from one origin, shadow cache",
-            Grouping::OriginCached,
         ),
     ];
     let threads = if args.render.threads.is_empty() {

@@ -85,17 +85,12 @@ fn recorded_rays_are_the_frames_rays_and_a_dump_replays_them_identically() {
                 blocked > 0 && blocked < rays.len() as u64,
                 "{method}: {blocked}"
             );
-            // Packets from one origin, packets of parallel rays from many origins and the
-            // shadow cache answer exactly as single rays do.
+            // Packets from one origin and packets of parallel rays from many origins answer
+            // exactly as single rays do.
             let sorted = by_direction(&dump.rays);
             for threads in [1, 2] {
                 let pool = thread_pool(threads).unwrap();
-                for grouping in [
-                    Grouping::Single,
-                    Grouping::Origin,
-                    Grouping::OriginCached,
-                    Grouping::Direction,
-                ] {
+                for grouping in [Grouping::Single, Grouping::Origin, Grouping::Direction] {
                     let rays = if grouping == Grouping::Direction {
                         &sorted
                     } else {
