@@ -8,11 +8,12 @@ use std::path::Path;
 
 use envshadow::anim::{AnimFlags, Animation};
 use envshadow::coordinator::{
-    FrameFiles, Inputs, RunOptions, Silent, Temporal, render_animation, render_frame,
-    render_frame_with, thread_pool,
+    FrameFiles, Inputs, RunOptions, Silent, render_animation, render_frame, render_frame_with,
+    thread_pool,
 };
 use envshadow::film::Counts;
 use envshadow::film::Film;
+use envshadow::frame::Temporal;
 use envshadow::history::Carried;
 use envshadow::output::stats::read_stats;
 use envshadow::predict::FloodTo;

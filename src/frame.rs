@@ -1,0 +1,296 @@
+//! Rendering one frame: poses the scene, builds the frame's context and method, runs the shared
+//! phases and then the tiles (dearest first) over the current pool, and assembles the film and
+//! its statistics. Tiles are added in tile order, so the film does not depend on which thread
+//! finished first.
+
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+use rayon::prelude::*;
+
+use crate::anim::{Animation, MotionKind};
+use crate::cancel::Cancel;
+use crate::context::FrameContext;
+use crate::driver::{FrameWork, Slot};
+use crate::error::{Interrupted, Result};
+use crate::film::Film;
+use crate::history::{Carried, CarryPatch, Edges};
+use crate::inputs::Inputs;
+use crate::lights::Tracks;
+use crate::output::stats::FrameStats;
+use crate::run::{Progress, TileDone};
+use crate::temporal::prev_view;
+use crate::tile::{Rect, Tile};
+
+thread_local! {
+    /// Each worker's tile buffers and scratch, kept across tiles and frames so they are
+    /// allocated once.
+    static SLOT: std::cell::RefCell<Slot> = std::cell::RefCell::new(Slot::default());
+}
+
+/// Runs `f` with this thread's slot. Tile work never re-enters the pool, so the slot is never
+/// borrowed twice.
+fn with_slot<R>(f: impl FnOnce(&mut Slot) -> R) -> R {
+    SLOT.with_borrow_mut(f)
+}
+
+/// Renders one frame: poses the scene, builds its BVH, renders every tile on the current
+/// rayon pool and assembles the film. Tiles are added in tile order, so the film does not
+/// depend on which thread finished first.
+pub fn render_frame(
+    anim: &Animation,
+    inputs: &Inputs,
+    frame: usize,
+    region: Option<Rect>,
+    progress: &dyn Progress,
+) -> Result<(Film, FrameStats)> {
+    let (film, stats, _) =
+        render_frame_with(anim, inputs, frame, region, progress, &Temporal::default())?;
+    Ok((film, stats))
+}
+
+/// How a frame is linked to its neighbours in time (`--temporal`).
+#[derive(Default)]
+pub struct Temporal<'a> {
+    /// The previous frame's carried data: this frame is predicted from it where it can be.
+    pub prev: Option<&'a Carried>,
+    /// Keep this frame's carried data for the next frame.
+    pub carry: bool,
+    /// Skip validation even if the animation asks for it (warm-up frames are not written).
+    pub no_validate: bool,
+}
+
+/// [`render_frame`] with temporal prediction: reads `temporal.prev` and, with
+/// `temporal.carry`, returns this frame's carried data for the next frame.
+pub fn render_frame_with(
+    anim: &Animation,
+    inputs: &Inputs,
+    frame: usize,
+    region: Option<Rect>,
+    progress: &dyn Progress,
+    temporal: &Temporal,
+) -> Result<(Film, FrameStats, Option<Carried>)> {
+    let list = anim.render.tiles(region);
+    let never = Cancel::default();
+    render_tile_list(
+        anim, inputs, frame, &list, region, progress, temporal, &never,
+    )
+}
+
+/// Renders `list` (tiles of one frame); `region` (if any) bounds them and decides how far the
+/// shared phases run and over which pixels validation compares images. Once `cancel` is set,
+/// tiles not yet started are skipped and the frame ends with [`Interrupted`].
+// The frame, its tiles, the temporal link and the stop flag: a struct for them would only be
+// unpacked again here.
+#[allow(clippy::too_many_arguments)]
+pub fn render_tile_list(
+    anim: &Animation,
+    inputs: &Inputs,
+    frame: usize,
+    list: &[Tile],
+    region: Option<Rect>,
+    progress: &dyn Progress,
+    temporal: &Temporal,
+    cancel: &Cancel,
+) -> Result<(Film, FrameStats, Option<Carried>)> {
+    // The frame's thread-seconds: its serial parts (this thread's time outside the parallel
+    // sections, which it spends waiting or on other frames' tasks) plus its tasks' own times.
+    let start = Instant::now();
+    let mut parallel = std::time::Duration::ZERO;
+    let tasks = TaskTime::default();
+    let pivot = anim.pivot(&inputs.scene)?;
+    let (posed, built);
+    let (scene, accel) = match anim.scene_transform(frame, pivot) {
+        Some(m) => {
+            posed = inputs.scene.transformed(m);
+            built = posed.accel();
+            (&posed, &built)
+        }
+        None => (&inputs.scene, inputs.still_accel()),
+    };
+    let camera = anim.camera(&inputs.scene, frame)?;
+    let samples = anim.render.samples();
+    let side = samples.k;
+    let lights = inputs.lights_at(anim, frame);
+    let ctx = FrameContext::new(scene, accel, camera, &lights, &inputs.env)
+        .with_samples(samples)
+        .with_glossy(if anim.render.glossy_env {
+            inputs.glossy()
+        } else {
+            None
+        })
+        .with_backdrop(&inputs.backdrop)
+        .with_environment_turn(anim.motion.environment_degrees(frame));
+    let prev_lights;
+    let prev = match temporal.prev {
+        Some(carried) => {
+            let prev_camera = anim.camera(&inputs.scene, carried.frame)?;
+            prev_lights = inputs.lights_at(anim, carried.frame);
+            Some(prev_view(
+                anim,
+                carried,
+                frame,
+                prev_camera,
+                &camera,
+                pivot,
+                (&prev_lights, &lights),
+            ))
+        }
+        None => None,
+    };
+    // The methods run on the samples: their spacings grow with the samples per pixel side.
+    let shadows = anim.render.method.build(
+        anim.render
+            .params()
+            .for_samples(side)
+            .for_cutouts(accel.has_cutouts()),
+        prev.as_ref(),
+    );
+    let work = FrameWork {
+        ctx: &ctx,
+        shadows: &shadows,
+        validate: anim.render.validate && !temporal.no_validate,
+    };
+    // A spinning object or a turning environment turns the lights relative to the scene:
+    // keep the edges of each pixel's shadow in light space, which the turn may carry across
+    // a light.
+    let segment = anim.motion.segment_at(frame);
+    let tracks = (temporal.carry && segment.kind == MotionKind::Environment)
+        .then(|| Tracks::new(&lights, segment.degrees_per_frame));
+    let edges = match (&tracks, segment.kind) {
+        (Some(t), _) => Edges::Track(t),
+        (None, MotionKind::Spin) => Edges::Adjacent,
+        _ => Edges::None,
+    };
+    let mut carried = temporal.carry.then(|| {
+        Carried::new(
+            frame,
+            anim.render.width,
+            anim.render.height,
+            ctx.words(),
+            edges.kept(),
+        )
+    });
+    // Shared phases (the grid's coarse levels) run over every tile the rendered tiles' halos
+    // reach, so a region render reads exactly what the whole frame would have computed.
+    let phases = work.shared_phases();
+    let mut lattice = work.lattice();
+    if phases > 0 {
+        let reach = region.map(|r| {
+            let grown = r.grow(work.shared_reach());
+            anim.render.tiles(Some(grown))
+        });
+        let shared_tiles = reach.as_deref().unwrap_or(list);
+        for phase in 0..phases {
+            cancel.check()?;
+            let t = Instant::now();
+            let patches: Vec<_> = shared_tiles
+                .par_iter()
+                .map(|t| {
+                    tasks
+                        .time(|| with_slot(|slot| work.shared_phase(t.rect, slot, phase, &lattice)))
+                })
+                .collect();
+            parallel += t.elapsed();
+            for p in &patches {
+                lattice.insert(p);
+            }
+        }
+    }
+    let carry = carried.is_some();
+    // Dearest tiles first, dealt one at a time to whichever worker is free (longest-processing-
+    // time order): a tile on the object's silhouette costs many times one of open ground, and
+    // splitting the list by position left one thread finishing the frame alone. Results keep
+    // the list's order, so the frame does not depend on the schedule.
+    let mut order: Vec<usize> = (0..list.len()).collect();
+    order.sort_by_cached_key(|&t| (std::cmp::Reverse(work.rays_in(&lattice, list[t].rect)), t));
+    let slots: Vec<Mutex<Option<_>>> = (0..list.len()).map(|_| Mutex::new(None)).collect();
+    let next = AtomicUsize::new(0);
+    let t = Instant::now();
+    (0..rayon::current_num_threads())
+        .into_par_iter()
+        .with_max_len(1)
+        .for_each(|_| {
+            loop {
+                let k = next.fetch_add(1, Ordering::Relaxed);
+                if k >= order.len() || cancel.is_cancelled() {
+                    break;
+                }
+                let t = &list[order[k]];
+                let began = Instant::now();
+                let r = tasks.time(|| {
+                    with_slot(|slot| {
+                        let r = work.tile(t.rect, slot, &lattice);
+                        let patch =
+                            carry.then(|| CarryPatch::record(&slot.bufs, &lights, edges, side));
+                        (r, patch)
+                    })
+                });
+                progress.tile_done(&TileDone {
+                    frame,
+                    index: t.index,
+                    rect: t.rect,
+                    counts: r.0.counts,
+                    seconds: began.elapsed().as_secs_f64(),
+                });
+                *slots[order[k]].lock().unwrap() = Some(r);
+            }
+        });
+    parallel += t.elapsed();
+    let results: Option<Vec<_>> = slots.into_iter().map(|s| s.into_inner().unwrap()).collect();
+    let Some(results) = results else {
+        return Err(Interrupted.into());
+    };
+    let mut film = Film::new(
+        anim.render.width,
+        anim.render.height,
+        work.validate,
+        side > 1,
+    )
+    .with_alpha(inputs.backdrop.is_transparent());
+    for (r, patch) in &results {
+        film.add(r);
+        if let (Some(c), Some(p)) = (&mut carried, patch) {
+            c.insert(p);
+        }
+    }
+    drop(results);
+    let rendered = region.unwrap_or(Rect::frame(anim.render.width, anim.render.height));
+    let stats = FrameStats {
+        frame,
+        method: anim.render.method.name().to_string(),
+        lights: lights.len(),
+        width: anim.render.width,
+        height: anim.render.height,
+        spp: anim.render.spp,
+        counts: film.counts,
+        image_error: film.image_error(rendered, anim.render.exposure, anim.render.view),
+        thread_seconds: (start.elapsed().saturating_sub(parallel) + tasks.total()).as_secs_f64(),
+        camera_position: inputs.scene.to_world(camera.position),
+        camera_target: inputs.scene.to_world(camera.target),
+        camera_up: camera.up,
+        vfov_deg: camera.vfov_deg,
+    };
+    Ok((film, stats, carried))
+}
+
+/// The summed run time of a frame's parallel tasks (tiles, shared passes), each timed on the
+/// thread that ran it.
+#[derive(Default)]
+struct TaskTime(std::sync::atomic::AtomicU64);
+
+impl TaskTime {
+    /// Runs `f`, adding its run time.
+    fn time<R>(&self, f: impl FnOnce() -> R) -> R {
+        let t = Instant::now();
+        let r = f();
+        let ns = u64::try_from(t.elapsed().as_nanos()).unwrap_or(u64::MAX);
+        self.0.fetch_add(ns, Ordering::Relaxed);
+        r
+    }
+
+    fn total(&self) -> std::time::Duration {
+        std::time::Duration::from_nanos(self.0.load(Ordering::Relaxed))
+    }
+}
