@@ -9,17 +9,18 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
 
 use anyhow::Context;
-use crossbeam_channel::bounded;
+use crossbeam_channel::{Receiver, Sender, bounded};
 
 use crate::anim::Animation;
+use crate::cancel::Cancel;
 use crate::error::Result;
-use crate::film::Film;
+use crate::film::{Counts, Film};
 use crate::frame::{Temporal, render_tile_list};
 use crate::history::Carried;
 use crate::output;
 use crate::output::lock::FolderLock;
 use crate::output::stats::FrameStats;
-use crate::temporal::chains;
+use crate::temporal::{Chain, chains};
 use crate::tile::{Rect, Tile};
 
 // Transitional re-exports while callers move to the new homes.
@@ -69,7 +70,6 @@ pub fn render_animation(
     let started_unix = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.as_secs());
-    let dir = &anim.output.dir;
     if anim.render.temporal && opts.region.is_some() {
         crate::bail_input!(
             "--region",
@@ -78,6 +78,79 @@ pub fn render_animation(
         );
     }
     // Inputs first: a bad input leaves nothing behind, not even an empty folder.
+    let inputs = load(anim, progress)?;
+    opts.cancel.check()?;
+    let dir = &anim.output.dir;
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("creating output folder {}", dir.display()))?;
+    // One writer per folder, from the first file written to the last.
+    let _lock = FolderLock::acquire(dir, opts.wait)?;
+    // Holding the lock, no other writer is mid-write: whatever temporaries the folder holds
+    // were left by a render that was killed, and would stay for good.
+    output::remove_stale_temporaries(dir)?;
+    sink.begin()?;
+    inputs.lights.write_json(&dir.join("lights.json"))?;
+
+    let todo: Vec<usize> = anim
+        .frames
+        .iter()
+        .filter(|&f| {
+            let done = opts.resume && sink.frame_done(f);
+            if done {
+                progress.frame_skipped(f);
+            }
+            !done
+        })
+        .collect();
+    // With temporal prediction, frames come in chains from a key frame, each frame reading
+    // its predecessor; a chain's frames outside this run are rendered, not written.
+    let work = chains(&todo, anim.render.temporal, |f| anim.key_frame_of(f));
+    let warmup: usize = work
+        .iter()
+        .map(|c| c.frames.iter().filter(|f| !f.1).count())
+        .sum();
+    if warmup > 0 {
+        progress.note(&format!(
+            "temporal: {warmup} frame(s) not asked for are rendered (not written) so that each \
+             frame asked for is predicted from its predecessor, as in a run of every frame \
+             from its chain's key frame"
+        ));
+    }
+    let (list, region) = selection(anim, opts);
+    progress.begin(todo.len(), list.len());
+    let pool = thread_pool(anim.render.threads)?;
+    let run = Run {
+        anim,
+        inputs: &inputs,
+        pool: &pool,
+        list: &list,
+        region,
+        cancel: &opts.cancel,
+        progress,
+    };
+    let done = run.chains(&work, sink);
+    progress.finish();
+    let done = done?;
+    // Frames finished before the stop are written; the rest waits for `--resume`.
+    opts.cancel.check()?;
+    let summary = RunSummary {
+        rendered: done.rendered,
+        skipped: anim.frames.len() - todo.len(),
+        counts: done.counts,
+        seconds: start.elapsed().as_secs_f64(),
+        started_unix,
+        threads: pool.current_num_threads(),
+        thread_seconds: done.thread_seconds,
+    };
+    sink.finish(&summary)?;
+    Ok(summary)
+}
+
+/// Loads `anim`'s inputs and tells the user what became of them: the loader's warnings, the
+/// scene file's lights, a ground added under the model. Every frame's camera is checked, so a
+/// spec whose camera breaks at some frame (an `up` along the view) is refused before
+/// lights.json or any frame is written.
+fn load(anim: &Animation, progress: &dyn Progress) -> Result<Inputs> {
     let loading = Instant::now();
     let inputs = Inputs::load(anim)?;
     progress.detail(&format!(
@@ -90,8 +163,6 @@ pub fn render_animation(
         inputs.env.height,
         inputs.lights.len()
     ));
-    // Every frame's camera, so a spec whose camera breaks at some frame (an `up` along the
-    // view) is refused before lights.json or any frame is written.
     for f in anim.frames.iter() {
         anim.camera(&inputs.scene, f)?;
     }
@@ -114,167 +185,148 @@ pub fn render_animation(
             }
         ));
     }
-    opts.cancel.check()?;
-    std::fs::create_dir_all(dir)
-        .with_context(|| format!("creating output folder {}", dir.display()))?;
-    // One writer per folder, from the first file written to the last.
-    let _lock = FolderLock::acquire(dir, opts.wait)?;
-    // Holding the lock, no other writer is mid-write: whatever temporaries the folder holds
-    // were left by a render that was killed, and would stay for good.
-    output::remove_stale_temporaries(dir)?;
-    sink.begin()?;
-    inputs.lights.write_json(&dir.join("lights.json"))?;
+    Ok(inputs)
+}
 
-    let todo: Vec<usize> = anim
-        .frames
-        .iter()
-        .filter(|&f| {
-            let done = opts.resume && sink.frame_done(f);
-            if done {
-                progress.frame_skipped(f);
-            }
-            !done
-        })
-        .collect();
-    let mut summary = RunSummary {
-        skipped: anim.frames.len() - todo.len(),
-        started_unix,
-        ..Default::default()
-    };
-    // With temporal prediction, frames come in chains from a key frame, each frame reading
-    // its predecessor; a chain's frames outside this run are rendered, not written.
-    let work = chains(&todo, anim.render.temporal, |f| anim.key_frame_of(f));
-    let warmup: usize = work
-        .iter()
-        .map(|c| c.frames.iter().filter(|f| !f.1).count())
-        .sum();
-    if warmup > 0 {
-        progress.note(&format!(
-            "temporal: {warmup} frame(s) not asked for are rendered (not written) so that each \
-             frame asked for is predicted from its predecessor, as in a run of every frame \
-             from its chain's key frame"
-        ));
-    }
-    let (list, region) = selection(anim, opts);
-    progress.begin(todo.len(), list.len());
-    let pool = thread_pool(anim.render.threads)?;
-    summary.threads = pool.current_num_threads();
-    // Every frame's thread-seconds, written or warm-up.
-    let thread_seconds = Mutex::new(0.0f64);
+/// One run's rendering: the frames' common inputs, the pool and the tiles every frame renders.
+struct Run<'r> {
+    anim: &'r Animation,
+    inputs: &'r Inputs,
+    pool: &'r rayon::ThreadPool,
+    list: &'r [Tile],
+    region: Option<Rect>,
+    cancel: &'r Cancel,
+    progress: &'r dyn Progress,
+}
 
-    // Two chains in flight share the pool: while the last tiles of one frame finish, idle
-    // workers take tiles of the other chain's frame. Each driver thread renders its chain's
-    // frames in order (a frame starts once its predecessor is complete, so its tiles read the
-    // whole previous frame), hands each frame's tiles to the pool and sends the finished film
-    // to the writer; files are per frame, so the order they are written in does not matter.
-    // Memory stays bounded by the chains in flight (each holds at most the previous frame's
-    // carried data and the one being built) plus the channel's capacity.
-    let next = AtomicUsize::new(0);
-    let failed = AtomicBool::new(false);
-    let first_error: Mutex<Option<anyhow::Error>> = Mutex::new(None);
-    let (tx, rx) = bounded::<(Film, FrameStats)>(FRAMES_IN_FLIGHT);
-    let result: Result<()> = std::thread::scope(|s| {
-        let writer = s.spawn(|| -> Result<RunSummary> {
-            let mut done = RunSummary::default();
-            for (film, stats) in rx {
-                let writing = Instant::now();
-                sink.write(&film, &stats)?;
-                progress.detail(&format!(
-                    "frame {}: written in {:.3} s",
-                    stats.frame,
-                    writing.elapsed().as_secs_f64()
-                ));
-                done.counts += stats.counts;
-                done.rendered += 1;
-            }
-            Ok(done)
-        });
-        for _ in 0..FRAMES_IN_FLIGHT.min(work.len()) {
-            let tx = tx.clone();
-            let (next, failed, first_error, work, pool, inputs, list, thread_seconds) = (
-                &next,
-                &failed,
-                &first_error,
-                &work,
-                &pool,
-                &inputs,
-                &list,
-                &thread_seconds,
-            );
-            s.spawn(move || {
-                'chains: loop {
-                    let k = next.fetch_add(1, Ordering::Relaxed);
-                    if k >= work.len()
-                        || failed.load(Ordering::Relaxed)
-                        || opts.cancel.is_cancelled()
-                    {
-                        break;
-                    }
-                    let frames = &work[k].frames;
-                    let mut prev: Option<Carried> = None;
-                    for (n, &(frame, write)) in frames.iter().enumerate() {
-                        if failed.load(Ordering::Relaxed) || opts.cancel.is_cancelled() {
-                            break 'chains;
+/// What the writer and the chains did: the frames written and their counts, and every frame's
+/// thread-seconds (warm-up frames included).
+#[derive(Default)]
+struct Done {
+    rendered: usize,
+    counts: Counts,
+    thread_seconds: f64,
+}
+
+impl Run<'_> {
+    /// Renders the chains of `work` and hands every written frame to `sink`, returning the
+    /// first error of any chain or of the writer.
+    ///
+    /// Two chains in flight share the pool: while the last tiles of one frame finish, idle
+    /// workers take tiles of the other chain's frame. Each driver thread renders its chain's
+    /// frames in order (a frame starts once its predecessor is complete, so its tiles read the
+    /// whole previous frame), hands each frame's tiles to the pool and sends the finished film
+    /// to the writer; files are per frame, so the order they are written in does not matter.
+    /// Memory stays bounded by the chains in flight (each holds at most the previous frame's
+    /// carried data and the one being built) plus the channel's capacity.
+    fn chains(&self, work: &[Chain], sink: &mut dyn FrameSink) -> Result<Done> {
+        let next = AtomicUsize::new(0);
+        let failed = AtomicBool::new(false);
+        let first_error: Mutex<Option<anyhow::Error>> = Mutex::new(None);
+        let thread_seconds = Mutex::new(0.0f64);
+        let (tx, rx) = bounded::<(Film, FrameStats)>(FRAMES_IN_FLIGHT);
+        let written = std::thread::scope(|s| {
+            let writer = s.spawn(|| self.write(rx, sink));
+            for _ in 0..FRAMES_IN_FLIGHT.min(work.len()) {
+                let tx = tx.clone();
+                let (next, failed, first_error, thread_seconds) =
+                    (&next, &failed, &first_error, &thread_seconds);
+                s.spawn(move || {
+                    loop {
+                        let k = next.fetch_add(1, Ordering::Relaxed);
+                        if k >= work.len()
+                            || failed.load(Ordering::Relaxed)
+                            || self.cancel.is_cancelled()
+                        {
+                            break;
                         }
-                        let link = Temporal {
-                            prev: prev.as_ref(),
-                            carry: n + 1 < frames.len(),
-                            no_validate: !write,
-                        };
-                        let shown: &dyn Progress = if write { progress } else { &Silent };
-                        let rendered = pool.install(|| {
-                            render_tile_list(
-                                anim,
-                                inputs,
-                                frame,
-                                list,
-                                region,
-                                shown,
-                                &link,
-                                &opts.cancel,
-                            )
-                        });
-                        match rendered {
-                            Ok((film, stats, carried)) => {
-                                *thread_seconds.lock().unwrap() += stats.thread_seconds;
-                                // The previous frame's data has been used: free it now.
-                                prev = carried;
-                                if !write {
-                                    continue;
-                                }
-                                progress.frame_done(&stats);
-                                if tx.send((film, stats)).is_err() {
-                                    break 'chains; // the writer failed; reported below
-                                }
-                            }
+                        match self.chain(&work[k], &tx, failed, thread_seconds) {
+                            Ok(true) => {}
+                            Ok(false) => break, // the writer failed; reported below
                             Err(e) => {
                                 failed.store(true, Ordering::Relaxed);
                                 first_error.lock().unwrap().get_or_insert(e);
-                                break 'chains;
+                                break;
                             }
                         }
                     }
-                }
-            });
-        }
-        drop(tx);
-        let written = writer
-            .join()
-            .map_err(|_| anyhow::anyhow!("the writer thread panicked"))?;
-        if let Some(e) = first_error.lock().unwrap().take() {
+                });
+            }
+            drop(tx);
+            writer
+                .join()
+                .map_err(|_| anyhow::anyhow!("the writer thread panicked"))
+        })?;
+        if let Some(e) = first_error.into_inner().unwrap() {
             return Err(e);
         }
-        let done = written?;
-        summary.counts = done.counts;
-        summary.rendered = done.rendered;
-        Ok(())
-    });
-    progress.finish();
-    result?;
-    // Frames finished before the stop are written; the rest waits for `--resume`.
-    opts.cancel.check()?;
-    summary.seconds = start.elapsed().as_secs_f64();
-    summary.thread_seconds = thread_seconds.into_inner().unwrap();
-    sink.finish(&summary)?;
-    Ok(summary)
+        let mut done = written?;
+        done.thread_seconds = thread_seconds.into_inner().unwrap();
+        Ok(done)
+    }
+
+    /// Renders one chain's frames in order, each reading its predecessor's carried data, and
+    /// sends the frames to write over `tx`. Returns false if the writer has gone (it failed)
+    /// and stops early once another chain failed or the run is stopped.
+    fn chain(
+        &self,
+        chain: &Chain,
+        tx: &Sender<(Film, FrameStats)>,
+        failed: &AtomicBool,
+        thread_seconds: &Mutex<f64>,
+    ) -> Result<bool> {
+        let frames = &chain.frames;
+        let mut prev: Option<Carried> = None;
+        for (n, &(frame, write)) in frames.iter().enumerate() {
+            if failed.load(Ordering::Relaxed) || self.cancel.is_cancelled() {
+                break;
+            }
+            let link = Temporal {
+                prev: prev.as_ref(),
+                carry: n + 1 < frames.len(),
+                no_validate: !write,
+            };
+            let shown: &dyn Progress = if write { self.progress } else { &Silent };
+            let (film, stats, carried) = self.pool.install(|| {
+                render_tile_list(
+                    self.anim,
+                    self.inputs,
+                    frame,
+                    self.list,
+                    self.region,
+                    shown,
+                    &link,
+                    self.cancel,
+                )
+            })?;
+            *thread_seconds.lock().unwrap() += stats.thread_seconds;
+            // The previous frame's data has been used: free it now.
+            prev = carried;
+            if !write {
+                continue;
+            }
+            self.progress.frame_done(&stats);
+            if tx.send((film, stats)).is_err() {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    }
+
+    /// The writer thread: hands each finished frame to `sink` as it arrives.
+    fn write(&self, rx: Receiver<(Film, FrameStats)>, sink: &mut dyn FrameSink) -> Result<Done> {
+        let mut done = Done::default();
+        for (film, stats) in rx {
+            let writing = Instant::now();
+            sink.write(&film, &stats)?;
+            self.progress.detail(&format!(
+                "frame {}: written in {:.3} s",
+                stats.frame,
+                writing.elapsed().as_secs_f64()
+            ));
+            done.counts += stats.counts;
+            done.rendered += 1;
+        }
+        Ok(done)
+    }
 }

@@ -22,10 +22,9 @@ use crate::buffers::TileBuffers;
 use crate::catcher::{self, Catchers};
 use crate::context::FrameContext;
 use crate::film::{BACKGROUND_DEPTH, Counts, TileResult};
+use crate::history::CarryPatch;
 use crate::lattice::{Lattice, LatticePatch};
-use crate::predict::temporal::solve_temporal;
-use crate::predict::turning::solve_in_place;
-use crate::predict::{At, Order, Scratch, Shadows};
+use crate::predict::{At, Link, Order, Scratch, Shadows};
 use crate::radiance::radiance_at;
 use crate::shade::LambertCache;
 use crate::tile::Rect;
@@ -47,8 +46,10 @@ pub struct Slot {
 /// One frame's shadow work, shared read-only by the threads rendering its tiles.
 pub struct FrameWork<'a> {
     pub ctx: &'a FrameContext<'a>,
-    /// The method built for this frame (with the previous frame, if temporal).
-    pub shadows: &'a Shadows<'a>,
+    /// The method built for this frame.
+    pub shadows: &'a Shadows,
+    /// What the frame reads of the previous frame and keeps for the next (`--temporal`).
+    pub link: &'a Link<'a>,
     /// Also trace every query and count the method's mistakes (`--validate`).
     pub validate: bool,
 }
@@ -142,22 +143,11 @@ impl FrameWork<'_> {
             }
         }
         let voters = &voters[..nv];
-        // [ours] With samples per pixel, the previous frame's pixels are a pixel apart: a
-        // sample whose spatial voters are closer is left to them.
-        if let Some(prev) = self.shadows.prev
-            && !at.inside
+        if self
+            .link
+            .solve(ctx, self.shadows, bufs, scratch, (i, voters), at)
         {
-            let min_voters = self.shadows.params.min_voters;
-            let solved = if prev.is_in_place() {
-                // [ours] The spatial voters count as the spatial rule counts them (busy voters).
-                let spatial_min = self.shadows.rule.min_voters(bufs, voters);
-                solve_in_place(ctx, bufs, scratch, prev, i, voters, spatial_min, at)
-            } else {
-                solve_temporal(ctx, bufs, scratch, prev, i, voters, min_voters, at)
-            };
-            if solved {
-                return i;
-            }
+            return i;
         }
         self.shadows.rule.solve(ctx, bufs, scratch, i, voters, at);
         i
@@ -192,9 +182,14 @@ impl FrameWork<'_> {
 
     /// Renders the pixels of `pixels` (the final phase): evaluates the remaining passes at the
     /// samples the tile depends on — marked walking the passes backwards from the tile — then
-    /// counts, validates and shades. `slot` keeps the tile's buffers afterwards (for the
-    /// frame's carried data).
-    pub fn tile(&self, pixels: Rect, slot: &mut Slot, lattice: &Lattice) -> TileResult {
+    /// counts, validates and shades. Returns the tile's result and what it carries forward for
+    /// the next frame (if the frame's link keeps anything).
+    pub fn tile(
+        &self,
+        pixels: Rect,
+        slot: &mut Slot,
+        lattice: &Lattice,
+    ) -> (TileResult, Option<CarryPatch>) {
         let tile = self.samples_of(pixels);
         let order = self.order();
         let (shared, passes) = (order.shared_passes(), order.passes());
@@ -272,7 +267,8 @@ impl FrameWork<'_> {
             }
         }
         let counts = count_halo(&slot.bufs);
-        shade(self.ctx, &slot.bufs, pixels, self.validate, counts)
+        let result = shade(self.ctx, &slot.bufs, pixels, self.validate, counts);
+        (result, self.link.keep(self.ctx, &slot.bufs))
     }
 }
 
@@ -324,14 +320,15 @@ fn shade(
     let mut reference = validate.then(|| Vec::with_capacity(n));
     let mut coverage = (k > 1).then(|| Vec::with_capacity(n));
     let mut alpha = ctx.backdrop.is_transparent().then(|| Vec::with_capacity(n));
-    let mut catchers = Catchers::default();
     let mut depth = Vec::with_capacity(n);
     let mut normal = Vec::with_capacity(n);
     let mut albedo = Vec::with_capacity(n);
     let (eye, forward) = (ctx.camera.position, ctx.camera.forward());
     let mut truth = vec![0u64; w];
     // Lambertian samples with the normal and visible lights of the last one reuse its sum.
-    let (mut cache, mut exact_cache) = (LambertCache::default(), LambertCache::default());
+    // The reference has its own Lambertian cache and shares the catchers' (keyed on the normal).
+    let mut cache = LambertCache::default();
+    let mut caches = (LambertCache::default(), Catchers::default());
     for py in pixels.y0..pixels.y1 {
         for px in pixels.x0..pixels.x1 {
             let mut lit = Vec3::ZERO;
@@ -378,7 +375,7 @@ fn shade(
                         // against the map's unshadowed light); the file's point and spot
                         // lights do not darken it.
                         let sum = cache.light_sum(&ctx.shade_lights, s.n, vis);
-                        let (c, a) = catchers.sample(ctx, &s, above, sum);
+                        let (c, a) = caches.1.sample(ctx, &s, above, sum);
                         lit += c;
                         opacity += a;
                     } else {
@@ -393,37 +390,10 @@ fn shade(
                     if !validate {
                         continue;
                     }
-                    // The truth: every query traced again, those the method traced included,
-                    // so a method that mis-records a trace shows up as `wrong_traced`.
-                    for m in 0..w {
-                        truth[m] = 0;
-                        let mut word = above[m];
-                        while word != 0 {
-                            let j = m * 64 + word.trailing_zeros() as usize;
-                            word &= word - 1;
-                            if ctx.trace(&s, j) {
-                                truth[m] |= 1 << (j & 63);
-                            }
-                        }
-                    }
-                    let traced_bits = TileBuffers::row(&bufs.traced, q, w);
-                    let (mut wv, mut wb) = (0u64, 0u64);
-                    for m in 0..w {
-                        counts.wrong_traced +=
-                            ((vis[m] ^ truth[m]) & above[m] & traced_bits[m]).count_ones() as u64;
-                        wv += (vis[m] & !truth[m] & above[m]).count_ones() as u64;
-                        wb += (!vis[m] & truth[m] & above[m]).count_ones() as u64;
-                    }
-                    counts.wrong_visible += wv;
-                    counts.wrong_blocked += wb;
-                    counts.wrong_pixels += u64::from(wv + wb > 0);
-                    mistakes += (wv + wb) as f32;
-                    exact += if s.catcher {
-                        let sum = exact_cache.light_sum(&ctx.shade_lights, s.n, &truth);
-                        catchers.sample(ctx, &s, above, sum).0
-                    } else {
-                        radiance_at(ctx, &s, &truth, above, &mut exact_cache)
-                    };
+                    let (wrong_pairs, reference) =
+                        validate_sample(ctx, bufs, q, &mut truth, &mut counts, &mut caches);
+                    mistakes += wrong_pairs as f32;
+                    exact += reference;
                 }
             }
             beauty.push((lit / spp).to_array());
@@ -458,4 +428,51 @@ fn shade(
         albedo,
         counts,
     }
+}
+
+/// Validates sample `q` (a hit; `--validate`): traces every query again into `truth` — those
+/// the method traced included, so a method that mis-records a trace shows up as
+/// `wrong_traced` —, counts the method's wrong pairs into `counts` and shades the brute-force
+/// reference. Returns the sample's wrong pairs and its reference radiance.
+fn validate_sample(
+    ctx: &FrameContext,
+    bufs: &TileBuffers,
+    q: usize,
+    truth: &mut [u64],
+    counts: &mut Counts,
+    (exact_cache, catchers): &mut (LambertCache, Catchers),
+) -> (u64, Vec3) {
+    let w = bufs.words;
+    let s = &bufs.surf[q];
+    let vis = TileBuffers::row(&bufs.vis, q, w);
+    let above = TileBuffers::row(&bufs.above, q, w);
+    for m in 0..w {
+        truth[m] = 0;
+        let mut word = above[m];
+        while word != 0 {
+            let j = m * 64 + word.trailing_zeros() as usize;
+            word &= word - 1;
+            if ctx.trace(s, j) {
+                truth[m] |= 1 << (j & 63);
+            }
+        }
+    }
+    let traced_bits = TileBuffers::row(&bufs.traced, q, w);
+    let (mut wv, mut wb) = (0u64, 0u64);
+    for m in 0..w {
+        counts.wrong_traced +=
+            ((vis[m] ^ truth[m]) & above[m] & traced_bits[m]).count_ones() as u64;
+        wv += (vis[m] & !truth[m] & above[m]).count_ones() as u64;
+        wb += (!vis[m] & truth[m] & above[m]).count_ones() as u64;
+    }
+    counts.wrong_visible += wv;
+    counts.wrong_blocked += wb;
+    counts.wrong_pixels += u64::from(wv + wb > 0);
+    let exact = if s.catcher {
+        let sum = exact_cache.light_sum(&ctx.shade_lights, s.n, truth);
+        catchers.sample(ctx, s, above, sum).0
+    } else {
+        radiance_at(ctx, s, truth, above, exact_cache)
+    };
+    (wv + wb, exact)
 }

@@ -9,18 +9,18 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
-use crate::anim::{Animation, MotionKind};
+use crate::anim::Animation;
 use crate::cancel::Cancel;
 use crate::context::FrameContext;
 use crate::driver::{FrameWork, Slot};
 use crate::error::{Interrupted, Result};
-use crate::film::Film;
-use crate::history::{Carried, CarryPatch, Edges};
+use crate::film::{Film, TileResult};
+use crate::history::{Carried, CarryPatch};
 use crate::inputs::Inputs;
-use crate::lights::Tracks;
+use crate::lattice::Lattice;
 use crate::output::stats::FrameStats;
 use crate::run::{Progress, TileDone};
-use crate::temporal::prev_view;
+use crate::temporal::{Before, Now};
 use crate::tile::{Rect, Tile};
 
 thread_local! {
@@ -96,159 +96,66 @@ pub fn render_tile_list(
 ) -> Result<(Film, FrameStats, Option<Carried>)> {
     // The frame's thread-seconds: its serial parts (this thread's time outside the parallel
     // sections, which it spends waiting or on other frames' tasks) plus its tasks' own times.
-    let start = Instant::now();
-    let mut parallel = std::time::Duration::ZERO;
-    let tasks = TaskTime::default();
+    let mut time = FrameTime::new();
     let pivot = anim.pivot(&inputs.scene)?;
-    let (posed, built);
-    let (scene, accel) = match anim.scene_transform(frame, pivot) {
-        Some(m) => {
-            posed = inputs.scene.transformed(m);
-            built = posed.accel();
-            (&posed, &built)
-        }
+    let pose = anim.scene_transform(frame, pivot);
+    // A moving object gets its own posed scene and BVH; a still one shares the run's.
+    let moved = pose.map(|m| {
+        let scene = inputs.scene.transformed(m);
+        let accel = scene.accel();
+        (scene, accel)
+    });
+    let (scene, accel) = match &moved {
+        Some((scene, accel)) => (scene, accel),
         None => (&inputs.scene, inputs.still_accel()),
     };
     let camera = anim.camera(&inputs.scene, frame)?;
-    let samples = anim.render.samples();
-    let side = samples.k;
     let lights = inputs.lights_at(anim, frame);
     let ctx = FrameContext::new(scene, accel, camera, &lights, &inputs.env)
-        .with_samples(samples)
-        .with_glossy(if anim.render.glossy_env {
-            inputs.glossy()
-        } else {
-            None
-        })
+        .with_samples(anim.render.samples())
+        .with_glossy(anim.render.glossy_env.then(|| inputs.glossy()).flatten())
         .with_backdrop(&inputs.backdrop)
         .with_environment_turn(anim.motion.environment_degrees(frame));
+    // The link in time, decided once for the frame.
     let prev_lights;
-    let prev = match temporal.prev {
+    let before = match temporal.prev {
         Some(carried) => {
-            let prev_camera = anim.camera(&inputs.scene, carried.frame)?;
             prev_lights = inputs.lights_at(anim, carried.frame);
-            Some(prev_view(
-                anim,
+            Some(Before {
                 carried,
-                frame,
-                prev_camera,
-                &camera,
-                pivot,
-                (&prev_lights, &lights),
-            ))
+                camera: anim.camera(&inputs.scene, carried.frame)?,
+                lights: &prev_lights,
+            })
         }
         None => None,
     };
+    let now = Now {
+        frame,
+        pivot,
+        posed: pose,
+        camera: &camera,
+        lights: &lights,
+    };
+    let link = crate::temporal::link(anim, &now, before, temporal.carry);
     // The methods run on the samples: their spacings grow with the samples per pixel side.
     let shadows = anim.render.method.build(
         anim.render
             .params()
-            .for_samples(side)
+            .for_samples(ctx.samples.k)
             .for_cutouts(accel.has_cutouts()),
-        prev.as_ref(),
     );
     let work = FrameWork {
         ctx: &ctx,
         shadows: &shadows,
+        link: &link,
         validate: anim.render.validate && !temporal.no_validate,
     };
-    // A spinning object or a turning environment turns the lights relative to the scene:
-    // keep the edges of each pixel's shadow in light space, which the turn may carry across
-    // a light.
-    let segment = anim.motion.segment_at(frame);
-    let tracks = (temporal.carry && segment.kind == MotionKind::Environment)
-        .then(|| Tracks::new(&lights, segment.degrees_per_frame));
-    let edges = match (&tracks, segment.kind) {
-        (Some(t), _) => Edges::Track(t),
-        (None, MotionKind::Spin) => Edges::Adjacent,
-        _ => Edges::None,
-    };
-    let mut carried = temporal.carry.then(|| {
-        Carried::new(
-            frame,
-            anim.render.width,
-            anim.render.height,
-            ctx.words(),
-            edges.kept(),
-        )
-    });
-    // Shared phases (the grid's coarse levels) run over every tile the rendered tiles' halos
-    // reach, so a region render reads exactly what the whole frame would have computed.
-    let phases = work.shared_phases();
-    let mut lattice = work.lattice();
-    if phases > 0 {
-        let reach = region.map(|r| {
-            let grown = r.grow(work.shared_reach());
-            anim.render.tiles(Some(grown))
-        });
-        let shared_tiles = reach.as_deref().unwrap_or(list);
-        for phase in 0..phases {
-            cancel.check()?;
-            let t = Instant::now();
-            let patches: Vec<_> = shared_tiles
-                .par_iter()
-                .map(|t| {
-                    tasks
-                        .time(|| with_slot(|slot| work.shared_phase(t.rect, slot, phase, &lattice)))
-                })
-                .collect();
-            parallel += t.elapsed();
-            for p in &patches {
-                lattice.insert(p);
-            }
-        }
-    }
-    let carry = carried.is_some();
-    // Dearest tiles first, dealt one at a time to whichever worker is free (longest-processing-
-    // time order): a tile on the object's silhouette costs many times one of open ground, and
-    // splitting the list by position left one thread finishing the frame alone. Results keep
-    // the list's order, so the frame does not depend on the schedule.
-    let mut order: Vec<usize> = (0..list.len()).collect();
-    order.sort_by_cached_key(|&t| (std::cmp::Reverse(work.rays_in(&lattice, list[t].rect)), t));
-    let slots: Vec<Mutex<Option<_>>> = (0..list.len()).map(|_| Mutex::new(None)).collect();
-    let next = AtomicUsize::new(0);
-    let t = Instant::now();
-    (0..rayon::current_num_threads())
-        .into_par_iter()
-        .with_max_len(1)
-        .for_each(|_| {
-            loop {
-                let k = next.fetch_add(1, Ordering::Relaxed);
-                if k >= order.len() || cancel.is_cancelled() {
-                    break;
-                }
-                let t = &list[order[k]];
-                let began = Instant::now();
-                let r = tasks.time(|| {
-                    with_slot(|slot| {
-                        let r = work.tile(t.rect, slot, &lattice);
-                        let patch =
-                            carry.then(|| CarryPatch::record(&slot.bufs, &lights, edges, side));
-                        (r, patch)
-                    })
-                });
-                progress.tile_done(&TileDone {
-                    frame,
-                    index: t.index,
-                    rect: t.rect,
-                    counts: r.0.counts,
-                    seconds: began.elapsed().as_secs_f64(),
-                });
-                *slots[order[k]].lock().unwrap() = Some(r);
-            }
-        });
-    parallel += t.elapsed();
-    let results: Option<Vec<_>> = slots.into_iter().map(|s| s.into_inner().unwrap()).collect();
-    let Some(results) = results else {
-        return Err(Interrupted.into());
-    };
-    let mut film = Film::new(
-        anim.render.width,
-        anim.render.height,
-        work.validate,
-        side > 1,
-    )
-    .with_alpha(inputs.backdrop.is_transparent());
+    let lattice = shared_phases(&work, anim, list, region, cancel, &mut time)?;
+    let results = final_phase(&work, list, &lattice, frame, progress, cancel, &mut time)?;
+    let (width, height) = (anim.render.width, anim.render.height);
+    let mut film = Film::new(width, height, work.validate, ctx.samples.k > 1)
+        .with_alpha(inputs.backdrop.is_transparent());
+    let mut carried = link.carried(frame, width, height, ctx.words());
     for (r, patch) in &results {
         film.add(r);
         if let (Some(c), Some(p)) = (&mut carried, patch) {
@@ -256,23 +163,142 @@ pub fn render_tile_list(
         }
     }
     drop(results);
-    let rendered = region.unwrap_or(Rect::frame(anim.render.width, anim.render.height));
+    let rendered = region.unwrap_or(Rect::frame(width, height));
     let stats = FrameStats {
         frame,
         method: anim.render.method.name().to_string(),
         lights: lights.len(),
-        width: anim.render.width,
-        height: anim.render.height,
+        width,
+        height,
         spp: anim.render.spp,
         counts: film.counts,
         image_error: film.image_error(rendered, anim.render.exposure, anim.render.view),
-        thread_seconds: (start.elapsed().saturating_sub(parallel) + tasks.total()).as_secs_f64(),
+        thread_seconds: time.thread_seconds(),
         camera_position: inputs.scene.to_world(camera.position),
         camera_target: inputs.scene.to_world(camera.target),
         camera_up: camera.up,
         vfov_deg: camera.vfov_deg,
     };
     Ok((film, stats, carried))
+}
+
+/// Runs the frame's shared phases (the grid's coarse levels) over every tile the rendered
+/// tiles' halos reach, so a region render reads exactly what the whole frame would have
+/// computed; returns the frame's lattice.
+fn shared_phases(
+    work: &FrameWork,
+    anim: &Animation,
+    list: &[Tile],
+    region: Option<Rect>,
+    cancel: &Cancel,
+    time: &mut FrameTime,
+) -> Result<Lattice> {
+    let phases = work.shared_phases();
+    let mut lattice = work.lattice();
+    if phases == 0 {
+        return Ok(lattice);
+    }
+    let reach = region.map(|r| {
+        let grown = r.grow(work.shared_reach());
+        anim.render.tiles(Some(grown))
+    });
+    let shared_tiles = reach.as_deref().unwrap_or(list);
+    for phase in 0..phases {
+        cancel.check()?;
+        let patches: Vec<_> = time.parallel(|tasks| {
+            shared_tiles
+                .par_iter()
+                .map(|t| {
+                    tasks
+                        .time(|| with_slot(|slot| work.shared_phase(t.rect, slot, phase, &lattice)))
+                })
+                .collect()
+        });
+        for p in &patches {
+            lattice.insert(p);
+        }
+    }
+    Ok(lattice)
+}
+
+/// Renders the tiles of `list` over the current pool and returns their results (and what each
+/// carries forward) in the list's order, or [`Interrupted`] once `cancel` is set.
+///
+/// Dearest tiles first, dealt one at a time to whichever worker is free (longest-processing-
+/// time order): a tile on the object's silhouette costs many times one of open ground, and
+/// splitting the list by position left one thread finishing the frame alone. Results keep the
+/// list's order, so the frame does not depend on the schedule.
+fn final_phase(
+    work: &FrameWork,
+    list: &[Tile],
+    lattice: &Lattice,
+    frame: usize,
+    progress: &dyn Progress,
+    cancel: &Cancel,
+    time: &mut FrameTime,
+) -> Result<Vec<(TileResult, Option<CarryPatch>)>> {
+    let mut order: Vec<usize> = (0..list.len()).collect();
+    order.sort_by_cached_key(|&t| (std::cmp::Reverse(work.rays_in(lattice, list[t].rect)), t));
+    let slots: Vec<Mutex<Option<_>>> = (0..list.len()).map(|_| Mutex::new(None)).collect();
+    let next = AtomicUsize::new(0);
+    time.parallel(|tasks| {
+        (0..rayon::current_num_threads())
+            .into_par_iter()
+            .with_max_len(1)
+            .for_each(|_| {
+                loop {
+                    let k = next.fetch_add(1, Ordering::Relaxed);
+                    if k >= order.len() || cancel.is_cancelled() {
+                        break;
+                    }
+                    let t = &list[order[k]];
+                    let began = Instant::now();
+                    let r = tasks.time(|| with_slot(|slot| work.tile(t.rect, slot, lattice)));
+                    progress.tile_done(&TileDone {
+                        frame,
+                        index: t.index,
+                        rect: t.rect,
+                        counts: r.0.counts,
+                        seconds: began.elapsed().as_secs_f64(),
+                    });
+                    *slots[order[k]].lock().unwrap() = Some(r);
+                }
+            })
+    });
+    let results: Option<Vec<_>> = slots.into_iter().map(|s| s.into_inner().unwrap()).collect();
+    results.ok_or_else(|| Interrupted.into())
+}
+
+/// A frame's thread-seconds: the wall time of its serial parts plus its parallel tasks' own
+/// run times.
+struct FrameTime {
+    start: Instant,
+    /// Wall time spent in parallel sections (this thread waits there, or helps other frames).
+    in_parallel: std::time::Duration,
+    tasks: TaskTime,
+}
+
+impl FrameTime {
+    fn new() -> FrameTime {
+        FrameTime {
+            start: Instant::now(),
+            in_parallel: std::time::Duration::ZERO,
+            tasks: TaskTime::default(),
+        }
+    }
+
+    /// Runs the parallel section `f`, whose tasks time themselves through the [`TaskTime`] it
+    /// is given.
+    fn parallel<R>(&mut self, f: impl FnOnce(&TaskTime) -> R) -> R {
+        let t = Instant::now();
+        let r = f(&self.tasks);
+        self.in_parallel += t.elapsed();
+        r
+    }
+
+    fn thread_seconds(&self) -> f64 {
+        (self.start.elapsed().saturating_sub(self.in_parallel) + self.tasks.total()).as_secs_f64()
+    }
 }
 
 /// The summed run time of a frame's parallel tasks (tiles, shared passes), each timed on the

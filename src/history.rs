@@ -15,8 +15,7 @@ use crate::tile::Rect;
 
 /// Which lights a frame marks for the next one as *edge lights*: lights a shadow edge may
 /// cross before the next frame, because the lights turn relative to the scene.
-#[derive(Clone, Copy)]
-pub enum Edges<'a> {
+pub enum Edges {
     /// None (the lights keep their place relative to the scene: orbit, still).
     None,
     /// A spinning object: lights whose visibility differs from an adjacent above-horizon
@@ -24,10 +23,10 @@ pub enum Edges<'a> {
     Adjacent,
     /// A turning environment: lights whose path over the next frame's turn ([`Tracks`]) meets
     /// above-horizon cells of both visibilities (a shadow edge lies across or just ahead of it).
-    Track(&'a Tracks),
+    Track(Tracks),
 }
 
-impl Edges<'_> {
+impl Edges {
     /// Whether edge lights are kept at all.
     pub fn kept(&self) -> bool {
         !matches!(self, Edges::None)
@@ -119,7 +118,7 @@ impl CarryPatch {
     /// its k × k samples (`bufs` addresses samples): the one in stratum (k/2, k/2), nearest the
     /// centre, so the carried frame keeps the memory of one sample per pixel whatever the
     /// samples per pixel. With `edges`, also the edge lights ([`Edges`]).
-    pub fn record(bufs: &TileBuffers, lights: &LightSet, edges: Edges, k: u32) -> CarryPatch {
+    pub fn record(bufs: &TileBuffers, lights: &LightSet, edges: &Edges, k: u32) -> CarryPatch {
         let st = bufs.tile;
         let t = Rect::new(st.x0 / k, st.y0 / k, st.x1 / k, st.y1 / k);
         let w = bufs.words;
@@ -216,9 +215,6 @@ pub struct Prev<'a> {
     /// frame and the previous light its votes come from (spin; 0 for an orbit): lights this
     /// close to a pixel's tangent plane are at its horizon edge.
     grazing: f32,
-    /// The previous frame saw every pixel's surface point at the same pixel (scene and camera
-    /// still) while the lights turned: a turning environment ([`Prev::in_place`]).
-    in_place: bool,
 }
 
 impl<'a> Prev<'a> {
@@ -243,7 +239,6 @@ impl<'a> Prev<'a> {
                 / camera.height as f32,
             remap,
             grazing: 0.0,
-            in_place: false,
         }
     }
 
@@ -258,23 +253,9 @@ impl<'a> Prev<'a> {
         self.grazing
     }
 
-    /// This view for a turning environment: scene and camera did not move, so each pixel's
-    /// previous self saw its surface point; the lights turned, and the previous frame's edge
-    /// lights are those a shadow edge may cross on their way ([`Edges::Track`]).
-    pub fn in_place(self) -> Prev<'a> {
-        Prev {
-            in_place: true,
-            ..self
-        }
-    }
-
-    /// Whether this is a turning environment's view ([`Prev::in_place`]).
-    pub fn is_in_place(&self) -> bool {
-        self.in_place
-    }
-
     /// The previous frame's pixel (x, y) as a row-major index if it saw surface point `p` (bit
-    /// for bit: the same ray through the same scene), for [`Prev::in_place`] views.
+    /// for bit: the same ray through the same scene): what a turning environment's frame reads
+    /// (scene and camera still, so each pixel's previous self saw its surface point).
     #[inline]
     pub fn same_point(&self, x: u32, y: u32, p: Vec3) -> Option<usize> {
         let c = self.carried;
@@ -326,5 +307,138 @@ impl<'a> Prev<'a> {
             }
         }
         k
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::predict::testkit::{
+        DOWN, Frame, R, UP, at, buffers, carried_ground, ground_point, list, set_of, star,
+    };
+
+    /// The star's lights above a ground point's horizon (all but DOWN), and those the roof
+    /// leaves visible from the origin.
+    fn up() -> Vec<usize> {
+        (0..DOWN).collect()
+    }
+    const LIT: [usize; 4] = [UP, R[2], R[3], R[4]];
+
+    /// A carried word's rows as light lists: (above, visible, edge).
+    fn rows(c: &Carried, q: usize) -> (Vec<usize>, Vec<usize>, Vec<usize>) {
+        let (mut a, mut v, mut e) = (vec![], vec![], vec![]);
+        for m in 0..c.words {
+            let (wa, wv, we) = c.word(q, m);
+            a.push(wa);
+            v.push(wv);
+            e.push(we);
+        }
+        (list(&a), list(&v), list(&e))
+    }
+
+    #[test]
+    fn a_frame_keeps_each_tiles_pixels_where_the_frame_has_them() {
+        let frame = Frame::new(&star());
+        let ctx = frame.ctx();
+        let w = ctx.words();
+        // Two tiles of one row, 3 + 2 pixels, recorded apart and inserted in either order.
+        let surfaces: Vec<_> = (0..5).map(|k| at(Vec3::new(k as f32, 0.0, 0.0))).collect();
+        let (mut bufs, _) = buffers(&ctx, &surfaces);
+        for q in 0..5 {
+            bufs.above[q * w..(q + 1) * w].copy_from_slice(&set_of(w, &up()));
+            bufs.vis[q * w..(q + 1) * w].copy_from_slice(&set_of(w, &[q]));
+        }
+        let mut carried = Carried::new(7, 5, 1, w, false);
+        for tile in [Rect::new(3, 0, 5, 1), Rect::new(0, 0, 3, 1)] {
+            bufs.tile = tile;
+            carried.insert(&CarryPatch::record(&bufs, ctx.lights, &Edges::None, 1));
+        }
+        assert_eq!(carried.frame, 7);
+        assert!(!carried.has_edges());
+        for q in 0..5 {
+            assert_eq!(rows(&carried, q), (up(), vec![q], vec![]), "pixel {q}");
+            assert_eq!(carried.p[q], surfaces[q].p);
+            assert!(carried.hit[q]);
+        }
+    }
+
+    #[test]
+    fn a_pixel_keeps_its_middle_sample_whatever_the_samples_per_pixel() {
+        let frame = Frame::new(&star());
+        let ctx = frame.ctx();
+        let w = ctx.words();
+        // One pixel of 3 × 3 samples in a one-row region of 9: sample (1, 1) of the pixel is
+        // stratum 4 when the row holds the 3 × 3 lattice row by row.
+        let region = Rect::frame(3, 3);
+        let mut bufs = TileBuffers::default();
+        bufs.prepare(&ctx, region, region);
+        for q in 0..9 {
+            bufs.surf[q] = at(Vec3::new(q as f32, 0.0, 0.0));
+            bufs.above[q * w..(q + 1) * w].copy_from_slice(&set_of(w, &up()));
+            bufs.vis[q * w..(q + 1) * w].copy_from_slice(&set_of(w, &[q % 7]));
+        }
+        let mut carried = Carried::new(0, 1, 1, w, false);
+        carried.insert(&CarryPatch::record(&bufs, ctx.lights, &Edges::None, 3));
+        assert_eq!(rows(&carried, 0).1, [4]);
+        assert_eq!(carried.p[0], Vec3::new(4.0, 0.0, 0.0));
+    }
+
+    #[test]
+    fn a_spin_marks_both_sides_of_every_shadow_edge_between_adjacent_lights() {
+        let frame = Frame::new(&star());
+        let ctx = frame.ctx();
+        let carried = carried_ground(&ctx, &Edges::Adjacent, |_, _| Some((up(), LIT.to_vec())));
+        assert!(carried.has_edges());
+        // Blocked R0, R1, R5 each border a visible light (UP; R2; R4): those pairs are edges.
+        // R3 borders only visible lights, and DOWN is below the horizon.
+        let (_, vis, edge) = rows(&carried, 0);
+        assert_eq!(vis, LIT);
+        assert_eq!(edge, [UP, R[0], R[1], R[2], R[4], R[5]]);
+    }
+
+    #[test]
+    fn the_previous_frame_finds_the_pixels_that_saw_a_point_and_no_others() {
+        let frame = Frame::new(&star());
+        let ctx = frame.ctx();
+        let carried = carried_ground(&ctx, &Edges::None, |x, _| {
+            (x != 6).then(|| (up(), LIT.to_vec()))
+        });
+        let cam = ctx.camera;
+        let prev = Prev::new(&carried, Mat4::IDENTITY, cam, &cam, Vec::new());
+        let index = |x: u32, y: u32| (y * cam.width + x) as usize;
+        // A quarter pixel past (3, 3)'s centre: the four pixels around it saw its plane.
+        let s = at(ground_point(&ctx, 3, 3, (0.25, 0.25)));
+        let mut out = [0; 4];
+        let n = prev.voters(&s, &mut out);
+        assert_eq!(
+            out[..n],
+            [index(3, 3), index(4, 3), index(3, 4), index(4, 4)]
+        );
+        // Column 6 saw nothing: only column 5 votes there.
+        let s = at(ground_point(&ctx, 5, 2, (0.25, 0.25)));
+        let n = prev.voters(&s, &mut out);
+        assert_eq!(out[..n], [index(5, 2), index(5, 3)]);
+        // A point off the plane, or one facing another way, is not what they saw.
+        let lifted = at(ground_point(&ctx, 3, 3, (0.25, 0.25)) + Vec3::Y);
+        assert_eq!(prev.voters(&lifted, &mut out), 0);
+        let turned = Surface {
+            n: Vec3::X,
+            ..at(ground_point(&ctx, 3, 3, (0.25, 0.25)))
+        };
+        assert_eq!(prev.voters(&turned, &mut out), 0);
+        // The object moved a metre between the frames: carried back, the point is found again.
+        let moved = Mat4::from_translation(Vec3::new(0.0, 0.0, -1.0));
+        let prev = Prev::new(&carried, moved, cam, &cam, Vec::new());
+        let s = at(ground_point(&ctx, 3, 3, (0.25, 0.25)) + Vec3::new(0.0, 0.0, 1.0));
+        assert_eq!(prev.voters(&s, &mut out), 4);
+        // In place, only the bit-identical point is the pixel's previous self.
+        let p = ground_point(&ctx, 2, 5, (0.0, 0.0));
+        assert_eq!(prev.same_point(2, 5, p), Some(index(2, 5)));
+        assert_eq!(prev.same_point(2, 5, p + Vec3::splat(1e-6)), None);
+        assert_eq!(
+            prev.same_point(6, 5, ground_point(&ctx, 6, 5, (0.0, 0.0))),
+            None
+        );
+        assert_eq!(prev.same_point(cam.width, 0, p), None);
     }
 }

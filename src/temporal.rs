@@ -4,7 +4,8 @@
 //! - **Carried data.** After a frame is rendered, every pixel's surface point and normal, its
 //!   above-horizon and visible lights (and, for a spinning object, the lights at the edge of
 //!   its shadow in light space) are kept for the whole frame in a [`Carried`]. The next frame
-//!   reads it through a [`Prev`] ([`prev_view`] places it for the animation's motion) and
+//!   reads it through a [`Prev`] ([`link`] places it for the animation's motion and chooses
+//!   the solver once per frame) and
 //!   drops it when done: at most two carried frames per chain exist at once, whatever the
 //!   animation's length.
 //! - **Key frames.** Frames `0, K, 2K, …` (K = `keyframe`) are predicted from their own pixels
@@ -22,8 +23,9 @@ use glam::{Mat3, Mat4};
 
 use crate::anim::{Animation, MotionKind, Pivot};
 use crate::camera::Camera;
-use crate::history::{Carried, Prev};
-use crate::lights::LightSet;
+use crate::history::{Carried, Edges, Prev};
+use crate::lights::{LightSet, Tracks};
+use crate::predict::{Link, Read};
 
 /// Whether `frame` starts a chain (is predicted from its own pixels only).
 pub fn is_key(frame: usize, keyframe: u32) -> bool {
@@ -68,41 +70,88 @@ pub fn chains(todo: &[usize], temporal: bool, key_of: impl Fn(usize) -> usize) -
     out
 }
 
-/// The view of `carried` (frame `frame − 1`) from `frame`, whose camera is `camera`: the
-/// object's motion between the two frames, and where the lights turn relative to the scene
-/// (a spinning object, a turning environment) which previous light each light's votes come
-/// from. `lights` are the previous frame's and this frame's.
-pub fn prev_view<'a>(
+/// Frame `frame` as its link in time sees it: its scene's pose (`posed`: the transform a
+/// moving object has at this frame, about `pivot`), its camera and its lights.
+pub struct Now<'b> {
+    pub frame: usize,
+    pub pivot: Pivot,
+    pub posed: Option<Mat4>,
+    pub camera: &'b Camera,
+    pub lights: &'b LightSet,
+}
+
+/// The previous frame as the current one reads it: its carried data, and the camera and lights
+/// it was rendered with.
+pub struct Before<'a, 'b> {
+    pub carried: &'a Carried,
+    pub camera: Camera,
+    pub lights: &'b LightSet,
+}
+
+/// Frame `now`'s link in time, decided here once from the motion at that frame: what it reads
+/// of `before` (if any) and with which solver, and, with `carry`, which edge lights it keeps
+/// for the next frame.
+///
+/// - An orbit (or a still scene): the previous pixels around each point's reprojection vote;
+///   no edge lights are kept (the lights keep their place relative to the scene).
+/// - A spinning object: the same reprojection through the object's motion, each light's
+///   votes pulled from the previous light whose cell holds its direction as the object saw it
+///   then; the lights at a shadow edge between adjacent lights are kept.
+/// - A turning environment: each pixel reads its own previous self (scene and camera still);
+///   the lights whose path over the next turn meets both visibilities are kept
+///   ([`Tracks`]).
+pub fn link<'a>(
     anim: &Animation,
-    carried: &'a Carried,
-    frame: usize,
-    prev_camera: Camera,
-    camera: &Camera,
-    pivot: Pivot,
-    (prev_lights, lights): (&LightSet, &LightSet),
-) -> Prev<'a> {
-    debug_assert_eq!(carried.frame + 1, frame);
-    let now = anim.scene_transform(frame, pivot);
-    let then = anim.scene_transform(carried.frame, pivot);
+    now: &Now,
+    before: Option<Before<'a, '_>>,
+    carry: bool,
+) -> Link<'a> {
+    let segment = anim.motion.segment_at(now.frame);
+    let keep = carry.then(|| match segment.kind {
+        MotionKind::Environment => Edges::Track(Tracks::new(now.lights, segment.degrees_per_frame)),
+        MotionKind::Spin => Edges::Adjacent,
+        _ => Edges::None,
+    });
+    let read = before.map(|b| read(anim, now, segment.kind, b));
+    Link::new(read, keep)
+}
+
+/// How frame `now` (moving as `kind`) reads `before`, the frame before it: the object's
+/// motion between the two frames, and where the lights turn relative to the scene (a spinning
+/// object) which previous light each light's votes come from.
+fn read<'a>(anim: &Animation, now: &Now, kind: MotionKind, before: Before<'a, '_>) -> Read<'a> {
+    let Before {
+        carried,
+        camera: prev_camera,
+        lights: prev_lights,
+    } = before;
+    debug_assert_eq!(carried.frame + 1, now.frame);
+    let then = anim.scene_transform(carried.frame, now.pivot);
     // A scene posed alike in both frames (still, or left where an earlier spin put it) has
     // not moved: no rounding from a transform times its inverse.
-    let to_prev = if now == then {
+    let to_prev = if now.posed == then {
         Mat4::IDENTITY
     } else {
-        then.unwrap_or(Mat4::IDENTITY) * now.unwrap_or(Mat4::IDENTITY).inverse()
+        then.unwrap_or(Mat4::IDENTITY) * now.posed.unwrap_or(Mat4::IDENTITY).inverse()
     };
     // A turning environment: each pixel's previous self saw its point, and the lights'
     // paths were marked when it was recorded.
-    if anim.motion.kind_at(frame) == MotionKind::Environment {
-        return Prev::new(carried, to_prev, prev_camera, camera, Vec::new()).in_place();
+    if kind == MotionKind::Environment {
+        return Read::InPlace(Prev::new(
+            carried,
+            to_prev,
+            prev_camera,
+            now.camera,
+            Vec::new(),
+        ));
     }
     let mut remap = Vec::new();
     // The cosine of the largest angle between the direction a light's votes are wanted for
     // and the direction of the previous light they come from (1: none, an orbit).
     let mut worst = 1.0f32;
-    if anim.motion.kind_at(frame) == MotionKind::Spin {
+    if kind == MotionKind::Spin {
         let rot = Mat3::from_mat4(to_prev);
-        for (j, l) in lights.lights.iter().enumerate() {
+        for (j, l) in now.lights.lights.iter().enumerate() {
             // The direction light j has now, in the previous frame's scene (turned back with
             // the object), fell in this previous light's cell.
             let wanted = (rot * l.dir).normalize();
@@ -116,7 +165,8 @@ pub fn prev_view<'a>(
     // [ours] Lights grazing the surface by less than that angle are voted on from a direction
     // that may lie on the other side of a grazing shadow (docs/temporal.md, "Flat panels").
     let grazing = libm::sqrtf((1.0 - worst * worst).max(0.0));
-    Prev::new(carried, to_prev, prev_camera, camera, remap).with_grazing(grazing)
+    let prev = Prev::new(carried, to_prev, prev_camera, now.camera, remap).with_grazing(grazing);
+    Read::Reproject(prev)
 }
 
 #[cfg(test)]

@@ -18,6 +18,7 @@ mod correct;
 mod every;
 mod flood;
 mod grid;
+mod link;
 mod none;
 mod nowarp;
 mod order;
@@ -26,7 +27,7 @@ mod scanline;
 mod scratch;
 pub mod temporal;
 #[cfg(test)]
-mod testkit;
+pub(crate) mod testkit;
 pub mod turning;
 mod uncertainty;
 mod vote;
@@ -41,6 +42,7 @@ pub use correct::{At, correct};
 pub use every::EveryPixel;
 pub use flood::{Flood, FloodTo};
 pub use grid::Grid;
+pub use link::{Link, Read};
 pub use none::Unshadowed;
 pub use nowarp::NoWarp;
 pub use order::Order;
@@ -50,8 +52,6 @@ pub use scratch::Scratch;
 pub use uncertainty::Uncertainty;
 pub use vote::Vote;
 pub use warp::Warp;
-
-use crate::history::Prev;
 
 /// One method: its name, what it does, and how to build its order and rule.
 pub struct MethodDef {
@@ -191,21 +191,19 @@ impl Method {
         self.def().about
     }
 
-    /// The method's order and rule for one frame, with `params` and, for temporal prediction,
-    /// the previous frame.
-    pub fn build<'a>(self, params: Params, prev: Option<&'a Prev<'a>>) -> Shadows<'a> {
+    /// The method's order and rule for one frame, with `params`.
+    pub fn build(self, params: Params) -> Shadows {
         let d = self.def();
         Shadows {
             order: (d.order)(&params),
             rule: (d.rule)(&params),
             params,
-            prev,
         }
     }
 
     /// Its parts' names: order, vote and flood rule (`""` for rules without them).
     pub fn parts(self) -> (&'static str, &'static str, &'static str) {
-        let s = self.build(Params::default(), None);
+        let s = self.build(Params::default());
         let (vote, flood) = s.rule.parts();
         (s.order.name(), vote, flood)
     }
@@ -213,7 +211,7 @@ impl Method {
     /// Whether the method reads `setting` (`h0`, `min_voters`, `flood_to`, `scan_block`,
     /// `temporal`, `keyframe`): a setting it does not read cannot change what it does.
     pub fn reads(self, setting: &str) -> bool {
-        let s = self.build(Params::default(), None);
+        let s = self.build(Params::default());
         s.order.reads().contains(&setting) || s.rule.reads().contains(&setting)
     }
 }
@@ -224,16 +222,14 @@ impl Default for Method {
     }
 }
 
-/// A method built for one frame: its order and rule, the parameters, and the previous frame
-/// its pixels may be predicted from (`--temporal`).
-pub struct Shadows<'a> {
+/// A method built for one frame: its order and rule, and the parameters.
+pub struct Shadows {
     pub order: Box<dyn Order>,
     pub rule: Box<dyn Rule>,
     pub params: Params,
-    pub prev: Option<&'a Prev<'a>>,
 }
 
-impl Shadows<'_> {
+impl Shadows {
     /// How the pixels of `pass` are decided: the flood rule at their level, and which
     /// blockers they keep.
     pub fn at(&self, pass: usize) -> At {
@@ -409,7 +405,7 @@ mod tests {
                     flood_to,
                     ..Params::default()
                 };
-                let shadows = m.build(params, None);
+                let shadows = m.build(params);
                 let passes = shadows.order.passes();
                 let want_passes = if order == "grid" { 9 } else { 1 };
                 if passes != want_passes {
@@ -474,7 +470,7 @@ mod tests {
                 ..Params::default()
             }
             .for_samples(4);
-            let shadows = Method::DEFAULT.build(params, None);
+            let shadows = Method::DEFAULT.build(params);
             assert_eq!(shadows.order.passes(), 13);
             for pass in 0..13 {
                 let at = shadows.at(pass);
@@ -491,7 +487,7 @@ mod tests {
         }
         // The scanline has no levels: nothing is inside.
         let scan = "scan-warp-boundary".parse::<Method>().unwrap();
-        let shadows = scan.build(Params::default().for_samples(4), None);
+        let shadows = scan.build(Params::default().for_samples(4));
         assert!(!shadows.at(0).inside && !shadows.at(0).majority);
     }
 
