@@ -150,3 +150,107 @@ pub fn solve_temporal(
     bufs.temporal[i] = true;
     true
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::testkit::{
+        DOWN, Frame, at, buffers, carried_ground, ground_point, list, set_of, star,
+    };
+    use super::*;
+    use crate::history::Edges;
+    use crate::predict::FloodTo;
+    use glam::Mat4;
+
+    const AT: At = At {
+        flood_to: FloodTo::Contrary,
+        keep_blockers: false,
+        keep_predicted: false,
+        majority: false,
+        inside: false,
+    };
+
+    /// Solves a ground point a quarter pixel past pixel (3, 3)'s centre from a previous frame
+    /// whose pixel (x, y) kept `vis(x, y)` visible of the lights above the horizon (`None`:
+    /// saw nothing). Returns whether it was solved, its traced and visible lights, the truth
+    /// and whether it is marked temporal.
+    fn solve(
+        vis: impl Fn(u32, u32) -> Option<Vec<usize>>,
+    ) -> (bool, Vec<usize>, Vec<usize>, Vec<usize>, bool) {
+        let frame = Frame::new(&star());
+        let ctx = frame.ctx();
+        let w = ctx.words();
+        let up: Vec<usize> = (0..DOWN).collect();
+        let carried = carried_ground(&ctx, &Edges::None, |x, y| {
+            vis(x, y).map(|v| (up.clone(), v))
+        });
+        let s = at(ground_point(&ctx, 3, 3, (0.25, 0.25)));
+        let truth: Vec<usize> = up.iter().copied().filter(|&j| ctx.trace(&s, j)).collect();
+        let (mut bufs, mut sc) = buffers(&ctx, &[s]);
+        bufs.above[..w].copy_from_slice(&set_of(w, &up));
+        let cam = ctx.camera;
+        let prev = Prev::new(&carried, Mat4::IDENTITY, cam, &cam, Vec::new());
+        let solved = solve_temporal(&ctx, &mut bufs, &mut sc, &prev, 0, &[], 3, AT);
+        let traced = list(&bufs.traced[..w]);
+        (
+            solved,
+            traced,
+            list(&bufs.vis[..w]),
+            truth,
+            bufs.temporal[0],
+        )
+    }
+
+    /// The truth at the test's point, from the ground under the roof.
+    fn truth() -> Vec<usize> {
+        solve(|_, _| None).3
+    }
+
+    #[test]
+    fn previous_pixels_that_agree_decide_every_light_without_a_ray() {
+        let t = truth();
+        assert!(
+            t.len() > 1 && t.len() < DOWN,
+            "the roof shades part of the sky: {t:?}"
+        );
+        let (solved, traced, vis, truth, temporal) = solve(|_, _| Some(t.clone()));
+        assert!(solved && temporal);
+        assert_eq!(traced, Vec::<usize>::new());
+        assert_eq!(vis, truth);
+    }
+
+    #[test]
+    fn a_light_the_previous_pixels_disagree_on_is_traced() {
+        let t = truth();
+        let blocked = (0..DOWN).find(|j| !t.contains(j)).expect("a blocked light");
+        // Pixel (4, 3), one of the four voters, saw the blocked light lit.
+        let (solved, traced, vis, truth, _) = solve(|x, y| {
+            let mut v = t.clone();
+            if (x, y) == (4, 3) {
+                v.push(blocked);
+            }
+            Some(v)
+        });
+        assert!(solved);
+        assert!(traced.contains(&blocked), "traced {traced:?}");
+        assert_eq!(vis, truth);
+    }
+
+    #[test]
+    fn the_previous_frame_predicts_what_it_saw_not_the_truth() {
+        // Every voter saw every light lit (the roof was elsewhere then): all sure, none traced.
+        let (solved, traced, vis, truth, _) = solve(|_, _| Some((0..DOWN).collect()));
+        assert!(solved);
+        assert_eq!(traced, Vec::<usize>::new());
+        assert_eq!(vis, (0..DOWN).collect::<Vec<_>>());
+        assert_ne!(vis, truth);
+    }
+
+    #[test]
+    fn too_few_previous_pixels_leave_the_pixel_to_the_spatial_method_untouched() {
+        // Only (3, 3) and (3, 4) of the four saw the point: below three voters.
+        let (solved, traced, vis, _, temporal) =
+            solve(|x, _| (x == 3).then(|| (0..DOWN).collect()));
+        assert!(!solved && !temporal);
+        assert!(traced.is_empty() && vis.is_empty());
+    }
+}

@@ -11,6 +11,7 @@ use crate::buffers::TileBuffers;
 use crate::camera::Camera;
 use crate::context::{FrameContext, Surface};
 use crate::envmap::EnvMap;
+use crate::history::{Carried, CarryPatch, Edges};
 use crate::lights::{Light, LightSet};
 use crate::scene::{Material, Scene};
 use crate::tile::Rect;
@@ -151,6 +152,45 @@ pub fn buffers(ctx: &FrameContext, surfaces: &[Surface]) -> (TileBuffers, Scratc
     let mut sc = Scratch::default();
     sc.prepare(ctx.light_count());
     (bufs, sc)
+}
+
+/// Where the primary ray through the point `(dx, dy)` pixels from the centre of pixel (x, y) of
+/// the frame's camera meets the ground plane y = 0 (under [`Frame::new`]'s roof).
+pub fn ground_point(ctx: &FrameContext, x: u32, y: u32, (dx, dy): (f32, f32)) -> Vec3 {
+    let eye = ctx.camera.position;
+    let dir = ctx.camera.ray_dir_at(x, y, dx, dy);
+    eye + dir * (-eye.y / dir.y)
+}
+
+/// What a previous frame that saw the ground plane through the frame's camera keeps: pixel
+/// (x, y) hit the ground at its centre, facing +Y, with `lights(x, y)` its (above-horizon,
+/// visible) lights, or saw nothing where that is `None`; `edges` the edge lights it keeps.
+pub fn carried_ground(
+    ctx: &FrameContext,
+    edges: &Edges,
+    lights: impl Fn(u32, u32) -> Option<(Vec<usize>, Vec<usize>)>,
+) -> Carried {
+    let (width, height) = (ctx.camera.width, ctx.camera.height);
+    let frame = Rect::frame(width, height);
+    let w = ctx.words();
+    let mut bufs = TileBuffers::default();
+    bufs.prepare(ctx, frame, frame);
+    for y in 0..height {
+        for x in 0..width {
+            let i = frame.index(x, y);
+            let Some((above, vis)) = lights(x, y) else {
+                bufs.surf[i] = Surface::default();
+                continue;
+            };
+            bufs.surf[i] = at(ground_point(ctx, x, y, (0.0, 0.0)));
+            bufs.above[i * w..(i + 1) * w].copy_from_slice(&set_of(w, &above));
+            bufs.vis[i * w..(i + 1) * w].copy_from_slice(&set_of(w, &vis));
+        }
+    }
+    let patch = CarryPatch::record(&bufs, ctx.lights, edges, 1);
+    let mut carried = Carried::new(0, width, height, w, edges.kept());
+    carried.insert(&patch);
+    carried
 }
 
 /// The fixture is what the tests built on it assume.

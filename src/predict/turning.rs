@@ -127,3 +127,80 @@ pub(super) fn spatial_word(
     let blocked = enough & all & any;
     (blocked, blocked | (enough & !any), enough & any & !all)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::testkit::{
+        DOWN, Frame, R, UP, at, buffers, carried_ground, ground_point, list, set_of, star,
+    };
+    use super::*;
+    use crate::history::Edges;
+    use crate::predict::FloodTo;
+    use glam::{Mat4, Vec3};
+
+    const AT: At = At {
+        flood_to: FloodTo::Contrary,
+        keep_blockers: false,
+        keep_predicted: false,
+        majority: false,
+        inside: false,
+    };
+    const LIT: [usize; 4] = [UP, R[2], R[3], R[4]];
+
+    /// Solves ground pixel (0, 0) in place (region pixel 0, its own previous self at
+    /// `offset` from the point it saw) with four spatial voters beside it whose visible lights
+    /// are `spatial[k]`; the previous frame saw `LIT`. Returns whether it was solved, its
+    /// traced and visible lights, and whether it is marked temporal.
+    fn solve(offset: Vec3, spatial: [&[usize]; 4]) -> (bool, Vec<usize>, Vec<usize>, bool) {
+        let frame = Frame::new(&star());
+        let ctx = frame.ctx();
+        let w = ctx.words();
+        let up: Vec<usize> = (0..DOWN).collect();
+        let carried = carried_ground(&ctx, &Edges::None, |_, _| Some((up.clone(), LIT.to_vec())));
+        let p = ground_point(&ctx, 0, 0, (0.0, 0.0));
+        let mut surfaces = vec![at(p + offset)];
+        surfaces.extend([0.01f32, 0.02, 0.03, 0.04].map(|d| at(p + Vec3::new(d, 0.0, 0.0))));
+        let (mut bufs, mut sc) = buffers(&ctx, &surfaces);
+        for q in 0..5 {
+            bufs.above[q * w..(q + 1) * w].copy_from_slice(&set_of(w, &up));
+            if q > 0 {
+                bufs.vis[q * w..(q + 1) * w].copy_from_slice(&set_of(w, spatial[q - 1]));
+            }
+        }
+        let cam = ctx.camera;
+        let prev = Prev::new(&carried, Mat4::IDENTITY, cam, &cam, Vec::new());
+        let solved = solve_in_place(&ctx, &mut bufs, &mut sc, &prev, 0, &[1, 2, 3, 4], 3, AT);
+        let (traced, vis) = (list(&bufs.traced[..w]), list(&bufs.vis[..w]));
+        (solved, traced, vis, bufs.temporal[0])
+    }
+
+    #[test]
+    fn a_pixel_keeps_what_its_previous_self_and_its_neighbours_agree_on() {
+        let (solved, traced, vis, temporal) = solve(Vec3::ZERO, [&LIT; 4]);
+        assert!(solved && temporal);
+        assert!(traced.is_empty(), "traced {traced:?}");
+        assert_eq!(vis, LIT);
+    }
+
+    #[test]
+    fn a_light_whose_shadow_edge_passes_the_pixel_is_traced() {
+        // One spatial voter sees R[0] lit: the neighbours are contested on it, so the previous
+        // frame's word (blocked) is not taken and R[0] is traced.
+        let mut one = LIT.to_vec();
+        one.push(R[0]);
+        let (solved, traced, vis, _) = solve(Vec3::ZERO, [&LIT, &LIT, &one, &LIT]);
+        assert!(solved);
+        assert!(traced.contains(&R[0]), "traced {traced:?}");
+        let frame = Frame::new(&star());
+        let ctx = frame.ctx();
+        let truth = ctx.trace(&at(ground_point(&ctx, 0, 0, (0.0, 0.0))), R[0]);
+        assert_eq!(vis.contains(&R[0]), truth, "the trace decides R[0]");
+    }
+
+    #[test]
+    fn where_the_previous_pixel_saw_another_point_the_spatial_method_decides() {
+        let (solved, traced, vis, temporal) = solve(Vec3::new(0.0, 0.0, 1e-3), [&LIT; 4]);
+        assert!(!solved && !temporal);
+        assert!(traced.is_empty() && vis.is_empty());
+    }
+}
