@@ -355,9 +355,9 @@ mod tests {
         }
         assert_eq!(carried.frame, 7);
         assert!(!carried.has_edges());
-        for q in 0..5 {
+        for (q, s) in surfaces.iter().enumerate() {
             assert_eq!(rows(&carried, q), (up(), vec![q], vec![]), "pixel {q}");
-            assert_eq!(carried.p[q], surfaces[q].p);
+            assert_eq!(carried.p[q], s.p);
             assert!(carried.hit[q]);
         }
     }
