@@ -3,6 +3,11 @@
 //! and what it keeps for its successor. Both are decided once per frame from the motion at that
 //! frame (`temporal::link` builds the link); the driver asks it once per pixel
 //! ([`Link::solve`]) and once per tile ([`Link::keep`]).
+//!
+//! [ours] Both solvers correct with uncertainty flooding: `--temporal` is offered with the
+//! uncertainty methods only (the settings refuse it elsewhere; docs/temporal.md), and the
+//! previous frame's voters are read as that rule reads spatial ones (agreeing voters are sure,
+//! disagreeing ones uncertain). `--flood-to` (which neighbours a trace queues) is the method's.
 
 use super::correct::At;
 use super::temporal::solve_temporal;
