@@ -948,7 +948,7 @@ fn page(
     let one_count = rows.iter().all(|r| r.lights == rows[0].lights);
     let paper = match (scene_key(dir), rows[0].method.parse::<Method>()) {
         (Some(scene), Ok(m)) if one_method && one_count => {
-            crate::table::paper_percent(m, scene, rows[0].lights).map(|p| (scene, p))
+            crate::paper::paper_percent(m, scene, rows[0].lights).map(|p| (scene, p))
         }
         _ => None,
     };
