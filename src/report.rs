@@ -363,21 +363,7 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
         .par_iter()
         .map(|r| scan_frame(dir, &out, r.frame, video.is_none()))
         .collect();
-    let mut rays_hist: Vec<u64> = Vec::new();
-    for s in &scans {
-        if s.rays_hist.len() > rays_hist.len() {
-            rays_hist.resize(s.rays_hist.len(), 0);
-        }
-        for (a, b) in rays_hist.iter_mut().zip(&s.rays_hist) {
-            *a += b;
-        }
-    }
-    let rays_max = histogram_percentile(&rays_hist, RAYS_SCALE_PERCENTILE);
-    let any_wrong_channel = scans.iter().any(|s| s.wrong_max.is_some());
-    let wrong_max = scans
-        .iter()
-        .filter_map(|s| s.wrong_max)
-        .fold(0.0f32, f32::max);
+    let (rays_max, wrong_max, any_wrong_channel) = colour_scales(&scans);
 
     // Pass 2: the heat maps.
     let maps: Vec<HeatMaps> = rows
@@ -429,6 +415,56 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
     };
 
     // Savings plot, one panel per quantity.
+    let series = plot_series(&rows);
+    let frames = (rows[0].frame as f64, rows[rows.len() - 1].frame as f64);
+    let mut axes = Vec::new();
+    for s in &series {
+        axes.push(draw_plot(&out.join(s.file), s, frames)?);
+    }
+
+    // The lights over the environment map.
+    let lights_note = lights_picture(dir, &out.join("lights.png"));
+
+    let html = page(
+        dir,
+        &rows,
+        &images,
+        animation,
+        (rays_max, wrong_max, any_wrong_channel),
+        &series,
+        &axes,
+        &lights_note,
+    );
+    let path = dir.join("report.html");
+    output::write_atomic(&path, html.as_bytes())?;
+    Ok(path)
+}
+
+/// The colour scales' ranges over all frames: the rays heat maps' top (at
+/// [`RAYS_SCALE_PERCENTILE`]), the wrong-pair maps' top, and whether any frame has a `wrong`
+/// channel.
+fn colour_scales(scans: &[Scan]) -> (f32, f32, bool) {
+    let mut rays_hist: Vec<u64> = Vec::new();
+    for s in scans {
+        if s.rays_hist.len() > rays_hist.len() {
+            rays_hist.resize(s.rays_hist.len(), 0);
+        }
+        for (a, b) in rays_hist.iter_mut().zip(&s.rays_hist) {
+            *a += b;
+        }
+    }
+    let rays_max = histogram_percentile(&rays_hist, RAYS_SCALE_PERCENTILE);
+    let any_wrong_channel = scans.iter().any(|s| s.wrong_max.is_some());
+    let wrong_max = scans
+        .iter()
+        .filter_map(|s| s.wrong_max)
+        .fold(0.0f32, f32::max);
+    (rays_max, wrong_max, any_wrong_channel)
+}
+
+/// The per-frame series of the savings plot, one panel per quantity: the share traced, rays
+/// per pixel, thread-seconds, and with validation the wrong predictions.
+fn plot_series(rows: &[Row]) -> Vec<Series> {
     let fx = |f: fn(&Row) -> Option<f64>| -> Vec<(f64, f64)> {
         rows.iter()
             .filter_map(|r| f(r).map(|v| (r.frame as f64, v)))
@@ -471,28 +507,7 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
             lead: true,
         });
     }
-    let frames = (rows[0].frame as f64, rows[rows.len() - 1].frame as f64);
-    let mut axes = Vec::new();
-    for s in &series {
-        axes.push(draw_plot(&out.join(s.file), s, frames)?);
-    }
-
-    // The lights over the environment map.
-    let lights_note = lights_picture(dir, &out.join("lights.png"));
-
-    let html = page(
-        dir,
-        &rows,
-        &images,
-        animation,
-        (rays_max, wrong_max, any_wrong_channel),
-        &series,
-        &axes,
-        &lights_note,
-    );
-    let path = dir.join("report.html");
-    output::write_atomic(&path, html.as_bytes())?;
-    Ok(path)
+    series
 }
 
 /// The animation the page leads with.
@@ -702,6 +717,62 @@ fn page(
     );
 
     // Totals and settings.
+    let totals = totals(&mut h, dir, rows);
+
+    // The animation beside the totals.
+    h.push_str("<div class=\"top\">\n");
+    animation_figure(&mut h, animation, images, rows);
+    h.push_str("<div>\n");
+    kv_table(&mut h, &totals.run);
+    h.push_str("</div>\n</div>\n");
+
+    // The savings: percent traced per frame (and the error, validated).
+    h.push_str("<h2>Shadow rays traced per frame</h2>\n");
+    let lead: Vec<usize> = series
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.lead)
+        .map(|(k, _)| k)
+        .collect();
+    for &k in &lead {
+        plot_figure(&mut h, &series[k], axes[k], rows, false);
+    }
+
+    // The paper's Table 1 beside ours.
+    beside_paper(&mut h, dir, rows, totals.percent);
+
+    // Contact sheet: every frame, numbered.
+    contact_sheet(&mut h, rows, images);
+
+    // Lights.
+    lights_section(&mut h, lights_note, &totals.nlights);
+
+    // The other plots, collapsed.
+    h.push_str("<details>\n<summary>More per-frame plots: rays per pixel, seconds</summary>\n");
+    for (k, s) in series.iter().enumerate() {
+        if !lead.contains(&k) {
+            plot_figure(&mut h, s, axes[k], rows, true);
+        }
+    }
+    h.push_str("</details>\n");
+
+    // Per-frame detail, collapsed.
+    frame_detail(&mut h, rows, images, (rays_max, wrong_max, any_wrong));
+    h.push_str("<p><small>Written by envshadow report from stats.csv, the frames and lights.json in this folder.</small></p>\n</body>\n</html>\n");
+    h
+}
+
+/// The run's settings and totals, for the table beside the animation; the share of the
+/// shadow queries traced; the light counts.
+struct Totals {
+    run: Vec<(&'static str, String)>,
+    percent: f64,
+    nlights: String,
+}
+
+/// Writes the page's lead (the frames, their settings and the share traced, in a sentence)
+/// and returns the run's settings and totals.
+fn totals(h: &mut String, dir: &Path, rows: &[Row]) -> Totals {
     let queries: u64 = rows.iter().map(|r| r.queries).sum();
     let rays: u64 = rows.iter().map(|r| r.rays).sum();
     let seconds: f64 = rows.iter().map(|r| r.seconds).sum();
@@ -745,7 +816,7 @@ fn page(
         esc(&nlights),
         esc(&method)
     );
-    let mut run: Vec<(&str, String)> = vec![
+    let mut run: Vec<(&'static str, String)> = vec![
         ("frames", frames_line),
         ("shadow method", method.clone()),
         ("lights", nlights.clone()),
@@ -765,6 +836,30 @@ fn page(
             format!("{} ({percent:.2} % of the queries)", with_commas(rays)),
         ),
     ];
+    run.extend(times(dir, seconds, rays));
+    if !validated.is_empty() {
+        let vq: u64 = validated.iter().map(|r| r.queries).sum();
+        let vw: u64 = validated.iter().filter_map(|r| r.wrong).sum();
+        run.push((
+            "wrong predictions",
+            format!(
+                "{} pairs, {:.4} % of the validated frames' queries",
+                with_commas(vw),
+                100.0 * vw as f64 / (vq.max(1)) as f64
+            ),
+        ));
+    }
+    run.push(("folder", dir.display().to_string()));
+    Totals {
+        run,
+        percent,
+        nlights,
+    }
+}
+
+/// The run's wall time and compute time, for the settings and totals.
+fn times(dir: &Path, seconds: f64, rays: u64) -> Vec<(&'static str, String)> {
+    let mut run = Vec::new();
     // Wall time from the runs that rendered the folder (records/runs.csv; none for a farm's
     // assembled folder); thread-seconds from the frames themselves.
     let runs = crate::output::runs::RunRecord::read_all(dir).unwrap_or_default();
@@ -794,22 +889,11 @@ fn page(
             rays as f64 / seconds.max(1e-9) / 1e6
         ),
     ));
-    if !validated.is_empty() {
-        let vq: u64 = validated.iter().map(|r| r.queries).sum();
-        let vw: u64 = validated.iter().filter_map(|r| r.wrong).sum();
-        run.push((
-            "wrong predictions",
-            format!(
-                "{} pairs, {:.4} % of the validated frames' queries",
-                with_commas(vw),
-                100.0 * vw as f64 / (vq.max(1)) as f64
-            ),
-        ));
-    }
-    run.push(("folder", dir.display().to_string()));
+    run
+}
 
-    // The animation beside the totals.
-    h.push_str("<div class=\"top\">\n");
+/// The animation the page leads with (the video, the GIF, or why neither).
+fn animation_figure(h: &mut String, animation: Animation, images: &[FrameImages], rows: &[Row]) {
     match animation {
         Animation::Video(file) => {
             let _ = writeln!(
@@ -834,23 +918,11 @@ fn page(
             "<p class=\"note\">No frame PNG could be read: no animation or contact sheet.</p>\n",
         ),
     }
-    h.push_str("<div>\n");
-    kv_table(&mut h, &run);
-    h.push_str("</div>\n</div>\n");
+}
 
-    // The savings: percent traced per frame (and the error, validated).
-    h.push_str("<h2>Shadow rays traced per frame</h2>\n");
-    let lead: Vec<usize> = series
-        .iter()
-        .enumerate()
-        .filter(|(_, s)| s.lead)
-        .map(|(k, _)| k)
-        .collect();
-    for &k in &lead {
-        plot_figure(&mut h, &series[k], axes[k], rows, false);
-    }
-
-    // The paper's Table 1 beside ours.
+/// The paper's Table 1 figure beside this render's, when the folder's name says which of the
+/// paper's scenes it is and the render has one method and one light count.
+fn beside_paper(h: &mut String, dir: &Path, rows: &[Row], percent: f64) {
     let one_method = rows.iter().all(|r| r.method == rows[0].method);
     let one_count = rows.iter().all(|r| r.lights == rows[0].lights);
     let paper = match (scene_key(dir), rows[0].method.parse::<Method>()) {
@@ -870,8 +942,10 @@ fn page(
             esc(scene)
         );
     }
+}
 
-    // Contact sheet: every frame, numbered.
+/// The contact sheet: every frame's thumbnail, numbered, linking to its PNG.
+fn contact_sheet(h: &mut String, rows: &[Row], images: &[FrameImages]) {
     if images.iter().any(|i| i.thumb.is_some()) {
         h.push_str("<h2>Frames</h2>\n<div class=\"sheet\">\n");
         for (r, fi) in rows.iter().zip(images) {
@@ -886,8 +960,10 @@ fn page(
         }
         h.push_str("</div>\n");
     }
+}
 
-    // Lights.
+/// The lights over the environment map, or why there is no picture of them.
+fn lights_section(h: &mut String, lights_note: &LightsNote, nlights: &str) {
     h.push_str("<h2>Lights over the environment map</h2>\n");
     match lights_note {
         Ok(source) => {
@@ -895,7 +971,7 @@ fn page(
                 h,
                 "<figure><img src=\"report/lights.png\" alt=\"lights over the environment map\" style=\"max-width:100%\" loading=\"lazy\">\
                  <figcaption>{} lights from {}: cell borders in magenta, each light a cross, yellow for the dimmest to red for the brightest.</figcaption></figure>",
-                esc(&nlights),
+                esc(nlights),
                 esc(source)
             );
         }
@@ -907,17 +983,16 @@ fn page(
             );
         }
     }
+}
 
-    // The other plots, collapsed.
-    h.push_str("<details>\n<summary>More per-frame plots: rays per pixel, seconds</summary>\n");
-    for (k, s) in series.iter().enumerate() {
-        if !lead.contains(&k) {
-            plot_figure(&mut h, s, axes[k], rows, true);
-        }
-    }
-    h.push_str("</details>\n");
-
-    // Per-frame detail, collapsed.
+/// The per-frame detail, collapsed: each frame's thumbnail and heat maps beside its figures
+/// and camera, under the colour scales.
+fn frame_detail(
+    h: &mut String,
+    rows: &[Row],
+    images: &[FrameImages],
+    (rays_max, wrong_max, any_wrong): (f32, f32, bool),
+) {
     let _ = writeln!(
         h,
         "<details>\n<summary>Per-frame detail: where the rays went ({} frames)</summary>",
@@ -965,9 +1040,9 @@ fn page(
             }
             None => h.push_str("<td>—</td>"),
         }
-        cell(&mut h, &fi.rays_map, "rays", r.frame);
+        cell(h, &fi.rays_map, "rays", r.frame);
         if any_wrong {
-            cell(&mut h, &fi.wrong_map, "wrong predictions", r.frame);
+            cell(h, &fi.wrong_map, "wrong predictions", r.frame);
         }
         let _ = write!(h, "<td>{:.2} %</td><td>{:.3}</td>", r.percent, r.seconds);
         if any_wrong {
@@ -997,8 +1072,6 @@ fn page(
         h.push_str("</td></tr>\n");
     }
     h.push_str("</table>\n</details>\n");
-    h.push_str("<p><small>Written by envshadow report from stats.csv, the frames and lights.json in this folder.</small></p>\n</body>\n</html>\n");
-    h
 }
 
 #[cfg(test)]
