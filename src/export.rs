@@ -16,18 +16,20 @@
 
 use std::fs;
 use std::io::{BufWriter, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 use clap::Args;
 use serde_json::json;
 
 use crate::anim::{AnimFlags, Animation};
+use crate::camera::Camera;
 use crate::context::FrameContext;
 use crate::coordinator::Inputs;
 use crate::error::{Result, input_error};
 use crate::output::write_atomic_with;
-use crate::scene::{AlphaMode, AlphaTest, Model, TextureSlot, Wrap, coverage_threshold};
+use crate::samples::Samples;
+use crate::scene::{AlphaMode, AlphaTest, Model, Scene, TextureSlot, Wrap, coverage_threshold};
 
 #[derive(Args, Debug)]
 pub struct ExportArgs {
@@ -113,11 +115,58 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
     let dir = &dir;
     fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
 
-    // scene.ply: per vertex its position, normal, texture coordinates (sets 0 and 1; set 1 is
-    // set 0 where the scene has no second set) and `COLOR_0` alpha (1 without vertex colours);
-    // per face its material's linear base colour factor and the material's index in
-    // materials.json.
-    write_atomic_with(&dir.join("scene.ply"), |tmp| {
+    write_ply(&dir.join("scene.ply"), scene, &anim, args.frame)?;
+    write_primary(&dir.join("primary.f32"), &camera, &samples)?;
+    let accel = scene.accel();
+    let lights = inputs.lights_at(&anim, args.frame);
+    let ctx = FrameContext::new(scene, &accel, camera, &lights, &inputs.env)
+        .with_samples(samples.clone());
+    write_surface(&dir.join("surface.f32"), &ctx)?;
+    write_materials(dir, scene)?;
+
+    // The frame's lights: turned with the environment where it turns.
+    lights.write_json(&dir.join("lights.json"))?;
+    let meta = json!({
+        "spec": anim.spec_path.display().to_string(),
+        "frame": args.frame,
+        "width": camera.width,
+        "height": camera.height,
+        "camera_position": camera.position.to_array(),
+        "camera_target": camera.target.to_array(),
+        "camera_up": camera.up.to_array(),
+        "vfov_deg": camera.vfov_deg,
+        "spp": samples.spp(),
+        "filter": samples.filter.name(),
+        "filter_width": samples.width,
+        "shadow_offset_gamma": crate::offset::gamma(7),
+        // The world point the positions and the camera count from (scene::render_origin).
+        "origin": inputs.scene.origin.to_array(),
+        "triangles": scene.triangles.len(),
+        "lights": inputs.lights.len(),
+        "surface_floats": SURFACE_FLOATS,
+    });
+    crate::output::write_atomic(
+        &dir.join("frame.json"),
+        serde_json::to_string_pretty(&meta)?.as_bytes(),
+    )?;
+    Ok(Exported {
+        frame: args.frame,
+        triangles: scene.triangles.len(),
+        lights: inputs.lights.len(),
+        width: camera.width,
+        height: camera.height,
+        spp: samples.spp(),
+        dir: dir.clone(),
+        warnings: inputs.scene.warnings.clone(),
+    })
+}
+
+/// scene.ply: per vertex its position, normal, texture coordinates (sets 0 and 1; set 1 is
+/// set 0 where the scene has no second set) and `COLOR_0` alpha (1 without vertex colours);
+/// per face its material's linear base colour factor and the material's index in
+/// materials.json.
+fn write_ply(path: &Path, scene: &Scene, anim: &Animation, frame: usize) -> Result<()> {
+    write_atomic_with(path, |tmp| {
         let mut f = BufWriter::new(fs::File::create(tmp)?);
         write!(
             f,
@@ -130,7 +179,7 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
              property float r\nproperty float g\nproperty float b\nproperty int material\n\
              end_header\n",
             anim.spec_path.display(),
-            args.frame,
+            frame,
             scene.positions.len(),
             scene.triangles.len()
         )?;
@@ -163,16 +212,18 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
         }
         f.into_inner().map_err(|e| e.into_error())?.sync_all()?;
         Ok(())
-    })?;
+    })
+}
 
-    // primary.f32: the unit direction of every sample's ray, pixel by pixel row by row from
-    // the top, each pixel's k × k samples in stratum order (row j, column i): an array
-    // (height, width, k·k, 3). These are the renderer's directions bit for bit: sample (i, j)
-    // of pixel (x, y) is the renderer's sample (k·x + i, k·y + j), whose direction
-    // `FrameContext::sample_dir` makes from the same two calls. With one sample the offset is
-    // zero and `ray_dir_at` is `ray_dir`: the pixel centres, as before there were samples.
+/// primary.f32: the unit direction of every sample's ray, pixel by pixel row by row from
+/// the top, each pixel's k × k samples in stratum order (row j, column i): an array
+/// (height, width, k·k, 3). These are the renderer's directions bit for bit: sample (i, j)
+/// of pixel (x, y) is the renderer's sample (k·x + i, k·y + j), whose direction
+/// `FrameContext::sample_dir` makes from the same two calls. With one sample the offset is
+/// zero and `ray_dir_at` is `ray_dir`: the pixel centres, as before there were samples.
+fn write_primary(path: &Path, camera: &Camera, samples: &Samples) -> Result<()> {
     let k = samples.k;
-    write_atomic_with(&dir.join("primary.f32"), |tmp| {
+    write_atomic_with(path, |tmp| {
         let mut f = BufWriter::new(fs::File::create(tmp)?);
         for y in 0..camera.height {
             for x in 0..camera.width {
@@ -188,17 +239,16 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
         }
         f.into_inner().map_err(|e| e.into_error())?.sync_all()?;
         Ok(())
-    })?;
+    })
+}
 
-    // surface.f32: per sample, in primary.f32's order, SURFACE_FLOATS floats: whether the ray
-    // hit, the base colour (3), metallic, roughness, occlusion, emission (3), the dielectric
-    // F0 (3) and F90, 1 for a Lambertian material, the shading normal facing the camera (3),
-    // the material's index in materials.json (−1 for a miss).
-    let accel = scene.accel();
-    let lights = inputs.lights_at(&anim, args.frame);
-    let ctx = FrameContext::new(scene, &accel, camera, &lights, &inputs.env)
-        .with_samples(samples.clone());
-    write_atomic_with(&dir.join("surface.f32"), |tmp| {
+/// surface.f32: per sample, in primary.f32's order, SURFACE_FLOATS floats: whether the ray
+/// hit, the base colour (3), metallic, roughness, occlusion, emission (3), the dielectric
+/// F0 (3) and F90, 1 for a Lambertian material, the shading normal facing the camera (3),
+/// the material's index in materials.json (−1 for a miss).
+fn write_surface(path: &Path, ctx: &FrameContext) -> Result<()> {
+    let (scene, accel, camera, k) = (ctx.scene, ctx.accel, &ctx.camera, ctx.samples.k);
+    write_atomic_with(path, |tmp| {
         let mut f = BufWriter::new(fs::File::create(tmp)?);
         for y in 0..camera.height {
             for x in 0..camera.width {
@@ -246,8 +296,12 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
         }
         f.into_inner().map_err(|e| e.into_error())?.sync_all()?;
         Ok(())
-    })?;
-    // Each cut-out material's alpha, and the level 0 alpha of the textures they read.
+    })
+}
+
+/// materials.json, and the level 0 alpha (`alpha_T.f32`) of the textures cut-out materials
+/// read.
+fn write_materials(dir: &Path, scene: &Scene) -> Result<()> {
     let mut cut_out = vec![false; scene.materials.len()];
     for (&m, &c) in scene.tri_material.iter().zip(&scene.cut_out_triangles()) {
         cut_out[m as usize] |= c;
@@ -301,42 +355,7 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
         &dir.join("materials.json"),
         serde_json::to_string_pretty(&json!({ "materials": materials }))?.as_bytes(),
     )?;
-
-    // The frame's lights: turned with the environment where it turns.
-    lights.write_json(&dir.join("lights.json"))?;
-    let meta = json!({
-        "spec": anim.spec_path.display().to_string(),
-        "frame": args.frame,
-        "width": camera.width,
-        "height": camera.height,
-        "camera_position": camera.position.to_array(),
-        "camera_target": camera.target.to_array(),
-        "camera_up": camera.up.to_array(),
-        "vfov_deg": camera.vfov_deg,
-        "spp": samples.spp(),
-        "filter": samples.filter.name(),
-        "filter_width": samples.width,
-        "shadow_offset_gamma": crate::offset::gamma(7),
-        // The world point the positions and the camera count from (scene::render_origin).
-        "origin": inputs.scene.origin.to_array(),
-        "triangles": scene.triangles.len(),
-        "lights": inputs.lights.len(),
-        "surface_floats": SURFACE_FLOATS,
-    });
-    crate::output::write_atomic(
-        &dir.join("frame.json"),
-        serde_json::to_string_pretty(&meta)?.as_bytes(),
-    )?;
-    Ok(Exported {
-        frame: args.frame,
-        triangles: scene.triangles.len(),
-        lights: inputs.lights.len(),
-        width: camera.width,
-        height: camera.height,
-        spp: samples.spp(),
-        dir: dir.clone(),
-        warnings: inputs.scene.warnings.clone(),
-    })
+    Ok(())
 }
 
 /// An alpha texture's slot for materials.json: the file of its level 0 alpha (`width ×

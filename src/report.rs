@@ -18,18 +18,19 @@ use std::collections::BTreeSet;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, anyhow};
+use anyhow::Context;
 use image::{Rgb, RgbImage, RgbaImage};
 use rayon::prelude::*;
 
 use crate::envmap::EnvMap;
 use crate::error::{Result, input_error};
 use crate::film::Channel;
+use crate::folder::VIDEO_FILE;
 use crate::lights::{self, LightSet};
 use crate::output::record::{FrameRecord, count_histogram, finite_max, parse_histogram};
 use crate::output::{self, frame_path};
+use crate::plot::{draw_lines, save_png, tick};
 use crate::predict::Method;
-use crate::video::VIDEO_FILE;
 
 /// Widest thumbnail (contact sheet and per-frame table), pixels.
 const THUMB_WIDTH: u32 = 160;
@@ -152,20 +153,6 @@ fn ramp(t: f32) -> [u8; 3] {
     [0, 1, 2].map(|c| (a[c] + (b[c] - a[c]) * f + 0.5) as u8)
 }
 
-fn png_bytes(img: &RgbImage) -> Result<Vec<u8>> {
-    let mut bytes = Vec::new();
-    img.write_to(
-        &mut std::io::Cursor::new(&mut bytes),
-        image::ImageFormat::Png,
-    )
-    .context("encoding PNG")?;
-    Ok(bytes)
-}
-
-fn save_png(path: &Path, img: &RgbImage) -> Result<()> {
-    output::write_atomic(path, &png_bytes(img)?)
-}
-
 fn save_jpeg(path: &Path, img: &RgbImage) -> Result<()> {
     let mut bytes = Vec::new();
     image::codecs::jpeg::JpegEncoder::new_with_quality(&mut bytes, JPEG_QUALITY)
@@ -180,29 +167,6 @@ fn scaled(img: &RgbImage, max_width: u32) -> RgbImage {
     }
     let h = ((img.height() as u64 * max_width as u64) / img.width() as u64).max(1) as u32;
     image::imageops::resize(img, max_width, h, image::imageops::FilterType::Triangle)
-}
-
-/// "Nice" axis top and step for values up to `max`: four or five steps of 1, 2, 2.5 or 5 × 10^k.
-fn nice_axis(max: f64) -> (f64, f64) {
-    if !(max.is_finite() && max > 0.0) {
-        return (1.0, 0.25);
-    }
-    let raw = max / 4.0;
-    let mag = libm::pow(10.0, libm::log10(raw).floor());
-    let step = [1.0, 2.0, 2.5, 5.0, 10.0]
-        .into_iter()
-        .map(|m| m * mag)
-        .find(|s| *s >= raw)
-        .unwrap_or(10.0 * mag);
-    let top = (max / step).ceil().max(1.0) * step;
-    (top, step)
-}
-
-/// Formats an axis label without trailing noise.
-fn tick(v: f64) -> String {
-    let s = format!("{v:.4}");
-    let s = s.trim_end_matches('0').trim_end_matches('.');
-    if s == "-0" { "0".into() } else { s.into() }
 }
 
 /// One per-frame series of the savings plot.
@@ -224,63 +188,6 @@ fn draw_plot(path: &Path, s: &Series, frames: (f64, f64)) -> Result<(f64, f64)> 
         (frames.0 - 0.5, frames.0 + 0.5)
     };
     draw_lines(path, &[(&s.points, s.colour)], x, PLOT_SIZE, PLOT_MARGIN)
-}
-
-/// A line of a plot: its points and its colour.
-pub(crate) type Line<'a> = (&'a [(f64, f64)], [u8; 3]);
-
-/// Draws text-free lines with dots (`lines`: drawn in order) over `x` and
-/// from 0 on y, with a light grid at each y step, into a `size` PNG at `path`; returns the y
-/// axis (top, step) so the caller can label it outside the image.
-pub(crate) fn draw_lines(
-    path: &Path,
-    lines: &[Line],
-    x: (f64, f64),
-    size: (u32, u32),
-    margin: u32,
-) -> Result<(f64, f64)> {
-    use plotters::prelude::*;
-    let max = lines
-        .iter()
-        .flat_map(|l| l.0.iter().map(|p| p.1))
-        .fold(0.0, f64::max);
-    let (top, step) = nice_axis(max);
-    let (w, h) = size;
-    let (x0, x1) = x;
-    let mut buf = vec![0u8; (w * h * 3) as usize];
-    {
-        let err = |e: DrawingAreaErrorKind<_>| anyhow!("drawing {}: {e}", path.display());
-        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
-        let mut chart = ChartBuilder::on(&root)
-            .margin(margin)
-            .build_cartesian_2d(x0..x1, 0.0..top)
-            .map_err(err)?;
-        let grid = RGBColor(220, 220, 220);
-        let steps = (top / step).round() as usize;
-        for k in 0..=steps {
-            let y = k as f64 * step;
-            chart
-                .draw_series(std::iter::once(PathElement::new(
-                    vec![(x0, y), (x1, y)],
-                    grid.stroke_width(1),
-                )))
-                .map_err(err)?;
-        }
-        for (points, colour) in lines {
-            let c = RGBColor(colour[0], colour[1], colour[2]);
-            chart
-                .draw_series(LineSeries::new(points.iter().copied(), c.stroke_width(2)))
-                .map_err(err)?;
-            chart
-                .draw_series(points.iter().map(|&p| Circle::new(p, 3, c.filled())))
-                .map_err(err)?;
-        }
-        root.present().map_err(err)?;
-    }
-    let img = RgbImage::from_raw(w, h, buf).context("plot buffer size")?;
-    save_png(path, &img)?;
-    Ok((top, step))
 }
 
 /// The rays heat maps' colour scale ends at this percentile of the rays per pixel over all
@@ -456,21 +363,7 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
         .par_iter()
         .map(|r| scan_frame(dir, &out, r.frame, video.is_none()))
         .collect();
-    let mut rays_hist: Vec<u64> = Vec::new();
-    for s in &scans {
-        if s.rays_hist.len() > rays_hist.len() {
-            rays_hist.resize(s.rays_hist.len(), 0);
-        }
-        for (a, b) in rays_hist.iter_mut().zip(&s.rays_hist) {
-            *a += b;
-        }
-    }
-    let rays_max = histogram_percentile(&rays_hist, RAYS_SCALE_PERCENTILE);
-    let any_wrong_channel = scans.iter().any(|s| s.wrong_max.is_some());
-    let wrong_max = scans
-        .iter()
-        .filter_map(|s| s.wrong_max)
-        .fold(0.0f32, f32::max);
+    let (rays_max, wrong_max, any_wrong_channel) = colour_scales(&scans);
 
     // Pass 2: the heat maps.
     let maps: Vec<HeatMaps> = rows
@@ -522,6 +415,56 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
     };
 
     // Savings plot, one panel per quantity.
+    let series = plot_series(&rows);
+    let frames = (rows[0].frame as f64, rows[rows.len() - 1].frame as f64);
+    let mut axes = Vec::new();
+    for s in &series {
+        axes.push(draw_plot(&out.join(s.file), s, frames)?);
+    }
+
+    // The lights over the environment map.
+    let lights_note = lights_picture(dir, &out.join("lights.png"));
+
+    let html = page(
+        dir,
+        &rows,
+        &images,
+        animation,
+        (rays_max, wrong_max, any_wrong_channel),
+        &series,
+        &axes,
+        &lights_note,
+    );
+    let path = dir.join("report.html");
+    output::write_atomic(&path, html.as_bytes())?;
+    Ok(path)
+}
+
+/// The colour scales' ranges over all frames: the rays heat maps' top (at
+/// [`RAYS_SCALE_PERCENTILE`]), the wrong-pair maps' top, and whether any frame has a `wrong`
+/// channel.
+fn colour_scales(scans: &[Scan]) -> (f32, f32, bool) {
+    let mut rays_hist: Vec<u64> = Vec::new();
+    for s in scans {
+        if s.rays_hist.len() > rays_hist.len() {
+            rays_hist.resize(s.rays_hist.len(), 0);
+        }
+        for (a, b) in rays_hist.iter_mut().zip(&s.rays_hist) {
+            *a += b;
+        }
+    }
+    let rays_max = histogram_percentile(&rays_hist, RAYS_SCALE_PERCENTILE);
+    let any_wrong_channel = scans.iter().any(|s| s.wrong_max.is_some());
+    let wrong_max = scans
+        .iter()
+        .filter_map(|s| s.wrong_max)
+        .fold(0.0f32, f32::max);
+    (rays_max, wrong_max, any_wrong_channel)
+}
+
+/// The per-frame series of the savings plot, one panel per quantity: the share traced, rays
+/// per pixel, thread-seconds, and with validation the wrong predictions.
+fn plot_series(rows: &[Row]) -> Vec<Series> {
     let fx = |f: fn(&Row) -> Option<f64>| -> Vec<(f64, f64)> {
         rows.iter()
             .filter_map(|r| f(r).map(|v| (r.frame as f64, v)))
@@ -564,28 +507,7 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
             lead: true,
         });
     }
-    let frames = (rows[0].frame as f64, rows[rows.len() - 1].frame as f64);
-    let mut axes = Vec::new();
-    for s in &series {
-        axes.push(draw_plot(&out.join(s.file), s, frames)?);
-    }
-
-    // The lights over the environment map.
-    let lights_note = lights_picture(dir, &out.join("lights.png"));
-
-    let html = page(
-        dir,
-        &rows,
-        &images,
-        animation,
-        (rays_max, wrong_max, any_wrong_channel),
-        &series,
-        &axes,
-        &lights_note,
-    );
-    let path = dir.join("report.html");
-    output::write_atomic(&path, html.as_bytes())?;
-    Ok(path)
+    series
 }
 
 /// The animation the page leads with.
@@ -795,6 +717,62 @@ fn page(
     );
 
     // Totals and settings.
+    let totals = totals(&mut h, dir, rows);
+
+    // The animation beside the totals.
+    h.push_str("<div class=\"top\">\n");
+    animation_figure(&mut h, animation, images, rows);
+    h.push_str("<div>\n");
+    kv_table(&mut h, &totals.run);
+    h.push_str("</div>\n</div>\n");
+
+    // The savings: percent traced per frame (and the error, validated).
+    h.push_str("<h2>Shadow rays traced per frame</h2>\n");
+    let lead: Vec<usize> = series
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.lead)
+        .map(|(k, _)| k)
+        .collect();
+    for &k in &lead {
+        plot_figure(&mut h, &series[k], axes[k], rows, false);
+    }
+
+    // The paper's Table 1 beside ours.
+    beside_paper(&mut h, dir, rows, totals.percent);
+
+    // Contact sheet: every frame, numbered.
+    contact_sheet(&mut h, rows, images);
+
+    // Lights.
+    lights_section(&mut h, lights_note, &totals.nlights);
+
+    // The other plots, collapsed.
+    h.push_str("<details>\n<summary>More per-frame plots: rays per pixel, seconds</summary>\n");
+    for (k, s) in series.iter().enumerate() {
+        if !lead.contains(&k) {
+            plot_figure(&mut h, s, axes[k], rows, true);
+        }
+    }
+    h.push_str("</details>\n");
+
+    // Per-frame detail, collapsed.
+    frame_detail(&mut h, rows, images, (rays_max, wrong_max, any_wrong));
+    h.push_str("<p><small>Written by envshadow report from stats.csv, the frames and lights.json in this folder.</small></p>\n</body>\n</html>\n");
+    h
+}
+
+/// The run's settings and totals, for the table beside the animation; the share of the
+/// shadow queries traced; the light counts.
+struct Totals {
+    run: Vec<(&'static str, String)>,
+    percent: f64,
+    nlights: String,
+}
+
+/// Writes the page's lead (the frames, their settings and the share traced, in a sentence)
+/// and returns the run's settings and totals.
+fn totals(h: &mut String, dir: &Path, rows: &[Row]) -> Totals {
     let queries: u64 = rows.iter().map(|r| r.queries).sum();
     let rays: u64 = rows.iter().map(|r| r.rays).sum();
     let seconds: f64 = rows.iter().map(|r| r.seconds).sum();
@@ -838,7 +816,7 @@ fn page(
         esc(&nlights),
         esc(&method)
     );
-    let mut run: Vec<(&str, String)> = vec![
+    let mut run: Vec<(&'static str, String)> = vec![
         ("frames", frames_line),
         ("shadow method", method.clone()),
         ("lights", nlights.clone()),
@@ -858,6 +836,30 @@ fn page(
             format!("{} ({percent:.2} % of the queries)", with_commas(rays)),
         ),
     ];
+    run.extend(times(dir, seconds, rays));
+    if !validated.is_empty() {
+        let vq: u64 = validated.iter().map(|r| r.queries).sum();
+        let vw: u64 = validated.iter().filter_map(|r| r.wrong).sum();
+        run.push((
+            "wrong predictions",
+            format!(
+                "{} pairs, {:.4} % of the validated frames' queries",
+                with_commas(vw),
+                100.0 * vw as f64 / (vq.max(1)) as f64
+            ),
+        ));
+    }
+    run.push(("folder", dir.display().to_string()));
+    Totals {
+        run,
+        percent,
+        nlights,
+    }
+}
+
+/// The run's wall time and compute time, for the settings and totals.
+fn times(dir: &Path, seconds: f64, rays: u64) -> Vec<(&'static str, String)> {
+    let mut run = Vec::new();
     // Wall time from the runs that rendered the folder (records/runs.csv; none for a farm's
     // assembled folder); thread-seconds from the frames themselves.
     let runs = crate::output::runs::RunRecord::read_all(dir).unwrap_or_default();
@@ -887,22 +889,11 @@ fn page(
             rays as f64 / seconds.max(1e-9) / 1e6
         ),
     ));
-    if !validated.is_empty() {
-        let vq: u64 = validated.iter().map(|r| r.queries).sum();
-        let vw: u64 = validated.iter().filter_map(|r| r.wrong).sum();
-        run.push((
-            "wrong predictions",
-            format!(
-                "{} pairs, {:.4} % of the validated frames' queries",
-                with_commas(vw),
-                100.0 * vw as f64 / (vq.max(1)) as f64
-            ),
-        ));
-    }
-    run.push(("folder", dir.display().to_string()));
+    run
+}
 
-    // The animation beside the totals.
-    h.push_str("<div class=\"top\">\n");
+/// The animation the page leads with (the video, the GIF, or why neither).
+fn animation_figure(h: &mut String, animation: Animation, images: &[FrameImages], rows: &[Row]) {
     match animation {
         Animation::Video(file) => {
             let _ = writeln!(
@@ -927,28 +918,16 @@ fn page(
             "<p class=\"note\">No frame PNG could be read: no animation or contact sheet.</p>\n",
         ),
     }
-    h.push_str("<div>\n");
-    kv_table(&mut h, &run);
-    h.push_str("</div>\n</div>\n");
+}
 
-    // The savings: percent traced per frame (and the error, validated).
-    h.push_str("<h2>Shadow rays traced per frame</h2>\n");
-    let lead: Vec<usize> = series
-        .iter()
-        .enumerate()
-        .filter(|(_, s)| s.lead)
-        .map(|(k, _)| k)
-        .collect();
-    for &k in &lead {
-        plot_figure(&mut h, &series[k], axes[k], rows, false);
-    }
-
-    // The paper's Table 1 beside ours.
+/// The paper's Table 1 figure beside this render's, when the folder's name says which of the
+/// paper's scenes it is and the render has one method and one light count.
+fn beside_paper(h: &mut String, dir: &Path, rows: &[Row], percent: f64) {
     let one_method = rows.iter().all(|r| r.method == rows[0].method);
     let one_count = rows.iter().all(|r| r.lights == rows[0].lights);
     let paper = match (scene_key(dir), rows[0].method.parse::<Method>()) {
         (Some(scene), Ok(m)) if one_method && one_count => {
-            crate::table::paper_percent(m, scene, rows[0].lights).map(|p| (scene, p))
+            crate::paper::paper_percent(m, scene, rows[0].lights).map(|p| (scene, p))
         }
         _ => None,
     };
@@ -963,8 +942,10 @@ fn page(
             esc(scene)
         );
     }
+}
 
-    // Contact sheet: every frame, numbered.
+/// The contact sheet: every frame's thumbnail, numbered, linking to its PNG.
+fn contact_sheet(h: &mut String, rows: &[Row], images: &[FrameImages]) {
     if images.iter().any(|i| i.thumb.is_some()) {
         h.push_str("<h2>Frames</h2>\n<div class=\"sheet\">\n");
         for (r, fi) in rows.iter().zip(images) {
@@ -979,8 +960,10 @@ fn page(
         }
         h.push_str("</div>\n");
     }
+}
 
-    // Lights.
+/// The lights over the environment map, or why there is no picture of them.
+fn lights_section(h: &mut String, lights_note: &LightsNote, nlights: &str) {
     h.push_str("<h2>Lights over the environment map</h2>\n");
     match lights_note {
         Ok(source) => {
@@ -988,7 +971,7 @@ fn page(
                 h,
                 "<figure><img src=\"report/lights.png\" alt=\"lights over the environment map\" style=\"max-width:100%\" loading=\"lazy\">\
                  <figcaption>{} lights from {}: cell borders in magenta, each light a cross, yellow for the dimmest to red for the brightest.</figcaption></figure>",
-                esc(&nlights),
+                esc(nlights),
                 esc(source)
             );
         }
@@ -1000,17 +983,16 @@ fn page(
             );
         }
     }
+}
 
-    // The other plots, collapsed.
-    h.push_str("<details>\n<summary>More per-frame plots: rays per pixel, seconds</summary>\n");
-    for (k, s) in series.iter().enumerate() {
-        if !lead.contains(&k) {
-            plot_figure(&mut h, s, axes[k], rows, true);
-        }
-    }
-    h.push_str("</details>\n");
-
-    // Per-frame detail, collapsed.
+/// The per-frame detail, collapsed: each frame's thumbnail and heat maps beside its figures
+/// and camera, under the colour scales.
+fn frame_detail(
+    h: &mut String,
+    rows: &[Row],
+    images: &[FrameImages],
+    (rays_max, wrong_max, any_wrong): (f32, f32, bool),
+) {
     let _ = writeln!(
         h,
         "<details>\n<summary>Per-frame detail: where the rays went ({} frames)</summary>",
@@ -1058,9 +1040,9 @@ fn page(
             }
             None => h.push_str("<td>—</td>"),
         }
-        cell(&mut h, &fi.rays_map, "rays", r.frame);
+        cell(h, &fi.rays_map, "rays", r.frame);
         if any_wrong {
-            cell(&mut h, &fi.wrong_map, "wrong predictions", r.frame);
+            cell(h, &fi.wrong_map, "wrong predictions", r.frame);
         }
         let _ = write!(h, "<td>{:.2} %</td><td>{:.3}</td>", r.percent, r.seconds);
         if any_wrong {
@@ -1090,24 +1072,11 @@ fn page(
         h.push_str("</td></tr>\n");
     }
     h.push_str("</table>\n</details>\n");
-    h.push_str("<p><small>Written by envshadow report from stats.csv, the frames and lights.json in this folder.</small></p>\n</body>\n</html>\n");
-    h
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn nice_axes_cover_the_maximum() {
-        for max in [0.003, 0.7, 1.0, 6.3, 7.9, 12.0, 99.0, 1234.0] {
-            let (top, step) = nice_axis(max);
-            assert!(top >= max && top <= max * 2.6 + step, "{max}: {top} {step}");
-            let n = top / step;
-            assert!((n - n.round()).abs() < 1e-9 && (1.0..=5.0).contains(&n.round()));
-        }
-        assert_eq!(nice_axis(0.0), (1.0, 0.25));
-    }
 
     #[test]
     fn escapes_markup() {

@@ -58,7 +58,7 @@ pub fn write_savings(with: &Path, without: &Path, out: Option<&Path>) -> Result<
     let without_pts: Vec<(f64, f64)> = frames.iter().map(|r| (r.0 as f64, r.2)).collect();
     let with_pts: Vec<(f64, f64)> = frames.iter().map(|r| (r.0 as f64, r.1)).collect();
     // Grey (without) first, so blue (with) is drawn on top where they meet at key frames.
-    let (top, step) = crate::report::draw_lines(
+    let (top, step) = crate::plot::draw_lines(
         &png,
         &[(&without_pts, [150, 150, 150]), (&with_pts, [31, 90, 200])],
         x,

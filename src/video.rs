@@ -19,10 +19,8 @@ use std::process::{Command, Stdio};
 use anyhow::Context;
 
 use crate::error::{Result, input_error};
+use crate::folder::VIDEO_FILE;
 use crate::output::record::SETTINGS_FILE;
-
-/// The video's file name in a render folder.
-pub const VIDEO_FILE: &str = "video.mp4";
 
 /// What to install when ffmpeg is missing.
 pub const FFMPEG_MISSING: &str = "ffmpeg is not installed (or not on PATH): install it \

@@ -5,7 +5,7 @@
 //! judgement without writing anything: the jobs a re-run must render again.
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 
@@ -55,10 +55,74 @@ fn frame_list(frames: &BTreeSet<usize>) -> String {
         .replace(',', ", ")
 }
 
-/// Assembles `dir` (see the module doc). Frames whose every tile is present are written even
-/// when others are not; the problems are returned for the caller to print.
+/// Assembles `dir` (see the module doc): judges the job folders as [`pending`] does, then
+/// writes `lights.json`, `settings.txt` and every frame whose every tile is present (even
+/// when others are not), and `stats.csv`; the problems are returned for the caller to print.
 pub fn assemble(dir: &Path) -> Result<Assembled> {
-    examine(dir, true)
+    let judged = Judged::read(dir)?;
+    let settings = &judged.settings;
+    let stats_path = dir.join("stats.csv");
+    let mut stats_file = StatsFile::open(&stats_path);
+    let mut tally = Tally::default();
+    if let Some(l) = &judged.lights {
+        write_atomic(&dir.join("lights.json"), l)?;
+    }
+    // The folder a one-process render would leave: settings.txt and each frame committed
+    // with its record, so `render --resume` into it trusts these frames.
+    let record = (!settings.record.is_empty()).then(|| SettingsRecord {
+        lines: settings.record.clone(),
+    });
+    if let Some(r) = &record {
+        r.write(dir)?;
+    }
+    for &f in &judged.frames {
+        let mut film = Film::new(
+            settings.width,
+            settings.height,
+            settings.validate,
+            settings.spp > 1,
+        )
+        .with_alpha(settings.alpha);
+        let pieces = judged.pieces(f, Some(&mut film), &mut tally);
+        if pieces.complete()
+            && let Some(tf) = pieces.meta
+        {
+            film.counts = pieces.counts;
+            let full = crate::tile::Rect::frame(settings.width, settings.height);
+            let v = |a: [f32; 3]| Vec3::from_array(a);
+            let stats = FrameStats {
+                frame: f,
+                method: tf.method.clone(),
+                lights: tf.lights,
+                width: settings.width,
+                height: settings.height,
+                spp: settings.spp,
+                counts: pieces.counts,
+                image_error: film.image_error(full, settings.exposure, settings.view),
+                thread_seconds: pieces.thread_seconds,
+                camera_position: v(tf.camera_position),
+                camera_target: v(tf.camera_target),
+                camera_up: v(tf.camera_up),
+                vfov_deg: tf.vfov_deg,
+            };
+            let header = exr_header(&stats, settings.fps, &settings.record);
+            let format = settings.frame_format();
+            match &record {
+                Some(r) => {
+                    publish_frame(dir, &film, &header, &format, &r.fingerprint())?;
+                }
+                None => write_frame_files(dir, &film, &header, &format)?,
+            }
+            stats_file.set(&stats);
+            tally.written += 1;
+        } else {
+            judged.owe(f, &pieces.covered, &mut tally);
+        }
+    }
+    if tally.written > 0 {
+        stats_file.write(&stats_path)?;
+    }
+    Ok(judged.verdict(tally))
 }
 
 /// The planned jobs of `dir` that are not done, judged from their files exactly as
@@ -75,16 +139,205 @@ pub fn pending(dir: &Path) -> Result<Assembled> {
             "no plan: the jobs to render are judged against the plan (run envshadow plan first)",
         ));
     }
-    examine(dir, false)
+    let judged = Judged::read(dir)?;
+    let mut tally = Tally::default();
+    for &f in &judged.frames {
+        let pieces = judged.pieces(f, None, &mut tally);
+        if pieces.complete() {
+            tally.written += 1;
+        } else {
+            judged.owe(f, &pieces.covered, &mut tally);
+        }
+    }
+    Ok(judged.verdict(tally))
 }
 
-/// [`assemble`] when `write`, else [`pending`].
-fn examine(dir: &Path, write: bool) -> Result<Assembled> {
-    if !dir.is_dir() {
-        return Err(input_error(dir, "no such folder"));
+/// A farm render's job folders judged as wholes, before any frame of them is read: what
+/// [`assemble`] and [`pending`] share.
+struct Judged {
+    jobs_dir: PathBuf,
+    settings: Settings,
+    /// The jobs expected, and the frames they cover.
+    expected: Vec<Job>,
+    frames: BTreeSet<usize>,
+    grid: Vec<Tile>,
+    /// The valid job folders, and the problem of each other one (by folder name).
+    sources: Vec<Source>,
+    folder_problem: BTreeMap<String, String>,
+    /// `lights.json`, the same in every valid job.
+    lights: Option<Vec<u8>>,
+    /// The plan's video frame rate.
+    video_fps: Option<f32>,
+}
+
+/// What the frames of a farm render came to, frame by frame.
+#[derive(Default)]
+struct Tally {
+    /// Frames written (or, judging only, that an assembly would write).
+    written: usize,
+    /// Problems per (folder, frame).
+    file_problem: BTreeMap<(String, usize), FrameProblem>,
+    /// Expected job → frames it still owes.
+    owed: BTreeMap<usize, BTreeSet<usize>>,
+}
+
+/// The valid jobs' pieces of one frame.
+struct Pieces {
+    /// Which tiles of the grid some job gave.
+    covered: Vec<bool>,
+    counts: Counts,
+    thread_seconds: f64,
+    /// The first piece's statistics (the frame's method, lights and camera).
+    meta: Option<TileFrame>,
+}
+
+impl Pieces {
+    fn complete(&self) -> bool {
+        self.covered.iter().all(|&c| c)
     }
-    let jobs_dir = dir.join("jobs");
-    let mut folders: Vec<String> = match std::fs::read_dir(&jobs_dir) {
+}
+
+impl Judged {
+    /// Reads `dir`'s plan and job manifests and judges each job folder as a whole.
+    fn read(dir: &Path) -> Result<Judged> {
+        if !dir.is_dir() {
+            return Err(input_error(dir, "no such folder"));
+        }
+        let jobs_dir = dir.join("jobs");
+        let manifests = read_manifests(&jobs_dir);
+        let plan_file = read_plan_file(dir)?;
+        let (settings, build, expected) = expectation(dir, plan_file.as_ref(), &manifests)?;
+        // Builds: the plan's, else the most common among the jobs.
+        let build = build.or_else(|| common_build(&manifests));
+        let grid = settings.grid();
+        let (mut sources, mut folder_problem) =
+            sort_folders(manifests, &settings, build.as_deref(), &grid);
+        let lights = shared_lights(&jobs_dir, &sources, &mut folder_problem);
+        sources.retain(|s| !folder_problem.contains_key(&s.folder));
+        let frames: BTreeSet<usize> = expected.iter().flat_map(|j| j.frames.iter()).collect();
+        Ok(Judged {
+            jobs_dir,
+            settings,
+            expected,
+            frames,
+            grid,
+            sources,
+            folder_problem,
+            lights,
+            video_fps: plan_file.as_ref().and_then(|p| p.video_fps),
+        })
+    }
+
+    /// Checks the valid jobs' pieces of frame `f` ([`read_piece`]), each tile from the first
+    /// job that has it; given a film, copies them there. Problems go to `tally`.
+    fn pieces(&self, f: usize, mut film: Option<&mut Film>, tally: &mut Tally) -> Pieces {
+        let mut covered = vec![false; self.grid.len()];
+        let mut counts = Counts::default();
+        let mut thread_seconds = 0.0;
+        let mut meta: Option<TileFrame> = None;
+        for s in self
+            .sources
+            .iter()
+            .filter(|s| s.manifest.job.frames.contains(f))
+        {
+            if s.tiles.iter().any(|t| covered[t.index]) {
+                continue; // another job already gave these tiles
+            }
+            match read_piece(&self.jobs_dir.join(&s.folder), f, s, film.as_deref_mut()) {
+                Ok(tf) => {
+                    for t in &s.tiles {
+                        covered[t.index] = true;
+                    }
+                    counts += tf.counts();
+                    thread_seconds += tf.thread_seconds;
+                    meta.get_or_insert(tf);
+                }
+                Err(e) => {
+                    tally.file_problem.insert((s.folder.clone(), f), e);
+                }
+            }
+        }
+        Pieces {
+            covered,
+            counts,
+            thread_seconds,
+            meta,
+        }
+    }
+
+    /// Marks frame `f` owed by each expected job with a tile of it not `covered`.
+    fn owe(&self, f: usize, covered: &[bool], tally: &mut Tally) {
+        for (k, j) in self.expected.iter().enumerate() {
+            if j.frames.contains(f) && j.tiles.indices().iter().any(|&t| !covered[t]) {
+                tally.owed.entry(k).or_default().insert(f);
+            }
+        }
+    }
+
+    /// The result: the frames written, and a line per job that owes frames or folder that is
+    /// broken, saying why.
+    fn verdict(&self, tally: Tally) -> Assembled {
+        let mut result = Assembled {
+            written: tally.written,
+            frames: self.frames.len(),
+            jobs: self.expected.len(),
+            video_fps: self.video_fps,
+            ..Default::default()
+        };
+        let jobs_dir = &self.jobs_dir;
+        // One line per job that left frames unwritten, saying why.
+        let host_of = |folder: &str| {
+            read_manifest(&jobs_dir.join(folder))
+                .ok()
+                .map(|m| format!(", rendered on {}", m.host))
+                .unwrap_or_default()
+        };
+        for (k, owed_frames) in &tally.owed {
+            let j = &self.expected[*k];
+            let folder = j.folder();
+            let what = j.describe();
+            let line = if !jobs_dir.join(&folder).is_dir() {
+                format!("missing {what}: no folder jobs/{folder}")
+            } else if let Some(p) = self.folder_problem.get(&folder) {
+                format!("bad {what} in jobs/{folder}: {p}")
+            } else {
+                let corrupt: Vec<String> = owed_frames
+                    .iter()
+                    .filter_map(|f| match tally.file_problem.get(&(folder.clone(), *f)) {
+                        Some(FrameProblem::Corrupt(p)) => Some(p.clone()),
+                        _ => None,
+                    })
+                    .collect();
+                if corrupt.is_empty() {
+                    format!(
+                        "incomplete {what} in jobs/{folder}{}: frames {} not rendered",
+                        host_of(&folder),
+                        frame_list(owed_frames)
+                    )
+                } else {
+                    format!(
+                        "corrupt {what} in jobs/{folder}{}: {}",
+                        host_of(&folder),
+                        corrupt.join("; ")
+                    )
+                }
+            };
+            result.problems.push(line);
+            result.pending.push(j.clone());
+        }
+        // Folders outside the plan that are broken (they did not cost a frame, but say so).
+        for (folder, p) in &self.folder_problem {
+            if !self.expected.iter().any(|j| j.folder() == *folder) {
+                result.problems.push(format!("jobs/{folder}: {p}"));
+            }
+        }
+        result
+    }
+}
+
+/// The folders under `jobs_dir` (none when it does not list), sorted, with their manifests.
+fn read_manifests(jobs_dir: &Path) -> Vec<(String, Result<Manifest>)> {
+    let mut folders: Vec<String> = match std::fs::read_dir(jobs_dir) {
         Ok(rd) => rd
             .filter_map(|e| e.ok())
             .filter(|e| e.path().is_dir())
@@ -93,13 +346,16 @@ fn examine(dir: &Path, write: bool) -> Result<Assembled> {
         Err(_) => Vec::new(),
     };
     folders.sort();
-    let manifests: Vec<(String, Result<Manifest>)> = folders
+    folders
         .iter()
         .map(|f| (f.clone(), read_manifest(&jobs_dir.join(f))))
-        .collect();
+        .collect()
+}
 
+/// `dir/plan.json`, if there is one.
+fn read_plan_file(dir: &Path) -> Result<Option<PlanFile>> {
     let plan_path = dir.join("plan.json");
-    let plan_file: Option<PlanFile> = if plan_path.exists() {
+    Ok(if plan_path.exists() {
         let text = std::fs::read_to_string(&plan_path)
             .map_err(|e| input_error(&plan_path, format!("cannot read: {e}")))?;
         Some(
@@ -108,11 +364,18 @@ fn examine(dir: &Path, write: bool) -> Result<Assembled> {
         )
     } else {
         None
-    };
-    // The settings every job must share, the build they should come from, and the jobs
-    // expected: the plan's, else the plan a job says it belongs to, else the explicit jobs.
+    })
+}
+
+/// The settings every job must share, the build they should come from, and the jobs
+/// expected: the plan's, else the plan a job says it belongs to, else the explicit jobs.
+fn expectation(
+    dir: &Path,
+    plan_file: Option<&PlanFile>,
+    manifests: &[(String, Result<Manifest>)],
+) -> Result<(Settings, Option<String>, Vec<Job>)> {
     let first_ok = manifests.iter().find_map(|(_, m)| m.as_ref().ok());
-    let (settings, build, expected): (Settings, Option<String>, Vec<Job>) = match &plan_file {
+    Ok(match plan_file {
         Some(p) => (p.settings.clone(), Some(p.build.clone()), p.jobs.clone()),
         None => {
             let Some(first) = first_ok else {
@@ -147,7 +410,30 @@ fn examine(dir: &Path, write: bool) -> Result<Assembled> {
                 }
             }
         }
-    };
+    })
+}
+
+/// The build most common among the jobs' manifests.
+fn common_build(manifests: &[(String, Result<Manifest>)]) -> Option<String> {
+    let mut n: BTreeMap<&str, usize> = BTreeMap::new();
+    for (_, m) in manifests {
+        if let Ok(m) = m {
+            *n.entry(m.build.as_str()).or_default() += 1;
+        }
+    }
+    n.into_iter()
+        .max_by_key(|(_, c)| *c)
+        .map(|(b, _)| b.to_string())
+}
+
+/// The job folders with `settings`, from `build`, describing themselves and within the
+/// `grid`, as sources; a problem with each other folder as a whole (by folder name).
+fn sort_folders(
+    manifests: Vec<(String, Result<Manifest>)>,
+    settings: &Settings,
+    build: Option<&str>,
+    grid: &[Tile],
+) -> (Vec<Source>, BTreeMap<String, String>) {
     let same_settings = |s: &Settings| {
         s.fingerprint == settings.fingerprint
             && s.width == settings.width
@@ -155,21 +441,6 @@ fn examine(dir: &Path, write: bool) -> Result<Assembled> {
             && s.tile == settings.tile
             && s.tiles == settings.tiles
     };
-    // Builds: the plan's, else the most common among the jobs.
-    let build = build.or_else(|| {
-        let mut n: BTreeMap<&str, usize> = BTreeMap::new();
-        for (_, m) in &manifests {
-            if let Ok(m) = m {
-                *n.entry(m.build.as_str()).or_default() += 1;
-            }
-        }
-        n.into_iter()
-            .max_by_key(|(_, c)| *c)
-            .map(|(b, _)| b.to_string())
-    });
-
-    let grid = settings.grid();
-    // Problems with a folder as a whole (by folder name), and per (folder, frame).
     let mut folder_problem: BTreeMap<String, String> = BTreeMap::new();
     let mut sources: Vec<Source> = Vec::new();
     for (folder, m) in manifests {
@@ -194,14 +465,14 @@ fn examine(dir: &Path, write: bool) -> Result<Assembled> {
                     ),
                 );
             }
-            Ok(m) if build.as_ref().is_some_and(|b| *b != m.build) => {
+            Ok(m) if build.is_some_and(|b| *b != m.build) => {
                 folder_problem.insert(
                     folder,
                     format!(
                         "rendered on {} by build {}, expected build {} (another build can give other bits)",
                         m.host,
                         m.build,
-                        build.as_deref().unwrap_or_default()
+                        build.unwrap_or_default()
                     ),
                 );
             }
@@ -231,12 +502,19 @@ fn examine(dir: &Path, write: bool) -> Result<Assembled> {
             }
         }
     }
+    (sources, folder_problem)
+}
 
-    // lights.json: the same in every job (same inputs, same build), copied once. A job
-    // writes it before its first frame, so a job without it is not done (and a re-run of the
-    // job writes it again).
+/// lights.json: the same in every job (same inputs, same build), copied once. A job
+/// writes it before its first frame, so a job without it is not done (and a re-run of the
+/// job writes it again): a problem of its folder, as is one that differs.
+fn shared_lights(
+    jobs_dir: &Path,
+    sources: &[Source],
+    folder_problem: &mut BTreeMap<String, String>,
+) -> Option<Vec<u8>> {
     let mut lights: Option<Vec<u8>> = None;
-    for s in &sources {
+    for s in sources {
         match std::fs::read(jobs_dir.join(&s.folder).join("lights.json")) {
             Ok(bytes) => match &lights {
                 None => lights = Some(bytes),
@@ -256,156 +534,7 @@ fn examine(dir: &Path, write: bool) -> Result<Assembled> {
             }
         }
     }
-    sources.retain(|s| !folder_problem.contains_key(&s.folder));
-
-    let frames: BTreeSet<usize> = expected.iter().flat_map(|j| j.frames.iter()).collect();
-    let mut result = Assembled {
-        frames: frames.len(),
-        jobs: expected.len(),
-        video_fps: plan_file.as_ref().and_then(|p| p.video_fps),
-        ..Default::default()
-    };
-    let stats_path = dir.join("stats.csv");
-    let mut stats_file = StatsFile::open(&stats_path);
-    let mut file_problem: BTreeMap<(String, usize), FrameProblem> = BTreeMap::new();
-    // Expected job → frames it still owes.
-    let mut owed: BTreeMap<usize, BTreeSet<usize>> = BTreeMap::new();
-    if write && let Some(l) = &lights {
-        write_atomic(&dir.join("lights.json"), l)?;
-    }
-    // The folder a one-process render would leave: settings.txt and each frame committed
-    // with its record, so `render --resume` into it trusts these frames.
-    let record = (!settings.record.is_empty()).then(|| SettingsRecord {
-        lines: settings.record.clone(),
-    });
-    if write && let Some(r) = &record {
-        r.write(dir)?;
-    }
-    for &f in &frames {
-        let mut film = write.then(|| {
-            Film::new(
-                settings.width,
-                settings.height,
-                settings.validate,
-                settings.spp > 1,
-            )
-            .with_alpha(settings.alpha)
-        });
-        let mut covered = vec![false; grid.len()];
-        let mut counts = Counts::default();
-        let mut thread_seconds = 0.0;
-        let mut meta: Option<TileFrame> = None;
-        for s in sources.iter().filter(|s| s.manifest.job.frames.contains(f)) {
-            if s.tiles.iter().any(|t| covered[t.index]) {
-                continue; // another job already gave these tiles
-            }
-            match read_piece(&jobs_dir.join(&s.folder), f, s, film.as_mut()) {
-                Ok(tf) => {
-                    for t in &s.tiles {
-                        covered[t.index] = true;
-                    }
-                    counts += tf.counts();
-                    thread_seconds += tf.thread_seconds;
-                    meta.get_or_insert(tf);
-                }
-                Err(e) => {
-                    file_problem.insert((s.folder.clone(), f), e);
-                }
-            }
-        }
-        if !write && covered.iter().all(|&c| c) {
-            result.written += 1;
-        } else if covered.iter().all(|&c| c)
-            && let Some(tf) = meta
-            && let Some(mut film) = film
-        {
-            film.counts = counts;
-            let full = crate::tile::Rect::frame(settings.width, settings.height);
-            let v = |a: [f32; 3]| Vec3::from_array(a);
-            let stats = FrameStats {
-                frame: f,
-                method: tf.method.clone(),
-                lights: tf.lights,
-                width: settings.width,
-                height: settings.height,
-                spp: settings.spp,
-                counts,
-                image_error: film.image_error(full, settings.exposure, settings.view),
-                thread_seconds,
-                camera_position: v(tf.camera_position),
-                camera_target: v(tf.camera_target),
-                camera_up: v(tf.camera_up),
-                vfov_deg: tf.vfov_deg,
-            };
-            let header = exr_header(&stats, settings.fps, &settings.record);
-            let format = settings.frame_format();
-            match &record {
-                Some(r) => {
-                    publish_frame(dir, &film, &header, &format, &r.fingerprint())?;
-                }
-                None => write_frame_files(dir, &film, &header, &format)?,
-            }
-            stats_file.set(&stats);
-            result.written += 1;
-        } else {
-            for (k, j) in expected.iter().enumerate() {
-                if j.frames.contains(f) && j.tiles.indices().iter().any(|&t| !covered[t]) {
-                    owed.entry(k).or_default().insert(f);
-                }
-            }
-        }
-    }
-    if write && result.written > 0 {
-        stats_file.write(&stats_path)?;
-    }
-
-    // One line per job that left frames unwritten, saying why.
-    let host_of = |folder: &str| {
-        read_manifest(&jobs_dir.join(folder))
-            .ok()
-            .map(|m| format!(", rendered on {}", m.host))
-            .unwrap_or_default()
-    };
-    for (k, owed_frames) in &owed {
-        let j = &expected[*k];
-        let folder = j.folder();
-        let what = j.describe();
-        let line = if !jobs_dir.join(&folder).is_dir() {
-            format!("missing {what}: no folder jobs/{folder}")
-        } else if let Some(p) = folder_problem.get(&folder) {
-            format!("bad {what} in jobs/{folder}: {p}")
-        } else {
-            let corrupt: Vec<String> = owed_frames
-                .iter()
-                .filter_map(|f| match file_problem.get(&(folder.clone(), *f)) {
-                    Some(FrameProblem::Corrupt(p)) => Some(p.clone()),
-                    _ => None,
-                })
-                .collect();
-            if corrupt.is_empty() {
-                format!(
-                    "incomplete {what} in jobs/{folder}{}: frames {} not rendered",
-                    host_of(&folder),
-                    frame_list(owed_frames)
-                )
-            } else {
-                format!(
-                    "corrupt {what} in jobs/{folder}{}: {}",
-                    host_of(&folder),
-                    corrupt.join("; ")
-                )
-            }
-        };
-        result.problems.push(line);
-        result.pending.push(j.clone());
-    }
-    // Folders outside the plan that are broken (they did not cost a frame, but say so).
-    for (folder, p) in &folder_problem {
-        if !expected.iter().any(|j| j.folder() == *folder) {
-            result.problems.push(format!("jobs/{folder}: {p}"));
-        }
-    }
-    Ok(result)
+    lights
 }
 
 /// Checks one job's frame `f` ([`check_frame`]) and, given a film, copies the job's tiles of

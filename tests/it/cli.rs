@@ -394,7 +394,7 @@ fn table_and_bench_commands_measure_every_requested_configuration() {
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let table = String::from_utf8_lossy(&o.stdout);
-    for m in envshadow::table::table1_methods() {
+    for m in envshadow::paper::table1_methods() {
         assert!(
             table.contains(&format!("| {m} |")),
             "{m} missing from\n{table}"
