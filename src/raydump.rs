@@ -98,7 +98,7 @@ pub struct Dump {
     pub rays: Vec<ShadowRay>,
 }
 
-/// Reads a dump written by [`write`]; a malformed file is an input error naming it.
+/// Reads a dump written by [`write()`]; a malformed file is an input error naming it.
 pub fn read(path: &Path) -> Result<Dump> {
     let mut bytes = Vec::new();
     fs::File::open(path)
