@@ -12,8 +12,6 @@
 //! shadow queries also take the ray's end (`tmax`: a point light's distance). Hits on other
 //! triangles never call the test, so an opaque scene pays one predictable branch per hit group.
 
-use std::cell::RefCell;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use glam::{Vec3, Vec3A};
@@ -266,8 +264,11 @@ impl Accel {
         tmax: f32,
         cut: &C,
     ) -> bool {
-        record(origin, dir);
-        self.occluded_unrecorded_within(origin, dir, tmax, cut)
+        if self.tris.is_empty() {
+            return false;
+        }
+        let ray = ray(origin, dir, tmax);
+        self.any_hit(&ray, &self.cut_with(cut)).is_some()
     }
 
     /// [`occluded`](Self::occluded) for up to [`PACKET`] rays from one origin (a pixel's rays
@@ -289,25 +290,6 @@ impl Accel {
         tmax: &[f32],
         cut: &C,
     ) -> u32 {
-        for d in dirs {
-            record(origin, *d);
-        }
-        self.occluded_packet_unrecorded_within(origin, dirs, tmax, cut)
-    }
-
-    /// [`occluded_packet`](Self::occluded_packet) without the recording hook.
-    pub fn occluded_packet_unrecorded(&self, origin: Vec3, dirs: &[Vec3]) -> u32 {
-        self.occluded_packet_unrecorded_within(origin, dirs, &[f32::INFINITY; PACKET], &Opaque)
-    }
-
-    /// [`occluded_packet_within`](Self::occluded_packet_within) without the recording hook.
-    pub fn occluded_packet_unrecorded_within<C: Cutout + ?Sized>(
-        &self,
-        origin: Vec3,
-        dirs: &[Vec3],
-        tmax: &[f32],
-        cut: &C,
-    ) -> u32 {
         self.trace_packet::<true, C>(&[origin], dirs, tmax, cut)
     }
 
@@ -317,20 +299,6 @@ impl Accel {
     /// parallel rays of one directional light from nearby points (a tile's queries of that
     /// light), which walk nearly the same nodes; rays from one origin are the other case.
     pub fn occluded_rays_within<C: Cutout + ?Sized>(
-        &self,
-        origins: &[Vec3],
-        dirs: &[Vec3],
-        tmax: &[f32],
-        cut: &C,
-    ) -> u32 {
-        for (o, d) in origins.iter().zip(dirs) {
-            record(*o, *d);
-        }
-        self.occluded_rays_unrecorded_within(origins, dirs, tmax, cut)
-    }
-
-    /// [`occluded_rays_within`](Self::occluded_rays_within) without the recording hook.
-    pub fn occluded_rays_unrecorded_within<C: Cutout + ?Sized>(
         &self,
         origins: &[Vec3],
         dirs: &[Vec3],
@@ -366,33 +334,11 @@ impl Accel {
         let mut blocked = 0;
         for (r, d) in dirs.iter().enumerate() {
             let o = origins[if SHARED { 0 } else { r }];
-            if self.occluded_unrecorded_within(o, *d, tmax[r], cut) {
+            if self.occluded_within(o, *d, tmax[r], cut) {
                 blocked |= 1 << r;
             }
         }
         blocked
-    }
-
-    /// [`occluded`](Self::occluded) without the recording hook: what a replay measures.
-    #[inline]
-    pub fn occluded_unrecorded(&self, origin: Vec3, dir: Vec3) -> bool {
-        self.occluded_unrecorded_within(origin, dir, f32::INFINITY, &Opaque)
-    }
-
-    /// [`occluded_within`](Self::occluded_within) without the recording hook.
-    #[inline]
-    pub fn occluded_unrecorded_within<C: Cutout + ?Sized>(
-        &self,
-        origin: Vec3,
-        dir: Vec3,
-        tmax: f32,
-        cut: &C,
-    ) -> bool {
-        if self.tris.is_empty() {
-            return false;
-        }
-        let ray = ray(origin, dir, tmax);
-        self.any_hit(&ray, &self.cut_with(cut)).is_some()
     }
 
     /// obvhs's any-hit traversal (`ray_traverse_miss`) with our node and leaf kernels: the
@@ -482,7 +428,6 @@ impl Accel {
         tmax: f32,
         cut: &C,
     ) -> Option<f32> {
-        record(origin, dir);
         if self.tris.is_empty() {
             return None;
         }
@@ -803,32 +748,6 @@ pub struct ShadowRay {
     pub dir: Vec3,
 }
 
-/// Whether shadow queries are being recorded (`envshadow bench --split`/`--dump-rays`). Off in
-/// renders: the hook costs one relaxed load and a predictable branch per ray.
-static RECORDING: AtomicBool = AtomicBool::new(false);
-
-thread_local! {
-    /// The shadow rays this thread traced while recording, in order.
-    static RECORDED: RefCell<Vec<ShadowRay>> = const { RefCell::new(Vec::new()) };
-}
-
-#[inline(always)]
-fn record(origin: Vec3, dir: Vec3) {
-    if RECORDING.load(Ordering::Relaxed) {
-        RECORDED.with_borrow_mut(|v| v.push(ShadowRay { origin, dir }));
-    }
-}
-
-/// Starts or stops recording every shadow query (occlusion and blocker) on every thread.
-pub fn set_recording(on: bool) {
-    RECORDING.store(on, Ordering::SeqCst);
-}
-
-/// Takes the shadow rays the calling thread recorded.
-pub fn take_recorded() -> Vec<ShadowRay> {
-    RECORDED.with_borrow_mut(std::mem::take)
-}
-
 /// Which children of `node` the ray's segment meets, in obvhs's hit-mask layout: obvhs's
 /// `CwBvhNode::intersect_ray_simd` with the same float operations in the same order, but the
 /// 8-bit child planes widened to floats eight at a time with SSE2 unpacks instead of one at a
@@ -1038,7 +957,7 @@ mod avx2 {
                 // Deeper than any hierarchy we build; finish the open rays one at a time.
                 for (r, d) in dirs.iter().enumerate() {
                     if done & (1 << r) == 0
-                        && accel.occluded_unrecorded_within(origins[at(r)], *d, tmax[r], cut.test)
+                        && accel.occluded_within(origins[at(r)], *d, tmax[r], cut.test)
                     {
                         done |= 1 << r;
                     }
@@ -1431,13 +1350,9 @@ mod tests {
             let single: u32 = dirs
                 .iter()
                 .enumerate()
-                .map(|(r, d)| u32::from(accel.occluded_unrecorded(o, *d)) << r)
+                .map(|(r, d)| u32::from(accel.occluded(o, *d)) << r)
                 .sum();
-            assert_eq!(
-                accel.occluded_packet_unrecorded(o, &dirs),
-                single,
-                "packet {k}"
-            );
+            assert_eq!(accel.occluded_packet(o, &dirs), single, "packet {k}");
             rays += n;
             blocked += single.count_ones() as usize;
         }
@@ -1469,9 +1384,9 @@ mod tests {
             let single: u32 = origins
                 .iter()
                 .enumerate()
-                .map(|(r, o)| u32::from(accel.occluded_unrecorded(*o, dir)) << r)
+                .map(|(r, o)| u32::from(accel.occluded(*o, dir)) << r)
                 .sum();
-            let packed = accel.occluded_rays_unrecorded_within(&origins, &dirs, &inf, &Opaque);
+            let packed = accel.occluded_rays_within(&origins, &dirs, &inf, &Opaque);
             assert_eq!(packed, single, "parallel packet {k}");
             rays += n;
             blocked += single.count_ones() as usize;
@@ -1643,12 +1558,10 @@ mod tests {
                 .iter()
                 .zip(&tmax)
                 .enumerate()
-                .map(|(r, (d, &t))| {
-                    u32::from(accel.occluded_unrecorded_within(o, *d, t, &Stripes)) << r
-                })
+                .map(|(r, (d, &t))| u32::from(accel.occluded_within(o, *d, t, &Stripes)) << r)
                 .sum();
             assert_eq!(
-                accel.occluded_packet_unrecorded_within(o, &dirs, &tmax, &Stripes),
+                accel.occluded_packet_within(o, &dirs, &tmax, &Stripes),
                 single,
                 "packet {k}"
             );

@@ -179,10 +179,7 @@ pub fn replay(accel: &Accel, rays: &[ShadowRay], grouping: Grouping) -> u64 {
         .map(|c| {
             let same: fn(&ShadowRay, &ShadowRay) -> bool = match grouping {
                 Grouping::Single => {
-                    return c
-                        .iter()
-                        .filter(|r| accel.occluded_unrecorded(r.origin, r.dir))
-                        .count() as u64;
+                    return c.iter().filter(|r| accel.occluded(r.origin, r.dir)).count() as u64;
                 }
                 Grouping::Origin => |a, b| a.origin == b.origin,
                 Grouping::Direction => |a, b| a.dir == b.dir,
@@ -203,14 +200,9 @@ pub fn replay(accel: &Accel, rays: &[ShadowRay], grouping: Grouping) -> u64 {
                 }
                 // Packets from one origin as frames trace them; parallel rays each from its own.
                 let hit = if grouping == Grouping::Origin {
-                    accel.occluded_packet_unrecorded(first.origin, &dirs[..n])
+                    accel.occluded_packet(first.origin, &dirs[..n])
                 } else {
-                    accel.occluded_rays_unrecorded_within(
-                        &origins[..n],
-                        &dirs[..n],
-                        &inf,
-                        &accel::Opaque,
-                    )
+                    accel.occluded_rays_within(&origins[..n], &dirs[..n], &inf, &accel::Opaque)
                 };
                 blocked += hit.count_ones() as u64;
             }
@@ -240,10 +232,10 @@ fn frame_accel(anim: &Animation, inputs: &Inputs, frame: usize) -> Result<Accel>
 /// The shadow rays of one render of the frame, in the order a single thread traces them.
 fn record_rays(anim: &Animation, inputs: &Inputs, frame: usize) -> Result<Vec<ShadowRay>> {
     let pool = thread_pool(1)?;
-    accel::set_recording(true);
+    raydump::set_recording(true);
     let result = pool.install(|| render_frame(anim, inputs, frame, None, &Silent));
-    accel::set_recording(false);
-    let rays = pool.install(accel::take_recorded);
+    raydump::set_recording(false);
+    let rays = pool.install(raydump::take_recorded);
     result?;
     Ok(rays)
 }

@@ -265,6 +265,7 @@ impl<'a> FrameContext<'a> {
     #[inline]
     pub fn trace(&self, s: &Surface, j: usize) -> bool {
         let (origin, dir, end) = self.shadow_ray(s, j);
+        crate::raydump::record(origin, dir);
         !self
             .accel
             .occluded_within(origin, dir, end, &AlphaTest::shadow(self.scene))
@@ -280,6 +281,7 @@ impl<'a> FrameContext<'a> {
         for ((d, e), &j) in dirs.iter_mut().zip(&mut ends).zip(lights) {
             (_, *d, *e) = self.shadow_ray(s, j as usize);
         }
+        crate::raydump::record_packet(s.origin, &dirs[..lights.len()]);
         self.accel.occluded_packet_within(
             s.origin,
             &dirs[..lights.len()],
@@ -293,6 +295,7 @@ impl<'a> FrameContext<'a> {
     #[inline]
     pub fn trace_blocker(&self, s: &Surface, j: usize) -> Option<f32> {
         let (origin, dir, end) = self.shadow_ray(s, j);
+        crate::raydump::record(origin, dir);
         self.accel
             .blocker_distance_within(origin, dir, end, &AlphaTest::shadow(self.scene))
     }

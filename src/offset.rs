@@ -183,12 +183,12 @@ mod tests {
                             }
                             for d in &dirs {
                                 assert!(
-                                    !accel.occluded_unrecorded(o, *d),
+                                    !accel.occluded(o, *d),
                                     "scale {scale} shift {shift}: {o} {d}"
                                 );
                                 assert!(accel.intersect(o, *d).is_none());
                             }
-                            assert_eq!(accel.occluded_packet_unrecorded(o, &dirs), 0);
+                            assert_eq!(accel.occluded_packet(o, &dirs), 0);
                             rays += dirs.len();
                         }
                     }
@@ -252,14 +252,14 @@ mod tests {
                         }
                         for d in &dirs {
                             assert_eq!(
-                                accel.occluded_unrecorded(o, *d),
-                                post_only.occluded_unrecorded(o, *d),
+                                accel.occluded(o, *d),
+                                post_only.occluded(o, *d),
                                 "{scale} {axis}: {o} {d}"
                             );
                         }
                         assert_eq!(
-                            accel.occluded_packet_unrecorded(o, &dirs),
-                            post_only.occluded_packet_unrecorded(o, &dirs)
+                            accel.occluded_packet(o, &dirs),
+                            post_only.occluded_packet(o, &dirs)
                         );
                         rays += dirs.len();
                     }

@@ -1,13 +1,21 @@
 //! Shadow-ray dumps: a frame's triangles and the shadow rays a method traced, in one binary file,
 //! so another tracer (benches/embree) can trace exactly the same rays as ours.
 //!
+//! The rays come from the recorder here ([`set_recording`], [`take_recorded`]): while it is on,
+//! the frame's shadow-ray call sites (the frame context's `trace`, `trace_packet` and
+//! `trace_blocker`) note every ray they hand to [`Accel`]; `envshadow bench` records one render
+//! of a frame that way, then replays the rays alone. [`Accel`] itself knows nothing of it: one
+//! set of queries, which frames and replays both call.
+//!
 //! Layout, little-endian: the 8 bytes `ESRAYS1\0`; u32 triangle count; u32 chunk size (rays
 //! per work item when traced over threads, [`REPLAY_CHUNK`]); u64 ray count; per
 //! triangle 9 f32 (three vertices); per ray 6 f32 (origin, unit direction; t in (0, ∞)).
 
+use std::cell::RefCell;
 use std::fs;
 use std::io::{BufWriter, Read, Write};
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use anyhow::Context;
 use glam::Vec3;
@@ -20,6 +28,41 @@ const MAGIC: &[u8; 8] = b"ESRAYS1\0";
 /// Rays per work item when a recorded ray list is traced again over a pool: small enough to
 /// balance two threads, large enough that scheduling is noise. benches/embree uses the same.
 pub const REPLAY_CHUNK: usize = 4096;
+
+/// Whether shadow queries are being recorded (`envshadow bench --split`/`--dump-rays`). Off in
+/// renders: the hook costs one relaxed load and a predictable branch per query.
+static RECORDING: AtomicBool = AtomicBool::new(false);
+
+thread_local! {
+    /// The shadow rays this thread traced while recording, in order.
+    static RECORDED: RefCell<Vec<ShadowRay>> = const { RefCell::new(Vec::new()) };
+}
+
+/// Notes the shadow ray from `origin` along `dir` when recording is on.
+#[inline(always)]
+pub fn record(origin: Vec3, dir: Vec3) {
+    if RECORDING.load(Ordering::Relaxed) {
+        RECORDED.with_borrow_mut(|v| v.push(ShadowRay { origin, dir }));
+    }
+}
+
+/// Notes a packet of shadow rays from `origin` along `dirs`, in order, when recording is on.
+#[inline(always)]
+pub fn record_packet(origin: Vec3, dirs: &[Vec3]) {
+    if RECORDING.load(Ordering::Relaxed) {
+        RECORDED.with_borrow_mut(|v| v.extend(dirs.iter().map(|&dir| ShadowRay { origin, dir })));
+    }
+}
+
+/// Starts or stops recording every shadow query (occlusion and blocker) on every thread.
+pub fn set_recording(on: bool) {
+    RECORDING.store(on, Ordering::SeqCst);
+}
+
+/// Takes the shadow rays the calling thread recorded.
+pub fn take_recorded() -> Vec<ShadowRay> {
+    RECORDED.with_borrow_mut(std::mem::take)
+}
 
 /// Writes the triangles of `accel` and `rays` to `path` (atomically).
 pub fn write(path: &Path, accel: &Accel, rays: &[ShadowRay]) -> Result<()> {
@@ -55,7 +98,7 @@ pub struct Dump {
     pub rays: Vec<ShadowRay>,
 }
 
-/// Reads a dump written by [`write`]; a malformed file is an input error naming it.
+/// Reads a dump written by [`write()`]; a malformed file is an input error naming it.
 pub fn read(path: &Path) -> Result<Dump> {
     let mut bytes = Vec::new();
     fs::File::open(path)

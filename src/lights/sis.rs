@@ -60,107 +60,158 @@ struct Stratum {
 
 /// `n` unit light directions for `env` (world space, rotation applied).
 pub fn directions(env: &EnvMap, n: usize, thresholds: Thresholds) -> Vec<Vec3> {
-    let (w, h) = (env.width, env.height);
-    let lum: Vec<f32> = env.texels.iter().map(|&t| luminance(t).max(0.0)).collect();
-    let dw: Vec<f64> = (0..h).map(|y| env.texel_solid_angle_f64(y)).collect();
+    let texels = Texels::new(env);
+    let (mu, sigma) = texels.mean_and_sigma();
+    let mut strata = strata(&texels, n, mu, sigma, thresholds);
+    let children = children(&strata);
+    share_counts(&mut strata, &children, n);
+    place(env, &texels, &mut strata, &children, n)
+}
 
-    // μ and σ, weighted by solid angle.
-    let (mut sum, mut area) = (0.0f64, 0.0f64);
-    for y in 0..h {
-        for x in 0..w {
-            sum += lum[y * w + x] as f64 * dw[y];
-        }
-        area += dw[y] * w as f64;
-    }
-    let mu = sum / area;
-    let mut var = 0.0f64;
-    for y in 0..h {
-        for x in 0..w {
-            let d = lum[y * w + x] as f64 - mu;
-            var += d * d * dw[y];
-        }
-    }
-    let sigma = (var / area).sqrt();
+/// Step 1's per-texel quantities of a map.
+struct Texels {
+    w: usize,
+    h: usize,
+    /// Luminance Y (Rec.709) per texel, negative values as 0.
+    lum: Vec<f32>,
+    /// Solid angle Δω of a texel, per row.
+    dw: Vec<f64>,
+}
 
-    // Strata: the root, then the components of each layer.
-    let gamma = |texels: &[u32]| -> f64 {
+impl Texels {
+    fn new(env: &EnvMap) -> Texels {
+        let (w, h) = (env.width, env.height);
+        Texels {
+            w,
+            h,
+            lum: env.texels.iter().map(|&t| luminance(t).max(0.0)).collect(),
+            dw: (0..h).map(|y| env.texel_solid_angle_f64(y)).collect(),
+        }
+    }
+
+    /// μ and σ of the luminance, weighted by solid angle.
+    fn mean_and_sigma(&self) -> (f64, f64) {
+        let (w, h, lum, dw) = (self.w, self.h, &self.lum, &self.dw);
+        let (mut sum, mut area) = (0.0f64, 0.0f64);
+        for y in 0..h {
+            for x in 0..w {
+                sum += lum[y * w + x] as f64 * dw[y];
+            }
+            area += dw[y] * w as f64;
+        }
+        let mu = sum / area;
+        let mut var = 0.0f64;
+        for y in 0..h {
+            for x in 0..w {
+                let d = lum[y * w + x] as f64 - mu;
+                var += d * d * dw[y];
+            }
+        }
+        (mu, (var / area).sqrt())
+    }
+
+    /// Γ of a stratum: (Σ Y·Δω)·min(Δω, 0.01 sr)^(1/4) over its texels.
+    fn gamma(&self, texels: &[u32]) -> f64 {
         let (mut e, mut a) = (0.0f64, 0.0f64);
         for &t in texels {
-            let y = t as usize / w;
-            e += lum[t as usize] as f64 * dw[y];
-            a += dw[y];
+            let y = t as usize / self.w;
+            e += self.lum[t as usize] as f64 * self.dw[y];
+            a += self.dw[y];
         }
         e * libm::pow(a.min(0.01), 0.25)
-    };
-    let all: Vec<u32> = (0..(w * h) as u32).collect();
+    }
+}
+
+/// Step 2: the strata, the root (the whole sphere, holding all `n` samples) first, then the
+/// components of each layer, layer by layer.
+fn strata(map: &Texels, n: usize, mu: f64, sigma: f64, thresholds: Thresholds) -> Vec<Stratum> {
+    let all: Vec<u32> = (0..(map.w * map.h) as u32).collect();
     let mut strata = vec![Stratum {
         layer: 0,
         parent: 0,
-        gamma: gamma(&all),
+        gamma: map.gamma(&all),
         texels: all,
         count: n,
         samples: Vec::new(),
     }];
     // owner[t]: the stratum of the current layer holding texel t (u32::MAX: none).
-    let mut owner = vec![0u32; w * h];
+    let mut owner = vec![0u32; map.w * map.h];
     if sigma > 0.0 && strata[0].gamma > 0.0 {
         for layer in 1..=LAYERS {
             let threshold = match thresholds {
                 Thresholds::Sigma => layer as f64 * sigma,
                 Thresholds::MuPlusSigma => mu + layer as f64 * sigma,
             };
-            let mut next = vec![u32::MAX; w * h];
-            let mut stack = Vec::new();
-            for start in 0..w * h {
-                if next[start] != u32::MAX
-                    || (lum[start] as f64) < threshold
-                    || owner[start] == u32::MAX
-                {
-                    continue;
-                }
-                let id = strata.len() as u32;
-                let parent = owner[start] as usize;
-                let mut texels = Vec::new();
-                next[start] = id;
-                stack.push(start);
-                while let Some(t) = stack.pop() {
-                    texels.push(t as u32);
-                    let (x, y) = (t % w, t / w);
-                    let mut visit = |u: usize| {
-                        if next[u] == u32::MAX && lum[u] as f64 >= threshold {
-                            next[u] = id;
-                            stack.push(u);
-                        }
-                    };
-                    visit(y * w + (x + 1) % w);
-                    visit(y * w + (x + w - 1) % w);
-                    if y > 0 {
-                        visit(t - w);
-                    }
-                    if y + 1 < h {
-                        visit(t + w);
-                    }
-                }
-                texels.sort_unstable();
-                strata.push(Stratum {
-                    layer,
-                    parent,
-                    gamma: gamma(&texels),
-                    texels,
-                    count: 0,
-                    samples: Vec::new(),
-                });
-            }
-            owner = next;
+            owner = layer_strata(map, layer, threshold, &owner, &mut strata);
         }
     }
+    strata
+}
 
-    // Counts, top-down: each stratum shares its count among its children.
-    let gamma_sphere = strata[0].gamma;
+/// Appends the components of {Y ≥ `threshold`} to `strata` as the strata of `layer` (each
+/// inside the stratum of the layer below that `owner` names); returns the new owners.
+fn layer_strata(
+    map: &Texels,
+    layer: usize,
+    threshold: f64,
+    owner: &[u32],
+    strata: &mut Vec<Stratum>,
+) -> Vec<u32> {
+    let (w, h, lum) = (map.w, map.h, &map.lum);
+    let mut next = vec![u32::MAX; w * h];
+    let mut stack = Vec::new();
+    for start in 0..w * h {
+        if next[start] != u32::MAX || (lum[start] as f64) < threshold || owner[start] == u32::MAX {
+            continue;
+        }
+        let id = strata.len() as u32;
+        let parent = owner[start] as usize;
+        let mut texels = Vec::new();
+        next[start] = id;
+        stack.push(start);
+        while let Some(t) = stack.pop() {
+            texels.push(t as u32);
+            let (x, y) = (t % w, t / w);
+            let mut visit = |u: usize| {
+                if next[u] == u32::MAX && lum[u] as f64 >= threshold {
+                    next[u] = id;
+                    stack.push(u);
+                }
+            };
+            visit(y * w + (x + 1) % w);
+            visit(y * w + (x + w - 1) % w);
+            if y > 0 {
+                visit(t - w);
+            }
+            if y + 1 < h {
+                visit(t + w);
+            }
+        }
+        texels.sort_unstable();
+        strata.push(Stratum {
+            layer,
+            parent,
+            gamma: map.gamma(&texels),
+            texels,
+            count: 0,
+            samples: Vec::new(),
+        });
+    }
+    next
+}
+
+/// Each stratum's children: the strata of the next layer nested inside it.
+fn children(strata: &[Stratum]) -> Vec<Vec<usize>> {
     let mut children: Vec<Vec<usize>> = vec![Vec::new(); strata.len()];
     for (i, s) in strata.iter().enumerate().skip(1) {
         children[s.parent].push(i);
     }
+    children
+}
+
+/// Step 3: counts, top-down: each stratum shares its count among its children.
+fn share_counts(strata: &mut [Stratum], children: &[Vec<usize>], n: usize) {
+    let gamma_sphere = strata[0].gamma;
     for p in 0..strata.len() {
         let kids = &children[p];
         if kids.is_empty() || strata[p].count == 0 {
@@ -196,8 +247,17 @@ pub fn directions(env: &EnvMap, n: usize, thresholds: Thresholds) -> Vec<Vec3> {
             strata[k].count = counts[i].min(strata[k].texels.len());
         }
     }
+}
 
-    // Placement, deepest layer first; strata of one layer are disjoint.
+/// Step 4: placement, deepest layer first; strata of one layer are disjoint. Returns the root's
+/// samples, at most `n`.
+fn place(
+    env: &EnvMap,
+    map: &Texels,
+    strata: &mut [Stratum],
+    children: &[Vec<usize>],
+    n: usize,
+) -> Vec<Vec3> {
     let mut by_layer: Vec<usize> = (0..strata.len()).collect();
     by_layer.sort_by_key(|&i| std::cmp::Reverse(strata[i].layer));
     for &i in &by_layer {
@@ -206,7 +266,7 @@ pub fn directions(env: &EnvMap, n: usize, thresholds: Thresholds) -> Vec<Vec3> {
             inherited.append(&mut strata[k].samples);
         }
         let want = strata[i].count;
-        let mut candidates = candidate_dirs(env, &strata[i].texels, &lum);
+        let mut candidates = candidate_dirs(env, &strata[i].texels, &map.lum);
         if i == 0 && candidates.len() < 4 * n {
             // A tiny map has fewer texels than lights want: add an even spread of extra points.
             candidates.extend(fibonacci_sphere(4 * n));

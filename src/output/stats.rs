@@ -184,31 +184,10 @@ const OLD_TIME_COLUMN: &str = "seconds";
 /// are recomputed from the counts). Every reader of `stats.csv` reads it through this.
 /// A missing or malformed file is an input error naming it (and the line).
 pub fn read_stats(path: &Path) -> Result<Vec<FrameStats>> {
-    let text = match std::fs::read_to_string(path) {
-        Ok(t) => t,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            return Err(input_error(
-                path,
-                "not found: not a render output folder (envshadow render writes stats.csv)",
-            ));
-        }
-        Err(e) => return Err(input_error(path, format!("cannot read: {e}"))),
-    };
+    let text = read_text(path)?;
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
-    for name in HEADER.split(',') {
-        let old_time = name == TIME_COLUMN && header.contains(&OLD_TIME_COLUMN);
-        if !header.contains(&name)
-            && !SPLIT_COLUMNS.contains(&name)
-            && name != SPP_COLUMN
-            && !old_time
-        {
-            return Err(input_error(
-                path,
-                format!("no column {name:?} in the header"),
-            ));
-        }
-    }
+    check_header(path, &header)?;
     let mut rows = Vec::new();
     for (n, line) in lines.enumerate() {
         if line.trim().is_empty() {
@@ -226,40 +205,112 @@ pub fn read_stats(path: &Path) -> Result<Vec<FrameStats>> {
                 ),
             ));
         }
-        let cell = |name: &str| -> Option<&str> {
-            let k = header.iter().position(|h| *h == name)?;
-            Some(fields[k].trim()).filter(|s| !s.is_empty())
+        let row = Row {
+            path,
+            line_no,
+            header: &header,
+            fields,
         };
-        let bad = |name: &str, s: &str| {
-            input_error(
+        rows.push(row.frame_stats()?);
+    }
+    rows.sort_by_key(|r| r.frame);
+    Ok(rows)
+}
+
+/// The text of `stats.csv`; a missing file says it is no render output folder.
+fn read_text(path: &Path) -> Result<String> {
+    match std::fs::read_to_string(path) {
+        Ok(t) => Ok(t),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Err(input_error(
+            path,
+            "not found: not a render output folder (envshadow render writes stats.csv)",
+        )),
+        Err(e) => Err(input_error(path, format!("cannot read: {e}"))),
+    }
+}
+
+/// Every column of [`HEADER`] is in `header`, but those older files lack (the split columns,
+/// `spp`, and `thread_seconds` where the old time column stands).
+fn check_header(path: &Path, header: &[&str]) -> Result<()> {
+    for name in HEADER.split(',') {
+        let old_time = name == TIME_COLUMN && header.contains(&OLD_TIME_COLUMN);
+        if !header.contains(&name)
+            && !SPLIT_COLUMNS.contains(&name)
+            && name != SPP_COLUMN
+            && !old_time
+        {
+            return Err(input_error(
                 path,
-                format!("line {line_no}: {name} {s:?} is not a number"),
-            )
-        };
-        let need = |name: &str| -> Result<f64> {
-            let s = cell(name).unwrap_or("");
-            s.parse().map_err(|_| bad(name, s))
-        };
-        let count = |name: &str| -> Result<u64> {
-            match cell(name) {
-                None if SPLIT_COLUMNS.contains(&name) || !header.contains(&name) => Ok(0),
-                s => {
-                    let s = s.unwrap_or("");
-                    s.parse().map_err(|_| bad(name, s))
-                }
+                format!("no column {name:?} in the header"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// One row of `stats.csv`, its cells read by column name.
+struct Row<'a> {
+    path: &'a Path,
+    /// Its line in the file, from 1 (the header is line 1).
+    line_no: usize,
+    header: &'a [&'a str],
+    fields: Vec<&'a str>,
+}
+
+impl Row<'_> {
+    /// The cell of column `name`, trimmed; None for a missing column or an empty cell.
+    fn cell(&self, name: &str) -> Option<&str> {
+        let k = self.header.iter().position(|h| *h == name)?;
+        Some(self.fields[k].trim()).filter(|s| !s.is_empty())
+    }
+
+    /// The error for cell `s` of column `name`, which is not a number.
+    fn bad(&self, name: &str, s: &str) -> anyhow::Error {
+        input_error(
+            self.path,
+            format!("line {}: {name} {s:?} is not a number", self.line_no),
+        )
+    }
+
+    /// A number that must be there.
+    fn need(&self, name: &str) -> Result<f64> {
+        let s = self.cell(name).unwrap_or("");
+        s.parse().map_err(|_| self.bad(name, s))
+    }
+
+    /// A count; 0 where an older file lacks the column (or leaves a split column empty).
+    fn count(&self, name: &str) -> Result<u64> {
+        match self.cell(name) {
+            None if SPLIT_COLUMNS.contains(&name) || !self.header.contains(&name) => Ok(0),
+            s => {
+                let s = s.unwrap_or("");
+                s.parse().map_err(|_| self.bad(name, s))
             }
-        };
-        let optional = |name: &str| -> Result<Option<f64>> {
-            match cell(name) {
-                None => Ok(None),
-                Some(s) => s.parse().map(Some).map_err(|_| bad(name, s)),
-            }
-        };
-        let v3 = |x: &str, y: &str, z: &str| -> Result<Vec3> {
-            Ok(Vec3::new(need(x)? as f32, need(y)? as f32, need(z)? as f32))
-        };
-        let validated = cell("wrong_visible").is_some();
-        let counts = Counts {
+        }
+    }
+
+    /// A number that may be left empty (the validation columns).
+    fn optional(&self, name: &str) -> Result<Option<f64>> {
+        match self.cell(name) {
+            None => Ok(None),
+            Some(s) => s.parse().map(Some).map_err(|_| self.bad(name, s)),
+        }
+    }
+
+    /// A vector from three number columns.
+    fn v3(&self, x: &str, y: &str, z: &str) -> Result<Vec3> {
+        Ok(Vec3::new(
+            self.need(x)? as f32,
+            self.need(y)? as f32,
+            self.need(z)? as f32,
+        ))
+    }
+
+    /// The frame's counts; the validation counts 0 for a frame rendered without `--validate`.
+    fn counts(&self) -> Result<Counts> {
+        let validated = self.cell("wrong_visible").is_some();
+        let count = |name: &str| self.count(name);
+        Ok(Counts {
             queries: count("queries")?,
             rays: count("rays_traced")?,
             halo_pixels: count("halo_pixels")?,
@@ -281,45 +332,55 @@ pub fn read_stats(path: &Path) -> Result<Vec<FrameStats>> {
             rays_every_light: count("rays_every_light")?,
             rays_flooded: count("rays_flooded")?,
             flood_fixes: count("flood_fixes")?,
-        };
-        let image_error = match (
-            optional("rmse")?,
-            optional("rel_rmse")?,
-            optional("psnr_db")?,
-        ) {
-            (Some(rmse), Some(rel_rmse), Some(psnr_db)) => Some(ImageError {
-                rmse,
-                rel_rmse,
-                psnr_db,
-            }),
-            _ => None,
-        };
-        rows.push(FrameStats {
-            frame: count("frame")? as usize,
-            method: cell("method").unwrap_or_default().to_string(),
-            lights: count("lights")? as usize,
-            width: count("width")? as u32,
-            height: count("height")? as u32,
-            spp: if header.contains(&SPP_COLUMN) {
-                count(SPP_COLUMN)? as u32
+        })
+    }
+
+    /// The image against brute force, when the row has all three measures.
+    fn image_error(&self) -> Result<Option<ImageError>> {
+        Ok(
+            match (
+                self.optional("rmse")?,
+                self.optional("rel_rmse")?,
+                self.optional("psnr_db")?,
+            ) {
+                (Some(rmse), Some(rel_rmse), Some(psnr_db)) => Some(ImageError {
+                    rmse,
+                    rel_rmse,
+                    psnr_db,
+                }),
+                _ => None,
+            },
+        )
+    }
+
+    /// The row as a [`FrameStats`] (a bad cell is an error naming its column and line).
+    fn frame_stats(&self) -> Result<FrameStats> {
+        let counts = self.counts()?;
+        let image_error = self.image_error()?;
+        Ok(FrameStats {
+            frame: self.count("frame")? as usize,
+            method: self.cell("method").unwrap_or_default().to_string(),
+            lights: self.count("lights")? as usize,
+            width: self.count("width")? as u32,
+            height: self.count("height")? as u32,
+            spp: if self.header.contains(&SPP_COLUMN) {
+                self.count(SPP_COLUMN)? as u32
             } else {
                 1
             },
             counts,
             image_error,
-            thread_seconds: if header.contains(&TIME_COLUMN) {
-                need(TIME_COLUMN)?
+            thread_seconds: if self.header.contains(&TIME_COLUMN) {
+                self.need(TIME_COLUMN)?
             } else {
-                need(OLD_TIME_COLUMN)?
+                self.need(OLD_TIME_COLUMN)?
             },
-            camera_position: v3("camera_x", "camera_y", "camera_z")?,
-            camera_target: v3("target_x", "target_y", "target_z")?,
-            camera_up: v3("up_x", "up_y", "up_z")?,
-            vfov_deg: need("vfov_deg")? as f32,
-        });
+            camera_position: self.v3("camera_x", "camera_y", "camera_z")?,
+            camera_target: self.v3("target_x", "target_y", "target_z")?,
+            camera_up: self.v3("up_x", "up_y", "up_z")?,
+            vfov_deg: self.need("vfov_deg")? as f32,
+        })
     }
-    rows.sort_by_key(|r| r.frame);
-    Ok(rows)
 }
 
 #[cfg(test)]

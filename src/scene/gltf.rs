@@ -790,6 +790,87 @@ fn bytes_of<'a>(encoded: &'a Encoded, buffers: &'a [Vec<u8>]) -> &'a [u8] {
     }
 }
 
+/// A primitive's attributes that its material reads, as the file gives them.
+struct MaterialAttributes {
+    /// `TEXCOORD_0`, if the primitive has it.
+    uvs: Option<Vec<[f32; 2]>>,
+    /// `TEXCOORD_1` when the material reads it (zeros where the primitive lacks it).
+    uvs1: Option<Vec<[f32; 2]>>,
+    /// `COLOR_0` as linear RGBA.
+    colors: Option<Vec<Vec4>>,
+    /// The file's tangents, read only for a normal-mapped material.
+    tangents: Option<Vec<[f32; 4]>>,
+}
+
+/// A primitive's vertices placed in the scene (world space, counted from the render origin):
+/// every attribute, one entry per vertex.
+struct Vertices {
+    positions: Vec<Vec3>,
+    normals: Vec<Vec3>,
+    uvs: Vec<Vec2>,
+    uvs1: Option<Vec<Vec2>>,
+    colors: Option<Vec<Vec4>>,
+    tangents: Option<Vec<Vec4>>,
+}
+
+impl Vertices {
+    /// Appends a copy of vertex `v` (a vertex the tangent generator split), every attribute
+    /// but the tangents, which the generator returns for the copies too.
+    fn copy_vertex(&mut self, v: usize) {
+        self.positions.push(self.positions[v]);
+        self.normals.push(self.normals[v]);
+        self.uvs.push(self.uvs[v]);
+        if let Some(u1) = &mut self.uvs1 {
+            u1.push(u1[v]);
+        }
+        if let Some(c) = &mut self.colors {
+            c.push(c[v]);
+        }
+    }
+}
+
+/// The file's normals moved to world space by `world`'s normal matrix; where one is zero or
+/// not finite, or the file has none, the `smooth` normal computed from the triangles.
+fn place_normals(normals: Option<&[[f32; 3]]>, smooth: Vec<Vec3>, world: DMat4) -> Vec<Vec3> {
+    let nm = normal_matrix(world.as_mat4());
+    match normals {
+        Some(normals) => normals
+            .iter()
+            .zip(&smooth)
+            .map(|(&n, &fallback)| {
+                let n = (nm * Vec3::from_array(n)).normalize_or_zero();
+                // Zero or non-finite file normals: use the computed one instead.
+                if n != Vec3::ZERO && n.is_finite() {
+                    n
+                } else {
+                    fallback
+                }
+            })
+            .collect(),
+        None => smooth,
+    }
+}
+
+/// The file's tangents moved to world space like any surface direction, their handedness
+/// flipped by a mirroring `world`; zero where the transformed direction is.
+fn world_tangents(t: &[[f32; 4]], world: DMat4) -> Vec<Vec4> {
+    let handedness = if world.determinant() < 0.0 { -1.0 } else { 1.0 };
+    let world_f32 = world.as_mat4();
+    t.iter()
+        .map(|t| {
+            let v = world_f32
+                .transform_vector3(Vec3::new(t[0], t[1], t[2]))
+                .normalize_or_zero();
+            let w = if t[3] < 0.0 { -1.0 } else { 1.0 };
+            if v.is_finite() && v != Vec3::ZERO {
+                v.extend(w * handedness)
+            } else {
+                Vec4::ZERO
+            }
+        })
+        .collect()
+}
+
 /// State while walking the node hierarchy.
 struct Loader<'a> {
     path: &'a Path,
@@ -976,7 +1057,50 @@ impl Loader<'_> {
         let Some(pos_acc) = primitive.get(&Semantic::Positions) else {
             bail_input!(self.path, "{at}: no POSITION attribute");
         };
-        let positions = self.read_floats::<3>(&at, &pos_acc)?;
+        let positions = self.read_positions(&at, &pos_acc)?;
+        let count = positions.len();
+        let normals = match primitive.get(&Semantic::Normals) {
+            Some(acc) => {
+                let normals = self.read_floats::<3>(&at, &acc)?;
+                self.check_count(&at, &acc, "NORMAL", normals.len(), &pos_acc, count)?;
+                Some(normals)
+            }
+            None => None,
+        };
+        let material = self.material(primitive.material())?;
+        let file = self.read_material_attributes(&at, primitive, material, &pos_acc, count)?;
+        let mut tris = self.read_triangles(&at, primitive, mode, count)?;
+
+        let world_pos = self.place_positions(&at, &positions, world, &pos_acc)?;
+        self.keep_front_faces(&at, world, &world_pos, &mut tris);
+        let smooth = smooth_normals(&world_pos, &tris);
+        let mut vertices = Vertices {
+            normals: place_normals(normals.as_deref(), smooth, world),
+            positions: world_pos,
+            uvs: match file.uvs {
+                Some(uvs) => uvs.into_iter().map(Vec2::from_array).collect(),
+                None => vec![Vec2::ZERO; count],
+            },
+            uvs1: file
+                .uvs1
+                .map(|u| u.into_iter().map(Vec2::from_array).collect()),
+            colors: file.colors,
+            tangents: None,
+        };
+        vertices.tangents = self.tangents(
+            &at,
+            material,
+            file.tangents,
+            world,
+            &mut vertices,
+            &mut tris,
+        );
+        self.append(&at, material, vertices, tris)
+    }
+
+    /// The primitive's POSITION attribute, checked finite.
+    fn read_positions(&self, at: &str, pos_acc: &Accessor) -> Result<Vec<[f32; 3]>> {
+        let positions = self.read_floats::<3>(at, pos_acc)?;
         if let Some(i) = positions
             .iter()
             .position(|v| !v.iter().all(|c| c.is_finite()))
@@ -988,23 +1112,26 @@ impl Loader<'_> {
                 positions[i]
             );
         }
-        let count = positions.len();
-        let normals = match primitive.get(&Semantic::Normals) {
-            Some(acc) => {
-                let normals = self.read_floats::<3>(&at, &acc)?;
-                self.check_count(&at, &acc, "NORMAL", normals.len(), &pos_acc, count)?;
-                Some(normals)
-            }
-            None => None,
-        };
+        Ok(positions)
+    }
 
-        let material = self.material(primitive.material())?;
+    /// The attributes `material` reads (texture coordinates, vertex colours, the file's
+    /// tangents for a normal map), checked against the vertex count; what the primitive lacks or
+    /// the renderer ignores is warned about once per material.
+    fn read_material_attributes(
+        &mut self,
+        at: &str,
+        primitive: &Primitive,
+        material: u32,
+        pos_acc: &Accessor,
+        count: usize,
+    ) -> Result<MaterialAttributes> {
         let sets = tex_coord_sets(primitive);
         let textured = self.scene.materials[material as usize]
             .slots()
             .iter()
             .any(|(_, s)| s.is_some());
-        let uvs = self.read_uvs(&at, primitive, 0, &pos_acc, count)?;
+        let uvs = self.read_uvs(at, primitive, 0, pos_acc, count)?;
         if uvs.is_none() && textured {
             self.warn_material(
                 material,
@@ -1013,7 +1140,7 @@ impl Loader<'_> {
             );
         }
         let uvs1 = if sets[1] {
-            let uvs1 = self.read_uvs(&at, primitive, 1, &pos_acc, count)?;
+            let uvs1 = self.read_uvs(at, primitive, 1, pos_acc, count)?;
             if uvs1.is_none() {
                 self.warn_material(
                     material,
@@ -1026,7 +1153,7 @@ impl Loader<'_> {
             None
         };
         let colors = match primitive.get(&Semantic::Colors(0)) {
-            Some(acc) => Some(self.read_colors(&at, &acc, &pos_acc, count)?),
+            Some(acc) => Some(self.read_colors(at, &acc, pos_acc, count)?),
             None => None,
         };
         if primitive.get(&Semantic::Colors(1)).is_some() {
@@ -1039,18 +1166,34 @@ impl Loader<'_> {
             );
         }
         let normal_slot = self.scene.materials[material as usize].normal_texture;
-        let file_tangents = match (&normal_slot, primitive.get(&Semantic::Tangents)) {
+        let tangents = match (&normal_slot, primitive.get(&Semantic::Tangents)) {
             (Some(_), Some(acc)) => {
-                let t = self.read_floats::<4>(&at, &acc)?;
-                self.check_count(&at, &acc, "TANGENT", t.len(), &pos_acc, count)?;
+                let t = self.read_floats::<4>(at, &acc)?;
+                self.check_count(at, &acc, "TANGENT", t.len(), pos_acc, count)?;
                 Some(t)
             }
             _ => None,
         };
+        Ok(MaterialAttributes {
+            uvs,
+            uvs1,
+            colors,
+            tangents,
+        })
+    }
 
+    /// The primitive's triangles as vertex indices (its index accessor, checked against the
+    /// `count` vertices, or the vertices in order), assembled from its `mode`.
+    fn read_triangles(
+        &mut self,
+        at: &str,
+        primitive: &Primitive,
+        mode: Mode,
+        count: usize,
+    ) -> Result<Vec<[u32; 3]>> {
         let indices: Vec<u32> = match primitive.indices() {
             Some(acc) => {
-                let indices = self.read_indices(&at, &acc)?;
+                let indices = self.read_indices(at, &acc)?;
                 if let Some(&bad) = indices.iter().find(|&&i| i as usize >= count) {
                     bail_input!(
                         self.path,
@@ -1065,7 +1208,7 @@ impl Loader<'_> {
                 Err(_) => bail_input!(self.path, "{at}: too many vertices ({count})"),
             },
         };
-        let mut tris = assemble(mode, &indices);
+        let tris = assemble(mode, &indices);
         if mode == Mode::Triangles && !indices.len().is_multiple_of(3) {
             self.warn(format!(
                 "{at}: {} indices is not a multiple of 3, the last {} ignored",
@@ -1073,7 +1216,17 @@ impl Loader<'_> {
                 indices.len() % 3
             ));
         }
+        Ok(tris)
+    }
 
+    /// The positions placed by `world`, counted from the render origin.
+    fn place_positions(
+        &self,
+        at: &str,
+        positions: &[[f32; 3]],
+        world: DMat4,
+        pos_acc: &Accessor,
+    ) -> Result<Vec<Vec3>> {
         // Placed in f64, then counted from the render origin: one rounding to f32.
         let origin = self.scene.origin;
         let world_pos: Vec<Vec3> = positions
@@ -1087,9 +1240,21 @@ impl Loader<'_> {
                 pos_acc.index()
             );
         }
+        Ok(world_pos)
+    }
+
+    /// Keeps the front side of `tris` under a mirroring `world`, and drops the zero-area
+    /// triangles among them (warned about).
+    fn keep_front_faces(
+        &mut self,
+        at: &str,
+        world: DMat4,
+        world_pos: &[Vec3],
+        tris: &mut Vec<[u32; 3]>,
+    ) {
         if world.determinant() < 0.0 {
             // A mirror turns counter-clockwise into clockwise; swap to keep the front side.
-            for t in &mut tris {
+            for t in tris.iter_mut() {
                 t.swap(1, 2);
             }
         }
@@ -1106,98 +1271,57 @@ impl Loader<'_> {
                 before - tris.len()
             ));
         }
-        let smooth = smooth_normals(&world_pos, &tris);
-        let nm = normal_matrix(world.as_mat4());
-        let world_nrm: Vec<Vec3> = match &normals {
-            Some(normals) => normals
-                .iter()
-                .zip(&smooth)
-                .map(|(&n, &fallback)| {
-                    let n = (nm * Vec3::from_array(n)).normalize_or_zero();
-                    // Zero or non-finite file normals: use the computed one instead.
-                    if n != Vec3::ZERO && n.is_finite() {
-                        n
-                    } else {
-                        fallback
-                    }
-                })
-                .collect(),
-            None => smooth,
-        };
+    }
 
-        let mut uvs: Vec<Vec2> = match uvs {
-            Some(uvs) => uvs.into_iter().map(Vec2::from_array).collect(),
-            None => vec![Vec2::ZERO; count],
+    /// Tangents for a normal map: the file's, moved to world space like any surface
+    /// direction, else MikkTSpace's over the normal map's own (transformed) coordinates, which
+    /// may split vertices (every attribute of `v` follows). Zero where none can be had: the
+    /// normal map is then not applied there. None without a normal map.
+    fn tangents(
+        &mut self,
+        at: &str,
+        material: u32,
+        file_tangents: Option<Vec<[f32; 4]>>,
+        world: DMat4,
+        v: &mut Vertices,
+        tris: &mut [[u32; 3]],
+    ) -> Option<Vec<Vec4>> {
+        let slot = self.scene.materials[material as usize].normal_texture?;
+        if let Some(t) = file_tangents {
+            return Some(world_tangents(&t, world));
+        }
+        let source = match (slot.tex_coord, &v.uvs1) {
+            (1, Some(u1)) => u1,
+            _ => &v.uvs,
         };
-        let mut uvs1: Option<Vec<Vec2>> =
-            uvs1.map(|u| u.into_iter().map(Vec2::from_array).collect());
-        let mut world_pos = world_pos;
-        let mut world_nrm = world_nrm;
-        let mut colors = colors;
-        // Tangents for a normal map: the file's, moved to world space like any surface
-        // direction, else MikkTSpace's over the normal map's own (transformed) coordinates.
-        // Zero where none can be had: the normal map is then not applied there.
-        let tangents: Option<Vec<Vec4>> = match (normal_slot, file_tangents) {
-            (None, _) => None,
-            (Some(_), Some(t)) => {
-                let handedness = if world.determinant() < 0.0 { -1.0 } else { 1.0 };
-                let world_f32 = world.as_mat4();
-                Some(
-                    t.iter()
-                        .map(|t| {
-                            let v = world_f32
-                                .transform_vector3(Vec3::new(t[0], t[1], t[2]))
-                                .normalize_or_zero();
-                            let w = if t[3] < 0.0 { -1.0 } else { 1.0 };
-                            if v.is_finite() && v != Vec3::ZERO {
-                                v.extend(w * handedness)
-                            } else {
-                                Vec4::ZERO
-                            }
-                        })
-                        .collect(),
-                )
-            }
-            (Some(slot), None) => {
-                let source = match (slot.tex_coord, &uvs1) {
-                    (1, Some(u1)) => u1,
-                    _ => &uvs,
-                };
-                let mapped: Vec<Vec2> = match &slot.transform {
-                    Some(t) => source.iter().map(|&uv| t.apply(uv)).collect(),
-                    None => source.clone(),
-                };
-                let mut split = Vec::new();
-                match tangents::generate(&world_pos, &world_nrm, &mapped, &mut tris, &mut split) {
-                    Some(t) => {
-                        // Copies of split vertices: every attribute follows.
-                        for &v in &split {
-                            let v = v as usize;
-                            world_pos.push(world_pos[v]);
-                            world_nrm.push(world_nrm[v]);
-                            uvs.push(uvs[v]);
-                            if let Some(u1) = &mut uvs1 {
-                                u1.push(u1[v]);
-                            }
-                            if let Some(c) = &mut colors {
-                                c.push(c[v]);
-                            }
-                        }
-                        Some(t)
-                    }
-                    None => {
-                        self.warn_material(
-                            material,
-                            "tangents",
-                            format!("{at}: no tangents can be made (no texture coordinate area); the normal map is not applied"),
-                        );
-                        Some(vec![Vec4::ZERO; world_pos.len()])
-                    }
+        let mapped: Vec<Vec2> = match &slot.transform {
+            Some(t) => source.iter().map(|&uv| t.apply(uv)).collect(),
+            None => source.clone(),
+        };
+        let mut split = Vec::new();
+        match tangents::generate(&v.positions, &v.normals, &mapped, tris, &mut split) {
+            Some(t) => {
+                // Copies of split vertices: every attribute follows.
+                for &s in &split {
+                    v.copy_vertex(s as usize);
                 }
+                Some(t)
             }
-        };
-        let count = world_pos.len();
+            None => {
+                self.warn_material(
+                    material,
+                    "tangents",
+                    format!("{at}: no tangents can be made (no texture coordinate area); the normal map is not applied"),
+                );
+                Some(vec![Vec4::ZERO; v.positions.len()])
+            }
+        }
+    }
 
+    /// Appends the placed vertices and their triangles to the scene, within the scene's
+    /// limits.
+    fn append(&mut self, at: &str, material: u32, v: Vertices, tris: Vec<[u32; 3]>) -> Result<()> {
+        let count = v.positions.len();
         let vertex_base = self.scene.positions.len();
         if vertex_base + count > crate::limits::MAX_VERTICES {
             bail_input!(
@@ -1219,28 +1343,28 @@ impl Loader<'_> {
         extend_optional(
             &mut scene.uvs1,
             vertex_base,
-            uvs1.unwrap_or_default(),
+            v.uvs1.unwrap_or_default(),
             count,
             Vec2::ZERO,
         );
         extend_optional(
             &mut scene.tangents,
             vertex_base,
-            tangents.unwrap_or_default(),
+            v.tangents.unwrap_or_default(),
             count,
             Vec4::ZERO,
         );
         extend_optional(
             &mut scene.colors,
             vertex_base,
-            colors.unwrap_or_default(),
+            v.colors.unwrap_or_default(),
             count,
             Vec4::ONE,
         );
         let vertex_base = vertex_base as u32;
-        self.scene.positions.extend(world_pos);
-        self.scene.normals.extend(world_nrm);
-        self.scene.uvs.extend(uvs);
+        self.scene.positions.extend(v.positions);
+        self.scene.normals.extend(v.normals);
+        self.scene.uvs.extend(v.uvs);
         self.scene
             .tri_material
             .extend(std::iter::repeat_n(material, tris.len()));
@@ -1344,13 +1468,7 @@ impl Loader<'_> {
     /// material uses that the renderer does not do is named in one warning per material.
     fn material(&mut self, material: ::gltf::Material) -> Result<u32> {
         let Some(index) = material.index() else {
-            if let Some(i) = self.default_material {
-                return Ok(i);
-            }
-            let i = self.scene.materials.len() as u32;
-            self.scene.materials.push(Material::default_grey());
-            self.default_material = Some(i);
-            return Ok(i);
+            return Ok(self.default_material());
         };
         if let Some(&i) = self.material_map.get(&index) {
             return Ok(i);
@@ -1358,7 +1476,43 @@ impl Loader<'_> {
         let name = material
             .name()
             .map_or_else(|| format!("material {index}"), str::to_string);
-        let alpha_mode = match material.alpha_mode() {
+        let alpha_mode = self.alpha_mode(index, &name, &material)?;
+        let mut m = self.factors(index, &name, &material, alpha_mode)?;
+        let mut unsupported = self.texture_slots(index, &material, &mut m)?;
+        unsupported.extend(self.unsupported_material_extensions(&material));
+        if !unsupported.is_empty() {
+            self.warn(format!(
+                "material {index} ({name:?}): {}",
+                unsupported.join("; ")
+            ));
+        }
+        let i = self.scene.materials.len() as u32;
+        self.scene.materials.push(m);
+        self.material_map.insert(index, i);
+        Ok(i)
+    }
+
+    /// The scene index of the default grey material, added the first time a primitive needs
+    /// it.
+    fn default_material(&mut self) -> u32 {
+        if let Some(i) = self.default_material {
+            return i;
+        }
+        let i = self.scene.materials.len() as u32;
+        self.scene.materials.push(Material::default_grey());
+        self.default_material = Some(i);
+        i
+    }
+
+    /// The material's alpha mode: a mask's cutoff checked, blending warned about (it is
+    /// rendered as coverage).
+    fn alpha_mode(
+        &mut self,
+        index: usize,
+        name: &str,
+        material: &::gltf::Material,
+    ) -> Result<AlphaMode> {
+        Ok(match material.alpha_mode() {
             ::gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
             ::gltf::material::AlphaMode::Mask => {
                 let cutoff = material.alpha_cutoff().unwrap_or(0.5);
@@ -1379,7 +1533,18 @@ impl Loader<'_> {
                 ));
                 AlphaMode::Blend
             }
-        };
+        })
+    }
+
+    /// The material's factors (base colour, metallic-roughness, emission, ior, specular, the
+    /// normal and occlusion textures' scales), each checked finite; no textures yet.
+    fn factors(
+        &self,
+        index: usize,
+        name: &str,
+        material: &::gltf::Material,
+        alpha_mode: AlphaMode,
+    ) -> Result<Material> {
         let at = format!("material {index} ({name:?})");
         let finite = |what: &str, values: &[f32]| -> Result<()> {
             if values.iter().all(|v| v.is_finite()) {
@@ -1408,7 +1573,7 @@ impl Loader<'_> {
             specular_color = Vec3::from_array(c);
         }
         let mut m = Material {
-            name: name.clone(),
+            name: name.to_string(),
             base_color: Vec3::new(r, g, b),
             base_alpha: alpha,
             alpha_mode,
@@ -1430,8 +1595,19 @@ impl Loader<'_> {
             m.occlusion_strength = o.strength();
             finite("occlusionTexture.strength", &[m.occlusion_strength])?;
         }
+        Ok(m)
+    }
+
+    /// Sets `m`'s texture slots from the material's textures (each image decoded once);
+    /// returns what of them the renderer does not do, for the material's warning.
+    fn texture_slots(
+        &mut self,
+        index: usize,
+        material: &::gltf::Material,
+        m: &mut Material,
+    ) -> Result<Vec<String>> {
         let mut unsupported: Vec<String> = Vec::new();
-        for r in texture_refs(&material) {
+        for r in texture_refs(material) {
             let set = match r.set() {
                 s @ (0 | 1) => s as u8,
                 s => {
@@ -1459,6 +1635,13 @@ impl Loader<'_> {
                 _ => m.occlusion_texture = slot,
             }
         }
+        Ok(unsupported)
+    }
+
+    /// The material's extensions that the renderer does not implement, for its warning (and
+    /// noted, so the file's own warning does not name them again).
+    fn unsupported_material_extensions(&mut self, material: &::gltf::Material) -> Vec<String> {
+        let mut unsupported = Vec::new();
         // Material extensions the `gltf` crate does not parse (or we did not enable) come back
         // as JSON: every one of them is one we do not implement.
         if let Some(others) = material.extensions() {
@@ -1469,16 +1652,7 @@ impl Loader<'_> {
                 unsupported.push(format!("{ext} is not supported (ignored)"));
             }
         }
-        if !unsupported.is_empty() {
-            self.warn(format!(
-                "material {index} ({name:?}): {}",
-                unsupported.join("; ")
-            ));
-        }
-        let i = self.scene.materials.len() as u32;
-        self.scene.materials.push(m);
-        self.material_map.insert(index, i);
-        Ok(i)
+        unsupported
     }
 
     /// Warns once about the extensions the file uses that are not implemented, beyond the

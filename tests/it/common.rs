@@ -127,9 +127,20 @@ pub fn animation(body: &str) -> Animation {
     .expect("test spec parses")
 }
 
-/// The envshadow binary built for these tests.
+/// Worker threads of a render spawned through [`bin`] that does not ask for its own: the tests
+/// run in parallel, and a render on every core each would oversubscribe the machine. Frames do
+/// not depend on the thread count, so no output changes.
+const SPAWNED_THREADS: &str = "2";
+
+/// The envshadow binary built for these tests. Its renders run on [`SPAWNED_THREADS`] workers
+/// unless the test passes `--threads` or the caller set `RAYON_NUM_THREADS` (which rayon
+/// reads for `--threads 0`, the default).
 pub fn bin() -> std::process::Command {
-    std::process::Command::new(env!("CARGO_BIN_EXE_envshadow"))
+    let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_envshadow"));
+    if std::env::var_os("RAYON_NUM_THREADS").is_none() {
+        c.env("RAYON_NUM_THREADS", SPAWNED_THREADS);
+    }
+    c
 }
 
 /// The one line of a refusal on stderr: it starts with `error: ` and is the only line, unless

@@ -1,8 +1,8 @@
 //! Frames that must not change: the SHA-256 of every file of a fixed set of renders, recorded
 //! before the restructure of issue 25 ("one direction through the renderer"). A change that
 //! moves code around must leave every frame, AOV and count bit for bit as it was; a change
-//! that means to alter the pixels updates the table below on purpose (the failure prints the
-//! whole new table). Updated once on purpose since: when every transcendental function on the
+//! that means to alter the pixels updates the table below on purpose (each render is its own
+//! test, named after it, and its failure prints the render's new lines of the table). Updated once on purpose since: when every transcendental function on the
 //! output path moved from the host's C library to the pure-Rust `libm` (issue 20, item 10),
 //! which changed last bits (the bunny's frame 0 at 320×240: 306 of 7.77 M queries flipped).
 //! Since then these hashes hold on any host whatever its C library. Updated on purpose again
@@ -337,67 +337,134 @@ fn hashes(dir: &Path, assets: &str, spp: &str) -> Vec<(String, String)> {
         .collect()
 }
 
-#[test]
-fn every_recorded_frame_keeps_its_bits() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let tmp = tempfile::tempdir().unwrap();
-    let assets = common::assets_dir();
-    let mut got: Vec<(String, String, String)> = Vec::new();
-    for r in renders() {
-        let out = tmp.path().join(r.name);
-        // The specs name their files under ../assets; point them at the test assets.
-        let text = std::fs::read_to_string(root.join(r.spec)).unwrap();
-        let spec = tmp.path().join(format!("{}.toml", r.name));
-        let dir = format!("{}/", assets.display());
-        std::fs::write(&spec, text.replace("../assets/", &dir)).unwrap();
-        let o = common::bin()
-            .args(["render", "-q", "--no-report"])
-            .arg(&spec)
-            .args(&r.flags)
-            .arg("--out")
-            .arg(&out)
-            .output()
-            .unwrap();
-        assert!(
-            o.status.success(),
-            "{}: {}",
-            r.name,
-            String::from_utf8_lossy(&o.stderr)
-        );
-        let spp = r
-            .flags
-            .iter()
-            .position(|f| f == "--spp")
-            .map_or("1", |k| r.flags[k + 1].as_str());
-        for (file, h) in hashes(&out, &dir, spp) {
-            got.push((r.name.to_string(), file, h));
-        }
-    }
-    let table: String = got
-        .iter()
-        .map(|(r, f, h)| format!("{r} {f} {h}\n"))
-        .collect();
-    let expected: Vec<(String, String, String)> = EXPECTED
+/// One `#[test]` per render of [`renders`], named after it: a render that fails names itself,
+/// and the others still run (in parallel).
+macro_rules! golden {
+    ($($test:ident: $name:literal,)*) => {
+        $(
+            #[test]
+            fn $test() {
+                keeps_its_bits($name);
+            }
+        )*
+        /// The renders the tests above check, in the order of [`renders`].
+        const TESTED: &[&str] = &[$($name),*];
+    };
+}
+
+golden! {
+    shapes_turntable: "shapes-turntable",
+    shapes_turntable_spp4: "shapes-turntable-spp4",
+    bunny_none: "bunny-none",
+    bunny_brute: "bunny-brute",
+    bunny_scan_warp_boundary: "bunny-scan-warp-boundary",
+    bunny_grid_warp_boundary: "bunny-grid-warp-boundary",
+    bunny_grid_nowarp_boundary: "bunny-grid-nowarp-boundary",
+    bunny_grid_warp_uncertainty: "bunny-grid-warp-uncertainty",
+    bunny_grid_nowarp_uncertainty: "bunny-grid-nowarp-uncertainty",
+    bunny_scan_nowarp_uncertainty: "bunny-scan-nowarp-uncertainty",
+    bunny_nowarp_all: "bunny-nowarp-all",
+    bunny_nowarp_contrary: "bunny-nowarp-contrary",
+    bunny_warp_contrary: "bunny-warp-contrary",
+    bunny_tuned: "bunny-tuned",
+    bunny_scan_block: "bunny-scan-block",
+    bunny_validate: "bunny-validate",
+    bunny_validate_warp: "bunny-validate-warp",
+    bunny_validate_scan: "bunny-validate-scan",
+    bunny_temporal_orbit: "bunny-temporal-orbit",
+    bunny_temporal_warp: "bunny-temporal-warp",
+    bunny_brute_lambert: "bunny-brute-lambert",
+    bunny_temporal_spin: "bunny-temporal-spin",
+}
+
+/// The recorded table as (render, file, hash) lines.
+fn expected() -> Vec<(&'static str, &'static str, &'static str)> {
+    EXPECTED
         .lines()
         .map(|l| {
             let f: Vec<&str> = l.split(' ').collect();
-            (f[0].to_string(), f[1].to_string(), f[2].to_string())
+            (f[0], f[1], f[2])
         })
+        .collect()
+}
+
+/// Every render has its test and every recorded line its render: a render added to
+/// [`renders`] without a test, or lines left in the table for none, fail here.
+#[test]
+fn every_render_has_its_test_and_every_recorded_hash_its_render() {
+    let names: Vec<&str> = renders().iter().map(|r| r.name).collect();
+    assert_eq!(
+        names, TESTED,
+        "golden! lists every render of renders(), in order"
+    );
+    let orphans: Vec<String> = expected()
+        .into_iter()
+        .filter(|(r, _, _)| !names.contains(r))
+        .map(|(r, f, _)| format!("{r}/{f}"))
+        .collect();
+    assert!(orphans.is_empty(), "recorded for no render: {orphans:?}");
+}
+
+/// Renders `name` of [`renders`] through the binary and compares the hashes of its files with
+/// its lines of the recorded table.
+fn keeps_its_bits(name: &str) {
+    let r = renders()
+        .into_iter()
+        .find(|r| r.name == name)
+        .unwrap_or_else(|| panic!("{name}: not in renders()"));
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let tmp = tempfile::tempdir().unwrap();
+    let assets = common::assets_dir();
+    let out = tmp.path().join(r.name);
+    // The specs name their files under ../assets; point them at the test assets.
+    let text = std::fs::read_to_string(root.join(r.spec)).unwrap();
+    let spec = tmp.path().join(format!("{}.toml", r.name));
+    let dir = format!("{}/", assets.display());
+    std::fs::write(&spec, text.replace("../assets/", &dir)).unwrap();
+    let o = common::bin()
+        .args(["render", "-q", "--no-report"])
+        .arg(&spec)
+        .args(&r.flags)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        o.status.success(),
+        "{}: {}",
+        r.name,
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let spp = r
+        .flags
+        .iter()
+        .position(|f| f == "--spp")
+        .map_or("1", |k| r.flags[k + 1].as_str());
+    let got = hashes(&out, &dir, spp);
+    let table: String = got
+        .iter()
+        .map(|(f, h)| format!("{} {f} {h}\n", r.name))
+        .collect();
+    let expected: Vec<(&str, &str)> = expected()
+        .into_iter()
+        .filter(|(n, _, _)| *n == r.name)
+        .map(|(_, f, h)| (f, h))
         .collect();
     let changed: Vec<String> = got
         .iter()
-        .filter(|g| !expected.contains(g))
-        .map(|(r, f, _)| format!("{r}/{f}"))
+        .filter(|(f, h)| !expected.contains(&(f.as_str(), h.as_str())))
+        .map(|(f, _)| format!("{}/{f}", r.name))
         .chain(
             expected
                 .iter()
-                .filter(|e| !got.iter().any(|g| g.0 == e.0 && g.1 == e.1))
-                .map(|(r, f, _)| format!("{r}/{f} (missing)")),
+                .filter(|(e, _)| !got.iter().any(|(f, _)| f == e))
+                .map(|(f, _)| format!("{}/{f} (missing)", r.name)),
         )
         .collect();
     assert!(
         changed.is_empty(),
-        "{} file(s) changed: {}\nthe new table:\n{table}",
+        "{}: {} file(s) changed: {}\nits new lines of the table:\n{table}",
+        r.name,
         changed.len(),
         changed.join(", ")
     );

@@ -10,11 +10,13 @@
 #![allow(clippy::disallowed_methods)]
 
 mod alpha;
+mod bench_script;
 mod chaos;
 mod cli;
 mod common;
 mod compositing;
 mod envmap;
+mod export;
 mod farm;
 mod figures;
 mod frames;
@@ -30,6 +32,7 @@ mod motion;
 mod outputs;
 mod predict;
 mod punctual;
+mod raydump;
 mod render;
 mod report;
 mod resume;
@@ -38,6 +41,5 @@ mod scale;
 mod scene;
 mod simd;
 mod slurm;
-mod speed;
 mod temporal;
 mod truck;
