@@ -12,8 +12,10 @@
 //! - [`background`] is what rays leaving the scene see; [`catcher`] shades the background's
 //!   and shadow catchers' share of a pixel (its alpha too).
 //! - [`tile`] splits a frame; [`context`] is the frame as its tiles see it (primary and shadow
-//!   rays); [`driver`] renders one tile; [`film`] assembles tiles; [`coordinator`] schedules
-//!   frames × tiles over threads and streams them to the writer.
+//!   rays); [`driver`] renders one tile; [`frame`] renders one frame's tiles into a [`film`];
+//!   [`inputs`] are loaded once per run; [`coordinator`] schedules frames and their temporal
+//!   chains over threads and streams them to the writer ([`run`]'s `FrameSink`, e.g.
+//!   [`frame_files`]).
 //! - [`output`] writes EXR/PNG/CSV/JSON atomically; [`anim`] parses animation specs;
 //!   [`report`] builds `report.html` from a finished render's folder.
 //! - [`farm`] splits a run into jobs for many machines and assembles their outputs;
