@@ -41,6 +41,7 @@ pub mod film;
 pub mod frames;
 pub mod glossy;
 pub mod history;
+pub mod key;
 pub mod lattice;
 pub mod lights;
 pub mod limits;

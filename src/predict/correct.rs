@@ -4,7 +4,8 @@
 //! trace disagrees. Which neighbours a trace floods to depends only on the prediction and the
 //! traced answer, so the traced set does not depend on the queue's order.
 
-use super::{Flood, FloodTo, Scratch};
+use super::flood::{Flood, FloodTo};
+use super::scratch::Scratch;
 use crate::accel::PACKET;
 use crate::bits;
 use crate::buffers::{RaySplit, TileBuffers};
@@ -223,10 +224,11 @@ pub(super) fn forget_votes(sc: &mut Scratch) {
 
 #[cfg(test)]
 mod tests {
+    use super::super::boundary::Boundary;
     use super::super::testkit::{
         DOWN, Frame, R, UP, and_not, buffers, list, origin, set_of, spiral, star,
     };
-    use super::super::{Boundary, Uncertainty};
+    use super::super::uncertainty::Uncertainty;
     use super::*;
 
     type Solve = fn(&FrameContext, &mut TileBuffers, &mut Scratch, usize, At);

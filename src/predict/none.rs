@@ -1,9 +1,9 @@
 //! `none`'s rule: no shadows at all, every light visible. The baseline cost of a frame without
 //! shadows, against which the shadow methods are timed.
 
-use super::Scratch;
 use super::correct::At;
 use super::rule::Rule;
+use super::scratch::Scratch;
 use crate::buffers::TileBuffers;
 use crate::context::FrameContext;
 

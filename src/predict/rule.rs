@@ -1,14 +1,19 @@
 //! A method's rule: how a pixel's visibility is decided from its voters. [`Predict`] votes
 //! ([`Vote`]), predicts and corrects by tracing ([`Flood`], [`correct`]); `brute` and `none`
-//! have rules of their own ([`TraceAll`](super::TraceAll), [`Unshadowed`](super::Unshadowed)).
+//! have rules of their own ([`TraceAll`](super::brute::TraceAll),
+//! [`Unshadowed`](super::none::Unshadowed)).
 
 use std::marker::PhantomData;
 
 use super::correct::{At, correct, forget_votes};
-use super::{Flood, Params, Scratch, Vote};
+use super::flood::Flood;
+use super::params::Params;
+use super::scratch::Scratch;
+use super::vote::Vote;
 use crate::bits;
 use crate::buffers::TileBuffers;
 use crate::context::FrameContext;
+use crate::key::Key;
 
 /// How a pixel's visibility is decided.
 pub trait Rule: Send + Sync {
@@ -21,7 +26,7 @@ pub trait Rule: Send + Sync {
     }
 
     /// The settings the rule reads.
-    fn reads(&self) -> &'static [&'static str] {
+    fn reads(&self) -> &'static [Key] {
         &[]
     }
 
@@ -60,17 +65,17 @@ pub struct Predict<V, F> {
 impl<V: Vote, F: Flood> Predict<V, F> {
     pub fn new(params: &Params) -> Predict<V, F> {
         // Settings only some flood rules read (not `boundary`'s one voter) are off for the rest.
-        let reads = |key: &str| F::READS.contains(&key);
+        let reads = |key: Key| F::READS.contains(&key);
         Predict {
             min_voters: F::min_voters(params.min_voters),
             surface_voters: params.surface_voters,
-            all_voters: params.all_voters && reads("all_voters"),
-            busy_voters: if reads("busy_voters") {
+            all_voters: params.all_voters && reads(Key::AllVoters),
+            busy_voters: if reads(Key::BusyVoters) {
                 params.busy_voters
             } else {
                 0
             },
-            trace_all_share: if reads("trace_all_share") {
+            trace_all_share: if reads(Key::TraceAllShare) {
                 params.trace_all_share
             } else {
                 0
@@ -89,7 +94,7 @@ impl<V: Vote, F: Flood> Rule for Predict<V, F> {
         V::READS_BLOCKERS
     }
 
-    fn reads(&self) -> &'static [&'static str] {
+    fn reads(&self) -> &'static [Key] {
         F::READS
     }
 
@@ -223,8 +228,10 @@ fn majority(bufs: &TileBuffers, voters: &[usize], m: usize, above: &[u64; 4]) ->
 
 #[cfg(test)]
 mod tests {
+    use super::super::flood::FloodTo;
+    use super::super::nowarp::NoWarp;
     use super::super::testkit::{DOWN, Frame, R, UP, at, buffers, list, origin, set_of, star};
-    use super::super::{FloodTo, NoWarp, Uncertainty};
+    use super::super::uncertainty::Uncertainty;
     use super::*;
     use crate::buffers::RaySplit;
     use glam::Vec3;

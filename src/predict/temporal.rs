@@ -17,8 +17,9 @@
 //! data and the reprojection are [`Prev`]'s; key frames and chains are decided above.
 
 use super::correct::{At, correct};
+use super::scratch::Scratch;
 use super::turning::spatial_word;
-use super::{Scratch, Uncertainty};
+use super::uncertainty::Uncertainty;
 use crate::bits;
 use crate::buffers::TileBuffers;
 use crate::context::FrameContext;

@@ -25,7 +25,8 @@
 //!   pixels predicted from them, keep errors from building up along a chain.
 
 use super::correct::{At, correct_closed};
-use super::{Scratch, Uncertainty};
+use super::scratch::Scratch;
+use super::uncertainty::Uncertainty;
 use crate::bits;
 use crate::buffers::TileBuffers;
 use crate::context::FrameContext;

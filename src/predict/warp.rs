@@ -6,11 +6,12 @@
 //! Point and spot lights of the scene file [ours] have no cell to land in (a point light is
 //! seen from each pixel along its own direction, and a blocker re-aimed from another point
 //! blocks it only if it lands exactly on the segment to it): their blockers are not warped,
-//! and they are voted as [`NoWarp`](super::NoWarp) votes — each voter's own answer for that
-//! light, which neighbouring pixels, seeing the light from nearly the same direction, mostly
-//! share.
+//! and they are voted as [`NoWarp`](super::nowarp::NoWarp) votes — each voter's own answer for
+//! that light, which neighbouring pixels, seeing the light from nearly the same direction,
+//! mostly share.
 
-use super::{Scratch, Vote};
+use super::scratch::Scratch;
+use super::vote::Vote;
 use crate::bits;
 use crate::buffers::TileBuffers;
 use crate::context::FrameContext;
