@@ -113,10 +113,10 @@ fn trace_queue<F: Flood>(
         blockers,
         ..
     } = bufs;
-    let mine = &above[i * w..(i + 1) * w];
+    let mine = bits::rows(above, w).row(i);
     // 3. Correction: trace the queue, flooding where a trace was uncertain or disagreed.
-    let tr = &mut traced[i * w..(i + 1) * w];
-    let out = &mut vis[i * w..(i + 1) * w];
+    let tr = bits::rows_mut(traced, w).into_row(i);
+    let out = bits::rows_mut(vis, w).into_row(i);
     tr.fill(0);
     out.copy_from_slice(&sc.pred_vis);
     let mut head = 0;

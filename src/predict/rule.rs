@@ -163,7 +163,7 @@ impl<V: Vote, F: Flood> Rule for Predict<V, F> {
             sc.uncertain[m] = unsure;
             sc.queued[m] = unsure;
         }
-        F::queue_more(ctx, &bufs.above[i * w..(i + 1) * w], sc);
+        F::queue_more(ctx, bits::rows(&bufs.above, w).row(i), sc);
         if self.trace_all_share > 0 && self.too_unsure(bufs, sc, i) {
             // [ours] The voters know little here: every light is traced, as at a pixel without
             // voters, and counted as every-light rays with no flood fixes. (Counting the
@@ -185,7 +185,7 @@ impl<V, F> Predict<V, F> {
     #[inline]
     fn too_unsure(&self, bufs: &TileBuffers, sc: &Scratch, i: usize) -> bool {
         let w = bufs.words;
-        let above = bits::count(&bufs.above[i * w..(i + 1) * w]);
+        let above = bits::count(bits::rows(&bufs.above, w).row(i));
         let queued = bits::count(&sc.queued);
         above > 0 && queued * 100 >= self.trace_all_share * above
     }
@@ -251,7 +251,9 @@ mod tests {
         let lights: Vec<usize> = (0..DOWN).collect();
         let roofed = [R[0], R[1], R[5]];
         for q in 0..5 {
-            bufs.above[q * w..(q + 1) * w].copy_from_slice(&set_of(w, &lights));
+            bits::rows_mut(&mut bufs.above, w)
+                .row_mut(q)
+                .copy_from_slice(&set_of(w, &lights));
             if q == 0 {
                 continue; // the pixel decided: nothing visible yet, as `begin_pixel` leaves it
             }
@@ -260,7 +262,9 @@ mod tests {
                 .copied()
                 .filter(|&j| j != UP && (q <= 2 || !roofed.contains(&j)))
                 .collect();
-            bufs.vis[q * w..(q + 1) * w].copy_from_slice(&set_of(w, &seen));
+            bits::rows_mut(&mut bufs.vis, w)
+                .row_mut(q)
+                .copy_from_slice(&set_of(w, &seen));
         }
         let rule = Predict::<NoWarp, Uncertainty>::new(&Params {
             trace_all_share: share,

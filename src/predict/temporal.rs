@@ -86,8 +86,9 @@ pub fn solve_temporal(
         for &(j, from) in remap {
             let (j, from) = (j as usize, from as usize);
             for row in 0..3 {
-                let v = bits::get(&ext[row * w..(row + 1) * w], from);
-                let dst = &mut ext[(3 + row) * w..(4 + row) * w];
+                let mut rows = bits::rows_mut(ext, w);
+                let v = bits::get(rows.row(row), from);
+                let dst = rows.row_mut(3 + row);
                 if v {
                     bits::set(dst, j);
                 } else {
@@ -106,7 +107,7 @@ pub fn solve_temporal(
         let band = &mut ext[graze..graze + w];
         crate::shade::above_plane(&ctx.shade_lights, s.n, prev.grazing(), band);
     }
-    let mine = &above[i * w..(i + 1) * w];
+    let mine = bits::rows(above, w).row(i);
     for m in 0..w {
         let my = mine[m];
         // Edge lights take the spatial voters' word where those agree (they surround the

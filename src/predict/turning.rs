@@ -63,7 +63,7 @@ pub fn solve_in_place(
     let w = bufs.words;
     let carried = prev.carried();
     let (above, vis) = (&bufs.above, &bufs.vis);
-    let mine = &above[i * w..(i + 1) * w];
+    let mine = bits::rows(above, w).row(i);
     // Scratch row 0: the lights flooding may not reach.
     let closed = &mut sc.ext;
     for m in 0..w {
