@@ -81,6 +81,7 @@ use crate::bail_input;
 use crate::camera::Camera;
 use crate::error::{Result, input_error};
 use crate::frames::FrameSet;
+use crate::key::Key;
 use crate::motion::{Motion, MotionSpecs};
 use crate::output::record::{SettingsRecord, file_sha256};
 use crate::scene::{MaterialOverride, Scene};
@@ -897,10 +898,11 @@ impl Animation {
         }
         // [ours] Only what differs from the defaults, so folders rendered before these keys
         // existed (and which they would not change) still resume.
-        let defaults = SceneSettings::default().layer().given();
-        for (key, flag, value) in self.scene_settings.layer().given() {
-            if !defaults.contains(&(key, flag, value.clone())) {
-                put(&format!("[{}] {key}", SceneSettings::TABLE), value);
+        let setting = |key: Key| format!("[{}] {}", key.table(), key.name());
+        let defaults = SceneSettings::default().layer().given_keys();
+        for (key, value) in self.scene_settings.layer().given_keys() {
+            if !defaults.contains(&(key, value.clone())) {
+                put(&setting(key), value);
             }
         }
         if !self.catchers.is_empty() {
@@ -925,20 +927,23 @@ impl Animation {
         for (key, value) in self.motion.record(show) {
             put(&key, value);
         }
-        for (key, _, value) in self.lights.layer().given() {
-            put(&format!("[{}] {key}", Lights::TABLE), value);
+        for (key, value) in self.lights.layer().given_keys() {
+            put(&setting(key), value);
         }
-        let render_defaults = Render::default().layer().given();
-        for (key, flag, value) in self.render.layer().given() {
+        let render_defaults = Render::default().layer().given_keys();
+        for (key, value) in self.render.layer().given_keys() {
             // [ours] Tiles and threads change no pixel (tiled == untiled, bit for bit): a
             // resume may pick them for the machine it runs on. The background settings are
             // recorded when not the defaults, so folders from before them still resume.
-            let background = key.starts_with("background");
-            if background && render_defaults.contains(&(key, flag, value.clone())) {
+            let background = matches!(
+                key,
+                Key::Background | Key::BackgroundColor | Key::BackgroundBlur
+            );
+            if background && render_defaults.contains(&(key, value.clone())) {
                 continue;
             }
-            if key != "threads" && key != "tile" {
-                put(&format!("[{}] {key}", Render::TABLE), value);
+            if !matches!(key, Key::Threads | Key::Tile) {
+                put(&setting(key), value);
             }
         }
         // Material overrides change pixels: the spec's, then the command line's.
@@ -948,10 +953,10 @@ impl Animation {
         for (key, value) in self.material_flags.given() {
             put(&format!("[material] (command line) {key}"), value);
         }
-        for (key, _, value) in self.output.layer().given() {
+        for (key, value) in self.output.layer().given_keys() {
             // The folder and the video change no frame's bytes.
-            if key != "dir" && key != "video" {
-                put(&format!("[{}] {key}", Output::TABLE), value);
+            if !matches!(key, Key::Dir | Key::Video) {
+                put(&setting(key), value);
             }
         }
         Ok(SettingsRecord { lines })

@@ -1,5 +1,87 @@
 //! Visibility bitsets over lights: `u64` words, bit j = light j. Word-wide helpers for the
-//! per-pixel loops.
+//! per-pixel loops, and [`Rows`] / [`RowsMut`]: one bitset per pixel in one flat array.
+
+/// A flat array of bitsets of `words` words each, end to end (no vector per pixel), read by
+/// row: row `i` is words `i·words .. (i+1)·words`. A view borrowed for the loop that reads
+/// it, with the width the loop already holds ([`rows`]): the compiler sees the same slices and
+/// indices as hand-written ones (no bounds check more), and rows of several arrays viewed with
+/// one width have one length.
+#[derive(Clone, Copy)]
+pub struct Rows<'a> {
+    bits: &'a [u64],
+    words: usize,
+}
+
+/// [`Rows`] to write ([`rows_mut`]).
+pub struct RowsMut<'a> {
+    bits: &'a mut [u64],
+    words: usize,
+}
+
+/// `bits` as rows of `words` words.
+#[inline]
+pub fn rows(bits: &[u64], words: usize) -> Rows<'_> {
+    Rows { bits, words }
+}
+
+/// `bits` as rows of `words` words, to write.
+#[inline]
+pub fn rows_mut(bits: &mut [u64], words: usize) -> RowsMut<'_> {
+    RowsMut { bits, words }
+}
+
+impl<'a> Rows<'a> {
+    /// Row `i`.
+    #[inline]
+    pub fn row(self, i: usize) -> &'a [u64] {
+        let w = self.words;
+        &self.bits[i * w..(i + 1) * w]
+    }
+
+    /// Word `m` of row `i`.
+    #[inline]
+    pub fn word(self, i: usize, m: usize) -> u64 {
+        debug_assert!(m < self.words);
+        self.bits[i * self.words + m]
+    }
+}
+
+impl<'a> RowsMut<'a> {
+    /// Row `i`.
+    #[inline]
+    pub fn row(&self, i: usize) -> &[u64] {
+        let w = self.words;
+        &self.bits[i * w..(i + 1) * w]
+    }
+
+    /// Row `i`, to write.
+    #[inline]
+    pub fn row_mut(&mut self, i: usize) -> &mut [u64] {
+        let w = self.words;
+        &mut self.bits[i * w..(i + 1) * w]
+    }
+
+    /// Row `i`, to write, for as long as the array is borrowed.
+    #[inline]
+    pub fn into_row(self, i: usize) -> &'a mut [u64] {
+        let w = self.words;
+        &mut self.bits[i * w..(i + 1) * w]
+    }
+
+    /// Word `m` of row `i`, to write.
+    #[inline]
+    pub fn word_mut(&mut self, i: usize, m: usize) -> &mut u64 {
+        debug_assert!(m < self.words);
+        &mut self.bits[i * self.words + m]
+    }
+
+    /// Copies row `from` over row `to`.
+    #[inline]
+    pub fn copy_row(&mut self, from: usize, to: usize) {
+        let w = self.words;
+        self.bits.copy_within(from * w..(from + 1) * w, to * w);
+    }
+}
 
 /// Sets bit `j`.
 #[inline]
@@ -106,6 +188,23 @@ mod tests {
             }
         }
         assert!(failures.is_empty(), "{}", failures.join("\n"));
+    }
+
+    #[test]
+    fn rows_are_words_end_to_end() {
+        let mut v = vec![0u64; 6];
+        let mut r = rows_mut(&mut v, 2);
+        r.row_mut(1).copy_from_slice(&[5, 6]);
+        *r.word_mut(2, 1) = 9;
+        r.copy_row(1, 0);
+        assert_eq!(r.row(0), [5, 6]);
+        r.into_row(2)[0] = 7;
+        let r = rows(&v, 2);
+        assert_eq!(
+            (r.row(1), r.word(1, 1), r.row(2)),
+            (&[5, 6][..], 6, &[7, 9][..])
+        );
+        assert_eq!(v, [5, 6, 5, 6, 7, 9]);
     }
 
     #[test]

@@ -24,7 +24,8 @@ pub struct RaySplit {
 }
 
 /// A tile's pixels while its method decides them, reused across tiles by one thread. Flat arrays and bitsets only:
-/// `words` u64 per pixel for each bitset, indexed by the pixel's position in `region`.
+/// `words` u64 per pixel for each bitset (read with [`bits::rows`]), indexed by the pixel's
+/// position in `region`.
 #[derive(Default)]
 pub struct TileBuffers {
     /// The pixels this tile outputs.
@@ -108,8 +109,8 @@ impl TileBuffers {
         let w = self.words;
         self.valid[i] = true;
         self.voter[i] = self.surf[i].hit;
-        self.vis[i * w..(i + 1) * w].fill(0);
-        self.traced[i * w..(i + 1) * w].fill(0);
+        bits::rows_mut(&mut self.vis, w).row_mut(i).fill(0);
+        bits::rows_mut(&mut self.traced, w).row_mut(i).fill(0);
         self.rays[i] = 0;
         self.split[i] = RaySplit::default();
         self.temporal[i] = false;
@@ -125,27 +126,27 @@ impl TileBuffers {
         self.surf[i] = s;
         self.needed[i] = true;
         self.reset_pixel(i);
-        let w = self.words;
+        let mut above = bits::rows_mut(&mut self.above, self.words);
         if !s.hit {
-            self.above[i * w..(i + 1) * w].fill(0);
+            above.row_mut(i).fill(0);
         } else {
             match self.last_begun {
                 Some(l)
                     if crate::shade::same(self.surf[l].n, s.n)
                         && crate::shade::same(self.surf[l].ng, s.ng) =>
                 {
-                    self.above.copy_within(l * w..(l + 1) * w, i * w);
+                    above.copy_row(l, i);
                 }
                 _ => crate::shade::above_both_horizons(
                     &ctx.shade_lights,
                     s.n,
                     s.ng,
-                    &mut self.above[i * w..(i + 1) * w],
+                    above.row_mut(i),
                 ),
             }
             if ctx.has_points() {
                 // Point and spot lights: from this point, whatever the normal.
-                ctx.point_lights_above(&s, &mut self.above[i * w..(i + 1) * w]);
+                ctx.point_lights_above(&s, above.row_mut(i));
             }
             self.last_begun = Some(i);
         }
@@ -155,7 +156,7 @@ impl TileBuffers {
     /// Bitset `words` of pixel `i` in one of the per-pixel bitset arrays.
     #[inline]
     pub fn row(v: &[u64], i: usize, words: usize) -> &[u64] {
-        &v[i * words..(i + 1) * words]
+        bits::rows(v, words).row(i)
     }
 
     /// Traces every above-horizon light of pixel `i` (the coarse pixels and pixels with no
@@ -183,7 +184,7 @@ impl TileBuffers {
             // Packets of up to PACKET lights from the pixel's point.
             let mut batch = [0u32; PACKET];
             let mut len = 0;
-            let vis = &mut self.vis[i * w..(i + 1) * w];
+            let vis = bits::rows_mut(&mut self.vis, w).into_row(i);
             let mut flush = |batch: &[u32]| {
                 let blocked = ctx.trace_packet(&s, batch);
                 for (k, &j) in batch.iter().enumerate() {
@@ -192,7 +193,7 @@ impl TileBuffers {
                     }
                 }
             };
-            bits::for_each(&self.above[i * w..(i + 1) * w], |j| {
+            bits::for_each(bits::rows(&self.above, w).row(i), |j| {
                 batch[len] = j as u32;
                 len += 1;
                 if len == PACKET {
@@ -204,8 +205,10 @@ impl TileBuffers {
                 flush(&batch[..len]);
             }
         }
-        let above = &self.above[i * w..(i + 1) * w];
-        self.traced[i * w..(i + 1) * w].copy_from_slice(above);
+        let above = bits::rows(&self.above, w).row(i);
+        bits::rows_mut(&mut self.traced, w)
+            .row_mut(i)
+            .copy_from_slice(above);
         self.rays[i] = bits::count(above);
         self.split[i] = RaySplit {
             every: self.rays[i],

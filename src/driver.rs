@@ -165,7 +165,7 @@ impl FrameWork<'_> {
         let tile = self.samples_of(tile);
         self.prepare(slot, tile, phase, lattice);
         let mut patch = LatticePatch::default();
-        let (at, frame) = (self.shadows.at(phase), self.frame());
+        let (at, frame) = (self.shadows.at(self.ctx, phase), self.frame());
         let step = lattice.step();
         let (x0, y0) = (tile.x0.div_ceil(step) * step, tile.y0.div_ceil(step) * step);
         for y in (y0..tile.y1).step_by(step as usize) {
@@ -257,7 +257,7 @@ impl FrameWork<'_> {
             }
         }
         for p in shared..passes {
-            let at = self.shadows.at(p);
+            let at = self.shadows.at(self.ctx, p);
             for k in slot.pass_start[p]..slot.pass_start[p + 1] {
                 let i = slot.by_pass[k];
                 if slot.need[i as usize] {

@@ -6,6 +6,7 @@
 //! tile that contains it, and kept here; tiles then copy what they read. A lattice pixel is a
 //! pure function of the frame, so the result is the same whatever evaluates it.
 
+use crate::bits;
 use crate::blockers::Blockers;
 use crate::buffers::{RaySplit, TileBuffers};
 use crate::context::Surface;
@@ -107,10 +108,18 @@ impl Lattice {
         bufs.valid[i] = true;
         bufs.surf[i] = self.surf[k];
         bufs.voter[i] = self.surf[k].hit;
-        let src = &self.bits[k * 3 * w..(k + 1) * 3 * w];
-        bufs.above[i * w..(i + 1) * w].copy_from_slice(&src[..w]);
-        bufs.vis[i * w..(i + 1) * w].copy_from_slice(&src[w..2 * w]);
-        bufs.traced[i * w..(i + 1) * w].copy_from_slice(&src[2 * w..]);
+        // This pixel's above, vis and traced rows, one after the other.
+        let src = bits::rows(&self.bits, 3 * w).row(k);
+        let pixel = bits::rows(src, w);
+        bits::rows_mut(&mut bufs.above, w)
+            .row_mut(i)
+            .copy_from_slice(pixel.row(0));
+        bits::rows_mut(&mut bufs.vis, w)
+            .row_mut(i)
+            .copy_from_slice(pixel.row(1));
+        bits::rows_mut(&mut bufs.traced, w)
+            .row_mut(i)
+            .copy_from_slice(pixel.row(2));
         bufs.rays[i] = self.rays[k];
         bufs.split[i] = self.split[k];
         bufs.temporal[i] = self.temporal[k];
@@ -129,8 +138,9 @@ impl Lattice {
             let k = k as usize;
             self.have[k] = true;
             self.surf[k] = patch.surf[n];
-            self.bits[k * 3 * w..(k + 1) * 3 * w]
-                .copy_from_slice(&patch.bits[n * 3 * w..(n + 1) * 3 * w]);
+            bits::rows_mut(&mut self.bits, 3 * w)
+                .row_mut(k)
+                .copy_from_slice(bits::rows(&patch.bits, 3 * w).row(n));
             self.rays[k] = patch.rays[n];
             self.split[k] = patch.split[n];
             self.temporal[k] = patch.temporal[n];
@@ -153,10 +163,9 @@ impl LatticePatch {
         let w = bufs.words;
         self.index.push(k as u32);
         self.surf.push(bufs.surf[i]);
-        self.bits.extend_from_slice(&bufs.above[i * w..(i + 1) * w]);
-        self.bits.extend_from_slice(&bufs.vis[i * w..(i + 1) * w]);
-        self.bits
-            .extend_from_slice(&bufs.traced[i * w..(i + 1) * w]);
+        for v in [&bufs.above, &bufs.vis, &bufs.traced] {
+            self.bits.extend_from_slice(bits::rows(v, w).row(i));
+        }
         self.rays.push(bufs.rays[i]);
         self.split.push(bufs.split[i]);
         self.temporal.push(bufs.temporal[i]);
@@ -226,9 +235,12 @@ mod tests {
     fn write(b: &mut TileBuffers, i: usize, p: &Pixel) {
         let w = b.words;
         b.surf[i] = p.surf;
-        b.above[i * w..(i + 1) * w].copy_from_slice(&p.bits[0]);
-        b.vis[i * w..(i + 1) * w].copy_from_slice(&p.bits[1]);
-        b.traced[i * w..(i + 1) * w].copy_from_slice(&p.bits[2]);
+        for (v, row) in [&mut b.above, &mut b.vis, &mut b.traced]
+            .into_iter()
+            .zip(&p.bits)
+        {
+            bits::rows_mut(v, w).row_mut(i).copy_from_slice(row);
+        }
         b.rays[i] = p.rays;
         b.split[i] = p.split;
         b.temporal[i] = p.temporal;

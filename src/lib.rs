@@ -48,6 +48,7 @@ pub mod frames;
 pub mod glossy;
 pub mod history;
 pub mod inputs;
+pub mod key;
 pub mod lattice;
 pub mod lights;
 pub mod limits;

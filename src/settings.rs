@@ -9,16 +9,21 @@
 //! ([`RenderLayer::resolve`]). Each given value is checked once, where it enters, with an error
 //! that names it as the user wrote it (`--h0 3: …` or `spec.toml: [render] h0 = 3: …`).
 //!
-//! A new setting is one entry in a list below; the code that reads it uses the resolved
-//! struct's field.
+//! The list also implements the settings' typed keys ([`Key`]: name, flag, table, [`Key::ALL`]).
+//! A new setting is one entry in the list below, naming its key, and that key's variant in
+//! `key.rs`; the code that reads it uses the resolved struct's field, and a method that reads
+//! it names its key in its order's or rule's `reads`. A method setting's default is the
+//! methods' own ([`Params::DEFAULT`]), which the list reads, and [`Render::params`] passes it
+//! on.
 
 use std::fmt::Debug;
 use std::path::{Path, PathBuf};
 
 use crate::background::{Background, Rgb, check_rgb};
 use crate::error::{Result, input_error};
+use crate::key::{AsKey, Key};
 use crate::lights::Sampler;
-use crate::predict::{FloodTo, Method};
+use crate::predict::{FloodTo, Method, Params};
 use crate::samples::{Filter, Samples};
 use crate::scene::Up;
 use crate::scene::ground::Ground;
@@ -91,14 +96,72 @@ impl Source<'_> {
 /// A setting's check: `Err(why)` for a value out of range.
 pub type Check<T> = fn(&T) -> std::result::Result<(), String>;
 
-/// Declares a group of settings (one table of a spec) once; see the module doc.
+/// Declares every group of settings (one table of a spec each) once, and the [`Key`]s naming
+/// them; see the module doc.
 macro_rules! settings {
+    ($(
+        $(#[doc = $sdoc:literal])*
+        [$table:literal] $name:ident, $layer:ident, $sweep:ident {
+            $(
+                $(#[doc = $doc:literal])*
+                $field:ident: $ty:ty = $default:expr, key $key:ident,
+                    flag $flag:literal [$($arg:tt)*], check $check:expr;
+            )*
+        }
+    )*) => {
+        $(
+            settings_table! {
+                $(#[doc = $sdoc])*
+                [$table] $name, $layer, $sweep {
+                    $(
+                        $(#[doc = $doc])*
+                        $field: $ty = $default, key $key, flag $flag [$($arg)*], check $check;
+                    )*
+                }
+            }
+        )*
+
+        impl Key {
+            /// Every setting, table by table, each table's in its list's order.
+            pub const ALL: &'static [Key] = &[$($(Key::$key,)*)*];
+
+            /// The setting's name in its spec table (`min_voters`).
+            pub fn name(self) -> &'static str {
+                match self {
+                    $($(Key::$key => stringify!($field),)*)*
+                }
+            }
+
+            /// The setting's command-line flag, without its dashes (`min-voters`).
+            pub fn flag(self) -> &'static str {
+                match self {
+                    $($(Key::$key => $flag,)*)*
+                }
+            }
+
+            /// The spec table the setting belongs to (`render`).
+            pub fn table(self) -> &'static str {
+                match self {
+                    $($(Key::$key => $table,)*)*
+                }
+            }
+
+            /// The setting whose spec name is `name`.
+            pub fn from_name(name: &str) -> Option<Key> {
+                Key::ALL.iter().copied().find(|k| k.name() == name)
+            }
+        }
+    };
+}
+
+/// One table's structs and their methods, for [`settings!`].
+macro_rules! settings_table {
     (
         $(#[doc = $sdoc:literal])*
         [$table:literal] $name:ident, $layer:ident, $sweep:ident {
             $(
                 $(#[doc = $doc:literal])*
-                $field:ident: $ty:ty = $default:expr,
+                $field:ident: $ty:ty = $default:expr, key $key:ident,
                     flag $flag:literal [$($arg:tt)*], check $check:expr;
             )*
         }
@@ -150,20 +213,30 @@ macro_rules! settings {
                 $name { $( $field: self.$field.clone().unwrap_or(d.$field), )* }
             }
 
-            /// The given settings: (spec key, flag, value as spelled).
-            pub fn given(&self) -> Vec<(&'static str, &'static str, String)> {
+            /// The given settings: each key, and its value as spelled.
+            pub fn given_keys(&self) -> Vec<(Key, String)> {
                 let mut v = Vec::new();
                 $(
                     if let Some(x) = &self.$field {
-                        v.push((stringify!($field), $flag, Value::show(x)));
+                        v.push((Key::$key, Value::show(x)));
                     }
                 )*
                 v
             }
 
-            /// Forgets the setting `key` (a spec key), if given.
-            pub fn clear(&mut self, key: &str) {
-                $( if key == stringify!($field) { self.$field = None; } )*
+            /// [`given_keys`](Self::given_keys) by name: (spec key, flag, value as spelled),
+            /// for the callers not yet on [`Key`] (issue 37).
+            pub fn given(&self) -> Vec<(&'static str, &'static str, String)> {
+                self.given_keys()
+                    .into_iter()
+                    .map(|(k, shown)| (k.name(), k.flag(), shown))
+                    .collect()
+            }
+
+            /// Forgets the setting `key`, if given.
+            pub fn clear(&mut self, key: impl AsKey) {
+                let key = key.key();
+                $( if key == Some(Key::$key) { self.$field = None; } )*
             }
 
             /// Checks every given value; the error names it as `source` spells it.
@@ -220,15 +293,24 @@ macro_rules! settings {
                 out
             }
 
-            /// The settings given a value list: (spec key, flag, how many values).
-            pub fn swept(&self) -> Vec<(&'static str, &'static str, usize)> {
+            /// The settings given a value list: each key, and how many values.
+            pub fn swept_keys(&self) -> Vec<(Key, usize)> {
                 let mut v = Vec::new();
                 $(
                     if !self.$field.is_empty() {
-                        v.push((stringify!($field), $flag, self.$field.len()));
+                        v.push((Key::$key, self.$field.len()));
                     }
                 )*
                 v
+            }
+
+            /// [`swept_keys`](Self::swept_keys) by name: (spec key, flag, how many values),
+            /// for the callers not yet on [`Key`] (issue 37).
+            pub fn swept(&self) -> Vec<(&'static str, &'static str, usize)> {
+                self.swept_keys()
+                    .into_iter()
+                    .map(|(k, n)| (k.name(), k.flag(), n))
+                    .collect()
             }
 
             /// Checks every given value; the error names the flag.
@@ -357,58 +439,62 @@ settings! {
     /// How the environment becomes lights (`[lights]`).
     ["lights"] Lights, LightsLayer, LightsSweep {
         /// Number of directional lights the environment is reduced to (default 200).
-        count: usize = 200, flag "lights" [short = 'n', alias = "count", value_name = "N"],
+        count: usize = 200, key Count,
+            flag "lights" [short = 'n', alias = "count", value_name = "N"],
             check any;
         /// Light sampler: sis (structured importance sampling, the default) or median-cut.
-        sampler: Sampler = Sampler::Sis, flag "sampler" [value_name = "NAME"], check any;
+        sampler: Sampler = Sampler::Sis, key Sampler,
+            flag "sampler" [value_name = "NAME"], check any;
         /// Light the scene with the lights its glTF file places (KHR_lights_punctual:
         /// directional, point and spot) besides the map's (default true); false ignores them.
-        scene_lights: bool = true,
+        scene_lights: bool = true, key SceneLights,
             flag "scene-lights" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
                 default_missing_value = "true"], check any;
     }
-}
 
-settings! {
     /// How frames are rendered (`[render]`).
     ["render"] Render, RenderLayer, RenderSweep {
         /// Image width in pixels (default 640).
-        width: u32 = 640, flag "width" [value_name = "W"], check any;
+        width: u32 = 640, key Width, flag "width" [value_name = "W"], check any;
         /// Image height in pixels (default 480).
-        height: u32 = 480, flag "height" [value_name = "H"], check any;
+        height: u32 = 480, key Height, flag "height" [value_name = "H"], check any;
         /// Samples per pixel, a square from 1 to 64 (default 1: the pixel centre): a k×k
         /// stratified, jittered pattern warped through --filter. Shadows are predicted
         /// between samples as between pixels. Above 1, textures are filtered (mip-mapped) to
         /// what each sample covers; at 1 they are point-sampled, as they always were.
-        spp: u32 = 1, flag "spp" [value_name = "N"], check check_spp;
+        spp: u32 = 1, key Spp, flag "spp" [value_name = "N"], check check_spp;
         /// Pixel filter, importance-sampled (each sample counts once; its support may reach
         /// into the neighbouring pixels): blackman-harris (the default, Cycles' own: smooth
         /// edges with no visible ringing), gaussian, triangle or box. With --spp 1 the one
         /// sample is the pixel centre whatever the filter.
-        filter: Filter = Filter::BlackmanHarris, flag "filter" [value_name = "NAME"], check any;
+        filter: Filter = Filter::BlackmanHarris, key Filter,
+            flag "filter" [value_name = "NAME"], check any;
         /// Filter width in pixels, its full support (0, the default: box 1, triangle 2,
         /// gaussian and blackman-harris 1.5).
-        filter_width: f32 = 0.0, flag "filter-width" [value_name = "PX"], check check_filter_width;
+        filter_width: f32 = 0.0, key FilterWidth,
+            flag "filter-width" [value_name = "PX"], check check_filter_width;
         /// Specular lobes too narrow for the lights (low roughness: the lights would show as
         /// dots) reflect the environment prefiltered per roughness, weighted by the lobe's
         /// visible lights (default true); false: the lights alone at every roughness, the
         /// exact sum over them (docs/materials.md).
-        glossy_env: bool = true,
+        glossy_env: bool = true, key GlossyEnv,
             flag "glossy-env" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
                 default_missing_value = "true"], check any;
         /// Shadow method (default grid-nowarp-uncertainty; `envshadow methods` lists them all).
-        method: Method = Method::DEFAULT,
+        method: Method = Method::DEFAULT, key Method,
             flag "method" [value_name = "METHOD", alias = "methods"], check any;
         /// Also trace every shadow query and record the method's mistakes: stats.csv gains
-        /// wrong pairs, error rate and image error; the EXR gains a `wrong` layer.
-        validate: bool = false,
+        /// wrong pairs, error rate and image error; the EXR gains a `wrong` layer. Default
+        /// false.
+        validate: bool = false, key Validate,
             flag "validate" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
                 default_missing_value = "true"], check any;
         /// Grid methods: coarse grid spacing, a power of two from 2 to 256 (default 16).
-        h0: u32 = 16, flag "h0" [value_name = "N"], check check_h0;
+        h0: u32 = Params::DEFAULT.h0, key H0, flag "h0" [value_name = "N"], check check_h0;
         /// Uncertainty methods: trace a light when fewer voters than this have it above their
         /// horizon, 1–4 (default 3).
-        min_voters: u32 = 3, flag "min-voters" [value_name = "K"], check check_min_voters;
+        min_voters: u32 = Params::DEFAULT.min_voters, key MinVoters,
+            flag "min-voters" [value_name = "K"], check check_min_voters;
         /// Uncertainty methods: which neighbour lights a flooding trace also traces — `all`
         /// untraced ones; `contrary`: only those predicted opposite to the traced answer, about
         /// a third fewer rays with more wrong pairs; `contrary-finest`: `contrary` at the
@@ -418,115 +504,114 @@ settings! {
         /// `auto` (the default): `all` for a frame with cut-out (alpha MASK or BLEND)
         /// triangles, whose holes contrary flooding misses, `contrary-finest` otherwise
         /// (docs/methods.md).
-        flood_to: FloodTo = FloodTo::Auto,
+        flood_to: FloodTo = Params::DEFAULT.flood_to, key FloodTo,
             flag "flood-to" [value_name = "RULE"], check any;
         /// Grid methods with --spp above 1: at the finest level, whose voters lie one sample
         /// apart inside a pixel, take a light on which three of four voters agree from them
         /// instead of tracing it (default false): a sixth fewer rays on the corpus at 4 spp,
         /// but five times the wrong pairs where shadows are finer than a pixel (cut-outs, thin
         /// parts) and several times the image error (docs/samples.md).
-        pixel_majority: bool = false,
+        pixel_majority: bool = Params::DEFAULT.pixel_majority, key PixelMajority,
             flag "pixel-majority" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
                 default_missing_value = "true"], check any;
         /// Uncertainty methods: predict a light only if every valid voter (at least
         /// --min-voters of them) has it above its horizon; default false (BENCHMARKS.md,
         /// issue 23).
-        all_voters: bool = false,
+        all_voters: bool = Params::DEFAULT.all_voters, key AllVoters,
             flag "all-voters" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
                 default_missing_value = "true"], check any;
         /// Uncertainty methods: where a voter's flooding caught a wrong prediction, trace a
         /// light fewer than K voters have above their horizon (default 4; 0: --min-voters
         /// everywhere): more tracing where shadows are finer than the voters' spacing, thin
         /// and busy models (BENCHMARKS.md, issue 23).
-        busy_voters: u32 = 4, flag "busy-voters" [value_name = "K"], check check_busy_voters;
+        busy_voters: u32 = Params::DEFAULT.busy_voters, key BusyVoters,
+            flag "busy-voters" [value_name = "K"], check check_busy_voters;
         /// Uncertainty methods: a pixel whose voters leave at least this share of its lights
         /// (percent) to trace traces all of them, in full packets from its point, and is exact
         /// (default 40; 0: off): on the corpus, half the wrong pairs of cut-out models for
         /// about the same rays (BENCHMARKS.md, issue 23).
-        trace_all_share: u32 = 40, flag "trace-all-share" [value_name = "PERCENT"],
+        trace_all_share: u32 = Params::DEFAULT.trace_all_share, key TraceAllShare,
+            flag "trace-all-share" [value_name = "PERCENT"],
             check check_percent;
         /// Uncertainty and boundary methods: a neighbour votes only if it lies on the pixel's
         /// surface (its normal within about 37° of the pixel's, its point within about 17° of
         /// the pixel's tangent plane); default false (BENCHMARKS.md, issue 23).
-        surface_voters: bool = false,
+        surface_voters: bool = Params::DEFAULT.surface_voters, key SurfaceVoters,
             flag "surface-voters" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
                 default_missing_value = "true"], check any;
         /// Scanline methods: block size at which the scan restarts, at least 8 (default 64).
-        scan_block: u32 = 64, flag "scan-block" [value_name = "N"], check check_scan_block;
+        scan_block: u32 = Params::DEFAULT.scan_block, key ScanBlock,
+            flag "scan-block" [value_name = "N"], check check_scan_block;
         /// Uncertainty methods: let every pixel whose surface point the previous frame saw use
         /// the previous frame's pixels there as voters (camera orbit: reprojection; object
-        /// spin: votes pulled through the turn). See docs/temporal.md.
-        temporal: bool = false,
+        /// spin: votes pulled through the turn). Default false; see docs/temporal.md.
+        temporal: bool = false, key Temporal,
             flag "temporal" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
                 default_missing_value = "true"], check any;
         /// With --temporal: frames 0, N, 2N, … are predicted from their own pixels and restart
         /// the chain (0, the default: 16 for a camera orbit, 4 for a spinning object). A run
         /// starting between key frames first renders, without writing, the frames back to the
         /// key frame before it.
-        keyframe: u32 = 0, flag "keyframe" [value_name = "N"], check check_keyframe;
+        keyframe: u32 = 0, key Keyframe, flag "keyframe" [value_name = "N"], check check_keyframe;
         /// What rays that leave the scene see: environment (the default: the map, as it
         /// lights the scene), transparent (alpha 0: the EXR's RGBA is premultiplied, the PNG
         /// has straight alpha), color (--background-color) or blurred (the map blurred by
         /// --background-blur). The lights always come from the map.
-        background: Background = Background::Environment,
+        background: Background = Background::Environment, key Background,
             flag "background" [value_name = "KIND"], check any;
         /// With --background color: the colour, linear RGB (default 0.18,0.18,0.18).
-        background_color: Rgb = Rgb([0.18; 3]),
+        background_color: Rgb = Rgb([0.18; 3]), key BackgroundColor,
             flag "background-color" [value_name = "R,G,B"], check check_rgb;
         /// With --background blurred: the blur's standard deviation in degrees, 1 to 90
         /// (default 10).
-        background_blur: f32 = 10.0,
+        background_blur: f32 = 10.0, key BackgroundBlur,
             flag "background-blur" [value_name = "DEGREES"], check check_blur;
         /// Exposure of the PNG previews, a multiplier applied before the view transform (the
         /// EXR keeps linear radiance; default 1).
-        exposure: f32 = 1.0, flag "exposure" [value_name = "X"], check check_finite;
+        exposure: f32 = 1.0, key Exposure, flag "exposure" [value_name = "X"], check check_finite;
         /// View transform of the PNG previews, after the exposure: agx (the default, as
         /// Blender 4's: highlights roll off and desaturate), filmic (Hable's curve) or
         /// standard (the sRGB curve, clipped at 1). The EXR stays linear.
-        view: View = View::Agx, flag "view" [value_name = "NAME"], check any;
+        view: View = View::Agx, key View, flag "view" [value_name = "NAME"], check any;
         /// Tile size in pixels: 0 (the whole frame is one tile) or at least 8 (default 64).
-        tile: u32 = 64, flag "tile" [value_name = "N"], check check_tile;
+        tile: u32 = 64, key Tile, flag "tile" [value_name = "N"], check check_tile;
         /// Worker threads (0, the default: one per core).
-        threads: usize = 0, flag "threads" [value_name = "N"], check any;
+        threads: usize = 0, key Threads, flag "threads" [value_name = "N"], check any;
     }
-}
 
-settings! {
     /// What is done to the loaded scene (`[scene]`, beside the file it comes from).
     ["scene"] SceneSettings, SceneLayer, SceneSweep {
         /// The file's up axis: y (glTF's, the default) or z (the scene, its cameras included,
         /// is turned so that +Z points up, before anything else reads it).
-        up: Up = Up::Y, flag "up" [value_name = "AXIS"], check any;
+        up: Up = Up::Y, key Up, flag "up" [value_name = "AXIS"], check any;
         /// A ground below the model: auto (the default: when the scene has no surface the model
         /// stands on), none, or always. The ground is a disc at the model's lowest point, 32
         /// bounding-sphere radii wide, diffuse grey (albedo 0.5) or, over a transparent
         /// background or with --shadow-catcher, a shadow catcher.
-        ground: Ground = Ground::Auto, flag "ground" [value_name = "WHEN"], check any;
+        ground: Ground = Ground::Auto, key Ground, flag "ground" [value_name = "WHEN"], check any;
         /// Make the added ground a shadow catcher over any background (it always is over a
-        /// transparent one): it shows only the shadows on it.
-        shadow_catcher: bool = false,
+        /// transparent one): it shows only the shadows on it. Default false.
+        shadow_catcher: bool = false, key ShadowCatcher,
             flag "shadow-catcher" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
                 default_missing_value = "true"], check any;
     }
-}
 
-settings! {
     /// Where a render's files go (`[output]`).
     ["output"] Output, OutputLayer, OutputSweep {
         /// Output folder (default `out`; relative to the working directory).
-        dir: PathBuf = PathBuf::from("out"), flag "out" [value_name = "DIR"], check any;
+        dir: PathBuf = PathBuf::from("out"), key Dir, flag "out" [value_name = "DIR"], check any;
         /// Write the EXR's channels as 16-bit half floats where they suffice (beauty, normal,
         /// albedo, fractions; ray counts, wrong pairs and depth stay 32-bit): about a third of
         /// the size. Default false.
-        half: bool = false,
+        half: bool = false, key Half,
             flag "half" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
                 default_missing_value = "true"], check any;
         /// Frames per second of the animation: the EXR's `framesPerSecond`, the video's rate
         /// (default 24).
-        fps: f32 = 24.0, flag "fps" [value_name = "FPS"], check check_fps;
+        fps: f32 = 24.0, key Fps, flag "fps" [value_name = "FPS"], check check_fps;
         /// At the end of a render, encode the frames' PNGs into DIR/video.mp4 (H.264) with
         /// the system's ffmpeg, as `envshadow video DIR` does. Default false.
-        video: bool = false,
+        video: bool = false, key Video,
             flag "video" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
                 default_missing_value = "true"], check any;
     }
@@ -544,8 +629,8 @@ impl Render {
     }
 
     /// The prediction methods' parameters.
-    pub fn params(&self) -> crate::predict::Params {
-        crate::predict::Params {
+    pub fn params(&self) -> Params {
+        Params {
             h0: self.h0,
             min_voters: self.min_voters,
             flood_to: self.flood_to,
@@ -555,18 +640,30 @@ impl Render {
             all_voters: self.all_voters,
             busy_voters: self.busy_voters,
             trace_all_share: self.trace_all_share,
-            k: 1,
         }
     }
 }
 
+/// Settings named by their spec key, for the callers still naming them so (issue 37).
+impl AsKey for &str {
+    fn key(self) -> Option<Key> {
+        Key::from_name(self)
+    }
+}
+
 /// Settings some method reads: one that the chosen method does not read is refused.
-pub fn method_specific(key: &str) -> bool {
+pub fn method_specific(key: impl AsKey) -> bool {
     Method::all().any(|m| m.reads(key))
 }
 
+/// Every setting some method reads, in [`Key::ALL`]'s order: what `envshadow methods` lists
+/// per method.
+pub fn method_settings() -> impl Iterator<Item = Key> {
+    Key::ALL.iter().copied().filter(|&k| method_specific(k))
+}
+
 /// The methods that read `key`, for messages: `grid-warp-boundary, grid-nowarp-boundary, …`.
-pub fn readers(key: &str) -> String {
+pub fn readers(key: Key) -> String {
     let v: Vec<&str> = Method::all()
         .filter(|m| m.reads(key))
         .map(Method::name)
@@ -577,7 +674,7 @@ pub fn readers(key: &str) -> String {
 /// Refuses the method-specific settings of `layer` (from `source`) that none of `methods`
 /// reads: they would change nothing.
 pub fn check_applies(layer: &RenderLayer, source: Source, methods: &[Method]) -> Result<()> {
-    for (key, flag, shown) in layer.given() {
+    for (key, shown) in layer.given_keys() {
         if method_specific(key) && !methods.iter().any(|m| m.reads(key)) {
             let names: Vec<&str> = methods.iter().map(|m| m.name()).collect();
             let message = format!(
@@ -590,7 +687,7 @@ pub fn check_applies(layer: &RenderLayer, source: Source, methods: &[Method]) ->
                 names.join(", "),
                 readers(key)
             );
-            return Err(source.error(Render::TABLE, key, flag, message));
+            return Err(source.error(Render::TABLE, key.name(), key.flag(), message));
         }
     }
     Ok(())
@@ -660,5 +757,129 @@ mod tests {
             .to_string();
         assert!(err.contains("--h0 8 does not apply to brute"), "{err}");
         assert!(check_applies(&layer, Source::Flags, &[Method::BRUTE, Method::DEFAULT]).is_ok());
+    }
+
+    /// Issue 37: a method setting's default is written once, in `Params::DEFAULT`; the
+    /// `[render]` defaults give the very same parameters.
+    #[test]
+    fn the_default_settings_give_the_default_params() {
+        assert_eq!(RenderLayer::default().resolve().params(), Params::default());
+        assert_eq!(Render::default().params(), Params::DEFAULT);
+    }
+
+    /// Whether `help` names `value` as the default: "default 16", "Default false.", "default
+    /// `out`", "auto (the default: …)", "sis (…, the default)" or "0, the default".
+    fn names_default(help: &str, value: &str) -> bool {
+        // A list's value as the flag spells it ("[0.18, 0.18, 0.18]" is typed 0.18,0.18,0.18).
+        let typed: String = value
+            .chars()
+            .filter(|c| !matches!(c, '[' | ']' | ' '))
+            .collect();
+        let lower = help.to_lowercase();
+        // `s[at..at + len]` is a whole word or number (not 1 of 16, nor 0 of 0.5).
+        let whole = |s: &str, at: usize, len: usize| {
+            let before = s[..at].chars().next_back();
+            let mut after = s[at + len..].chars();
+            let end = match after.next() {
+                None => true,
+                Some('.') => !after.next().is_some_and(|c| c.is_ascii_digit()),
+                Some(c) => !c.is_alphanumeric(),
+            };
+            end && !before.is_some_and(|c| c.is_alphanumeric() || c == '.')
+        };
+        [value, typed.as_str()].iter().any(|v| {
+            let default = format!("default {v}");
+            lower
+                .match_indices(&default)
+                .any(|(at, m)| whole(&lower, at, m.len()))
+                || lower.contains(&format!("default `{v}`"))
+                || help.match_indices(v).any(|(at, _)| {
+                    if !whole(help, at, v.len()) {
+                        return false;
+                    }
+                    let after = help[at + v.len()..].trim_start_matches('`');
+                    let clause = match after.strip_prefix(" (") {
+                        Some(paren) => paren.split(')').next().unwrap_or(""),
+                        None => after,
+                    };
+                    let clause = clause.strip_prefix(", ").unwrap_or(clause);
+                    (after.starts_with(" (") && clause.contains("the default"))
+                        || clause.starts_with("the default")
+                })
+        })
+    }
+
+    /// Issue 37: `--help` said `--flood-to`'s default was `contrary-finest` after it became
+    /// `auto`. Every setting's help names its default, the one `Default` gives.
+    #[test]
+    fn every_settings_help_names_its_real_default() {
+        use clap::Args;
+        let cmd = clap::Command::new("settings");
+        let cmd = LightsLayer::augment_args(cmd);
+        let cmd = RenderLayer::augment_args(cmd);
+        let cmd = SceneLayer::augment_args(cmd);
+        let cmd = OutputLayer::augment_args(cmd);
+        let defaults = [
+            Lights::default().layer().given_keys(),
+            Render::default().layer().given_keys(),
+            SceneSettings::default().layer().given_keys(),
+            Output::default().layer().given_keys(),
+        ]
+        .concat();
+        assert_eq!(defaults.len(), Key::ALL.len());
+        let mut failures = Vec::new();
+        for (key, value) in defaults {
+            let arg = cmd
+                .get_arguments()
+                .find(|a| a.get_id() == key.name())
+                .unwrap_or_else(|| panic!("no flag for {key:?}"));
+            assert_eq!(arg.get_long(), Some(key.flag()));
+            let help = arg.get_help().map(|h| h.to_string()).unwrap_or_default();
+            if !names_default(&help, &value) {
+                failures.push(format!("--{}: default {value}, help: {help}", key.flag()));
+            }
+        }
+        assert!(failures.is_empty(), "{}", failures.join("\n"));
+        assert!(names_default("x `auto` (the default), y", "auto"));
+        assert!(!names_default("(default 16)", "1"));
+        assert!(!names_default("(default 16)", "8"));
+    }
+
+    /// A key's name, flag and table are its setting's, and every key has one setting.
+    #[test]
+    fn keys_name_their_settings() {
+        assert_eq!(Key::MinVoters.name(), "min_voters");
+        assert_eq!(Key::MinVoters.flag(), "min-voters");
+        assert_eq!(Key::MinVoters.table(), Render::TABLE);
+        assert_eq!((Key::Dir.flag(), Key::Dir.table()), ("out", Output::TABLE));
+        for &k in Key::ALL {
+            assert_eq!(Key::from_name(k.name()), Some(k));
+        }
+        let mut names: Vec<&str> = Key::ALL.iter().map(|k| k.name()).collect();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), Key::ALL.len(), "two settings of one name");
+        assert_eq!(Key::from_name("no_such_setting"), None);
+    }
+
+    /// The settings the methods read, from their orders' and rules' `reads`.
+    #[test]
+    fn method_settings_are_those_some_method_reads() {
+        let got: Vec<Key> = method_settings().collect();
+        let want = [
+            Key::H0,
+            Key::MinVoters,
+            Key::FloodTo,
+            Key::PixelMajority,
+            Key::AllVoters,
+            Key::BusyVoters,
+            Key::TraceAllShare,
+            Key::SurfaceVoters,
+            Key::ScanBlock,
+            Key::Temporal,
+            Key::Keyframe,
+        ];
+        assert_eq!(got, want);
+        assert!(method_specific("h0") && !method_specific("width") && !method_specific("nope"));
     }
 }

@@ -340,7 +340,6 @@ pub fn run(cli: Cli) -> Result<()> {
 
 /// `envshadow methods`.
 fn methods() {
-    let keys = ["h0", "min_voters", "flood_to", "scan_block", "temporal"];
     let mut text = String::new();
     for m in envshadow::predict::Method::all() {
         let (order, vote, flood) = m.parts();
@@ -350,10 +349,9 @@ fn methods() {
             .copied()
             .collect::<Vec<_>>()
             .join(" + ");
-        let reads: Vec<String> = keys
-            .iter()
-            .filter(|k| m.reads(k))
-            .map(|k| format!("--{}", k.replace('_', "-")))
+        let reads: Vec<String> = envshadow::settings::method_settings()
+            .filter(|&k| m.reads(k))
+            .map(|k| format!("--{}", k.flag()))
             .collect();
         let default = if m == envshadow::predict::Method::DEFAULT {
             " (default)"

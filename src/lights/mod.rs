@@ -371,7 +371,7 @@ impl LightSet {
     /// [`neighbors`](Self::neighbors) of light `j` as a bitset of `ceil(len / 64)` words.
     pub fn neighbor_bits(&self, j: usize) -> &[u64] {
         let w = self.len().div_ceil(64);
-        &self.adj_bits[j * w..(j + 1) * w]
+        crate::bits::rows(&self.adj_bits, w).row(j)
     }
 
     /// Mean number of `cell_of` candidates per lookup-table texel.

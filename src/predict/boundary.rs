@@ -3,16 +3,18 @@
 //! prediction differs from an adjacent above-horizon light's, Agrawala et al. 2000) and those
 //! no voter has above its horizon; a trace floods only when it disagrees.
 
-use super::{Flood, Scratch};
+use super::flood::Flood;
+use super::scratch::Scratch;
 use crate::bits;
 use crate::context::FrameContext;
+use crate::key::Key;
 
 /// Trace the visible/blocked boundary of the prediction, flood on mistakes.
 pub struct Boundary;
 
 impl Flood for Boundary {
     const NAME: &'static str = "boundary";
-    const READS: &'static [&'static str] = &["surface_voters"];
+    const READS: &'static [Key] = &[Key::SurfaceVoters];
 
     /// [paper] any vote → blocked: one voter with the light above its horizon is enough.
     fn min_voters(_setting: u32) -> u32 {

@@ -1,8 +1,8 @@
 //! `brute`'s rule: trace every shadow query (the "true" row of Table 1).
 
-use super::Scratch;
 use super::correct::At;
 use super::rule::Rule;
+use super::scratch::Scratch;
 use crate::buffers::TileBuffers;
 use crate::context::FrameContext;
 

@@ -4,7 +4,8 @@
 //! trace disagrees. Which neighbours a trace floods to depends only on the prediction and the
 //! traced answer, so the traced set does not depend on the queue's order.
 
-use super::{Flood, FloodTo, Scratch};
+use super::flood::{Flood, FloodTo};
+use super::scratch::Scratch;
 use crate::accel::PACKET;
 use crate::bits;
 use crate::buffers::{RaySplit, TileBuffers};
@@ -112,10 +113,10 @@ fn trace_queue<F: Flood>(
         blockers,
         ..
     } = bufs;
-    let mine = &above[i * w..(i + 1) * w];
+    let mine = bits::rows(above, w).row(i);
     // 3. Correction: trace the queue, flooding where a trace was uncertain or disagreed.
-    let tr = &mut traced[i * w..(i + 1) * w];
-    let out = &mut vis[i * w..(i + 1) * w];
+    let tr = bits::rows_mut(traced, w).into_row(i);
+    let out = bits::rows_mut(vis, w).into_row(i);
     tr.fill(0);
     out.copy_from_slice(&sc.pred_vis);
     let mut head = 0;
@@ -223,10 +224,11 @@ pub(super) fn forget_votes(sc: &mut Scratch) {
 
 #[cfg(test)]
 mod tests {
+    use super::super::boundary::Boundary;
     use super::super::testkit::{
         DOWN, Frame, R, UP, and_not, buffers, list, origin, set_of, spiral, star,
     };
-    use super::super::{Boundary, Uncertainty};
+    use super::super::uncertainty::Uncertainty;
     use super::*;
 
     type Solve = fn(&FrameContext, &mut TileBuffers, &mut Scratch, usize, At);

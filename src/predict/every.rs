@@ -1,7 +1,7 @@
 //! Every pixel on its own: one pass, no voters. The order of `brute` (each pixel traces every
 //! light) and `none` (each pixel sees every light).
 
-use super::Order;
+use super::order::Order;
 
 /// One pass over the tile, no pixel reading another.
 pub struct EveryPixel;

@@ -4,17 +4,19 @@
 //! which traces flood: queue their untraced above-horizon neighbour lights too, until no trace
 //! disagrees. Which neighbours a flooding trace queues is [`FloodTo`] (`--flood-to`).
 //!
-//! Rules: [`Uncertainty`](super::Uncertainty) and [`Boundary`](super::Boundary).
+//! Rules: [`Uncertainty`](super::uncertainty::Uncertainty) and
+//! [`Boundary`](super::boundary::Boundary).
 
-use super::Scratch;
+use super::scratch::Scratch;
 use crate::context::FrameContext;
+use crate::key::Key;
 
 /// A flood rule.
 pub trait Flood: Send + Sync + 'static {
     /// The rule's name, as method names spell it (`uncertainty`, `boundary`).
     const NAME: &'static str;
     /// The settings the rule reads.
-    const READS: &'static [&'static str];
+    const READS: &'static [Key];
 
     /// How many voters must have a light above their horizon for it to be predicted, given
     /// the `min_voters` setting.
@@ -36,7 +38,7 @@ pub trait Flood: Send + Sync + 'static {
 }
 
 /// Which neighbours a flooding trace queues (`--flood-to`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FloodTo {
     /// Every untraced above-horizon neighbour light: a ring around each uncertain or
     /// mispredicted light [ALGORITHM.md §6].
@@ -64,13 +66,13 @@ pub enum FloodTo {
     /// spacing), [`Contrary`](Self::Contrary) where none did. Measured on the corpus and not
     /// the default (BENCHMARKS.md, "Issue 23").
     Adaptive,
-    /// [ours, the default] [`All`](Self::All) where the frame's geometry has cut-out (alpha
+    /// [ours, the default: [`Params::DEFAULT`](super::params::Params::DEFAULT)]
+    /// [`All`](Self::All) where the frame's geometry has cut-out (alpha
     /// MASK or BLEND) triangles, [`ContraryFinest`](Self::ContraryFinest) elsewhere
     /// ([`resolved`](Self::resolved)). A hole in a mask flips one light without flipping its
     /// neighbours the way an edge does, so contrary flooding misses the lights beside it: on
     /// the corpus's masked panels `contrary-finest` left 0.11–0.17 % wrong pairs, `all`
     /// 0.049–0.053 % for 13–20 % more rays (BENCHMARKS.md, "Cut-out panels").
-    #[default]
     Auto,
 }
 
@@ -183,5 +185,27 @@ pub(super) mod table {
             .filter(|&&((u, d), w)| floods(u, d) != w)
             .map(|((u, d), w)| format!("floods(uncertain {u}, disagrees {d}) should be {w}"))
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `at_level` resolves `contrary-finest` alone.
+    #[test]
+    fn only_contrary_finest_depends_on_the_level() {
+        let want = [
+            (FloodTo::All, [FloodTo::All, FloodTo::All]),
+            (FloodTo::ContraryFinest, [FloodTo::All, FloodTo::Contrary]),
+            (FloodTo::Contrary, [FloodTo::Contrary, FloodTo::Contrary]),
+        ];
+        for (f, [coarse, finest]) in want {
+            assert_eq!(
+                (f.at_level(false), f.at_level(true)),
+                (coarse, finest),
+                "{f}"
+            );
+        }
     }
 }

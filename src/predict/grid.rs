@@ -14,7 +14,9 @@
 //! evaluates only the pixels the tile transitively depends on, so a tile produces exactly the
 //! whole-frame render's pixels and counts.
 
-use super::{Order, Params};
+use super::order::Order;
+use super::params::Params;
+use crate::key::Key;
 use crate::tile::Rect;
 
 /// The coarse-to-fine grid with coarse spacing h0.
@@ -166,8 +168,8 @@ impl Order for Grid {
         tile.grow(reach).intersect(&frame)
     }
 
-    fn reads(&self) -> &'static [&'static str] {
-        &["h0", "pixel_majority"]
+    fn reads(&self) -> &'static [Key] {
+        &[Key::H0, Key::PixelMajority]
     }
 }
 

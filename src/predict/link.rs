@@ -10,9 +10,10 @@
 //! disagreeing ones uncertain). `--flood-to` (which neighbours a trace queues) is the method's.
 
 use super::correct::At;
+use super::scratch::Scratch;
+use super::shadows::Shadows;
 use super::temporal::solve_temporal;
 use super::turning::solve_in_place;
-use super::{Scratch, Shadows};
 use crate::buffers::TileBuffers;
 use crate::context::FrameContext;
 use crate::history::{Carried, CarryPatch, Edges, Prev};

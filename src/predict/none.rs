@@ -1,9 +1,10 @@
 //! `none`'s rule: no shadows at all, every light visible. The baseline cost of a frame without
 //! shadows, against which the shadow methods are timed.
 
-use super::Scratch;
 use super::correct::At;
 use super::rule::Rule;
+use super::scratch::Scratch;
+use crate::bits;
 use crate::buffers::TileBuffers;
 use crate::context::FrameContext;
 
@@ -25,10 +26,9 @@ impl Rule for Unshadowed {
         _at: At,
     ) {
         let w = bufs.words;
-        let (above, vis) = (
-            &bufs.above[i * w..(i + 1) * w],
-            &mut bufs.vis[i * w..(i + 1) * w],
-        );
-        vis.copy_from_slice(above);
+        let above = bits::rows(&bufs.above, w).row(i);
+        bits::rows_mut(&mut bufs.vis, w)
+            .row_mut(i)
+            .copy_from_slice(above);
     }
 }

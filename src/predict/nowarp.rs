@@ -1,7 +1,8 @@
 //! No warp (ALGORITHM.md §4) [paper]: a voter's blocked light votes for that same light at the
 //! current pixel. Word operations only.
 
-use super::{Scratch, Vote};
+use super::scratch::Scratch;
+use super::vote::Vote;
 use crate::buffers::TileBuffers;
 
 /// Neighbours' own visibility votes.

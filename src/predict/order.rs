@@ -8,6 +8,7 @@
 //! driver evaluates them once per frame into a lattice (every
 //! [`lattice_step`](Order::lattice_step)-th pixel) that every tile copies from.
 
+use crate::key::Key;
 use crate::tile::Rect;
 
 /// Which pixels are decided in which pass, and who votes for them.
@@ -84,8 +85,8 @@ pub trait Order: Send + Sync {
         tile
     }
 
-    /// The settings this order reads (`h0`, `scan_block`).
-    fn reads(&self) -> &'static [&'static str] {
+    /// The settings this order reads ([`Key::H0`], [`Key::ScanBlock`]).
+    fn reads(&self) -> &'static [Key] {
         &[]
     }
 }

@@ -1,14 +1,19 @@
 //! A method's rule: how a pixel's visibility is decided from its voters. [`Predict`] votes
 //! ([`Vote`]), predicts and corrects by tracing ([`Flood`], [`correct`]); `brute` and `none`
-//! have rules of their own ([`TraceAll`](super::TraceAll), [`Unshadowed`](super::Unshadowed)).
+//! have rules of their own ([`TraceAll`](super::brute::TraceAll),
+//! [`Unshadowed`](super::none::Unshadowed)).
 
 use std::marker::PhantomData;
 
 use super::correct::{At, correct, forget_votes};
-use super::{Flood, Params, Scratch, Vote};
+use super::flood::Flood;
+use super::params::Params;
+use super::scratch::Scratch;
+use super::vote::Vote;
 use crate::bits;
 use crate::buffers::TileBuffers;
 use crate::context::FrameContext;
+use crate::key::Key;
 
 /// How a pixel's visibility is decided.
 pub trait Rule: Send + Sync {
@@ -21,7 +26,7 @@ pub trait Rule: Send + Sync {
     }
 
     /// The settings the rule reads.
-    fn reads(&self) -> &'static [&'static str] {
+    fn reads(&self) -> &'static [Key] {
         &[]
     }
 
@@ -60,17 +65,17 @@ pub struct Predict<V, F> {
 impl<V: Vote, F: Flood> Predict<V, F> {
     pub fn new(params: &Params) -> Predict<V, F> {
         // Settings only some flood rules read (not `boundary`'s one voter) are off for the rest.
-        let reads = |key: &str| F::READS.contains(&key);
+        let reads = |key: Key| F::READS.contains(&key);
         Predict {
             min_voters: F::min_voters(params.min_voters),
             surface_voters: params.surface_voters,
-            all_voters: params.all_voters && reads("all_voters"),
-            busy_voters: if reads("busy_voters") {
+            all_voters: params.all_voters && reads(Key::AllVoters),
+            busy_voters: if reads(Key::BusyVoters) {
                 params.busy_voters
             } else {
                 0
             },
-            trace_all_share: if reads("trace_all_share") {
+            trace_all_share: if reads(Key::TraceAllShare) {
                 params.trace_all_share
             } else {
                 0
@@ -89,7 +94,7 @@ impl<V: Vote, F: Flood> Rule for Predict<V, F> {
         V::READS_BLOCKERS
     }
 
-    fn reads(&self) -> &'static [&'static str] {
+    fn reads(&self) -> &'static [Key] {
         F::READS
     }
 
@@ -158,7 +163,7 @@ impl<V: Vote, F: Flood> Rule for Predict<V, F> {
             sc.uncertain[m] = unsure;
             sc.queued[m] = unsure;
         }
-        F::queue_more(ctx, &bufs.above[i * w..(i + 1) * w], sc);
+        F::queue_more(ctx, bits::rows(&bufs.above, w).row(i), sc);
         if self.trace_all_share > 0 && self.too_unsure(bufs, sc, i) {
             // [ours] The voters know little here: every light is traced, as at a pixel without
             // voters, and counted as every-light rays with no flood fixes. (Counting the
@@ -180,7 +185,7 @@ impl<V, F> Predict<V, F> {
     #[inline]
     fn too_unsure(&self, bufs: &TileBuffers, sc: &Scratch, i: usize) -> bool {
         let w = bufs.words;
-        let above = bits::count(&bufs.above[i * w..(i + 1) * w]);
+        let above = bits::count(bits::rows(&bufs.above, w).row(i));
         let queued = bits::count(&sc.queued);
         above > 0 && queued * 100 >= self.trace_all_share * above
     }
@@ -223,8 +228,10 @@ fn majority(bufs: &TileBuffers, voters: &[usize], m: usize, above: &[u64; 4]) ->
 
 #[cfg(test)]
 mod tests {
+    use super::super::flood::FloodTo;
+    use super::super::nowarp::NoWarp;
     use super::super::testkit::{DOWN, Frame, R, UP, at, buffers, list, origin, set_of, star};
-    use super::super::{FloodTo, NoWarp, Uncertainty};
+    use super::super::uncertainty::Uncertainty;
     use super::*;
     use crate::buffers::RaySplit;
     use glam::Vec3;
@@ -244,7 +251,9 @@ mod tests {
         let lights: Vec<usize> = (0..DOWN).collect();
         let roofed = [R[0], R[1], R[5]];
         for q in 0..5 {
-            bufs.above[q * w..(q + 1) * w].copy_from_slice(&set_of(w, &lights));
+            bits::rows_mut(&mut bufs.above, w)
+                .row_mut(q)
+                .copy_from_slice(&set_of(w, &lights));
             if q == 0 {
                 continue; // the pixel decided: nothing visible yet, as `begin_pixel` leaves it
             }
@@ -253,7 +262,9 @@ mod tests {
                 .copied()
                 .filter(|&j| j != UP && (q <= 2 || !roofed.contains(&j)))
                 .collect();
-            bufs.vis[q * w..(q + 1) * w].copy_from_slice(&set_of(w, &seen));
+            bits::rows_mut(&mut bufs.vis, w)
+                .row_mut(q)
+                .copy_from_slice(&set_of(w, &seen));
         }
         let rule = Predict::<NoWarp, Uncertainty>::new(&Params {
             trace_all_share: share,

@@ -7,7 +7,9 @@
 //! halo is then the part of its blocks above and to the left of it; tiles that are multiples
 //! of the block (the default 64) have none.
 
-use super::{Order, Params};
+use super::order::Order;
+use super::params::Params;
+use crate::key::Key;
 use crate::tile::Rect;
 
 /// Row-major order restarting at blocks of `block` pixels.
@@ -70,7 +72,7 @@ impl Order for Scanline {
         Rect::new(tile.x0 / b * b, tile.y0 / b * b, tile.x1, tile.y1)
     }
 
-    fn reads(&self) -> &'static [&'static str] {
-        &["scan_block"]
+    fn reads(&self) -> &'static [Key] {
+        &[Key::ScanBlock]
     }
 }

@@ -17,8 +17,9 @@
 //! data and the reprojection are [`Prev`]'s; key frames and chains are decided above.
 
 use super::correct::{At, correct};
+use super::scratch::Scratch;
 use super::turning::spatial_word;
-use super::{Scratch, Uncertainty};
+use super::uncertainty::Uncertainty;
 use crate::bits;
 use crate::buffers::TileBuffers;
 use crate::context::FrameContext;
@@ -85,8 +86,9 @@ pub fn solve_temporal(
         for &(j, from) in remap {
             let (j, from) = (j as usize, from as usize);
             for row in 0..3 {
-                let v = bits::get(&ext[row * w..(row + 1) * w], from);
-                let dst = &mut ext[(3 + row) * w..(4 + row) * w];
+                let mut rows = bits::rows_mut(ext, w);
+                let v = bits::get(rows.row(row), from);
+                let dst = rows.row_mut(3 + row);
                 if v {
                     bits::set(dst, j);
                 } else {
@@ -105,7 +107,7 @@ pub fn solve_temporal(
         let band = &mut ext[graze..graze + w];
         crate::shade::above_plane(&ctx.shade_lights, s.n, prev.grazing(), band);
     }
-    let mine = &above[i * w..(i + 1) * w];
+    let mine = bits::rows(above, w).row(i);
     for m in 0..w {
         let my = mine[m];
         // Edge lights take the spatial voters' word where those agree (they surround the
@@ -153,12 +155,12 @@ pub fn solve_temporal(
 
 #[cfg(test)]
 mod tests {
+    use super::super::flood::FloodTo;
     use super::super::testkit::{
         DOWN, Frame, at, buffers, carried_ground, ground_point, list, set_of, star,
     };
     use super::*;
     use crate::history::Edges;
-    use crate::predict::FloodTo;
     use glam::Mat4;
 
     const AT: At = At {

@@ -4,7 +4,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::Scratch;
+use super::scratch::Scratch;
 use crate::accel::Accel;
 use crate::bits;
 use crate::buffers::TileBuffers;

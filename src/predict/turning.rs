@@ -25,7 +25,8 @@
 //!   pixels predicted from them, keep errors from building up along a chain.
 
 use super::correct::{At, correct_closed};
-use super::{Scratch, Uncertainty};
+use super::scratch::Scratch;
+use super::uncertainty::Uncertainty;
 use crate::bits;
 use crate::buffers::TileBuffers;
 use crate::context::FrameContext;
@@ -62,7 +63,7 @@ pub fn solve_in_place(
     let w = bufs.words;
     let carried = prev.carried();
     let (above, vis) = (&bufs.above, &bufs.vis);
-    let mine = &above[i * w..(i + 1) * w];
+    let mine = bits::rows(above, w).row(i);
     // Scratch row 0: the lights flooding may not reach.
     let closed = &mut sc.ext;
     for m in 0..w {
@@ -130,12 +131,12 @@ pub(super) fn spatial_word(
 
 #[cfg(test)]
 mod tests {
+    use super::super::flood::FloodTo;
     use super::super::testkit::{
         DOWN, Frame, R, UP, at, buffers, carried_ground, ground_point, list, set_of, star,
     };
     use super::*;
     use crate::history::Edges;
-    use crate::predict::FloodTo;
     use glam::{Mat4, Vec3};
 
     const AT: At = At {

@@ -3,22 +3,23 @@
 //! such voter votes blocked → blocked, none does → visible; otherwise it is uncertain and
 //! traced, and its trace floods to its neighbour lights.
 
-use super::Flood;
+use super::flood::Flood;
+use crate::key::Key;
 
 /// Trace what the voters disagree on (or see too little of), and flood from it.
 pub struct Uncertainty;
 
 impl Flood for Uncertainty {
     const NAME: &'static str = "uncertainty";
-    const READS: &'static [&'static str] = &[
-        "min_voters",
-        "flood_to",
-        "temporal",
-        "keyframe",
-        "surface_voters",
-        "all_voters",
-        "busy_voters",
-        "trace_all_share",
+    const READS: &'static [Key] = &[
+        Key::MinVoters,
+        Key::FloodTo,
+        Key::Temporal,
+        Key::Keyframe,
+        Key::SurfaceVoters,
+        Key::AllVoters,
+        Key::BusyVoters,
+        Key::TraceAllShare,
     ];
 
     fn min_voters(setting: u32) -> u32 {

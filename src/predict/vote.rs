@@ -4,11 +4,11 @@
 //! from each voter with the light above its horizon ([ours]: K_j such voters, votes_j ≥ K_j
 //! read as "all agree"). The flood rule turns that into a prediction.
 //!
-//! Rules: [`NoWarp`](super::NoWarp) (a voter's blocked light votes for itself) and
-//! [`Warp`](super::Warp) (a voter's blockers, re-aimed from the current point, vote for the
-//! cell they land in).
+//! Rules: [`NoWarp`](super::nowarp::NoWarp) (a voter's blocked light votes for itself) and
+//! [`Warp`](super::warp::Warp) (a voter's blockers, re-aimed from the current point, vote for
+//! the cell they land in).
 
-use super::Scratch;
+use super::scratch::Scratch;
 use crate::buffers::TileBuffers;
 use crate::context::FrameContext;
 

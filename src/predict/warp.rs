@@ -6,11 +6,12 @@
 //! Point and spot lights of the scene file [ours] have no cell to land in (a point light is
 //! seen from each pixel along its own direction, and a blocker re-aimed from another point
 //! blocks it only if it lands exactly on the segment to it): their blockers are not warped,
-//! and they are voted as [`NoWarp`](super::NoWarp) votes — each voter's own answer for that
-//! light, which neighbouring pixels, seeing the light from nearly the same direction, mostly
-//! share.
+//! and they are voted as [`NoWarp`](super::nowarp::NoWarp) votes — each voter's own answer for
+//! that light, which neighbouring pixels, seeing the light from nearly the same direction,
+//! mostly share.
 
-use super::{Scratch, Vote};
+use super::scratch::Scratch;
+use super::vote::Vote;
 use crate::bits;
 use crate::buffers::TileBuffers;
 use crate::context::FrameContext;
@@ -71,7 +72,7 @@ impl Vote for Warp {
             bits::set(&mut sc.vote_any, c);
             let k_j = voters
                 .iter()
-                .filter(|&&q| bits::get(&bufs.above[q * w..(q + 1) * w], c))
+                .filter(|&&q| bits::get(bits::rows(&bufs.above, w).row(q), c))
                 .count();
             if sc.votes[c] as usize >= k_j {
                 bits::set(&mut sc.vote_all, c);
@@ -81,8 +82,8 @@ impl Vote for Warp {
         for j in directional..ctx.light_count() {
             let (mut any, mut all) = (false, true);
             for &q in voters {
-                if bits::get(&bufs.above[q * w..(q + 1) * w], j) {
-                    let blocked = !bits::get(&bufs.vis[q * w..(q + 1) * w], j);
+                if bits::get(bits::rows(&bufs.above, w).row(q), j) {
+                    let blocked = !bits::get(bits::rows(&bufs.vis, w).row(q), j);
                     any |= blocked;
                     all &= blocked;
                 }
@@ -140,7 +141,9 @@ mod tests {
         let (mut bufs, mut sc) = buffers(&ctx, &surfaces);
         for (k, v) in voters.iter().enumerate() {
             let q = k + 1;
-            bufs.above[q * w..(q + 1) * w].copy_from_slice(&set_of(w, &v.above));
+            bits::rows_mut(&mut bufs.above, w)
+                .row_mut(q)
+                .copy_from_slice(&set_of(w, &v.above));
             bufs.blockers.begin(q);
             for &(j, t) in &v.blockers {
                 bufs.blockers.push(q, j, t);

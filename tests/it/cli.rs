@@ -743,6 +743,59 @@ fn every_command_takes_quiet_and_verbose() {
     failures.assert_none();
 }
 
+/// Issue 37: `envshadow methods` named 5 of the 11 settings the methods read, from a list of
+/// its own. Each method now lists every setting it reads (its order's and rule's typed keys),
+/// and together they list every method setting.
+#[test]
+fn methods_lists_every_setting_each_method_reads() {
+    use envshadow::predict::Method;
+    use envshadow::settings::method_settings;
+    let (code, out, err) = run_bin(&["methods"]);
+    assert_eq!(code, Some(0), "{err}");
+    // One block per method: its heading line ("name (default): parts"), then indented lines.
+    let mut listed: Vec<(String, Vec<String>)> = Vec::new();
+    for line in out.lines() {
+        if !line.starts_with(' ') {
+            let name = line.split([':', ' ']).next().unwrap_or("").to_string();
+            listed.push((name, Vec::new()));
+        } else if let Some(flags) = line.trim().strip_prefix("settings:") {
+            let last = listed.last_mut().expect("a method before its settings");
+            last.1 = flags.split_whitespace().map(String::from).collect();
+        }
+    }
+    let names: Vec<&str> = listed.iter().map(|(n, _)| n.as_str()).collect();
+    let all: Vec<&str> = Method::all().map(|m| m.name()).collect();
+    assert_eq!(names, all, "{out}");
+    let mut union = Vec::new();
+    for (m, (_, got)) in Method::all().zip(&listed) {
+        let want: Vec<String> = method_settings()
+            .filter(|&k| m.reads(k))
+            .map(|k| format!("--{}", k.flag()))
+            .collect();
+        assert_eq!(got, &want, "{m}");
+        union.extend(want);
+    }
+    for k in method_settings() {
+        let flag = format!("--{}", k.flag());
+        assert!(union.contains(&flag), "no method lists {flag}: {out}");
+    }
+    // The default method reads the grid's and the uncertainty rule's settings.
+    let default = &listed[all
+        .iter()
+        .position(|&n| n == Method::DEFAULT.name())
+        .unwrap()]
+    .1;
+    for flag in [
+        "--h0",
+        "--min-voters",
+        "--flood-to",
+        "--temporal",
+        "--trace-all-share",
+    ] {
+        assert!(default.iter().any(|f| f == flag), "{flag}: {default:?}");
+    }
+}
+
 /// `-q` prints only errors, `-v` adds a line per tile, the inputs' loading time and each
 /// frame's rays by kind and writing time; the default is in between.
 #[test]

@@ -6,7 +6,8 @@ use envshadow::anim::{AnimFlags, Animation};
 use envshadow::coordinator::{Inputs, Silent, render_frame, thread_pool};
 use envshadow::film::Counts;
 use envshadow::film::Film;
-use envshadow::predict::{FloodTo, Method};
+use envshadow::key::Key;
+use envshadow::predict::{FloodTo, Method, Params};
 
 /// A method with a flood rule.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -20,7 +21,7 @@ impl From<Method> for Variant {
     fn from(method: Method) -> Variant {
         Variant {
             method,
-            flood_to: FloodTo::default(),
+            flood_to: Params::DEFAULT.flood_to,
         }
     }
 }
@@ -60,10 +61,10 @@ fn variants() -> Vec<Variant> {
     let mut v = Vec::new();
     for method in Method::all() {
         for flood_to in FloodTo::ALL {
-            let flood_to = if method.reads("flood_to") {
+            let flood_to = if method.reads(Key::FloodTo) {
                 flood_to
             } else {
-                FloodTo::default()
+                Params::DEFAULT.flood_to
             };
             let variant = Variant { method, flood_to };
             if !v.contains(&variant) {
@@ -183,7 +184,7 @@ fn flooding_to_contrary_lights_saves_rays_only_where_it_can() {
                 let (fa, ca) = render(&anim, &inputs, all, 64, 0);
                 let (fc, cc) = render(&anim, &inputs, contrary, 64, 0);
                 let (ff, cf) = render(&anim, &inputs, finest, 64, 0);
-                if m.reads("flood_to") && m.parts().0 == "grid" {
+                if m.reads(Key::FloodTo) && m.parts().0 == "grid" {
                     // Contrary at the finest level only: between the two.
                     assert!(
                         cc.rays < cf.rays && cf.rays * 10 < ca.rays * 9,
@@ -210,7 +211,7 @@ fn flooding_to_contrary_lights_saves_rays_only_where_it_can() {
                         "contrary-finest's frame differs from all's"
                     );
                 }
-                if m.reads("flood_to") {
+                if m.reads(Key::FloodTo) {
                     // Uncertainty flooding: a smaller flood, at least a sixth fewer rays here.
                     assert!(
                         cc.rays * 6 < ca.rays * 5,
@@ -295,7 +296,7 @@ fn where_the_rays_go_adds_up_for_every_method() {
                     );
                     // Rules that trace every light where the voters leave many uncertain
                     // (`--trace-all-share`) trace those pixels' rays on top.
-                    if m.method.reads("trace_all_share") {
+                    if m.method.reads(Key::TraceAllShare) {
                         readers.push((m.to_string(), c.rays_every_light));
                     } else {
                         assert_eq!(
