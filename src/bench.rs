@@ -17,11 +17,14 @@ use rayon::prelude::*;
 
 use crate::accel::{self, Accel, PACKET, ShadowRay};
 use crate::anim::{Animation, MaterialFlags};
-use crate::coordinator::{Inputs, Silent, render_frame, thread_pool};
+use crate::coordinator::thread_pool;
 use crate::error::{Result, input_error};
 use crate::film::Counts;
+use crate::frame::render_frame;
+use crate::inputs::Inputs;
 use crate::predict::Method;
 use crate::raydump::{self, REPLAY_CHUNK};
+use crate::run::Silent;
 use crate::settings::{LightsSweep, RenderSweep};
 use crate::sweep::{Variant, light_layers, load_scene, tuning, variants};
 

@@ -23,11 +23,8 @@ use crate::output::stats::FrameStats;
 use crate::temporal::{Chain, chains};
 use crate::tile::{Rect, Tile};
 
-// Transitional re-exports while callers move to the new homes.
-pub use crate::frame::{render_frame, render_frame_with};
-pub use crate::frame_files::{FrameFiles, exr_header, frame_format};
-pub use crate::inputs::{Inputs, scene_lights_note};
-pub use crate::run::{FrameSink, Progress, RunOptions, RunSummary, Silent, TileDone};
+use crate::inputs::{Inputs, scene_lights_note};
+use crate::run::{FrameSink, Progress, RunOptions, RunSummary, Silent};
 
 /// Frames rendered at once (see `render_animation`); the memory estimate counts them.
 const FRAMES_IN_FLIGHT: usize = crate::limits::FRAMES_IN_FLIGHT;

@@ -7,8 +7,8 @@ use std::fmt;
 use std::path::Path;
 
 use crate::anim::{AnimFlags, Animation, EnvSource, MaterialFlags};
-use crate::coordinator::Inputs;
 use crate::error::{Result, input_error};
+use crate::inputs::Inputs;
 use crate::predict::Method;
 use crate::settings::{
     LightsLayer, LightsSweep, RenderLayer, RenderSweep, Source, check_applies, method_specific,

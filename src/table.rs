@@ -6,11 +6,15 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use crate::coordinator::{Silent, render_frame, thread_pool};
+use crate::coordinator::thread_pool;
+
+use crate::frame::render_frame;
+
 use crate::error::{Result, input_error};
 use crate::output::write_atomic;
 use crate::paper::{paper_percent, table1_methods};
 use crate::predict::{FloodTo, Method};
+use crate::run::Silent;
 use crate::settings::{LightsSweep, RenderSweep};
 use crate::sweep::{Variant, light_layers, load, tuning, variants};
 

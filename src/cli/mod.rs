@@ -17,10 +17,11 @@ use clap::{Args, Parser, Subcommand};
 
 use envshadow::anim::{AnimFlags, Animation};
 use envshadow::bench::{self, BenchArgs};
-use envshadow::coordinator::{self, Progress, RunOptions};
+use envshadow::coordinator;
 use envshadow::envmap::EnvMap;
 use envshadow::error::{Result, input_error};
 use envshadow::lights::LightSet;
+use envshadow::run::{Progress, RunOptions};
 use envshadow::settings::LightsLayer;
 use envshadow::table::{self, TableArgs};
 use envshadow::tile::Rect;
@@ -571,7 +572,7 @@ fn render(args: RenderArgs, talk: Talk) -> Result<()> {
         cancel: envshadow::cancel::Cancel::on_signals()?,
         wait: args.wait,
     };
-    let mut files = coordinator::FrameFiles::new(&anim, &opts);
+    let mut files = envshadow::frame_files::FrameFiles::new(&anim, &opts);
     let summary = coordinator::render_animation(&anim, &opts, &mut files, progress.as_ref())?;
     let dir = &anim.output.dir;
     talk.info(&format!(

@@ -6,8 +6,8 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
-use envshadow::coordinator::{Progress, TileDone};
 use envshadow::output::stats::FrameStats;
+use envshadow::run::{Progress, TileDone};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use super::say;

@@ -9,7 +9,6 @@ use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 
-use crate::coordinator::exr_header;
 use crate::error::{Result, input_error};
 use crate::farm::PlanFile;
 use crate::farm::job::{
@@ -18,6 +17,7 @@ use crate::farm::job::{
 use crate::farm::plan::{Job, PlanRequest, plan};
 use crate::film::Counts;
 use crate::film::Film;
+use crate::frame_files::exr_header;
 use crate::output::exr::{fill_film, read_frame};
 use crate::output::record::SettingsRecord;
 use crate::output::stats::{FrameStats, StatsFile};

@@ -16,7 +16,6 @@ use anyhow::Context;
 use serde::{Deserialize, Serialize};
 
 use crate::anim::Animation;
-use crate::coordinator::FrameSink;
 use crate::error::{Result, input_error};
 use crate::farm::identity;
 use crate::farm::plan::{By, Job};
@@ -25,6 +24,7 @@ use crate::film::Film;
 use crate::frames::FrameSet;
 use crate::output::stats::FrameStats;
 use crate::output::write_atomic;
+use crate::run::FrameSink;
 use crate::tile::{Rect, Tile, bounding, tiles};
 
 /// The manifest's `format`; assemble refuses others.

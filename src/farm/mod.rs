@@ -20,9 +20,10 @@ use anyhow::Context;
 use serde::{Deserialize, Serialize};
 
 use crate::anim::Animation;
-use crate::coordinator::{self, Progress, RunOptions, RunSummary};
+use crate::coordinator;
 use crate::error::{Result, input_error};
 use crate::output::write_atomic;
+use crate::run::{Progress, RunOptions, RunSummary};
 use job::{JobWriter, Manifest, PlanRef, Settings};
 use plan::{By, Job, PlanRequest, TileSet};
 

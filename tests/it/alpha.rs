@@ -4,11 +4,17 @@
 
 use crate::common::{self, Failures};
 
-use envshadow::coordinator::{Inputs, Silent, render_frame, thread_pool};
+use envshadow::coordinator::thread_pool;
+
+use envshadow::frame::render_frame;
+
+use envshadow::inputs::Inputs;
+
 use envshadow::envmap::EnvMap;
 use envshadow::film::Film;
 use envshadow::lights::{Light, LightSet, Sampler};
 use envshadow::predict::Method;
+use envshadow::run::Silent;
 use envshadow::scene::{AlphaMode, Material, Scene, Texture, TextureSlot};
 use glam::{Vec2, Vec3};
 

@@ -5,7 +5,7 @@ use crate::common::{self, Failures};
 
 use envshadow::anim::{AnimFlags, Animation};
 use envshadow::context::FrameContext;
-use envshadow::coordinator::Inputs;
+use envshadow::inputs::Inputs;
 use envshadow::settings::{LightsLayer, RenderLayer};
 
 #[test]

@@ -5,9 +5,13 @@
 use crate::common::Gltf;
 use crate::common::{self, Failures};
 
-use envshadow::coordinator::{Inputs, Silent, render_frame};
+use envshadow::frame::render_frame;
+
+use envshadow::inputs::Inputs;
+
 use envshadow::envmap::EnvMap;
 use envshadow::lights::{LightSet, Sampler};
+use envshadow::run::Silent;
 use envshadow::scene::{Material, Model, Scene, Texture, TextureSlot};
 use glam::{Vec2, Vec3, Vec4};
 use serde_json::json;

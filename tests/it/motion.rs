@@ -6,10 +6,12 @@ use crate::common::{self, Failures};
 use std::path::Path;
 
 use envshadow::anim::{AnimFlags, Animation, MotionKind};
-use envshadow::coordinator::{
-    FrameFiles, Inputs, RunOptions, Silent, render_animation, render_frame,
-};
+use envshadow::coordinator::render_animation;
+use envshadow::frame::render_frame;
+use envshadow::frame_files::FrameFiles;
+use envshadow::inputs::Inputs;
 use envshadow::output::stats::read_stats;
+use envshadow::run::{RunOptions, Silent};
 
 /// The bunny under `motion` (TOML text of the motion tables), 3° per frame unless said.
 fn bunny(motion: &str, width: u32, height: u32, lights: usize, out: &Path) -> Animation {

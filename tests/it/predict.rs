@@ -3,11 +3,14 @@
 use crate::common::{self, Failures};
 
 use envshadow::anim::{AnimFlags, Animation};
-use envshadow::coordinator::{Inputs, Silent, render_frame, thread_pool};
+use envshadow::coordinator::thread_pool;
 use envshadow::film::Counts;
 use envshadow::film::Film;
+use envshadow::frame::render_frame;
+use envshadow::inputs::Inputs;
 use envshadow::key::Key;
 use envshadow::predict::{FloodTo, Method, Params};
+use envshadow::run::Silent;
 
 /// A method with a flood rule.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -7,11 +7,14 @@ use crate::common::{self, Failures};
 
 use envshadow::anim::{AnimFlags, Animation};
 use envshadow::brdf::brdf;
-use envshadow::coordinator::{Inputs, Silent, render_frame, thread_pool};
+use envshadow::coordinator::thread_pool;
 use envshadow::envmap::EnvMap;
 use envshadow::film::Film;
+use envshadow::frame::render_frame;
+use envshadow::inputs::Inputs;
 use envshadow::lights::{LightSet, Sampler};
 use envshadow::predict::Method;
+use envshadow::run::Silent;
 use envshadow::scene::{Material, Scene, SceneLight, SceneLightKind};
 use glam::Vec3;
 use std::path::Path;
@@ -421,7 +424,7 @@ fn corpus_scenes_requiring_khr_lights_punctual_load_and_light_the_frame() {
     let sun = inputs.lights.lights[50];
     assert!((sun.energy - Vec3::splat(10.0)).abs().max_element() < 1e-4);
     assert_eq!(inputs.lights.from_file[0].index, 50);
-    let note = envshadow::coordinator::scene_lights_note(&anim, &inputs.scene).unwrap();
+    let note = envshadow::inputs::scene_lights_note(&anim, &inputs.scene).unwrap();
     assert!(note.contains("directional 'Sun'"), "{note}");
     let (film, _) = render_frame(&anim, &inputs, 0, None, &Silent).unwrap();
     assert!(film.beauty.iter().any(|p| p[0] > 0.0));
@@ -434,7 +437,7 @@ fn corpus_scenes_requiring_khr_lights_punctual_load_and_light_the_frame() {
         "the file still loads its lights"
     );
     assert_eq!(inputs.lights.len(), 50, "but they do not light it");
-    let note = envshadow::coordinator::scene_lights_note(&off, &inputs.scene).unwrap();
+    let note = envshadow::inputs::scene_lights_note(&off, &inputs.scene).unwrap();
     assert!(note.contains("ignored"), "{note}");
 }
 

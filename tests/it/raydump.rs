@@ -6,9 +6,12 @@ use crate::common::Failures;
 use envshadow::accel::{Accel, ShadowRay};
 use envshadow::anim::{AnimFlags, Animation};
 use envshadow::bench::{Grouping, by_direction, replay};
-use envshadow::coordinator::{Inputs, Silent, render_frame, thread_pool};
+use envshadow::coordinator::thread_pool;
+use envshadow::frame::render_frame;
+use envshadow::inputs::Inputs;
 use envshadow::predict::Method;
 use envshadow::raydump;
+use envshadow::run::Silent;
 use envshadow::settings::{LightsLayer, RenderLayer};
 
 fn shapes(lights: usize, method: Method) -> (Animation, Inputs) {

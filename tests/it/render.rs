@@ -2,10 +2,14 @@
 
 use crate::common::{self, Failures};
 
-use envshadow::coordinator::{Inputs, Silent, render_frame};
+use envshadow::frame::render_frame;
+
+use envshadow::inputs::Inputs;
+
 use envshadow::envmap::EnvMap;
 use envshadow::lights::{Light, LightSet, Sampler};
 use envshadow::predict::Method;
+use envshadow::run::Silent;
 use glam::Vec3;
 
 fn uniform_env(radiance: f32) -> EnvMap {

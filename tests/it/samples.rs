@@ -7,11 +7,14 @@ use std::path::Path;
 use crate::common::{self, Failures};
 
 use envshadow::anim::{AnimFlags, Animation};
-use envshadow::coordinator::{Inputs, Silent, render_frame, thread_pool};
+use envshadow::coordinator::thread_pool;
 use envshadow::envmap::EnvMap;
 use envshadow::film::{Counts, Film};
+use envshadow::frame::render_frame;
+use envshadow::inputs::Inputs;
 use envshadow::lights::{LightSet, Sampler};
 use envshadow::predict::Method;
+use envshadow::run::Silent;
 use envshadow::samples::Filter;
 use envshadow::settings::{LightsLayer, RenderLayer};
 use glam::{Vec2, Vec3};

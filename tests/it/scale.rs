@@ -11,9 +11,12 @@ use std::path::{Path, PathBuf};
 use crate::common::{self, Failures, Gltf};
 
 use envshadow::anim::{AnimFlags, Animation};
-use envshadow::coordinator::{Inputs, Silent, render_frame, thread_pool};
+use envshadow::coordinator::thread_pool;
 use envshadow::film::Film;
+use envshadow::frame::render_frame;
+use envshadow::inputs::Inputs;
 use envshadow::motion::{Motion, MotionKind};
+use envshadow::run::Silent;
 use envshadow::scene::Scene;
 use envshadow::settings::{LightsLayer, RenderLayer};
 use serde_json::json;

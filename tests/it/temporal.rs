@@ -7,16 +7,17 @@ use crate::common::{self, Failures};
 use std::path::Path;
 
 use envshadow::anim::{AnimFlags, Animation};
-use envshadow::coordinator::{
-    FrameFiles, Inputs, RunOptions, Silent, render_animation, render_frame, render_frame_with,
-    thread_pool,
-};
+use envshadow::coordinator::{render_animation, thread_pool};
 use envshadow::film::Counts;
 use envshadow::film::Film;
 use envshadow::frame::Temporal;
+use envshadow::frame::{render_frame, render_frame_with};
+use envshadow::frame_files::FrameFiles;
 use envshadow::history::Carried;
+use envshadow::inputs::Inputs;
 use envshadow::output::stats::read_stats;
 use envshadow::predict::FloodTo;
+use envshadow::run::{RunOptions, Silent};
 
 /// A small bunny animation: `kind` = orbit, spin or environment, 3° per frame, validated,
 /// temporal.

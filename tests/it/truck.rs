@@ -7,8 +7,10 @@
 use std::path::{Path, PathBuf};
 
 use envshadow::anim::{AnimFlags, Animation};
-use envshadow::coordinator::{FrameFiles, RunOptions, Silent, render_animation};
+use envshadow::coordinator::render_animation;
+use envshadow::frame_files::FrameFiles;
 use envshadow::output::stats::read_stats;
+use envshadow::run::{RunOptions, Silent};
 
 use crate::common::{Failures, Gltf};
 use serde_json::json;
