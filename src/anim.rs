@@ -336,38 +336,26 @@ impl MaterialFlags {
         }
         o
     }
-
-    /// The flags given: (name, spelled).
-    fn given(&self) -> Vec<(&'static str, &'static str, String)> {
-        let mut v = Vec::new();
-        if self.clay {
-            v.push(("clay", "clay", "true".to_string()));
-        }
-        if self.lambert {
-            v.push(("lambert", "lambert", "true".to_string()));
-        }
-        v
-    }
 }
 
 impl AnimFlags {
-    /// Refuses the settings given here that `command` does not read (`reads`: spec keys):
-    /// they would change nothing it writes.
-    pub fn refuse_unread(&self, reads: &[&str], command: &str) -> Result<()> {
+    /// Refuses the settings given here that `command` does not read: they would change nothing
+    /// it writes. The material flags are not settings; every command that takes them reads
+    /// them.
+    pub fn refuse_unread(&self, reads: &[Key], command: &str) -> Result<()> {
         if self.frames.is_some() {
             bail_input!("--frames", "does not apply to {command}");
         }
         let given = self
             .scene
-            .given()
+            .given_keys()
             .into_iter()
-            .chain(self.lights.given())
-            .chain(self.render.given())
-            .chain(self.output.given())
-            .chain(self.material.given());
-        for (key, flag, _) in given {
+            .chain(self.lights.given_keys())
+            .chain(self.render.given_keys())
+            .chain(self.output.given_keys());
+        for (key, _) in given {
             if !reads.contains(&key) {
-                bail_input!(format!("--{flag}"), "does not apply to {command}");
+                bail_input!(format!("--{}", key.flag()), "does not apply to {command}");
             }
         }
         Ok(())

@@ -153,12 +153,6 @@ impl TileBuffers {
         i
     }
 
-    /// Bitset `words` of pixel `i` in one of the per-pixel bitset arrays.
-    #[inline]
-    pub fn row(v: &[u64], i: usize, words: usize) -> &[u64] {
-        bits::rows(v, words).row(i)
-    }
-
     /// Traces every above-horizon light of pixel `i` (the coarse pixels and pixels with no
     /// voters), keeping blockers when `keep_blockers`.
     pub fn trace_all(&mut self, ctx: &FrameContext, i: usize, keep_blockers: bool) {

@@ -368,8 +368,8 @@ fn shade(
                     nearest = nearest.min((s.p - eye).dot(forward));
                     n_sum += s.n;
                     a_sum += s.albedo;
-                    let vis = TileBuffers::row(&bufs.vis, q, w);
-                    let above = TileBuffers::row(&bufs.above, q, w);
+                    let vis = bits::rows(&bufs.vis, w).row(q);
+                    let above = bits::rows(&bufs.above, w).row(q);
                     if s.catcher {
                         // [ours] A catcher's shadow is the map's lights' (its fraction is
                         // against the map's unshadowed light); the file's point and spot
@@ -444,8 +444,8 @@ fn validate_sample(
 ) -> (u64, Vec3) {
     let w = bufs.words;
     let s = &bufs.surf[q];
-    let vis = TileBuffers::row(&bufs.vis, q, w);
-    let above = TileBuffers::row(&bufs.above, q, w);
+    let vis = bits::rows(&bufs.vis, w).row(q);
+    let above = bits::rows(&bufs.above, w).row(q);
     for m in 0..w {
         truth[m] = 0;
         let mut word = above[m];
@@ -457,7 +457,7 @@ fn validate_sample(
             }
         }
     }
-    let traced_bits = TileBuffers::row(&bufs.traced, q, w);
+    let traced_bits = bits::rows(&bufs.traced, w).row(q);
     let (mut wv, mut wb) = (0u64, 0u64);
     for m in 0..w {
         counts.wrong_traced +=

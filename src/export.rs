@@ -27,6 +27,7 @@ use crate::camera::Camera;
 use crate::context::FrameContext;
 use crate::error::{Result, input_error};
 use crate::inputs::Inputs;
+use crate::key::Key;
 use crate::output::write_atomic_with;
 use crate::samples::Samples;
 use crate::scene::{AlphaMode, AlphaTest, Model, Scene, TextureSlot, Wrap, coverage_threshold};
@@ -65,19 +66,18 @@ pub struct Exported {
 }
 
 /// The settings an export reads; the others would change nothing it writes.
-const READS: [&str; 12] = [
-    "clay",
-    "lambert",
-    "up",
-    "ground",
-    "count",
-    "sampler",
-    "width",
-    "height",
-    "spp",
-    "filter",
-    "filter_width",
-    "dir",
+/// (The material flags, `--clay` and `--lambert`, are not settings: export reads both.)
+const READS: [Key; 10] = [
+    Key::Up,
+    Key::Ground,
+    Key::Count,
+    Key::Sampler,
+    Key::Width,
+    Key::Height,
+    Key::Spp,
+    Key::Filter,
+    Key::FilterWidth,
+    Key::Dir,
 ];
 
 /// `envshadow export`.

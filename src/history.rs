@@ -139,9 +139,9 @@ impl CarryPatch {
                 patch.hit.push(s.hit);
                 patch.p.push(s.p);
                 patch.n.push(s.n);
-                let above = TileBuffers::row(&bufs.above, i, w);
-                let vis = TileBuffers::row(&bufs.vis, i, w);
-                let out = &mut patch.bits[c * rows * w..(c + 1) * rows * w];
+                let above = bits::rows(&bufs.above, w).row(i);
+                let vis = bits::rows(&bufs.vis, w).row(i);
+                let out = bits::rows_mut(&mut patch.bits, rows * w).into_row(c);
                 out[..w].copy_from_slice(above);
                 out[w..2 * w].copy_from_slice(vis);
                 if let Edges::Track(tracks) = edges {
@@ -345,8 +345,12 @@ mod tests {
         let surfaces: Vec<_> = (0..5).map(|k| at(Vec3::new(k as f32, 0.0, 0.0))).collect();
         let (mut bufs, _) = buffers(&ctx, &surfaces);
         for q in 0..5 {
-            bufs.above[q * w..(q + 1) * w].copy_from_slice(&set_of(w, &up()));
-            bufs.vis[q * w..(q + 1) * w].copy_from_slice(&set_of(w, &[q]));
+            bits::rows_mut(&mut bufs.above, w)
+                .row_mut(q)
+                .copy_from_slice(&set_of(w, &up()));
+            bits::rows_mut(&mut bufs.vis, w)
+                .row_mut(q)
+                .copy_from_slice(&set_of(w, &[q]));
         }
         let mut carried = Carried::new(7, 5, 1, w, false);
         for tile in [Rect::new(3, 0, 5, 1), Rect::new(0, 0, 3, 1)] {
@@ -374,8 +378,12 @@ mod tests {
         bufs.prepare(&ctx, region, region);
         for q in 0..9 {
             bufs.surf[q] = at(Vec3::new(q as f32, 0.0, 0.0));
-            bufs.above[q * w..(q + 1) * w].copy_from_slice(&set_of(w, &up()));
-            bufs.vis[q * w..(q + 1) * w].copy_from_slice(&set_of(w, &[q % 7]));
+            bits::rows_mut(&mut bufs.above, w)
+                .row_mut(q)
+                .copy_from_slice(&set_of(w, &up()));
+            bits::rows_mut(&mut bufs.vis, w)
+                .row_mut(q)
+                .copy_from_slice(&set_of(w, &[q % 7]));
         }
         let mut carried = Carried::new(0, 1, 1, w, false);
         carried.insert(&CarryPatch::record(&bufs, ctx.lights, &Edges::None, 3));

@@ -52,17 +52,3 @@ pub enum Key {
     Fps,
     Video,
 }
-
-/// A setting named by its [`Key`] or, for the callers still naming settings by their spec
-/// key (`bench`'s and `export`'s lists, issue 37: they move to [`Key`] and this goes), by
-/// that name; a name no setting has is no key.
-pub trait AsKey: Copy {
-    fn key(self) -> Option<Key>;
-}
-
-impl AsKey for Key {
-    #[inline]
-    fn key(self) -> Option<Key> {
-        Some(self)
-    }
-}

@@ -221,7 +221,7 @@ mod tests {
     }
 
     fn read(b: &TileBuffers, i: usize) -> Pixel {
-        let row = |v: &[u64]| TileBuffers::row(v, i, b.words).to_vec();
+        let row = |v: &[u64]| bits::rows(v, b.words).row(i).to_vec();
         Pixel {
             surf: b.surf[i],
             bits: [row(&b.above), row(&b.vis), row(&b.traced)],

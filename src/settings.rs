@@ -21,7 +21,7 @@ use std::path::{Path, PathBuf};
 
 use crate::background::{Background, Rgb, check_rgb};
 use crate::error::{Result, input_error};
-use crate::key::{AsKey, Key};
+use crate::key::Key;
 use crate::lights::Sampler;
 use crate::predict::{FloodTo, Method, Params};
 use crate::samples::{Filter, Samples};
@@ -224,19 +224,9 @@ macro_rules! settings_table {
                 v
             }
 
-            /// [`given_keys`](Self::given_keys) by name: (spec key, flag, value as spelled),
-            /// for the callers not yet on [`Key`] (issue 37).
-            pub fn given(&self) -> Vec<(&'static str, &'static str, String)> {
-                self.given_keys()
-                    .into_iter()
-                    .map(|(k, shown)| (k.name(), k.flag(), shown))
-                    .collect()
-            }
-
             /// Forgets the setting `key`, if given.
-            pub fn clear(&mut self, key: impl AsKey) {
-                let key = key.key();
-                $( if key == Some(Key::$key) { self.$field = None; } )*
+            pub fn clear(&mut self, key: Key) {
+                $( if key == Key::$key { self.$field = None; } )*
             }
 
             /// Checks every given value; the error names it as `source` spells it.
@@ -302,15 +292,6 @@ macro_rules! settings_table {
                     }
                 )*
                 v
-            }
-
-            /// [`swept_keys`](Self::swept_keys) by name: (spec key, flag, how many values),
-            /// for the callers not yet on [`Key`] (issue 37).
-            pub fn swept(&self) -> Vec<(&'static str, &'static str, usize)> {
-                self.swept_keys()
-                    .into_iter()
-                    .map(|(k, n)| (k.name(), k.flag(), n))
-                    .collect()
             }
 
             /// Checks every given value; the error names the flag.
@@ -644,15 +625,8 @@ impl Render {
     }
 }
 
-/// Settings named by their spec key, for the callers still naming them so (issue 37).
-impl AsKey for &str {
-    fn key(self) -> Option<Key> {
-        Key::from_name(self)
-    }
-}
-
 /// Settings some method reads: one that the chosen method does not read is refused.
-pub fn method_specific(key: impl AsKey) -> bool {
+pub fn method_specific(key: Key) -> bool {
     Method::all().any(|m| m.reads(key))
 }
 
@@ -880,6 +854,6 @@ mod tests {
             Key::Keyframe,
         ];
         assert_eq!(got, want);
-        assert!(method_specific("h0") && !method_specific("width") && !method_specific("nope"));
+        assert!(method_specific(Key::H0) && !method_specific(Key::Width));
     }
 }

@@ -9,6 +9,7 @@ use std::path::Path;
 use crate::anim::{AnimFlags, Animation, EnvSource, MaterialFlags};
 use crate::error::{Result, input_error};
 use crate::inputs::Inputs;
+use crate::key::Key;
 use crate::predict::Method;
 use crate::settings::{
     LightsLayer, LightsSweep, RenderLayer, RenderSweep, Source, check_applies, method_specific,
@@ -19,7 +20,7 @@ pub const DEFAULT_LIGHTS: [usize; 4] = [50, 100, 200, 400];
 
 /// Settings a one-frame measurement cannot use: it writes no files and reads no previous
 /// frame.
-const NOT_MEASURED: [&str; 3] = ["temporal", "keyframe", "exposure"];
+const NOT_MEASURED: [Key; 3] = [Key::Temporal, Key::Keyframe, Key::Exposure];
 
 /// One combination of a sweep's render settings (beyond light counts and thread counts): the
 /// settings it gives, its method, and its name in a table's rows.
@@ -50,26 +51,26 @@ pub fn variants(base: &Animation, sweep: &RenderSweep, methods: &[Method]) -> Re
     if sweep.method.is_empty() {
         sweep.method = methods.to_vec();
     }
-    for (key, flag, _) in sweep.swept() {
+    for (key, _) in sweep.swept_keys() {
         if NOT_MEASURED.contains(&key) {
             return Err(input_error(
-                format!("--{flag}"),
+                format!("--{}", key.flag()),
                 "does not apply to a measurement of one frame (no previous frame, no files)",
             ));
         }
     }
     let spec = base.render.layer();
-    let several: Vec<&str> = sweep
-        .swept()
+    let several: Vec<Key> = sweep
+        .swept_keys()
         .into_iter()
-        .filter(|&(_, _, n)| n > 1)
-        .map(|(key, _, _)| key)
+        .filter(|&(_, n)| n > 1)
+        .map(|(key, _)| key)
         .collect();
     let mut out: Vec<Variant> = Vec::new();
     for mut layer in sweep.layers() {
         check_applies(&layer, Source::Flags, &sweep.method)?;
         let method = layer.method.unwrap_or(base.render.method);
-        for (key, _, _) in layer.given() {
+        for (key, _) in layer.given_keys() {
             if method_specific(key) && !method.reads(key) {
                 layer.clear(key);
             }
@@ -77,11 +78,11 @@ pub fn variants(base: &Animation, sweep: &RenderSweep, methods: &[Method]) -> Re
         // The method, then each setting swept over several values that this combination
         // gives otherwise than the spec (the settings swept over one value are the heading's).
         let mut label = method.to_string();
-        let spec = spec.given();
-        for (key, flag, shown) in layer.given() {
-            let was = spec.iter().find(|g| g.0 == key).map(|g| &g.2);
-            if key != "method" && several.contains(&key) && was != Some(&shown) {
-                label.push_str(&format!(" --{flag} {shown}"));
+        let spec = spec.given_keys();
+        for (key, shown) in layer.given_keys() {
+            let was = spec.iter().find(|g| g.0 == key).map(|g| &g.1);
+            if key != Key::Method && several.contains(&key) && was != Some(&shown) {
+                label.push_str(&format!(" --{} {shown}", key.flag()));
             }
         }
         let v = Variant {
@@ -104,12 +105,12 @@ pub fn tuning(sweep: &RenderSweep) -> String {
         .into_iter()
         .next()
         .unwrap_or_default()
-        .given();
+        .given_keys();
     let mut s = String::new();
-    for (key, _, n) in sweep.swept() {
-        if n == 1 && !["method", "threads", "width", "height"].contains(&key) {
-            let shown = one.iter().find(|g| g.0 == key).map(|g| g.2.as_str());
-            s.push_str(&format!(", {key} {}", shown.unwrap_or_default()));
+    for (key, n) in sweep.swept_keys() {
+        if n == 1 && ![Key::Method, Key::Threads, Key::Width, Key::Height].contains(&key) {
+            let shown = one.iter().find(|g| g.0 == key).map(|g| g.1.as_str());
+            s.push_str(&format!(", {} {}", key.name(), shown.unwrap_or_default()));
         }
     }
     s

@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use clap::Args;
 
 use crate::coordinator::thread_pool;
+use crate::key::Key;
 
 use crate::frame::render_frame;
 
@@ -134,7 +135,7 @@ pub fn measure(args: &TableArgs, mut log: impl FnMut(Log)) -> Result<Vec<TableRo
             let row = TableRow {
                 flood_to: variant
                     .method
-                    .reads("flood_to")
+                    .reads(Key::FloodTo)
                     .then_some(anim.render.flood_to),
                 paper: paper_percent(variant.method, &key, n),
                 variant,

@@ -19,7 +19,7 @@ use super::shadows::Shadows;
 use super::uncertainty::Uncertainty;
 use super::vote::Vote;
 use super::warp::Warp;
-use crate::key::AsKey;
+use crate::key::Key;
 
 /// One method: its name, what it does, and how to build its order and rule.
 pub struct MethodDef {
@@ -178,10 +178,7 @@ impl Method {
 
     /// Whether the method reads `setting` (its order's and its rule's `reads`): a setting it
     /// does not read cannot change what it does.
-    pub fn reads(self, setting: impl AsKey) -> bool {
-        let Some(key) = setting.key() else {
-            return false;
-        };
+    pub fn reads(self, key: Key) -> bool {
         let s = self.build(Params::default());
         s.order.reads().contains(&key) || s.rule.reads().contains(&key)
     }

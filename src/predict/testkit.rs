@@ -183,8 +183,12 @@ pub fn carried_ground(
                 continue;
             };
             bufs.surf[i] = at(ground_point(ctx, x, y, (0.0, 0.0)));
-            bufs.above[i * w..(i + 1) * w].copy_from_slice(&set_of(w, &above));
-            bufs.vis[i * w..(i + 1) * w].copy_from_slice(&set_of(w, &vis));
+            bits::rows_mut(&mut bufs.above, w)
+                .row_mut(i)
+                .copy_from_slice(&set_of(w, &above));
+            bits::rows_mut(&mut bufs.vis, w)
+                .row_mut(i)
+                .copy_from_slice(&set_of(w, &vis));
         }
     }
     let patch = CarryPatch::record(&bufs, ctx.lights, edges, 1);

@@ -163,9 +163,13 @@ mod tests {
         surfaces.extend([0.01f32, 0.02, 0.03, 0.04].map(|d| at(p + Vec3::new(d, 0.0, 0.0))));
         let (mut bufs, mut sc) = buffers(&ctx, &surfaces);
         for q in 0..5 {
-            bufs.above[q * w..(q + 1) * w].copy_from_slice(&set_of(w, &up));
+            bits::rows_mut(&mut bufs.above, w)
+                .row_mut(q)
+                .copy_from_slice(&set_of(w, &up));
             if q > 0 {
-                bufs.vis[q * w..(q + 1) * w].copy_from_slice(&set_of(w, spatial[q - 1]));
+                bits::rows_mut(&mut bufs.vis, w)
+                    .row_mut(q)
+                    .copy_from_slice(&set_of(w, spatial[q - 1]));
             }
         }
         let cam = ctx.camera;
