@@ -228,9 +228,10 @@ fn majority(bufs: &TileBuffers, voters: &[usize], m: usize, above: &[u64; 4]) ->
 
 #[cfg(test)]
 mod tests {
-    use super::super::flood::FloodTo;
     use super::super::nowarp::NoWarp;
-    use super::super::testkit::{DOWN, Frame, R, UP, at, buffers, list, origin, set_of, star};
+    use super::super::testkit::{
+        CONTRARY, DOWN, Frame, R, UP, at, buffers, list, origin, set_of, star,
+    };
     use super::super::uncertainty::Uncertainty;
     use super::*;
     use crate::buffers::RaySplit;
@@ -270,14 +271,7 @@ mod tests {
             trace_all_share: share,
             ..Params::default()
         });
-        let at = At {
-            flood_to: FloodTo::Contrary,
-            keep_blockers: false,
-            keep_predicted: false,
-            majority: false,
-            inside: false,
-        };
-        rule.solve(&ctx, &mut bufs, &mut sc, 0, &[1, 2, 3, 4], at);
+        rule.solve(&ctx, &mut bufs, &mut sc, 0, &[1, 2, 3, 4], CONTRARY);
         (list(&bufs.traced[..w]), list(&bufs.vis[..w]), bufs.split[0])
     }
 

@@ -155,21 +155,14 @@ pub fn solve_temporal(
 
 #[cfg(test)]
 mod tests {
-    use super::super::flood::FloodTo;
     use super::super::testkit::{
-        DOWN, Frame, at, buffers, carried_ground, ground_point, list, set_of, star,
+        CONTRARY, DOWN, Frame, at, buffers, carried_ground, ground_point, list, set_of, star,
     };
     use super::*;
     use crate::history::Edges;
     use glam::Mat4;
 
-    const AT: At = At {
-        flood_to: FloodTo::Contrary,
-        keep_blockers: false,
-        keep_predicted: false,
-        majority: false,
-        inside: false,
-    };
+    const AT: At = CONTRARY;
 
     /// Solves a ground point a quarter pixel past pixel (3, 3)'s centre from a previous frame
     /// whose pixel (x, y) kept `vis(x, y)` visible of the lights above the horizon (`None`:

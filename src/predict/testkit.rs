@@ -4,6 +4,8 @@
 
 use glam::{Vec2, Vec3};
 
+use super::correct::At;
+use super::flood::FloodTo;
 use super::scratch::Scratch;
 use crate::accel::Accel;
 use crate::bits;
@@ -46,6 +48,16 @@ pub fn spiral(n: usize) -> Vec<Vec3> {
         })
         .collect()
 }
+
+/// How the tests' pixels are decided: flooding to the contrary neighbours, keeping nothing, a
+/// pixel apart from its voters.
+pub const CONTRARY: At = At {
+    flood_to: FloodTo::Contrary,
+    keep_blockers: false,
+    keep_predicted: false,
+    majority: false,
+    inside: false,
+};
 
 /// The surface point the tests decide: the origin, facing +Y, under [`Frame::new`]'s roof.
 pub fn origin() -> Surface {

@@ -131,21 +131,14 @@ pub(super) fn spatial_word(
 
 #[cfg(test)]
 mod tests {
-    use super::super::flood::FloodTo;
     use super::super::testkit::{
-        DOWN, Frame, R, UP, at, buffers, carried_ground, ground_point, list, set_of, star,
+        CONTRARY, DOWN, Frame, R, UP, at, buffers, carried_ground, ground_point, list, set_of, star,
     };
     use super::*;
     use crate::history::Edges;
     use glam::{Mat4, Vec3};
 
-    const AT: At = At {
-        flood_to: FloodTo::Contrary,
-        keep_blockers: false,
-        keep_predicted: false,
-        majority: false,
-        inside: false,
-    };
+    const AT: At = CONTRARY;
     const LIT: [usize; 4] = [UP, R[2], R[3], R[4]];
 
     /// Solves ground pixel (0, 0) in place (region pixel 0, its own previous self at
