@@ -21,7 +21,7 @@ use crate::bits;
 use crate::buffers::TileBuffers;
 use crate::catcher::{self, Catchers};
 use crate::context::FrameContext;
-use crate::film::{BACKGROUND_DEPTH, Counts, TileResult};
+use crate::film::{BACKGROUND_DEPTH, Channel, Counts, Holds, Planes, TileResult};
 use crate::history::CarryPatch;
 use crate::lattice::{Lattice, LatticePatch};
 use crate::predict::{At, Link, Order, Scratch, Shadows};
@@ -313,16 +313,13 @@ fn shade(
     let spp = (k * k) as f32;
     let w = bufs.words;
     let n = pixels.area();
-    let mut beauty = Vec::with_capacity(n);
-    let mut rays = Vec::with_capacity(n);
-    let mut visible = Vec::with_capacity(n);
-    let mut wrong = validate.then(|| Vec::with_capacity(n));
-    let mut reference = validate.then(|| Vec::with_capacity(n));
-    let mut coverage = (k > 1).then(|| Vec::with_capacity(n));
-    let mut alpha = ctx.backdrop.is_transparent().then(|| Vec::with_capacity(n));
-    let mut depth = Vec::with_capacity(n);
-    let mut normal = Vec::with_capacity(n);
-    let mut albedo = Vec::with_capacity(n);
+    let holds = Holds {
+        validated: validate,
+        samples: k > 1,
+        transparent: ctx.backdrop.is_transparent(),
+    };
+    let mut planes = Planes::new(n, holds);
+    let mut p = 0;
     let (eye, forward) = (ctx.camera.position, ctx.camera.forward());
     let mut truth = vec![0u64; w];
     // Lambertian samples with the normal and visible lights of the last one reuse its sum.
@@ -396,36 +393,39 @@ fn shade(
                     exact += reference;
                 }
             }
-            beauty.push((lit / spp).to_array());
-            rays.push(traced);
-            visible.push(seen / spp);
-            if let (Some(wr), Some(rf)) = (&mut wrong, &mut reference) {
-                wr.push(mistakes);
-                rf.push((exact / spp).to_array());
+            // Each channel's value (those the tile does not hold are dropped).
+            let (beauty, reference) = (lit / spp, exact / spp);
+            let (normal, albedo) = (n_sum / spp, a_sum / spp);
+            let depth = if hits > 0 { nearest } else { BACKGROUND_DEPTH };
+            use Channel::*;
+            for (c, v) in [
+                (R, beauty.x),
+                (G, beauty.y),
+                (B, beauty.z),
+                (A, opacity / spp),
+                (Z, depth),
+                (NX, normal.x),
+                (NY, normal.y),
+                (NZ, normal.z),
+                (AlbedoR, albedo.x),
+                (AlbedoG, albedo.y),
+                (AlbedoB, albedo.z),
+                (Rays, traced),
+                (Visible, seen / spp),
+                (Wrong, mistakes),
+                (Coverage, hits as f32 / spp),
+                (RefR, reference.x),
+                (RefG, reference.y),
+                (RefB, reference.z),
+            ] {
+                planes.set(c, p, v);
             }
-            if let Some(c) = &mut coverage {
-                c.push(hits as f32 / spp);
-            }
-            if let Some(a) = &mut alpha {
-                a.push(opacity / spp);
-            }
-            depth.push(if hits > 0 { nearest } else { BACKGROUND_DEPTH });
-            normal.push((n_sum / spp).to_array());
-            albedo.push((a_sum / spp).to_array());
+            p += 1;
         }
     }
     TileResult {
         rect: pixels,
-        beauty,
-        rays,
-        visible,
-        wrong,
-        reference,
-        coverage,
-        alpha,
-        depth,
-        normal,
-        albedo,
+        planes,
         counts,
     }
 }

@@ -1,33 +1,21 @@
 //! The film: a frame's beauty and AOV buffers, assembled from finished tiles, and the counts
 //! of the work that made them.
+//!
+//! The film holds one plane (row-major `f32`) per [`Channel`], those the frame keeps, and
+//! every layer is a line of [`LAYERS`]. A new layer is its `Channel` variants with their
+//! lines there (EXR name, precision, blank value, when held, where listed), and the lines in
+//! the tile driver's `shade` that compute and write its per-pixel value.
 
 use std::ops::AddAssign;
 
 use crate::tile::Rect;
 use crate::view::View;
 
-/// A finished tile: beauty and AOVs for the tile's pixels, and its counts.
+/// A finished tile: its pixels' channels (row-major over `rect`) and its counts.
 #[derive(Clone, Debug)]
 pub struct TileResult {
     pub rect: Rect,
-    /// Linear RGB radiance: the mean of the pixel's samples.
-    pub beauty: Vec<[f32; 3]>,
-    /// Shadow rays traced per pixel (all its samples).
-    pub rays: Vec<f32>,
-    /// Fraction of the above-horizon lights that are visible, the mean over the pixel's
-    /// samples (a background sample counts 0).
-    pub visible: Vec<f32>,
-    /// With validation: wrong (sample, light) pairs per pixel, and the brute-force beauty.
-    pub wrong: Option<Vec<f32>>,
-    pub reference: Option<Vec<[f32; 3]>>,
-    /// With several samples per pixel: the fraction of them that hit the scene.
-    pub coverage: Option<Vec<f32>>,
-    /// Over a transparent background: each pixel's alpha (see [`Film::alpha`]).
-    pub alpha: Option<Vec<f32>>,
-    /// The compositor's passes ([`Film::depth`], [`Film::normal`], [`Film::albedo`]).
-    pub depth: Vec<f32>,
-    pub normal: Vec<[f32; 3]>,
-    pub albedo: Vec<[f32; 3]>,
+    pub planes: Planes,
     pub counts: Counts,
 }
 
@@ -132,200 +120,125 @@ pub struct ImageError {
 /// finite so that a compositor's depth filters do not turn it into NaN.
 pub const BACKGROUND_DEPTH: f32 = 1e10;
 
-/// One frame's pixels: linear RGB beauty and the per-pixel AOVs, row-major, full frame.
+/// One frame's pixels: linear RGB beauty and the per-pixel AOVs, row-major, full frame, one
+/// plane per channel the frame holds ([`Channel`] says what each is, [`LAYERS`] when it is
+/// held).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Film {
     pub width: u32,
     pub height: u32,
-    pub beauty: Vec<[f32; 3]>,
-    /// Shadow rays traced per pixel.
-    pub rays: Vec<f32>,
-    /// Fraction of above-horizon lights visible.
-    pub visible: Vec<f32>,
-    /// With validation: wrong (sample, light) pairs per pixel, and the brute-force image.
-    pub wrong: Option<Vec<f32>>,
-    pub reference: Option<Vec<[f32; 3]>>,
-    /// With several samples per pixel: the fraction of each pixel's samples that hit the
-    /// scene (at one sample it would be the hit mask, and is not kept).
-    pub coverage: Option<Vec<f32>>,
-    /// Over a transparent background (`[render] background`): each pixel's alpha, the mean
-    /// over its samples (placed by the pixel filter, so weighted as the beauty is) of 1 where a
-    /// sample sees the model, the shadow fraction where it sees a shadow catcher and 0 where
-    /// it sees the background; the beauty is premultiplied by it. `None`: alpha is 1
-    /// everywhere (an opaque background).
-    pub alpha: Option<Vec<f32>>,
-    /// Camera depth: the distance along the view direction to the nearest surface any of
-    /// the pixel's samples hit ([ours], as Arnold's "closest" filter: a mean across a
-    /// silhouette would be a depth where nothing is); [`BACKGROUND_DEPTH`] where none hit.
-    pub depth: Vec<f32>,
-    /// World-space shading normal (turned towards the camera), the mean over the pixel's
-    /// samples with background samples counting 0, not renormalised (as Cycles' Normal pass).
-    pub normal: Vec<[f32; 3]>,
-    /// Surface albedo (linear RGB base colour, textured), the mean over the pixel's samples
-    /// with background samples counting 0.
-    pub albedo: Vec<[f32; 3]>,
+    planes: Planes,
     /// Sum of the tiles' counts.
     pub counts: Counts,
 }
 
 impl Film {
-    /// An empty film; `validated` keeps the wrong pairs and the reference image, `coverage`
-    /// the fraction of samples that hit.
-    pub fn new(width: u32, height: u32, validated: bool, coverage: bool) -> Film {
-        let n = width as usize * height as usize;
+    /// An empty film holding the channels `holds` keeps, each at its blank value (pixels no
+    /// tile rendered keep it: alpha 0, transparent like the black around a region render).
+    pub fn new(width: u32, height: u32, holds: Holds) -> Film {
         Film {
             width,
             height,
-            beauty: vec![[0.0; 3]; n],
-            rays: vec![0.0; n],
-            visible: vec![0.0; n],
-            wrong: validated.then(|| vec![0.0; n]),
-            reference: validated.then(|| vec![[0.0; 3]; n]),
-            coverage: coverage.then(|| vec![0.0; n]),
-            alpha: None,
-            depth: vec![BACKGROUND_DEPTH; n],
-            normal: vec![[0.0; 3]; n],
-            albedo: vec![[0.0; 3]; n],
+            planes: Planes::new(width as usize * height as usize, holds),
             counts: Counts::default(),
         }
     }
 
-    /// This film with an alpha plane (a transparent background) when `alpha` is true; pixels
-    /// no tile rendered stay at 0, transparent like the black around a region render.
-    pub fn with_alpha(mut self, alpha: bool) -> Film {
-        self.alpha = alpha.then(|| vec![0.0; self.beauty.len()]);
-        self
-    }
-
     /// Whether some pixel is less than opaque.
     pub fn has_transparency(&self) -> bool {
-        self.alpha
-            .as_ref()
+        self.plane(Channel::A)
             .is_some_and(|a| a.iter().any(|&v| v < 1.0))
     }
 
-    /// Copies a finished tile into place and adds its counts.
+    /// Copies a finished tile into place (every channel both hold) and adds its counts.
     pub fn add(&mut self, tile: &TileResult) {
         let r = tile.rect;
         let w = r.width() as usize;
-        for y in r.y0..r.y1 {
-            let src = (y - r.y0) as usize * w;
-            let dst = y as usize * self.width as usize + r.x0 as usize;
-            self.beauty[dst..dst + w].copy_from_slice(&tile.beauty[src..src + w]);
-            self.rays[dst..dst + w].copy_from_slice(&tile.rays[src..src + w]);
-            self.visible[dst..dst + w].copy_from_slice(&tile.visible[src..src + w]);
-            self.depth[dst..dst + w].copy_from_slice(&tile.depth[src..src + w]);
-            self.normal[dst..dst + w].copy_from_slice(&tile.normal[src..src + w]);
-            self.albedo[dst..dst + w].copy_from_slice(&tile.albedo[src..src + w]);
-            if let (Some(d), Some(s)) = (&mut self.wrong, &tile.wrong) {
-                d[dst..dst + w].copy_from_slice(&s[src..src + w]);
-            }
-            if let (Some(d), Some(s)) = (&mut self.reference, &tile.reference) {
-                d[dst..dst + w].copy_from_slice(&s[src..src + w]);
-            }
-            if let (Some(d), Some(s)) = (&mut self.coverage, &tile.coverage) {
-                d[dst..dst + w].copy_from_slice(&s[src..src + w]);
-            }
-            if let (Some(d), Some(s)) = (&mut self.alpha, &tile.alpha) {
+        for (d, s) in self.planes.0.iter_mut().zip(&tile.planes.0) {
+            let (Some(d), Some(s)) = (d, s) else {
+                continue;
+            };
+            for y in r.y0..r.y1 {
+                let src = (y - r.y0) as usize * w;
+                let dst = y as usize * self.width as usize + r.x0 as usize;
                 d[dst..dst + w].copy_from_slice(&s[src..src + w]);
             }
         }
         self.counts += tile.counts;
     }
 
-    /// The channels this film holds, in the order files list them: beauty, the compositor's
-    /// passes, the shadow method's (alpha always: 1 over an opaque background); with `reference` also the brute-force image (farm tile
-    /// images carry it, frames do not).
+    /// The channels this film holds, in the order files list them ([`LAYERS`]' order):
+    /// beauty, the compositor's passes, the shadow method's (alpha always: 1 over an opaque
+    /// background); with `reference` also the brute-force image (farm tile images carry it,
+    /// frames do not).
     pub fn channels(&self, reference: bool) -> Vec<Channel> {
-        use Channel::*;
-        let mut v = vec![
-            R, G, B, A, Z, NX, NY, NZ, AlbedoR, AlbedoG, AlbedoB, Rays, Visible,
-        ];
-        if self.wrong.is_some() {
-            v.push(Wrong);
-        }
-        if self.coverage.is_some() {
-            v.push(Coverage);
-        }
-        if reference && self.reference.is_some() {
-            v.extend([RefR, RefG, RefB]);
-        }
-        v
+        LAYERS
+            .iter()
+            .filter(|l| {
+                let held = self.planes.0[l.channel as usize].is_some();
+                match l.listed {
+                    Listed::Held => held,
+                    Listed::Always(_) => true,
+                    Listed::TileImages => reference && held,
+                }
+            })
+            .map(|l| l.channel)
+            .collect()
     }
 
-    /// Channel `c` of pixel `i` (0 for a channel the film does not hold).
+    /// Whether the film holds channel `c`.
+    pub fn holds(&self, c: Channel) -> bool {
+        self.planes.0[c as usize].is_some()
+    }
+
+    /// Channel `c`'s plane, row-major; `None` where the film does not hold it.
+    pub fn plane(&self, c: Channel) -> Option<&[f32]> {
+        self.planes.plane(c)
+    }
+
+    /// Channel `c` of pixel `i` (for a channel the film does not hold, the value files list,
+    /// else 0).
     #[inline]
     pub fn get(&self, c: Channel, i: usize) -> f32 {
-        use Channel::*;
-        let opt = |v: &Option<Vec<f32>>| v.as_ref().map_or(0.0, |v| v[i]);
-        let opt3 = |v: &Option<Vec<[f32; 3]>>, k: usize| v.as_ref().map_or(0.0, |v| v[i][k]);
-        match c {
-            R => self.beauty[i][0],
-            G => self.beauty[i][1],
-            B => self.beauty[i][2],
-            A => self.alpha.as_ref().map_or(1.0, |a| a[i]),
-            Z => self.depth[i],
-            NX => self.normal[i][0],
-            NY => self.normal[i][1],
-            NZ => self.normal[i][2],
-            AlbedoR => self.albedo[i][0],
-            AlbedoG => self.albedo[i][1],
-            AlbedoB => self.albedo[i][2],
-            Rays => self.rays[i],
-            Visible => self.visible[i],
-            Wrong => opt(&self.wrong),
-            Coverage => opt(&self.coverage),
-            RefR => opt3(&self.reference, 0),
-            RefG => opt3(&self.reference, 1),
-            RefB => opt3(&self.reference, 2),
-        }
+        self.planes.get(c, i)
     }
 
     /// Sets channel `c` of pixel `i` (nothing for a channel the film does not hold).
     #[inline]
     pub fn set(&mut self, c: Channel, i: usize, v: f32) {
-        use Channel::*;
-        fn put(o: &mut Option<Vec<f32>>, i: usize, v: f32) {
-            if let Some(o) = o {
-                o[i] = v;
-            }
-        }
-        fn put3(o: &mut Option<Vec<[f32; 3]>>, i: usize, k: usize, v: f32) {
-            if let Some(o) = o {
-                o[i][k] = v;
-            }
-        }
-        match c {
-            R => self.beauty[i][0] = v,
-            G => self.beauty[i][1] = v,
-            B => self.beauty[i][2] = v,
-            A => put(&mut self.alpha, i, v),
-            Z => self.depth[i] = v,
-            NX => self.normal[i][0] = v,
-            NY => self.normal[i][1] = v,
-            NZ => self.normal[i][2] = v,
-            AlbedoR => self.albedo[i][0] = v,
-            AlbedoG => self.albedo[i][1] = v,
-            AlbedoB => self.albedo[i][2] = v,
-            Rays => self.rays[i] = v,
-            Visible => self.visible[i] = v,
-            Wrong => put(&mut self.wrong, i, v),
-            Coverage => put(&mut self.coverage, i, v),
-            RefR => put3(&mut self.reference, i, 0, v),
-            RefG => put3(&mut self.reference, i, 1, v),
-            RefB => put3(&mut self.reference, i, 2, v),
-        }
+        self.planes.set(c, i, v);
+    }
+
+    /// Pixel `i` of an RGB layer ([`Channel::BEAUTY`], [`Channel::NORMAL`], ...).
+    #[inline]
+    pub fn rgb(&self, layer: [Channel; 3], i: usize) -> [f32; 3] {
+        layer.map(|c| self.get(c, i))
+    }
+
+    /// Pixel `i` of the beauty: linear RGB radiance, the mean of the pixel's samples.
+    #[inline]
+    pub fn beauty(&self, i: usize) -> [f32; 3] {
+        self.rgb(Channel::BEAUTY, i)
+    }
+
+    /// Every pixel of an RGB layer, row-major; `None` where the film does not hold it.
+    pub fn layer(&self, layer: [Channel; 3]) -> Option<Vec<[f32; 3]>> {
+        let [r, g, b] = layer.map(|c| self.plane(c));
+        let (r, g, b) = (r?, g?, b?);
+        Some((0..r.len()).map(|i| [r[i], g[i], b[i]]).collect())
     }
 
     /// With validation: the beauty against the brute-force image over `region` (the rendered
     /// pixels); the relative RMSE is relative to the brute-force image's mean.
     pub fn image_error(&self, region: Rect, exposure: f32, view: View) -> Option<ImageError> {
-        let reference = self.reference.as_ref()?;
+        if !self.holds(Channel::RefR) {
+            return None;
+        }
         let (mut se, mut sum_ref, mut n, mut se_ldr) = (0f64, 0f64, 0u64, 0f64);
         for y in region.y0..region.y1 {
             for x in region.x0..region.x1 {
                 let i = y as usize * self.width as usize + x as usize;
-                let (b, r) = (self.beauty[i], reference[i]);
+                let (b, r) = (self.beauty(i), self.rgb(Channel::REFERENCE, i));
                 let (bl, rl) = (
                     view.display(b.map(|c| c * exposure)),
                     view.display(r.map(|c| c * exposure)),
@@ -360,24 +273,34 @@ impl Film {
 /// `shadow.rays`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Channel {
+    /// Linear RGB radiance: the mean of the pixel's samples.
     R,
     G,
     B,
-    /// Alpha ([`Film::alpha`]; 1 over an opaque background).
+    /// Alpha: over a transparent background (`[render] background`), each pixel's mean over
+    /// its samples (placed by the pixel filter, so weighted as the beauty is) of 1 where a
+    /// sample sees the model, the shadow fraction where it sees a shadow catcher and 0 where
+    /// it sees the background; the beauty is premultiplied by it. Not held: 1 everywhere (an
+    /// opaque background).
     A,
-    /// Camera depth ([`Film::depth`]).
+    /// Camera depth: the distance along the view direction to the nearest surface any of the
+    /// pixel's samples hit ([ours], as Arnold's "closest" filter: a mean across a silhouette
+    /// would be a depth where nothing is); [`BACKGROUND_DEPTH`] where none hit.
     Z,
-    /// World-space normal ([`Film::normal`]).
+    /// World-space shading normal (turned towards the camera), the mean over the pixel's
+    /// samples with background samples counting 0, not renormalised (as Cycles' Normal pass).
     NX,
     NY,
     NZ,
-    /// Albedo ([`Film::albedo`]).
+    /// Surface albedo (linear RGB base colour, textured), the mean over the pixel's samples
+    /// with background samples counting 0.
     AlbedoR,
     AlbedoG,
     AlbedoB,
     /// The shadow method's work and answers: rays traced at the pixel (all its samples),
     /// the fraction of above-horizon lights visible, wrong pairs (validation), the fraction
-    /// of samples that hit the scene (several samples per pixel).
+    /// of samples that hit the scene (several samples per pixel; at one sample it would be
+    /// the hit mask, and is not kept).
     Rays,
     Visible,
     Wrong,
@@ -389,35 +312,214 @@ pub enum Channel {
 }
 
 impl Channel {
+    /// How many channels there are.
+    pub const COUNT: usize = LAYERS.len();
+    /// The RGB layers: the beauty, the normal, the albedo, the brute-force image.
+    pub const BEAUTY: [Channel; 3] = [Channel::R, Channel::G, Channel::B];
+    pub const NORMAL: [Channel; 3] = [Channel::NX, Channel::NY, Channel::NZ];
+    pub const ALBEDO: [Channel; 3] = [Channel::AlbedoR, Channel::AlbedoG, Channel::AlbedoB];
+    pub const REFERENCE: [Channel; 3] = [Channel::RefR, Channel::RefG, Channel::RefB];
+
+    fn layer(self) -> &'static Layer {
+        &LAYERS[self as usize]
+    }
+
     /// The channel's name in an EXR file.
     pub fn name(self) -> &'static str {
-        use Channel::*;
-        match self {
-            R => "R",
-            G => "G",
-            B => "B",
-            A => "A",
-            Z => "Z",
-            NX => "N.X",
-            NY => "N.Y",
-            NZ => "N.Z",
-            AlbedoR => "albedo.R",
-            AlbedoG => "albedo.G",
-            AlbedoB => "albedo.B",
-            Rays => "shadow.rays",
-            Visible => "shadow.visible",
-            Wrong => "shadow.wrong",
-            Coverage => "shadow.coverage",
-            RefR => "reference.R",
-            RefG => "reference.G",
-            RefB => "reference.B",
+        self.layer().name
+    }
+
+    /// Whether the channel stays 32-bit float in a half-float EXR (`--half`).
+    pub fn exact(self) -> bool {
+        self.layer().precision == Precision::Full
+    }
+}
+
+/// What the frame keeps beyond the layers every film holds.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Holds {
+    /// `--validate`: the wrong pairs and the brute-force image.
+    pub validated: bool,
+    /// Several samples per pixel: the coverage.
+    pub samples: bool,
+    /// A transparent background: the alpha.
+    pub transparent: bool,
+}
+
+impl Holds {
+    fn held(self, when: Held) -> bool {
+        match when {
+            Held::Always => true,
+            Held::Validated => self.validated,
+            Held::Samples => self.samples,
+            Held::Transparent => self.transparent,
+        }
+    }
+}
+
+/// When the film holds a channel (see [`Holds`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Held {
+    Always,
+    Validated,
+    Samples,
+    Transparent,
+}
+
+/// A channel's precision in a half-float EXR (`--half`) [ours]: counts (rays up to 4096
+/// lights × 64 samples, wrong pairs) are whole numbers beyond half's 2048, and depth needs
+/// more than half's 11 bits (and its range: the background's 1e10), so they stay `Full`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Precision {
+    Half,
+    Full,
+}
+
+/// Which files list a channel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Listed {
+    /// Every file, where the film holds it.
+    Held,
+    /// Every file: where the film does not hold it, as this value (alpha: 1, opaque).
+    Always(f32),
+    /// Farm tile images only, where the film holds it (the brute-force image).
+    TileImages,
+}
+
+/// One channel's line of [`LAYERS`].
+#[derive(Clone, Copy, Debug)]
+pub struct Layer {
+    pub channel: Channel,
+    /// Its name in an EXR file.
+    pub name: &'static str,
+    pub precision: Precision,
+    /// Its value where no sample wrote one (a pixel no tile rendered).
+    pub blank: f32,
+    pub held: Held,
+    pub listed: Listed,
+}
+
+const fn line(
+    channel: Channel,
+    name: &'static str,
+    precision: Precision,
+    blank: f32,
+    held: Held,
+    listed: Listed,
+) -> Layer {
+    Layer {
+        channel,
+        name,
+        precision,
+        blank,
+        held,
+        listed,
+    }
+}
+
+/// Every channel, in [`Channel`]'s order (which files list them in).
+pub const LAYERS: &[Layer] = {
+    use Channel::*;
+    use Held::*;
+    use Precision::*;
+    &[
+        line(R, "R", Half, 0.0, Always, Listed::Held),
+        line(G, "G", Half, 0.0, Always, Listed::Held),
+        line(B, "B", Half, 0.0, Always, Listed::Held),
+        line(A, "A", Half, 0.0, Transparent, Listed::Always(1.0)),
+        line(Z, "Z", Full, BACKGROUND_DEPTH, Always, Listed::Held),
+        line(NX, "N.X", Half, 0.0, Always, Listed::Held),
+        line(NY, "N.Y", Half, 0.0, Always, Listed::Held),
+        line(NZ, "N.Z", Half, 0.0, Always, Listed::Held),
+        line(AlbedoR, "albedo.R", Half, 0.0, Always, Listed::Held),
+        line(AlbedoG, "albedo.G", Half, 0.0, Always, Listed::Held),
+        line(AlbedoB, "albedo.B", Half, 0.0, Always, Listed::Held),
+        line(Rays, "shadow.rays", Full, 0.0, Always, Listed::Held),
+        line(Visible, "shadow.visible", Half, 0.0, Always, Listed::Held),
+        line(Wrong, "shadow.wrong", Full, 0.0, Validated, Listed::Held),
+        line(
+            Coverage,
+            "shadow.coverage",
+            Half,
+            0.0,
+            Samples,
+            Listed::Held,
+        ),
+        line(
+            RefR,
+            "reference.R",
+            Half,
+            0.0,
+            Validated,
+            Listed::TileImages,
+        ),
+        line(
+            RefG,
+            "reference.G",
+            Half,
+            0.0,
+            Validated,
+            Listed::TileImages,
+        ),
+        line(
+            RefB,
+            "reference.B",
+            Half,
+            0.0,
+            Validated,
+            Listed::TileImages,
+        ),
+    ]
+};
+
+// Each channel's line is at its index.
+const _: () = {
+    let mut i = 0;
+    while i < LAYERS.len() {
+        assert!(
+            LAYERS[i].channel as usize == i,
+            "LAYERS out of Channel's order"
+        );
+        i += 1;
+    }
+};
+
+/// Pixels' channels: one row-major plane per channel held, indexed by [`Channel`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Planes([Option<Vec<f32>>; Channel::COUNT]);
+
+impl Planes {
+    /// `n` pixels of the channels `holds` keeps, at their blank values.
+    pub fn new(n: usize, holds: Holds) -> Planes {
+        Planes(std::array::from_fn(|c| {
+            let l = &LAYERS[c];
+            holds.held(l.held).then(|| vec![l.blank; n])
+        }))
+    }
+
+    /// Channel `c`'s plane; `None` where not held.
+    #[inline]
+    pub fn plane(&self, c: Channel) -> Option<&[f32]> {
+        self.0[c as usize].as_deref()
+    }
+
+    /// Channel `c` of pixel `i` (for a channel not held, the value files list, else 0).
+    #[inline]
+    pub fn get(&self, c: Channel, i: usize) -> f32 {
+        match &self.0[c as usize] {
+            Some(p) => p[i],
+            None => match c.layer().listed {
+                Listed::Always(v) => v,
+                _ => 0.0,
+            },
         }
     }
 
-    /// Whether the channel stays 32-bit float in a half-float EXR (`--half`) [ours]: counts
-    /// (rays up to 4096 lights × 64 samples, wrong pairs) are whole numbers beyond half's
-    /// 2048, and depth needs more than half's 11 bits (and its range: the background's 1e10).
-    pub fn exact(self) -> bool {
-        matches!(self, Channel::Z | Channel::Rays | Channel::Wrong)
+    /// Sets channel `c` of pixel `i` (nothing for a channel not held).
+    #[inline]
+    pub fn set(&mut self, c: Channel, i: usize, v: f32) {
+        if let Some(p) = &mut self.0[c as usize] {
+            p[i] = v;
+        }
     }
 }

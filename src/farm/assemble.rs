@@ -16,7 +16,7 @@ use crate::farm::job::{
 };
 use crate::farm::plan::{Job, PlanRequest, plan};
 use crate::film::Counts;
-use crate::film::Film;
+use crate::film::{Film, Holds};
 use crate::frame_files::exr_header;
 use crate::output::exr::{fill_film, read_frame};
 use crate::output::record::SettingsRecord;
@@ -76,13 +76,12 @@ pub fn assemble(dir: &Path) -> Result<Assembled> {
         r.write(dir)?;
     }
     for &f in &judged.frames {
-        let mut film = Film::new(
-            settings.width,
-            settings.height,
-            settings.validate,
-            settings.spp > 1,
-        )
-        .with_alpha(settings.alpha);
+        let holds = Holds {
+            validated: settings.validate,
+            samples: settings.spp > 1,
+            transparent: settings.alpha,
+        };
+        let mut film = Film::new(settings.width, settings.height, holds);
         let pieces = judged.pieces(f, Some(&mut film), &mut tally);
         if pieces.complete()
             && let Some(tf) = pieces.meta

@@ -357,7 +357,7 @@ mod tests {
     /// map; the header is sorted, so a frame is the same bytes every time.
     #[test]
     fn the_same_frame_is_the_same_bytes() {
-        let film = Film::new(4, 2, false, false);
+        let film = Film::new(4, 2, Default::default());
         let settings: Vec<(String, String)> = (0..20)
             .map(|k| (format!("[render] key{k}"), k.to_string()))
             .collect();

@@ -17,7 +17,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 
 use crate::error::Result;
-use crate::film::Film;
+use crate::film::{Channel, Film};
 use crate::view::View;
 
 /// The temporary name a file is written under before it is renamed into place: unique to the
@@ -133,8 +133,10 @@ fn encode_files(
     let png = png::encode_preview(
         film.width,
         film.height,
-        &film.beauty,
-        film.alpha.as_deref(),
+        &film
+            .layer(Channel::BEAUTY)
+            .expect("every film holds the beauty"),
+        film.plane(Channel::A),
         format.exposure,
         format.view,
     )?;
@@ -164,8 +166,10 @@ pub fn publish_frame(
         png_bytes: png.len() as u64,
         png_sha256: record::sha256(&png),
         stats_row: header.stats.csv_row(),
-        rays_histogram: record::histogram_text(&record::count_histogram(&film.rays)),
-        wrong_max: film.wrong.as_deref().map(record::finite_max),
+        rays_histogram: record::histogram_text(&record::count_histogram(
+            film.plane(Channel::Rays).unwrap_or_default(),
+        )),
+        wrong_max: film.plane(Channel::Wrong).map(record::finite_max),
     };
     write_atomic(&frame_path(dir, frame, "png"), &png)?;
     rec.write(dir)?;

@@ -11,7 +11,7 @@ use envshadow::frame::render_frame;
 use envshadow::inputs::Inputs;
 
 use envshadow::envmap::EnvMap;
-use envshadow::film::Film;
+use envshadow::film::{Channel, Film};
 use envshadow::lights::{Light, LightSet, Sampler};
 use envshadow::predict::Method;
 use envshadow::run::Silent;
@@ -99,7 +99,12 @@ fn shadow_area(film: &Film, anim: &envshadow::anim::Animation, inputs: &Inputs) 
     };
     // Looking straight down at a plane, every pixel covers the same square of ground.
     let side = (ground(1, 0) - ground(0, 0)).length() as f64;
-    let blocked = film.visible.iter().filter(|&&v| v < 0.5).count() as f64;
+    let blocked = film
+        .plane(Channel::Visible)
+        .unwrap()
+        .iter()
+        .filter(|&&v| v < 0.5)
+        .count() as f64;
     blocked * side * side
 }
 
@@ -220,7 +225,7 @@ fn the_default_flood_rule_floods_to_all_lights_where_shadows_fall_through_cut_ou
         let (mut a, _) = sky_panel(100);
         a.render.flood_to = flood_to;
         let (film, stats) = render_frame(&a, inputs, 0, None, &Silent).unwrap();
-        (film.beauty, stats.counts.rays)
+        (film.layer(Channel::BEAUTY).unwrap(), stats.counts.rays)
     };
     let (anim, cut) = sky_panel(100);
     assert_eq!(anim.render.flood_to, FloodTo::Auto, "the default");
@@ -343,11 +348,16 @@ fn alpha_mask_panels_cast_the_shape_of_their_textures() {
     // Pixels on the scene: brute force traces one ray at each (the background none).
     let inputs = Inputs::new(scene.clone(), black_env(), light.clone());
     let (film, _) = render_frame(&anim(Method::BRUTE), &inputs, 0, None, &Silent).unwrap();
-    let on_scene: Vec<bool> = film.rays.iter().map(|&r| r > 0.0).collect();
+    let on_scene: Vec<bool> = film
+        .plane(Channel::Rays)
+        .unwrap()
+        .iter()
+        .map(|&r| r > 0.0)
+        .collect();
     let shadowed = |scene: Scene, method: Method| {
         let inputs = Inputs::new(scene, black_env(), light.clone());
         let (film, stats) = render_frame(&anim(method), &inputs, 0, None, &Silent).unwrap();
-        let n = (film.visible.iter().zip(&on_scene))
+        let n = (film.plane(Channel::Visible).unwrap().iter().zip(&on_scene))
             .filter(|&(&v, &hit)| hit && v < 0.5)
             .count();
         (n, stats.counts)
@@ -392,7 +402,7 @@ fn blend_is_coverage_for_camera_rays() {
             );
             anim.render.method = Method::BRUTE;
             let (film, _) = render_frame(&anim, &inputs, 0, None, &Silent).unwrap();
-            let coverage = film.coverage.as_ref().expect("a coverage AOV with spp > 1");
+            let coverage = film.plane(Channel::Coverage).expect("a coverage AOV with spp > 1");
             let mean = coverage.iter().sum::<f32>() / coverage.len() as f32;
             assert!((mean - alpha).abs() < 0.02, "mean coverage {mean}");
             assert!(coverage.iter().all(|&c| (c - alpha).abs() <= 1.0 / 16.0 + 1e-6));

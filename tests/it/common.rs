@@ -31,6 +31,7 @@ pub fn asset(name: &str) -> PathBuf {
 }
 
 use envshadow::anim::{AnimFlags, Animation};
+use envshadow::film::Channel;
 use envshadow::scene::{Material, Scene};
 use glam::{Vec2, Vec3};
 
@@ -327,12 +328,30 @@ pub fn csv_by_name(path: &Path) -> Vec<std::collections::BTreeMap<String, String
 /// Panics, naming the layer, unless `film` equals `want` bit for bit in every layer: beauty,
 /// the `rays`, `visible` and `wrong` AOVs, coverage and the brute-force reference.
 pub fn assert_same_film(film: &envshadow::film::Film, want: &envshadow::film::Film) {
-    assert!(film.beauty == want.beauty, "beauty differs");
-    assert!(film.rays == want.rays, "rays AOV differs");
-    assert!(film.visible == want.visible, "visible AOV differs");
-    assert!(film.wrong == want.wrong, "wrong AOV differs");
-    assert!(film.coverage == want.coverage, "coverage differs");
-    assert!(film.reference == want.reference, "reference differs");
+    assert!(
+        film.layer(Channel::BEAUTY).unwrap() == want.layer(Channel::BEAUTY).unwrap(),
+        "beauty differs"
+    );
+    assert!(
+        film.plane(Channel::Rays).unwrap() == want.plane(Channel::Rays).unwrap(),
+        "rays AOV differs"
+    );
+    assert!(
+        film.plane(Channel::Visible).unwrap() == want.plane(Channel::Visible).unwrap(),
+        "visible AOV differs"
+    );
+    assert!(
+        film.plane(Channel::Wrong) == want.plane(Channel::Wrong),
+        "wrong AOV differs"
+    );
+    assert!(
+        film.plane(Channel::Coverage) == want.plane(Channel::Coverage),
+        "coverage differs"
+    );
+    assert!(
+        film.layer(Channel::REFERENCE) == want.layer(Channel::REFERENCE),
+        "reference differs"
+    );
 }
 
 /// `c` without the halo's work, the one count that depends on the tiles.

@@ -8,7 +8,7 @@ use envshadow::anim::{AnimFlags, Animation};
 use envshadow::background::{Backdrop, blurred};
 use envshadow::context::FrameContext;
 use envshadow::envmap::{EnvMap, luminance};
-use envshadow::film::Film;
+use envshadow::film::{Channel, Film};
 use envshadow::frame::render_frame;
 use envshadow::inputs::Inputs;
 use envshadow::lights::{LightSet, Sampler};
@@ -104,8 +104,8 @@ fn a_catcher_in_shadow_has_the_brute_force_ground_s_shadow_fraction() {
         Backdrop::Environment,
     );
     let (a_pred, a_traced) = (
-        predicted.alpha.as_ref().unwrap(),
-        traced.alpha.as_ref().unwrap(),
+        predicted.plane(Channel::A).unwrap(),
+        traced.plane(Channel::A).unwrap(),
     );
     let mut failures = Failures::new();
     let (mut in_shadow, mut close, mut sum_err, mut catcher) = (0, 0, 0.0f64, 0);
@@ -113,7 +113,7 @@ fn a_catcher_in_shadow_has_the_brute_force_ground_s_shadow_fraction() {
         match what {
             Sees::Catcher => {
                 catcher += 1;
-                let lum = |f: &Film| luminance(Vec3::from_array(f.beauty[i]));
+                let lum = |f: &Film| luminance(Vec3::from_array(f.beauty(i)));
                 let fraction = 1.0 - lum(&shadowed) / lum(&open);
                 failures.check((a_traced[i] - fraction).abs() <= 1e-4, || {
                     format!(
@@ -121,8 +121,8 @@ fn a_catcher_in_shadow_has_the_brute_force_ground_s_shadow_fraction() {
                         a_traced[i]
                     )
                 });
-                failures.check(predicted.beauty[i] == [0.0; 3], || {
-                    format!("pixel {i}: catcher colour {:?}", predicted.beauty[i])
+                failures.check(predicted.beauty(i) == [0.0; 3], || {
+                    format!("pixel {i}: catcher colour {:?}", predicted.beauty(i))
                 });
                 let err = (a_pred[i] - fraction).abs();
                 sum_err += err as f64;
@@ -137,10 +137,11 @@ fn a_catcher_in_shadow_has_the_brute_force_ground_s_shadow_fraction() {
                 });
             }
             Sees::Background => {
-                failures.check(a_pred[i] == 0.0 && predicted.beauty[i] == [0.0; 3], || {
+                failures.check(a_pred[i] == 0.0 && predicted.beauty(i) == [0.0; 3], || {
                     format!(
                         "pixel {i}: background alpha {} colour {:?}",
-                        a_pred[i], predicted.beauty[i]
+                        a_pred[i],
+                        predicted.beauty(i)
                     )
                 });
             }
@@ -173,16 +174,16 @@ fn a_catcher_in_shadow_has_the_brute_force_ground_s_shadow_fraction() {
 fn a_catcher_over_the_environment_shows_it_darkened_by_the_shadow() {
     let (over_env, sees) = frame(sphere_over_floor(true), "", Backdrop::Environment);
     let (over_nothing, _) = frame(sphere_over_floor(true), "", Backdrop::Transparent);
-    assert!(over_env.alpha.is_none());
-    let alpha = over_nothing.alpha.unwrap();
+    assert!(over_env.plane(Channel::A).is_none());
+    let alpha = over_nothing.plane(Channel::A).unwrap();
     let env = EnvMap::builtin_sky();
     let mut failures = Failures::new();
     for (i, &(what, dir)) in sees.iter().enumerate() {
-        let got = Vec3::from_array(over_env.beauty[i]);
+        let got = Vec3::from_array(over_env.beauty(i));
         let want = match what {
             Sees::Catcher => env.radiance(dir) * (1.0 - alpha[i]),
             Sees::Background => env.radiance(dir),
-            Sees::Model => Vec3::from_array(over_nothing.beauty[i]),
+            Sees::Model => Vec3::from_array(over_nothing.beauty(i)),
         };
         failures.check(
             (got - want).abs().max_element() <= 1e-5 * want.max_element().max(1.0),
@@ -197,24 +198,32 @@ fn alpha_is_the_model_s_coverage_over_a_transparent_background() {
     // Four samples: alpha is the fraction that hit, exactly the coverage AOV, and the beauty
     // is premultiplied (nothing where nothing was hit).
     let (film, sees) = frame(sphere(), "spp = 4\n", Backdrop::Transparent);
-    let (alpha, coverage) = (film.alpha.unwrap(), film.coverage.unwrap());
+    let (alpha, coverage) = (
+        film.plane(Channel::A).unwrap(),
+        film.plane(Channel::Coverage).unwrap(),
+    );
     assert_eq!(alpha, coverage);
     assert!(alpha.iter().any(|&a| a > 0.0 && a < 1.0));
     for (i, &a) in alpha.iter().enumerate() {
         if a == 0.0 {
-            assert_eq!(film.beauty[i], [0.0; 3], "pixel {i}");
+            assert_eq!(film.beauty(i), [0.0; 3], "pixel {i}");
         }
     }
     // One sample: the hit mask itself.
     let (film, sees1) = frame(sphere(), "", Backdrop::Transparent);
-    let alpha = film.alpha.unwrap();
+    let alpha = film.plane(Channel::A).unwrap();
     for (i, &(what, _)) in sees1.iter().enumerate() {
         let want = if what == Sees::Model { 1.0 } else { 0.0 };
         assert_eq!(alpha[i], want, "pixel {i}: {what:?}");
     }
     assert!(sees.iter().any(|s| s.0 == Sees::Background));
     // An opaque background keeps no alpha plane (alpha 1).
-    assert!(frame(sphere(), "", Backdrop::Environment).0.alpha.is_none());
+    assert!(
+        frame(sphere(), "", Backdrop::Environment)
+            .0
+            .plane(Channel::A)
+            .is_none()
+    );
 }
 
 #[test]
@@ -227,11 +236,11 @@ fn color_and_blurred_backgrounds_show_behind_the_model_and_do_not_light_it() {
     let (blur, _) = frame(sphere(), "", Backdrop::Blurred(soft.clone()));
     for (i, &(what, dir)) in sees.iter().enumerate() {
         if what == Sees::Background {
-            assert_eq!(flat.beauty[i], colour.to_array(), "pixel {i}");
-            assert_eq!(blur.beauty[i], soft.radiance(dir).to_array(), "pixel {i}");
+            assert_eq!(flat.beauty(i), colour.to_array(), "pixel {i}");
+            assert_eq!(blur.beauty(i), soft.radiance(dir).to_array(), "pixel {i}");
         } else {
-            assert_eq!(flat.beauty[i], plain.beauty[i], "pixel {i}");
-            assert_eq!(blur.beauty[i], plain.beauty[i], "pixel {i}");
+            assert_eq!(flat.beauty(i), plain.beauty(i), "pixel {i}");
+            assert_eq!(blur.beauty(i), plain.beauty(i), "pixel {i}");
         }
     }
 }

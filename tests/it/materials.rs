@@ -5,6 +5,7 @@
 use crate::common::Gltf;
 use crate::common::{self, Failures};
 
+use envshadow::film::Channel;
 use envshadow::frame::render_frame;
 
 use envshadow::inputs::Inputs;
@@ -90,7 +91,7 @@ fn a_rough_dielectric_in_a_white_furnace_reflects_its_albedo() {
                 let d = cam.ray_dir(x, y);
                 let cos_view = f64::from(-d.y);
                 let want = furnace_albedo(f64::from(roughness), cos_view);
-                let got = film.beauty[(y * 9 + x) as usize];
+                let got = film.beauty((y * 9 + x) as usize);
                 for c in got {
                     let err = (f64::from(c) - want).abs() / want;
                     assert!(
@@ -396,7 +397,7 @@ fn emission_adds_and_occlusion_darkens_the_environment_light() {
         render_frame(&anim, &inputs, 0, None, &Silent)
             .unwrap()
             .0
-            .beauty[5]
+            .beauty(5)
     };
     let plain = Material {
         roughness: 0.8,
@@ -728,7 +729,11 @@ fn glossy_and_textured_frames_are_the_same_bits_whatever_the_tiles_and_threads()
         };
         let reference = render(0, 1);
         assert!(
-            reference.beauty.iter().any(|p| p[0] > 0.0),
+            reference
+                .layer(Channel::BEAUTY)
+                .unwrap()
+                .iter()
+                .any(|p| p[0] > 0.0),
             "{name}: a lit frame"
         );
         for threads in [1, 2] {

@@ -7,6 +7,7 @@ use std::path::Path;
 
 use envshadow::anim::{AnimFlags, Animation, MotionKind};
 use envshadow::coordinator::render_animation;
+use envshadow::film::Channel;
 use envshadow::frame::render_frame;
 use envshadow::frame_files::FrameFiles;
 use envshadow::inputs::Inputs;
@@ -51,8 +52,8 @@ fn a_turning_environment_turns_the_background_with_the_lights() {
     let still_inputs = Inputs::load(&still).unwrap();
     let (rotated, _) = render_frame(&still, &still_inputs, 0, None, &Silent).unwrap();
     // Brute force traces every light at every surface pixel: no rays, no surface.
-    let background: Vec<usize> = (0..turned.rays.len())
-        .filter(|&i| turned.rays[i] == 0.0)
+    let background: Vec<usize> = (0..turned.plane(Channel::Rays).unwrap().len())
+        .filter(|&i| turned.plane(Channel::Rays).unwrap()[i] == 0.0)
         .collect();
     assert!(
         background.len() > 500,
@@ -61,11 +62,15 @@ fn a_turning_environment_turns_the_background_with_the_lights() {
     );
     let (mut moved, mut worst) = (0, 0.0f32);
     for &i in &background {
-        assert_eq!(rotated.rays[i], 0.0, "pixel {i} is background in both");
+        assert_eq!(
+            rotated.plane(Channel::Rays).unwrap()[i],
+            0.0,
+            "pixel {i} is background in both"
+        );
         for c in 0..3 {
-            let (a, b) = (turned.beauty[i][c], rotated.beauty[i][c]);
+            let (a, b) = (turned.beauty(i)[c], rotated.beauty(i)[c]);
             worst = worst.max((a - b).abs() / b.abs().max(1e-3));
-            if (turned.beauty[i][c] - unturned.beauty[i][c]).abs() > 0.01 * b.abs() {
+            if (turned.beauty(i)[c] - unturned.beauty(i)[c]).abs() > 0.01 * b.abs() {
                 moved += 1;
             }
         }
@@ -79,7 +84,10 @@ fn a_turning_environment_turns_the_background_with_the_lights() {
         "only {moved} background values changed"
     );
     // The lights turned too (the model is lit from elsewhere), the geometry did not.
-    assert_ne!(turned.beauty, unturned.beauty);
+    assert_ne!(
+        turned.layer(Channel::BEAUTY).unwrap(),
+        unturned.layer(Channel::BEAUTY).unwrap()
+    );
     let (a, b) = (inputs.lights_at(&anim, 0), inputs.lights_at(&anim, 2));
     let d = a.lights[0].dir;
     let (s, c) = (60f32.to_radians().sin(), 60f32.to_radians().cos());

@@ -5,7 +5,7 @@ use crate::common::{self, Failures};
 use envshadow::anim::{AnimFlags, Animation};
 use envshadow::coordinator::thread_pool;
 use envshadow::film::Counts;
-use envshadow::film::Film;
+use envshadow::film::{Channel, Film};
 use envshadow::frame::render_frame;
 use envshadow::inputs::Inputs;
 use envshadow::key::Key;
@@ -136,7 +136,8 @@ fn every_method_agrees_with_brute_force_within_its_stated_error() {
                 assert_eq!(c.wrong_traced, 0, "wrong where traced");
                 // The validation's reference image is the brute-force image.
                 assert!(
-                    film.reference.as_ref().unwrap() == &brute.beauty,
+                    film.layer(Channel::REFERENCE).unwrap()
+                        == brute.layer(Channel::BEAUTY).unwrap(),
                     "the reference image is not the brute-force image"
                 );
                 let err = c.error_percent();
@@ -147,10 +148,10 @@ fn every_method_agrees_with_brute_force_within_its_stated_error() {
                     assert!(c.rays > 0, "traced nothing");
                 }
                 // Pixels the method got entirely right match the brute-force image exactly.
-                let wrong = film.wrong.as_ref().unwrap();
+                let wrong = film.plane(Channel::Wrong).unwrap();
                 for (i, w) in wrong.iter().enumerate() {
                     if *w == 0.0 {
-                        assert_eq!(film.beauty[i], brute.beauty[i], "pixel {i}");
+                        assert_eq!(film.beauty(i), brute.beauty(i), "pixel {i}");
                     }
                 }
             });
@@ -202,7 +203,10 @@ fn flooding_to_contrary_lights_saves_rays_only_where_it_can() {
                         for x in (0..fa.width).step_by(2) {
                             let k = (y * fa.width + x) as usize;
                             assert!(
-                                ff.rays[k] == fa.rays[k] && ff.visible[k] == fa.visible[k],
+                                ff.plane(Channel::Rays).unwrap()[k]
+                                    == fa.plane(Channel::Rays).unwrap()[k]
+                                    && ff.plane(Channel::Visible).unwrap()[k]
+                                        == fa.plane(Channel::Visible).unwrap()[k],
                                 "({x}, {y}) differs from flooding to all"
                             );
                         }
@@ -210,7 +214,8 @@ fn flooding_to_contrary_lights_saves_rays_only_where_it_can() {
                 } else {
                     assert_eq!(cf, ca, "contrary-finest against all");
                     assert!(
-                        ff.beauty == fa.beauty && ff.rays == fa.rays,
+                        ff.layer(Channel::BEAUTY).unwrap() == fa.layer(Channel::BEAUTY).unwrap()
+                            && ff.plane(Channel::Rays).unwrap() == fa.plane(Channel::Rays).unwrap(),
                         "contrary-finest's frame differs from all's"
                     );
                 }
@@ -234,7 +239,8 @@ fn flooding_to_contrary_lights_saves_rays_only_where_it_can() {
                     // Boundary flooding already queues what `contrary` leaves out: same traces.
                     assert_eq!(cc, ca, "contrary against all");
                     assert!(
-                        fc.beauty == fa.beauty && fc.rays == fa.rays,
+                        fc.layer(Channel::BEAUTY).unwrap() == fa.layer(Channel::BEAUTY).unwrap()
+                            && fc.plane(Channel::Rays).unwrap() == fa.plane(Channel::Rays).unwrap(),
                         "contrary's frame differs from all's"
                     );
                 }
@@ -290,7 +296,9 @@ fn where_the_rays_go_adds_up_for_every_method() {
                     let coarse: f32 = (0..film.height)
                         .step_by(h0 as usize)
                         .flat_map(|y| (0..film.width).step_by(h0 as usize).map(move |x| (x, y)))
-                        .map(|(x, y)| film.rays[(y * film.width + x) as usize])
+                        .map(|(x, y)| {
+                            film.plane(Channel::Rays).unwrap()[(y * film.width + x) as usize]
+                        })
                         .sum();
                     assert!(
                         c.rays_every_light as f32 >= coarse && coarse > 0.0,
@@ -374,10 +382,14 @@ fn a_region_render_equals_the_same_pixels_of_the_full_frame() {
                     for x in 0..128u32 {
                         let i = (y * 128 + x) as usize;
                         if region.contains(x, y) {
-                            assert_eq!(part.beauty[i], full.beauty[i], "({x}, {y})");
-                            assert_eq!(part.rays[i], full.rays[i], "({x}, {y})");
+                            assert_eq!(part.beauty(i), full.beauty(i), "({x}, {y})");
+                            assert_eq!(
+                                part.plane(Channel::Rays).unwrap()[i],
+                                full.plane(Channel::Rays).unwrap()[i],
+                                "({x}, {y})"
+                            );
                         } else {
-                            assert_eq!(part.beauty[i], [0.0; 3], "({x}, {y}) outside the region");
+                            assert_eq!(part.beauty(i), [0.0; 3], "({x}, {y}) outside the region");
                         }
                     }
                 }

@@ -9,7 +9,7 @@ use envshadow::anim::{AnimFlags, Animation};
 use envshadow::brdf::brdf;
 use envshadow::coordinator::thread_pool;
 use envshadow::envmap::EnvMap;
-use envshadow::film::Film;
+use envshadow::film::{Channel, Film};
 use envshadow::frame::render_frame;
 use envshadow::inputs::Inputs;
 use envshadow::lights::{LightSet, Sampler};
@@ -71,7 +71,7 @@ fn ground_pixels(film: &Film, anim: &Animation, inputs: &Inputs) -> Vec<(Vec3, f
         for x in 0..w {
             let d = cam.ray_dir(x, y);
             let p = cam.position + d * (-cam.position.y / d.y);
-            out.push((p, film.beauty[(y * w + x) as usize][0]));
+            out.push((p, film.beauty((y * w + x) as usize)[0]));
         }
     }
     out
@@ -204,7 +204,7 @@ fn a_directional_scene_light_equals_a_map_light_of_the_same_energy() {
     let (fa, _) = render_frame(&anim, &a, 0, None, &Silent).unwrap();
     let (fb, _) = render_frame(&anim, &b, 0, None, &Silent).unwrap();
     assert!(
-        fa.beauty == fb.beauty,
+        fa.layer(Channel::BEAUTY).unwrap() == fb.layer(Channel::BEAUTY).unwrap(),
         "the file's sun renders as the map light"
     );
     let cos = file_sun.dir.y;
@@ -297,7 +297,12 @@ fn prediction_with_scene_lights_agrees_with_brute_force_within_its_measured_erro
             } else if let Some(r) = &reference {
                 // The image error stays small: relative mean absolute difference.
                 let (mut diff, mut sum) = (0.0f64, 0.0f64);
-                for (p, q) in film.beauty.iter().zip(&r.beauty) {
+                for (p, q) in film
+                    .layer(Channel::BEAUTY)
+                    .unwrap()
+                    .iter()
+                    .zip(&r.layer(Channel::BEAUTY).unwrap())
+                {
                     diff += (p[0] - q[0]).abs() as f64;
                     sum += q[0] as f64;
                 }
@@ -322,12 +327,16 @@ fn prediction_with_scene_lights_agrees_with_brute_force_within_its_measured_erro
     a.render.method = Method::BRUTE;
     let (dark, _) = render_frame(&a, &map_only, 0, None, &Silent).unwrap();
     let brighter = r
-        .beauty
+        .layer(Channel::BEAUTY)
+        .unwrap()
         .iter()
-        .zip(&dark.beauty)
+        .zip(&dark.layer(Channel::BEAUTY).unwrap())
         .filter(|(p, q)| p[0] > q[0] * 1.05)
         .count();
-    assert!(brighter > r.beauty.len() / 4, "{brighter} pixels brighter");
+    assert!(
+        brighter > r.layer(Channel::BEAUTY).unwrap().len() / 4,
+        "{brighter} pixels brighter"
+    );
 }
 
 #[test]
@@ -427,7 +436,12 @@ fn corpus_scenes_requiring_khr_lights_punctual_load_and_light_the_frame() {
     let note = envshadow::inputs::scene_lights_note(&anim, &inputs.scene).unwrap();
     assert!(note.contains("directional 'Sun'"), "{note}");
     let (film, _) = render_frame(&anim, &inputs, 0, None, &Silent).unwrap();
-    assert!(film.beauty.iter().any(|p| p[0] > 0.0));
+    assert!(
+        film.layer(Channel::BEAUTY)
+            .unwrap()
+            .iter()
+            .any(|p| p[0] > 0.0)
+    );
 
     let off = corpus("objects_on_circuit_board.glb", "scene_lights = false");
     let inputs = Inputs::load(&off).unwrap();
@@ -504,7 +518,7 @@ fn point_lights_shade_metallic_roughness_materials_with_the_gltf_brdf() {
             let e = colour * (cd / 683.0) / to.length_squared();
             let f = brdf(Vec3::Y, -d, dir, Vec3::new(0.8, 0.5, 0.3), &sample);
             let want = f * e * dir.y.max(0.0);
-            let got = Vec3::from_array(film.beauty[(y * w + x) as usize]);
+            let got = Vec3::from_array(film.beauty((y * w + x) as usize));
             assert!(
                 (got - want).abs().max_element() <= 2e-3 * want.max_element() + 1e-6,
                 "pixel ({x}, {y}): {got}, want {want}"

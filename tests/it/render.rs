@@ -2,6 +2,7 @@
 
 use crate::common::{self, Failures};
 
+use envshadow::film::Channel;
 use envshadow::frame::render_frame;
 
 use envshadow::inputs::Inputs;
@@ -66,7 +67,7 @@ fn sphere_shadow_on_plane_matches_the_analytic_shadow() {
             let mut anim = anim.clone();
             anim.render.method = method;
             let (film, _) = render_frame(&anim, &inputs, 0, None, &Silent).unwrap();
-            check_shadow_mask(&film.visible, &class, w, h, method);
+            check_shadow_mask(film.plane(Channel::Visible).unwrap(), &class, w, h, method);
         });
     }
     failures.assert_none();
@@ -114,7 +115,7 @@ fn open_plane_under_uniform_white_sky_renders_albedo_times_radiance() {
     );
     let (film, _) = render_frame(&anim, &inputs, 0, None, &Silent).unwrap();
     let want = albedo * radiance;
-    for p in &film.beauty {
+    for p in &film.layer(Channel::BEAUTY).unwrap() {
         for c in p {
             assert!((c - want).abs() <= 0.01 * want, "{c} vs {want}");
         }
@@ -149,9 +150,10 @@ fn no_shadow_acne_on_the_ground_plane_at_grazing_lights() {
     let (film, stats) = render_frame(&anim, &inputs, 0, None, &Silent).unwrap();
     assert!(stats.counts.queries > 100_000);
     let plane_px: Vec<f32> = film
-        .visible
+        .plane(Channel::Visible)
+        .unwrap()
         .iter()
-        .zip(&film.rays)
+        .zip(film.plane(Channel::Rays).unwrap())
         .filter(|(_, r)| **r > 0.0)
         .map(|(v, _)| *v)
         .collect();
@@ -174,7 +176,10 @@ fn brute_force_equals_no_shadows_where_nothing_can_block() {
     let (brute, bs) = render_frame(&anim, &inputs, 0, None, &Silent).unwrap();
     anim.render.method = Method::NONE;
     let (none, ns) = render_frame(&anim, &inputs, 0, None, &Silent).unwrap();
-    assert_eq!(brute.beauty, none.beauty);
+    assert_eq!(
+        brute.layer(Channel::BEAUTY).unwrap(),
+        none.layer(Channel::BEAUTY).unwrap()
+    );
     assert_eq!(bs.counts.queries, ns.counts.queries);
     assert_eq!(bs.counts.rays, bs.counts.queries);
     assert_eq!(ns.counts.rays, 0);
@@ -194,7 +199,12 @@ fn shadows_remove_energy_and_never_add_it() {
     anim.render.method = Method::NONE;
     let (none, _) = render_frame(&anim, &inputs, 0, None, &Silent).unwrap();
     let (mut sb, mut sn) = (0.0f64, 0.0f64);
-    for (b, n) in brute.beauty.iter().zip(&none.beauty) {
+    for (b, n) in brute
+        .layer(Channel::BEAUTY)
+        .unwrap()
+        .iter()
+        .zip(&none.layer(Channel::BEAUTY).unwrap())
+    {
         for c in 0..3 {
             assert!(b[c] <= n[c] * (1.0 + 1e-6) + 1e-9, "{b:?} > {n:?}");
             sb += b[c] as f64;

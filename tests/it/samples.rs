@@ -9,7 +9,7 @@ use crate::common::{self, Failures};
 use envshadow::anim::{AnimFlags, Animation};
 use envshadow::coordinator::thread_pool;
 use envshadow::envmap::EnvMap;
-use envshadow::film::{Counts, Film};
+use envshadow::film::{Channel, Counts, Film};
 use envshadow::frame::render_frame;
 use envshadow::inputs::Inputs;
 use envshadow::lights::{LightSet, Sampler};
@@ -98,13 +98,19 @@ fn every_method_agrees_with_brute_force_at_sixteen_samples() {
         "brute force traces every query".into()
     });
     // The rays AOV sums the samples' rays: brute force's adds up to every query.
-    let aov: f64 = brute.rays.iter().map(|&r| f64::from(r)).sum();
+    let aov: f64 = brute
+        .plane(Channel::Rays)
+        .unwrap()
+        .iter()
+        .map(|&r| f64::from(r))
+        .sum();
     failures.check_eq(aov as u64, bc.queries, || {
         "the rays AOV sums the samples".into()
     });
-    failures.check(one.coverage.is_none() && brute.coverage.is_some(), || {
-        "coverage is kept with several samples only".into()
-    });
+    failures.check(
+        one.plane(Channel::Coverage).is_none() && brute.plane(Channel::Coverage).is_some(),
+        || "coverage is kept with several samples only".into(),
+    );
     for m in Method::all() {
         if m == Method::NONE || m == Method::BRUTE {
             continue;
@@ -113,7 +119,9 @@ fn every_method_agrees_with_brute_force_at_sixteen_samples() {
             let (film, c) = render(&with(&anim, m, 16, 16, true), &inputs, 0);
             assert_eq!(c.queries, bc.queries, "the same queries");
             assert_eq!(c.wrong_traced, 0, "wrong where traced");
-            assert!(film.reference.as_ref().unwrap() == &brute.beauty);
+            assert!(
+                film.layer(Channel::REFERENCE).unwrap() == brute.layer(Channel::BEAUTY).unwrap()
+            );
             // The bounds of one sample's table (tests/it/predict.rs); denser samples predict
             // better, not worse.
             let bound = match m.name() {
@@ -128,10 +136,10 @@ fn every_method_agrees_with_brute_force_at_sixteen_samples() {
             // percent_traced counts) are larger than the tiles.
             let own = 100.0 * c.rays as f64 / c.queries as f64;
             assert!(own < 50.0, "traced {own:.1} % for the pixels themselves");
-            let wrong = film.wrong.as_ref().unwrap();
+            let wrong = film.plane(Channel::Wrong).unwrap();
             for (i, w) in wrong.iter().enumerate() {
                 if *w == 0.0 {
-                    assert_eq!(film.beauty[i], brute.beauty[i], "pixel {i}");
+                    assert_eq!(film.beauty(i), brute.beauty(i), "pixel {i}");
                 }
             }
         });
@@ -171,9 +179,12 @@ fn one_sample_is_the_pixel_centre_whatever_the_filter() {
             a.render.filter = filter;
             a.render.filter_width = width;
             let (film, c) = render(&a, &inputs, 0);
-            assert!(film.beauty == reference.beauty, "{filter} width {width}");
+            assert!(
+                film.layer(Channel::BEAUTY).unwrap() == reference.layer(Channel::BEAUTY).unwrap(),
+                "{filter} width {width}"
+            );
             assert_eq!(c, rc, "{filter} width {width}");
-            assert!(film.coverage.is_none());
+            assert!(film.plane(Channel::Coverage).is_none());
         }
     }
 }
@@ -211,7 +222,7 @@ fn a_half_covered_pixel_has_half_coverage_within_one_sample() {
             let mut a = with(&anim, Method::DEFAULT, spp, 16, false);
             a.render.filter = filter;
             let (film, _) = render(&a, &inputs, 0);
-            let cov = film.coverage.as_ref().unwrap();
+            let cov = film.plane(Channel::Coverage).unwrap();
             for y in 0..33 {
                 let c = cov[y * 33 + 16];
                 failures.check((c - 0.5).abs() <= 1.0 / spp as f32, || {
@@ -240,7 +251,7 @@ fn coverage_follows_the_covered_area_of_a_pixel() {
         let mut a = with(&anim, Method::DEFAULT, spp, 16, false);
         a.render.filter = Filter::Box;
         let (film, _) = render(&a, &inputs, 0);
-        let cov = film.coverage.as_ref().unwrap();
+        let cov = film.plane(Channel::Coverage).unwrap();
         let mut sum = 0.0;
         for y in 0..33 {
             let c = cov[y * 33 + 16];
@@ -269,7 +280,13 @@ fn an_open_plane_at_sixteen_samples_renders_what_its_centre_does() {
     let mut one = anim.clone();
     one.render.spp = 1;
     let (centre, _) = render(&one, &inputs, 0);
-    for (p, (a, b)) in film.beauty.iter().zip(&centre.beauty).enumerate() {
+    for (p, (a, b)) in film
+        .layer(Channel::BEAUTY)
+        .unwrap()
+        .iter()
+        .zip(&centre.layer(Channel::BEAUTY).unwrap())
+        .enumerate()
+    {
         for c in 0..3 {
             assert!(
                 (a[c] - b[c]).abs() <= 1e-6 * b[c],
@@ -277,7 +294,12 @@ fn an_open_plane_at_sixteen_samples_renders_what_its_centre_does() {
             );
         }
     }
-    assert!(film.coverage.as_ref().unwrap().iter().all(|&c| c == 1.0));
+    assert!(
+        film.plane(Channel::Coverage)
+            .unwrap()
+            .iter()
+            .all(|&c| c == 1.0)
+    );
 }
 
 /// Runs the CLI; panics with its output when it fails.

@@ -12,7 +12,7 @@ use crate::common::{self, Failures, Gltf};
 
 use envshadow::anim::{AnimFlags, Animation};
 use envshadow::coordinator::thread_pool;
-use envshadow::film::Film;
+use envshadow::film::{Channel, Film};
 use envshadow::frame::render_frame;
 use envshadow::inputs::Inputs;
 use envshadow::motion::{Motion, MotionKind};
@@ -104,7 +104,12 @@ fn render(model: &Path, spin: bool, frame: usize) -> Film {
 /// RMSE of `a` against `b` over all pixels and channels, over the mean of `b`.
 fn rel_rmse(a: &Film, b: &Film) -> f64 {
     let (mut se, mut sum, mut n) = (0.0f64, 0.0f64, 0.0f64);
-    for (x, y) in a.beauty.iter().zip(&b.beauty) {
+    for (x, y) in a
+        .layer(Channel::BEAUTY)
+        .unwrap()
+        .iter()
+        .zip(&b.layer(Channel::BEAUTY).unwrap())
+    {
         for c in 0..3 {
             let d = f64::from(x[c]) - f64::from(y[c]);
             se += d * d;

@@ -9,7 +9,7 @@ use std::path::Path;
 use envshadow::anim::{AnimFlags, Animation};
 use envshadow::coordinator::{render_animation, thread_pool};
 use envshadow::film::Counts;
-use envshadow::film::Film;
+use envshadow::film::{Channel, Film};
 use envshadow::frame::Temporal;
 use envshadow::frame::{render_frame, render_frame_with};
 use envshadow::frame_files::FrameFiles;
@@ -92,7 +92,12 @@ fn temporal_prediction_agrees_with_brute_force_within_its_stated_error() {
                     assert_eq!(c.temporal_pixels, 0, "the first frame is spatial");
                 } else {
                     // Almost every surface pixel was seen in the previous frame.
-                    let hit = film.visible.iter().filter(|&&v| v > 0.0).count() as u64;
+                    let hit = film
+                        .plane(Channel::Visible)
+                        .unwrap()
+                        .iter()
+                        .filter(|&&v| v > 0.0)
+                        .count() as u64;
                     assert!(
                         c.temporal_pixels * 10 >= hit * 8,
                         "only {} of ~{hit} pixels predicted temporally",
@@ -101,11 +106,11 @@ fn temporal_prediction_agrees_with_brute_force_within_its_stated_error() {
                     assert!(c.temporal_rays <= c.rays, "more temporal rays than rays");
                 }
                 // Pixels without a wrong pair equal the brute-force image exactly.
-                let wrong = film.wrong.as_ref().unwrap();
-                let reference = film.reference.as_ref().unwrap();
+                let wrong = film.plane(Channel::Wrong).unwrap();
+                let reference = film.layer(Channel::REFERENCE).unwrap();
                 for (i, w) in wrong.iter().enumerate() {
                     if *w == 0.0 {
-                        assert_eq!(film.beauty[i], reference[i], "pixel {i}");
+                        assert_eq!(film.beauty(i), reference[i], "pixel {i}");
                     }
                 }
             });
@@ -180,13 +185,18 @@ fn temporal_chains_are_identical_whatever_the_tiles_and_threads() {
             for (f, ((film, c), (rf, rc))) in got.iter().zip(&reference).enumerate() {
                 let tag =
                     format!("{method} {kind} {flood_to} frame {f} tile {tile} threads {threads}");
-                failures.check(film.beauty == rf.beauty, || {
-                    format!("{tag}: beauty differs")
-                });
-                failures.check(film.rays == rf.rays, || format!("{tag}: rays differ"));
-                failures.check(film.wrong == rf.wrong, || {
-                    format!("{tag}: wrong pairs differ")
-                });
+                failures.check(
+                    film.layer(Channel::BEAUTY).unwrap() == rf.layer(Channel::BEAUTY).unwrap(),
+                    || format!("{tag}: beauty differs"),
+                );
+                failures.check(
+                    film.plane(Channel::Rays).unwrap() == rf.plane(Channel::Rays).unwrap(),
+                    || format!("{tag}: rays differ"),
+                );
+                failures.check(
+                    film.plane(Channel::Wrong) == rf.plane(Channel::Wrong),
+                    || format!("{tag}: wrong pairs differ"),
+                );
                 failures.check_eq(common::without_halo(*c), common::without_halo(*rc), || {
                     format!("{tag}: counts")
                 });
@@ -207,7 +217,10 @@ fn without_a_previous_frame_the_spatial_method_decides() {
     let none = Temporal::default();
     let (t, ts, _) = render_frame_with(&anim, &inputs, 2, None, &Silent, &none).unwrap();
     let (s, ss, _) = render_frame_with(&spatial, &inputs, 2, None, &Silent, &none).unwrap();
-    assert!(t.beauty == s.beauty && t.rays == s.rays);
+    assert!(
+        t.layer(Channel::BEAUTY).unwrap() == s.layer(Channel::BEAUTY).unwrap()
+            && t.plane(Channel::Rays).unwrap() == s.plane(Channel::Rays).unwrap()
+    );
     assert_eq!(ts.counts, ss.counts);
     assert_eq!(ts.counts.temporal_pixels, 0);
 }
