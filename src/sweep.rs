@@ -125,14 +125,6 @@ pub fn load(
     load_scene(spec, None, lights, material)
 }
 
-/// Whether a measuring command's `--scene` names a glTF model rather than a spec.
-pub fn is_model(scene: &Path) -> bool {
-    scene
-        .extension()
-        .and_then(|e| e.to_str())
-        .is_some_and(|e| e.eq_ignore_ascii_case("glb") || e.eq_ignore_ascii_case("gltf"))
-}
-
 /// [`load`] for a spec or a glTF model (an auto-framed turntable,
 /// [`Animation::of_model`]), lit by `env` when given (`sky`: the built-in sky).
 pub fn load_scene(
@@ -146,7 +138,7 @@ pub fn load_scene(
         material: material.clone(),
         ..Default::default()
     };
-    let mut anim = if is_model(scene) {
+    let mut anim = if crate::anim::is_model(scene) {
         Animation::of_model(scene, None, &flags)?
     } else {
         Animation::load(scene, &flags)?
