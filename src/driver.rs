@@ -180,6 +180,16 @@ impl FrameWork<'_> {
         patch
     }
 
+    /// The channels this frame's films hold beyond the ones every film does: its tiles' and
+    /// the whole frame's alike.
+    pub fn holds(&self) -> Holds {
+        Holds {
+            validated: self.validate,
+            samples: self.k() > 1,
+            transparent: self.ctx.backdrop.is_transparent(),
+        }
+    }
+
     /// Renders the pixels of `pixels` (the final phase): evaluates the remaining passes at the
     /// samples the tile depends on — marked walking the passes backwards from the tile — then
     /// counts, validates and shades. Returns the tile's result and what it carries forward for
@@ -267,7 +277,7 @@ impl FrameWork<'_> {
             }
         }
         let counts = count_halo(&slot.bufs);
-        let result = shade(self.ctx, &slot.bufs, pixels, self.validate, counts);
+        let result = shade(self.ctx, &slot.bufs, pixels, self.holds(), counts);
         (result, self.link.keep(self.ctx, &slot.bufs))
     }
 }
@@ -298,7 +308,7 @@ fn count_halo(bufs: &TileBuffers) -> Counts {
 /// visible fractions and, with several samples, the fraction that hit; over a transparent
 /// background the mean of their alphas (`crate::catcher`: 1 on the model, the shadow fraction
 /// on a catcher, 0 on the background); for the compositor, the nearest depth, and the mean
-/// normal and albedo (background samples counting 0). With `validate`, every query is traced
+/// normal and albedo (background samples counting 0). Validated, every query is traced
 /// again to count the method's mistakes and shade the brute-force reference. With one sample
 /// per pixel this is the pixel as it always was: adding to zero and dividing by one change no
 /// bit.
@@ -306,18 +316,13 @@ fn shade(
     ctx: &FrameContext,
     bufs: &TileBuffers,
     pixels: Rect,
-    validate: bool,
+    holds: Holds,
     mut counts: Counts,
 ) -> TileResult {
     let k = ctx.samples.k;
     let spp = (k * k) as f32;
     let w = bufs.words;
     let n = pixels.area();
-    let holds = Holds {
-        validated: validate,
-        samples: k > 1,
-        transparent: ctx.backdrop.is_transparent(),
-    };
     let mut planes = Planes::new(n, holds);
     let mut p = 0;
     let (eye, forward) = (ctx.camera.position, ctx.camera.forward());
@@ -384,7 +389,7 @@ fn shade(
                     if n_above > 0 {
                         seen += bits::count(vis) as f32 / n_above as f32;
                     }
-                    if !validate {
+                    if !holds.validated {
                         continue;
                     }
                     let (wrong_pairs, reference) =

@@ -14,7 +14,7 @@ use crate::cancel::Cancel;
 use crate::context::FrameContext;
 use crate::driver::{FrameWork, Slot};
 use crate::error::{Interrupted, Result};
-use crate::film::{Film, Holds, TileResult};
+use crate::film::{Film, TileResult};
 use crate::history::{Carried, CarryPatch};
 use crate::inputs::Inputs;
 use crate::lattice::Lattice;
@@ -153,12 +153,7 @@ pub fn render_tile_list(
     let lattice = shared_phases(&work, anim, list, region, cancel, &mut time)?;
     let results = final_phase(&work, list, &lattice, frame, progress, cancel, &mut time)?;
     let (width, height) = (anim.render.width, anim.render.height);
-    let holds = Holds {
-        validated: work.validate,
-        samples: ctx.samples.k > 1,
-        transparent: inputs.backdrop.is_transparent(),
-    };
-    let mut film = Film::new(width, height, holds);
+    let mut film = Film::new(width, height, work.holds());
     let mut carried = link.carried(frame, width, height, ctx.words());
     for (r, patch) in &results {
         film.add(r);

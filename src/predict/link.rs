@@ -45,11 +45,6 @@ impl<'a> Link<'a> {
         Link { read, keep }
     }
 
-    /// Whether the frame reads a previous frame.
-    pub fn reads(&self) -> bool {
-        self.read.is_some()
-    }
-
     /// Empty carried data for `frame` (`width` × `height` pixels, `words` per bitset), if
     /// this frame keeps its visibility for the next; the tiles' [`Link::keep`] fill it.
     pub fn carried(&self, frame: usize, width: u32, height: u32, words: usize) -> Option<Carried> {
