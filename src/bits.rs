@@ -31,6 +31,24 @@ pub fn rows_mut(bits: &mut [u64], words: usize) -> RowsMut<'_> {
 }
 
 impl<'a> Rows<'a> {
+    /// Number of rows.
+    #[inline]
+    pub fn len(self) -> usize {
+        self.bits.len() / self.words.max(1)
+    }
+
+    /// Whether there is no row.
+    #[inline]
+    pub fn is_empty(self) -> bool {
+        self.len() == 0
+    }
+
+    /// Words per row.
+    #[inline]
+    pub fn words(self) -> usize {
+        self.words
+    }
+
     /// Row `i`.
     #[inline]
     pub fn row(self, i: usize) -> &'a [u64] {

@@ -178,6 +178,74 @@ impl Weights {
     }
 }
 
+/// What turns a lobe's light [`Sums`] into radiance: one sample's [`Weights`], or the mean
+/// of a group's ([`MeanWeights`]).
+pub trait Reflectance {
+    /// The diffuse part of `sums`.
+    fn diffuse(&self, sums: &Sums) -> Vec3;
+    /// The specular part of the sums `s2`, `s3`.
+    fn specular(&self, s2: Vec3, s3: Vec3) -> Vec3;
+}
+
+impl Reflectance for Weights {
+    #[inline]
+    fn diffuse(&self, sums: &Sums) -> Vec3 {
+        Weights::diffuse(self, sums)
+    }
+    #[inline]
+    fn specular(&self, s2: Vec3, s3: Vec3) -> Vec3 {
+        Weights::specular(self, s2, s3)
+    }
+}
+
+/// The mean of several samples' [`Weights`], each scaled by its own factor (its occlusion):
+/// radiance is linear in each of the four products `kd·a`, `kd·b`, `ks2`, `ks3`, so the mean
+/// of theirs reflects a group's summed light as the samples' own weights would on average —
+/// exactly where the samples' light is the same. (The mean of `kd`, `a` and `b` apart would
+/// not: `kd·a` is a product.)
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct MeanWeights {
+    d0: Vec3,
+    d1: Vec3,
+    ks2: Vec3,
+    ks3: Vec3,
+    n: f32,
+}
+
+impl MeanWeights {
+    /// Adds one sample's weights, scaled by `scale`.
+    pub fn add(&mut self, w: &Weights, scale: f32) {
+        self.d0 += w.kd * (w.a * scale);
+        self.d1 += w.kd * (w.b * scale);
+        self.ks2 += w.ks2 * scale;
+        self.ks3 += w.ks3 * scale;
+        self.n += 1.0;
+    }
+
+    /// The mean of the weights added.
+    pub fn mean(self) -> MeanWeights {
+        let k = 1.0 / self.n.max(1.0);
+        MeanWeights {
+            d0: self.d0 * k,
+            d1: self.d1 * k,
+            ks2: self.ks2 * k,
+            ks3: self.ks3 * k,
+            n: 1.0,
+        }
+    }
+}
+
+impl Reflectance for MeanWeights {
+    #[inline]
+    fn diffuse(&self, sums: &Sums) -> Vec3 {
+        self.d0 * sums.s0 - self.d1 * sums.s1
+    }
+    #[inline]
+    fn specular(&self, s2: Vec3, s3: Vec3) -> Vec3 {
+        self.ks2 * s2 + self.ks3 * s3
+    }
+}
+
 /// The BRDF `f(l, v)` of a material of base colour `base` with shading normal `n`, times
 /// nothing (no cosine): for one light, radiance = `f · E · (n·l)`. Zero where `l` is below the
 /// horizon. Lambertian materials give `base/π`.

@@ -41,6 +41,9 @@ pub struct Surface {
     pub material: MaterialSample,
     /// A shadow catcher: it shows only the shadows it receives (see the `catcher` module).
     pub catcher: bool,
+    /// The index of its material in the scene: at the pixel shading rate, samples of another
+    /// material are shaded apart.
+    pub material_index: u32,
 }
 
 /// Everything a tile needs about its frame: shared, read-only, across threads.
@@ -258,6 +261,7 @@ impl<'a> FrameContext<'a> {
             hit: true,
             material: at.sample,
             catcher: self.scene.is_catcher(tri),
+            material_index: self.scene.tri_material[tri],
         }
     }
 

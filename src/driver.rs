@@ -20,13 +20,14 @@
 use crate::bits;
 use crate::buffers::TileBuffers;
 use crate::catcher::{self, Catchers};
-use crate::context::FrameContext;
+use crate::context::{FrameContext, Surface};
 use crate::film::{BACKGROUND_DEPTH, Channel, Counts, Holds, Planes, TileResult};
 use crate::history::CarryPatch;
 use crate::lattice::{Lattice, LatticePatch};
 use crate::predict::{At, Link, Order, Scratch, Shadows};
-use crate::radiance::radiance_at;
+use crate::radiance::{group_radiance, radiance_at};
 use crate::shade::LambertCache;
+use crate::shading_rate::{ShadingRate, group};
 use crate::tile::Rect;
 use glam::Vec3;
 
@@ -52,6 +53,8 @@ pub struct FrameWork<'a> {
     pub link: &'a Link<'a>,
     /// Also trace every query and count the method's mistakes (`--validate`).
     pub validate: bool,
+    /// How often a pixel's samples are shaded (`--shading-rate`).
+    pub shading_rate: ShadingRate,
 }
 
 impl FrameWork<'_> {
@@ -277,7 +280,14 @@ impl FrameWork<'_> {
             }
         }
         let counts = count_halo(&slot.bufs);
-        let result = shade(self.ctx, &slot.bufs, pixels, self.holds(), counts);
+        let result = shade(
+            self.ctx,
+            self.shading_rate,
+            &slot.bufs,
+            pixels,
+            self.holds(),
+            counts,
+        );
         (result, self.link.keep(self.ctx, &slot.bufs))
     }
 }
@@ -312,8 +322,14 @@ fn count_halo(bufs: &TileBuffers) -> Counts {
 /// again to count the method's mistakes and shade the brute-force reference. With one sample
 /// per pixel this is the pixel as it always was: adding to zero and dividing by one change no
 /// bit.
+///
+/// At the pixel shading rate (`crate::shading_rate`, several samples per pixel) the samples
+/// that hit the model are shaded in groups that share a surface, after the pixel's other
+/// samples (background and catchers, shaded one by one); the reference is shaded the same
+/// way from the traced bits, so the validated error is the method's alone.
 fn shade(
     ctx: &FrameContext,
+    rate: ShadingRate,
     bufs: &TileBuffers,
     pixels: Rect,
     holds: Holds,
@@ -326,11 +342,7 @@ fn shade(
     let mut planes = Planes::new(n, holds);
     let mut p = 0;
     let (eye, forward) = (ctx.camera.position, ctx.camera.forward());
-    let mut truth = vec![0u64; w];
-    // Lambertian samples with the normal and visible lights of the last one reuse its sum.
-    // The reference has its own Lambertian cache and shares the catchers' (keyed on the normal).
-    let mut cache = LambertCache::default();
-    let mut caches = (LambertCache::default(), Catchers::default());
+    let mut shader = Shader::new(ctx, rate, (k * k) as usize, w);
     for py in pixels.y0..pixels.y1 {
         for px in pixels.x0..pixels.x1 {
             let mut lit = Vec3::ZERO;
@@ -343,6 +355,7 @@ fn shade(
             let mut nearest = f32::INFINITY;
             let mut n_sum = Vec3::ZERO;
             let mut a_sum = Vec3::ZERO;
+            shader.members = 0;
             for j in 0..k {
                 for i in 0..k {
                     let (x, y) = (px * k + i, py * k + j);
@@ -370,32 +383,28 @@ fn shade(
                     nearest = nearest.min((s.p - eye).dot(forward));
                     n_sum += s.n;
                     a_sum += s.albedo;
-                    let vis = bits::rows(&bufs.vis, w).row(q);
                     let above = bits::rows(&bufs.above, w).row(q);
-                    if s.catcher {
-                        // [ours] A catcher's shadow is the map's lights' (its fraction is
-                        // against the map's unshadowed light); the file's point and spot
-                        // lights do not darken it.
-                        let sum = cache.light_sum(&ctx.shade_lights, s.n, vis);
-                        let (c, a) = caches.1.sample(ctx, &s, above, sum);
-                        lit += c;
-                        opacity += a;
-                    } else {
-                        lit += radiance_at(ctx, &s, vis, above, &mut cache);
-                        opacity += 1.0;
-                    }
+                    let (c, a) = shader.sample(bufs, q);
+                    lit += c;
+                    opacity += a;
                     let n_above = bits::count(above);
                     counts.queries += n_above as u64;
                     if n_above > 0 {
-                        seen += bits::count(vis) as f32 / n_above as f32;
+                        seen +=
+                            bits::count(bits::rows(&bufs.vis, w).row(q)) as f32 / n_above as f32;
                     }
                     if !holds.validated {
                         continue;
                     }
-                    let (wrong_pairs, reference) =
-                        validate_sample(ctx, bufs, q, &mut truth, &mut counts, &mut caches);
+                    let (wrong_pairs, reference) = shader.validate(bufs, q, &mut counts);
                     mistakes += wrong_pairs as f32;
                     exact += reference;
+                }
+            }
+            if shader.members > 0 {
+                lit += shader.groups(bufs, false);
+                if holds.validated {
+                    exact += shader.groups(bufs, true);
                 }
             }
             // Each channel's value (those the tile does not hold are dropped).
@@ -435,49 +444,151 @@ fn shade(
     }
 }
 
-/// Validates sample `q` (a hit; `--validate`): traces every query again into `truth` — those
-/// the method traced included, so a method that mis-records a trace shows up as
-/// `wrong_traced` —, counts the method's wrong pairs into `counts` and shades the brute-force
-/// reference. Returns the sample's wrong pairs and its reference radiance.
-fn validate_sample(
-    ctx: &FrameContext,
-    bufs: &TileBuffers,
-    q: usize,
-    truth: &mut [u64],
-    counts: &mut Counts,
-    (exact_cache, catchers): &mut (LambertCache, Catchers),
-) -> (u64, Vec3) {
-    let w = bufs.words;
-    let s = &bufs.surf[q];
-    let vis = bits::rows(&bufs.vis, w).row(q);
-    let above = bits::rows(&bufs.above, w).row(q);
-    for m in 0..w {
-        truth[m] = 0;
-        let mut word = above[m];
-        while word != 0 {
-            let j = m * 64 + word.trailing_zeros() as usize;
-            word &= word - 1;
-            if ctx.trace(s, j) {
-                truth[m] |= 1 << (j & 63);
-            }
+/// One tile's shading of the model's samples: one by one, or at the pixel rate gathered per
+/// pixel ([`Shader::sample`]) and shaded in groups at the pixel's end ([`Shader::groups`]).
+struct Shader<'a> {
+    ctx: &'a FrameContext<'a>,
+    /// Groups of samples share their lobe (the pixel shading rate, several samples).
+    shared: bool,
+    words: usize,
+    /// Lambertian samples with the normal and visible lights of the last one reuse its sum.
+    cache: LambertCache,
+    /// The reference has its own Lambertian cache and shares the catchers' (keyed on the
+    /// normal).
+    caches: (LambertCache, Catchers),
+    /// The pixel's samples to shade in groups (region indices), and their traced bits
+    /// (validated), a row each.
+    member: Vec<usize>,
+    members: usize,
+    truth: Vec<u64>,
+    /// One group's rows, its visible and above-horizon lights, back to back.
+    group_vis: Vec<u64>,
+    group_above: Vec<u64>,
+    group_of: Vec<u8>,
+    group_surf: Vec<Surface>,
+}
+
+impl<'a> Shader<'a> {
+    fn new(ctx: &'a FrameContext<'a>, rate: ShadingRate, spp: usize, words: usize) -> Shader<'a> {
+        Shader {
+            ctx,
+            shared: rate == ShadingRate::Pixel && spp > 1,
+            words,
+            cache: LambertCache::default(),
+            caches: Default::default(),
+            member: vec![0; spp],
+            members: 0,
+            truth: vec![0; spp * words],
+            group_vis: Vec::with_capacity(spp * words),
+            group_above: Vec::with_capacity(spp * words),
+            group_of: vec![0; spp],
+            group_surf: Vec::with_capacity(spp),
         }
     }
-    let traced_bits = bits::rows(&bufs.traced, w).row(q);
-    let (mut wv, mut wb) = (0u64, 0u64);
-    for m in 0..w {
-        counts.wrong_traced +=
-            ((vis[m] ^ truth[m]) & above[m] & traced_bits[m]).count_ones() as u64;
-        wv += (vis[m] & !truth[m] & above[m]).count_ones() as u64;
-        wb += (!vis[m] & truth[m] & above[m]).count_ones() as u64;
+
+    /// Sample `q` (a hit): its radiance and alpha, or — a sample of the model at the pixel
+    /// rate — nothing yet but its alpha, 1, its radiance left to [`Shader::groups`].
+    fn sample(&mut self, bufs: &TileBuffers, q: usize) -> (Vec3, f32) {
+        let (ctx, w) = (self.ctx, self.words);
+        let s = &bufs.surf[q];
+        let vis = bits::rows(&bufs.vis, w).row(q);
+        let above = bits::rows(&bufs.above, w).row(q);
+        if s.catcher {
+            // [ours] A catcher's shadow is the map's lights' (its fraction is against the
+            // map's unshadowed light); the file's point and spot lights do not darken it.
+            let sum = self.cache.light_sum(&ctx.shade_lights, s.n, vis);
+            self.caches.1.sample(ctx, s, above, sum)
+        } else if self.shared {
+            self.member[self.members] = q;
+            self.members += 1;
+            (Vec3::ZERO, 1.0)
+        } else {
+            (radiance_at(ctx, s, vis, above, &mut self.cache), 1.0)
+        }
     }
-    counts.wrong_visible += wv;
-    counts.wrong_blocked += wb;
-    counts.wrong_pixels += u64::from(wv + wb > 0);
-    let exact = if s.catcher {
-        let sum = exact_cache.light_sum(&ctx.shade_lights, s.n, truth);
-        catchers.sample(ctx, s, above, sum).0
-    } else {
-        radiance_at(ctx, s, truth, above, exact_cache)
-    };
-    (wv + wb, exact)
+
+    /// Validates sample `q` (a hit; `--validate`): traces every query again — those the
+    /// method traced included, so a method that mis-records a trace shows up as
+    /// `wrong_traced` —, counts the method's wrong pairs into `counts` and shades the
+    /// brute-force reference (at the pixel rate, a model sample's waits for
+    /// [`Shader::groups`], which reads its traced bits). Returns the sample's wrong pairs
+    /// and its reference radiance.
+    fn validate(&mut self, bufs: &TileBuffers, q: usize, counts: &mut Counts) -> (u64, Vec3) {
+        let (ctx, w) = (self.ctx, self.words);
+        let s = &bufs.surf[q];
+        let grouped = self.shared && !s.catcher;
+        // A grouped sample's row is its place among the members (it was just added).
+        let row = if grouped { self.members - 1 } else { 0 };
+        let truth = bits::rows_mut(&mut self.truth, w).into_row(row);
+        let vis = bits::rows(&bufs.vis, w).row(q);
+        let above = bits::rows(&bufs.above, w).row(q);
+        for m in 0..w {
+            truth[m] = 0;
+            let mut word = above[m];
+            while word != 0 {
+                let j = m * 64 + word.trailing_zeros() as usize;
+                word &= word - 1;
+                if ctx.trace(s, j) {
+                    truth[m] |= 1 << (j & 63);
+                }
+            }
+        }
+        let traced_bits = bits::rows(&bufs.traced, w).row(q);
+        let (mut wv, mut wb) = (0u64, 0u64);
+        for m in 0..w {
+            counts.wrong_traced +=
+                ((vis[m] ^ truth[m]) & above[m] & traced_bits[m]).count_ones() as u64;
+            wv += (vis[m] & !truth[m] & above[m]).count_ones() as u64;
+            wb += (!vis[m] & truth[m] & above[m]).count_ones() as u64;
+        }
+        counts.wrong_visible += wv;
+        counts.wrong_blocked += wb;
+        counts.wrong_pixels += u64::from(wv + wb > 0);
+        let (exact_cache, catchers) = &mut self.caches;
+        let exact = if grouped {
+            Vec3::ZERO
+        } else if s.catcher {
+            let sum = exact_cache.light_sum(&ctx.shade_lights, s.n, truth);
+            catchers.sample(ctx, s, above, sum).0
+        } else {
+            radiance_at(ctx, s, truth, above, exact_cache)
+        };
+        (wv + wb, exact)
+    }
+
+    /// The summed radiance of the pixel's gathered samples, shaded in groups that share a
+    /// surface (`crate::shading_rate`), from their visible lights or, for the reference
+    /// (`traced`), from the lights [`Shader::validate`] traced.
+    fn groups(&mut self, bufs: &TileBuffers, traced: bool) -> Vec3 {
+        let (ctx, w) = (self.ctx, self.words);
+        let members = &self.member[..self.members];
+        let count = group(&bufs.surf, members, &mut self.group_of);
+        let mut lit = Vec3::ZERO;
+        for g in 0..count as u8 {
+            self.group_vis.clear();
+            self.group_above.clear();
+            self.group_surf.clear();
+            for (i, &q) in members.iter().enumerate() {
+                if self.group_of[i] != g {
+                    continue;
+                }
+                self.group_surf.push(bufs.surf[q]);
+                let vis = if traced {
+                    bits::rows(&self.truth, w).row(i)
+                } else {
+                    bits::rows(&bufs.vis, w).row(q)
+                };
+                self.group_vis.extend_from_slice(vis);
+                self.group_above
+                    .extend_from_slice(bits::rows(&bufs.above, w).row(q));
+            }
+            lit += group_radiance(
+                ctx,
+                &self.group_surf,
+                bits::rows(&self.group_vis, w),
+                bits::rows(&self.group_above, w),
+            );
+        }
+        lit
+    }
 }

@@ -149,6 +149,7 @@ pub fn render_tile_list(
         shadows: &shadows,
         link: &link,
         validate: anim.render.validate && !temporal.no_validate,
+        shading_rate: anim.render.shading_rate,
     };
     let lattice = shared_phases(&work, anim, list, region, cancel, &mut time)?;
     let results = final_phase(&work, list, &lattice, frame, progress, cancel, &mut time)?;

@@ -57,6 +57,12 @@ macro_rules! settings_list {
                 /// gaussian and blackman-harris 1.5).
                 filter_width: f32 = 0.0, key FilterWidth,
                     flag "filter-width" [value_name = "PX"], check check_filter_width;
+                /// How often a pixel's samples are shaded, with --spp above 1: pixel (the default):
+                /// the samples of a pixel that see the same surface (material, normal within 2.6°)
+                /// share one evaluation of each light at their mean normal, each keeping its own
+                /// shadows; sample: every sample shades every light it sees (docs/samples.md).
+                shading_rate: ShadingRate = ShadingRate::Pixel, key ShadingRate,
+                    flag "shading-rate" [value_name = "RATE"], check any;
                 /// Specular lobes too narrow for the lights (low roughness: the lights would show as
                 /// dots) reflect the environment prefiltered per roughness, weighted by the lobe's
                 /// visible lights (default true); false: the lights alone at every roughness, the

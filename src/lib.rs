@@ -67,6 +67,7 @@ pub mod savings;
 pub mod scene;
 pub mod settings;
 pub mod shade;
+pub mod shading_rate;
 pub mod simd;
 pub mod sweep;
 pub mod table;

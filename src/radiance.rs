@@ -6,8 +6,10 @@
 
 use glam::Vec3;
 
-use crate::brdf::{Lobe, Weights};
+use crate::bits::Rows;
+use crate::brdf::{Lobe, MeanWeights, Reflectance, Sums, Weights};
 use crate::context::{FrameContext, Surface};
+use crate::shade::counted::{counted_light_sum, counted_specular};
 use crate::shade::{LambertCache, point_lights, point_sums, reflect, specular_sums};
 
 /// A sample's radiance (its background aside): the visible lights in `vis` (those above its
@@ -27,14 +29,13 @@ pub fn radiance_at(
     let sl = &ctx.shade_lights;
     let m = &s.material;
     let points = ctx.has_points();
-    let first = ctx.light_dir.len();
     let mut lit = if m.lambert {
         let sum = cache.light_sum(sl, s.n, vis);
         if points && m.occlusion == 1.0 {
             // The Lambertian sum over every light, as main shades point lights.
             return reflect(
                 s.albedo,
-                sum + point_lights(&ctx.lights.points, first, s.p, s.n, vis),
+                sum + point_lights(&ctx.lights.points, ctx.light_dir.len(), s.p, s.n, vis),
             ) + m.emission;
         }
         reflect(s.albedo, sum)
@@ -47,16 +48,7 @@ pub fn radiance_at(
         lit *= m.occlusion;
     }
     if points {
-        lit += if m.lambert {
-            reflect(
-                s.albedo,
-                point_lights(&ctx.lights.points, first, s.p, s.n, vis),
-            )
-        } else {
-            let lobe = Lobe::new(s.n, -s.dir, m.roughness);
-            let sums = point_sums(&ctx.lights.points, first, s.p, &lobe, vis);
-            Weights::new(s.albedo, m).radiance(&sums)
-        };
+        lit += point_radiance(ctx, s, vis);
     }
     if m.emission != Vec3::ZERO {
         lit += m.emission;
@@ -64,47 +56,148 @@ pub fn radiance_at(
     lit
 }
 
+/// The radiance of sample `s` from the scene file's point and spot lights in `vis`: its own
+/// BRDF, exact, one light at a time.
+fn point_radiance(ctx: &FrameContext, s: &Surface, vis: &[u64]) -> Vec3 {
+    let (m, first) = (&s.material, ctx.light_dir.len());
+    if m.lambert {
+        reflect(
+            s.albedo,
+            point_lights(&ctx.lights.points, first, s.p, s.n, vis),
+        )
+    } else {
+        let lobe = Lobe::new(s.n, -s.dir, m.roughness);
+        let sums = point_sums(&ctx.lights.points, first, s.p, &lobe, vis);
+        Weights::new(s.albedo, m).radiance(&sums)
+    }
+}
+
+/// The summed radiance of `members`, samples of one pixel that share a surface
+/// (`crate::shading_rate`), with visible lights `vis` and lights above their horizons `above`
+/// (a row each, in the members' order): [`radiance_at`] of each, added, but with the map's
+/// lights evaluated once for the group — at the members' mean normal, view direction and
+/// roughness, each light counted once per member that sees it — and reflected by the mean of
+/// the members' weights (occlusion included). The scene file's point and spot lights, which
+/// differ from point to point, and emission stay each member's own.
+pub fn group_radiance(ctx: &FrameContext, members: &[Surface], vis: Rows, above: Rows) -> Vec3 {
+    let sl = &ctx.shade_lights;
+    let count = members.len() as f32;
+    let lead = &members[0];
+    let n_sum: Vec3 = members.iter().map(|s| s.n).sum();
+    let mut lit = if lead.material.lambert {
+        let albedo: Vec3 = members
+            .iter()
+            .map(|s| s.albedo * s.material.occlusion)
+            .sum();
+        // The normals' sum over their number, not made unit: on a flat group, the sum of the
+        // members' own cosines.
+        reflect(albedo / count, counted_light_sum(sl, n_sum / count, vis))
+    } else {
+        let mut weights = MeanWeights::default();
+        for s in members {
+            weights.add(&Weights::new(s.albedo, &s.material), s.material.occlusion);
+        }
+        let dir: Vec3 = members.iter().map(|s| s.dir).sum();
+        let roughness: f32 = members.iter().map(|s| s.material.roughness).sum();
+        let shared = Shared {
+            n: n_sum.normalize_or(lead.n),
+            v: (-dir).normalize_or(-lead.dir),
+            roughness: roughness / count,
+            members: count,
+        };
+        shared.radiance(ctx, &weights.mean(), |lobe, unshadowed| {
+            counted_specular(sl, lobe, vis, unshadowed.then_some(above))
+        })
+    };
+    for (i, s) in members.iter().enumerate() {
+        if ctx.has_points() {
+            lit += point_radiance(ctx, s, vis.row(i));
+        }
+        if s.material.emission != Vec3::ZERO {
+            lit += s.material.emission;
+        }
+    }
+    lit
+}
+
 /// The glTF metallic-roughness radiance of sample `s` from the frame's directional lights (see
 /// [`radiance_at`]).
 fn metallic_roughness(ctx: &FrameContext, s: &Surface, vis: &[u64], above: &[u64]) -> Vec3 {
-    let (sl, glossy) = (&ctx.shade_lights, ctx.glossy);
+    let sl = &ctx.shade_lights;
     let m = &s.material;
-    let v = -s.dir;
+    let lobe = Shared {
+        n: s.n,
+        v: -s.dir,
+        roughness: m.roughness,
+        members: 1.0,
+    };
     let weights = Weights::new(s.albedo, m);
-    let share = glossy.map_or(1.0, |g| g.light_share(m.roughness));
-    if share >= 1.0 {
-        // [ours] The lights resolve the lobe: exact over them, visibility included.
-        let lobe = Lobe::new(s.n, v, m.roughness);
-        let (sums, _) = specular_sums(sl, &lobe, vis, above, false);
-        return weights.radiance(&sums);
+    lobe.radiance(ctx, &weights, |l, unshadowed| {
+        specular_sums(sl, l, vis, above, unshadowed)
+    })
+}
+
+/// What the samples shaded together share: their lobe's normal, view direction and roughness,
+/// and how many they are (one for a sample shaded alone).
+struct Shared {
+    n: Vec3,
+    v: Vec3,
+    roughness: f32,
+    members: f32,
+}
+
+impl Shared {
+    /// The metallic-roughness radiance of the lights whose sums `sums` gives for a lobe (with
+    /// `true`: also the unshadowed specular luminance), reflected by `weights`: the members'
+    /// radiance summed.
+    fn radiance(
+        &self,
+        ctx: &FrameContext,
+        weights: &impl Reflectance,
+        sums: impl Fn(&Lobe, bool) -> (Sums, f32),
+    ) -> Vec3 {
+        let Shared {
+            n, v, roughness, ..
+        } = *self;
+        let glossy = ctx.glossy;
+        let share = glossy.map_or(1.0, |g| g.light_share(roughness));
+        if share >= 1.0 {
+            // [ours] The lights resolve the lobe: exact over them, visibility included.
+            let (sums, _) = sums(&Lobe::new(n, v, roughness), false);
+            return weights.diffuse(&sums) + weights.specular(sums.s2, sums.s3);
+        }
+        let Some(g) = glossy else {
+            unreachable!("share < 1 comes from a glossy environment")
+        };
+        // [ours] Too few lights for the lobe: the environment prefiltered for the roughness,
+        // seen along the mirror direction, times the lobe's share of visible light (measured
+        // with a lobe wide enough to hold several lights), blended with the lights' own
+        // specular between the two roughnesses `Glossy` names. The diffuse sums do not depend
+        // on the roughness.
+        let wide = Lobe::new(n, v, g.visibility_roughness(roughness));
+        let (wide_sums, unshadowed) = sums(&wide, true);
+        let visible = if unshadowed > 0.0 {
+            (crate::envmap::luminance(wide_sums.s2) / unshadowed).min(1.0)
+        } else {
+            1.0
+        };
+        let lobe = Lobe::new(n, v, roughness);
+        let (i2, i3) = g.dfg(lobe.n_dot_v, roughness);
+        let mirror = n * (2.0 * lobe.n_dot_v) - v;
+        // The map turned as this frame's lights are (`[motion] kind = "environment"`).
+        let mirror = match ctx.env_turn {
+            None => mirror,
+            Some((sin, cos)) => crate::envmap::rotate_y(mirror, (-sin, cos)),
+        };
+        // Each member sees the visible share (the group's is the mean of its members').
+        let env = g.radiance(mirror, roughness) * (visible * self.members);
+        let from_env = weights.specular(env * i2, env * i3);
+        if share <= 0.0 {
+            return weights.diffuse(&wide_sums) + from_env;
+        }
+        let (sums, _) = sums(&lobe, false);
+        weights.diffuse(&sums)
+            + weights.specular(sums.s2, sums.s3) * share
+            + from_env * (1.0 - share)
     }
-    let Some(g) = glossy else {
-        unreachable!("share < 1 comes from a glossy environment")
-    };
-    // [ours] Too few lights for the lobe: the environment prefiltered for the roughness, seen
-    // along the mirror direction, times the lobe's share of visible light (measured with a
-    // lobe wide enough to hold several lights), blended with the lights' own specular between
-    // the two roughnesses `Glossy` names. The diffuse sums do not depend on the roughness.
-    let wide = Lobe::new(s.n, v, g.visibility_roughness(m.roughness));
-    let (wide_sums, unshadowed) = specular_sums(sl, &wide, vis, above, true);
-    let visible = if unshadowed > 0.0 {
-        (crate::envmap::luminance(wide_sums.s2) / unshadowed).min(1.0)
-    } else {
-        1.0
-    };
-    let lobe = Lobe::new(s.n, v, m.roughness);
-    let (i2, i3) = g.dfg(lobe.n_dot_v, m.roughness);
-    let mirror = s.n * (2.0 * lobe.n_dot_v) - v;
-    // The map turned as this frame's lights are (`[motion] kind = "environment"`).
-    let mirror = match ctx.env_turn {
-        None => mirror,
-        Some((sin, cos)) => crate::envmap::rotate_y(mirror, (-sin, cos)),
-    };
-    let env = g.radiance(mirror, m.roughness) * visible;
-    let from_env = weights.specular(env * i2, env * i3);
-    if share <= 0.0 {
-        return weights.diffuse(&wide_sums) + from_env;
-    }
-    let (sums, _) = specular_sums(sl, &lobe, vis, above, false);
-    weights.diffuse(&sums) + weights.specular(sums.s2, sums.s3) * share + from_env * (1.0 - share)
 }

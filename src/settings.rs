@@ -28,6 +28,7 @@ use crate::predict::{FloodTo, Method, Params};
 use crate::samples::{Filter, Samples};
 use crate::scene::Up;
 use crate::scene::ground::Ground;
+use crate::shading_rate::ShadingRate;
 use crate::view::View;
 
 /// A setting's value as flags, specs and messages spell it.
@@ -45,7 +46,19 @@ macro_rules! value_by_display {
     )*};
 }
 value_by_display!(
-    u32, usize, bool, f32, Method, FloodTo, Filter, Background, Rgb, Ground, Up, View
+    u32,
+    usize,
+    bool,
+    f32,
+    Method,
+    FloodTo,
+    Filter,
+    ShadingRate,
+    Background,
+    Rgb,
+    Ground,
+    Up,
+    View
 );
 
 impl Value for Sampler {
@@ -72,7 +85,15 @@ macro_rules! deserialize_by_from_str {
     )*};
 }
 deserialize_by_from_str!(
-    Method, FloodTo, Sampler, Filter, Background, Ground, Up, View
+    Method,
+    FloodTo,
+    Sampler,
+    Filter,
+    ShadingRate,
+    Background,
+    Ground,
+    Up,
+    View
 );
 
 /// Where a layer of settings came from, so a message names a value as the user wrote it.

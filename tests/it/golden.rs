@@ -21,6 +21,10 @@
 //! kept their bits, and the EXR headers list the `[render] glossy_env` setting. The bunny
 //! rendered with `--lambert` has the PNGs, stats.csv and lights.json of `bunny-brute` before
 //! materials.
+//! And once more for issue 38's shading rate: every EXR header gained the `[render]
+//! shading_rate` setting (its pixels unchanged: `idiff` finds no difference against the
+//! previous build's), the four-sample frames render at the sample rate as before, and the
+//! pixel rate, the new default, has renders of its own.
 
 use crate::common;
 
@@ -59,6 +63,12 @@ fn renders() -> Vec<Render> {
         ),
         render(
             "shapes-turntable-spp4",
+            "anims/shapes-turntable.toml",
+            "--frames 0..2 --spp 4 --shading-rate sample",
+        ),
+        // The same frames shaded once per pixel surface, the default since issue 38.
+        render(
+            "shapes-turntable-spp4-pixel",
             "anims/shapes-turntable.toml",
             "--frames 0..2 --spp 4",
         ),
@@ -127,6 +137,13 @@ fn renders() -> Vec<Render> {
         BUNNY,
         &format!("{SMALL} --frames 0..2 --method brute --lambert"),
     ));
+    // The bunny's glTF material shaded once per pixel surface, validated: its reference
+    // shaded the same way from the traced bits (issue 38).
+    v.push(render(
+        "bunny-spp4-pixel",
+        BUNNY,
+        &format!("{SMALL} --frames 0..2 --spp 4 --validate"),
+    ));
     // Spin: votes pulled through the turn, light-space edges.
     v.push(render(
         "bunny-temporal-spin",
@@ -140,142 +157,154 @@ fn renders() -> Vec<Render> {
 /// without its `thread_seconds` column, which is a timing, and without the `spp` column
 /// added after most were recorded (checked to be the render's own).
 const EXPECTED: &str = "\
-shapes-turntable frame_0000.exr 12fa34bc36fb2e1d364529c9738f67acfe200dbde7d825b7b6d9b9a83df24151
+shapes-turntable frame_0000.exr e95e9123a686bb9f985cd4bcf0138474880f8dcbfca9672b8d3818086e6aa497
 shapes-turntable frame_0000.png c3d8e47faebbb561990eb64f014492e20b85e580eb125836926deaac81baa03d
-shapes-turntable frame_0001.exr 186ebb12e36c1ab9dc4356b3eb384c8ebf2e81e054e617fcaeaefcaa266a670a
+shapes-turntable frame_0001.exr a254265e866d93c6a53fb35b1bd18b395d28e6125a7ffa5ca51ee5f2c3ba0196
 shapes-turntable frame_0001.png c45cbd9d6299e6080b78a483acdb3511847bd00aa2718ba95cd9a570e2ad8ac2
-shapes-turntable frame_0002.exr 955cfb123a83ce4e2930fd369b26e944dbd3d9c28b44705e1e9a21b6d6a70bbd
+shapes-turntable frame_0002.exr ba65b693eff80ad7333c70abe0d748e974b50b507d51056f5a97053082421d1f
 shapes-turntable frame_0002.png 72c3d398c8493b3618855a6884b64ac34f45c9e2d1b00ca40705831419a4820a
 shapes-turntable lights.json 5cf7fe6c2b49d21ac4ef6a534666f9447c2078055f30359c36e47887de596a74
 shapes-turntable stats.csv 01cc4ec6ff2372b71fa37cb4cded5813e834616096e199f96fb3e0c129ed0c15
-shapes-turntable-spp4 frame_0000.exr 3b6492844c7006cc6c4f634f7a4ff2f3f441ffe28b8b8f3a7663df64248f2bec
+shapes-turntable-spp4 frame_0000.exr 7d1898ac58977d938f33c5487c8a2ca616924be8d255fd1bf52e67872f32b3ba
 shapes-turntable-spp4 frame_0000.png 864d41345e4522d035187fad828fac821c344e870558f9a06b211d82146124dd
-shapes-turntable-spp4 frame_0001.exr 65bb4d583782d6f882a29ac952e1a6801221b8b84c4d738ad3e6d03bda72a976
+shapes-turntable-spp4 frame_0001.exr 8f663250f52939aa68cade11000a77cf8dc471f491512bbb54a78f267adc4841
 shapes-turntable-spp4 frame_0001.png f25dcc9c2bf734e6b676ad42b89a3497b4ebb02ee774f2c75feb705b21aaecea
 shapes-turntable-spp4 lights.json 5cf7fe6c2b49d21ac4ef6a534666f9447c2078055f30359c36e47887de596a74
 shapes-turntable-spp4 stats.csv 2ee9bfa78dd1daf02054adf1bcb79ea44f94a98ef9d7392abfa2fd156f701c20
-bunny-none frame_0000.exr 1e326a4c09f913165ace082ccb666ea6a2a220bfefe13cb0cdb9dc5311802060
+bunny-none frame_0000.exr 7ebbdbd46bc9ad02c2b927899b6f9a1944c8f3f2c22670ccc1766580e7e3ca6c
 bunny-none frame_0000.png 643f65f294962e1da64dc18ae6de02140f59af3a66cc4f483355383ef3e36e1d
-bunny-none frame_0001.exr 1ec839e4bfefa70c14b45bf19a1dba1d6ac0415f262e52a7032d01be7c815438
+bunny-none frame_0001.exr 7d135923f9a72cf9db5ea7064cc80c8148c8646d76af9d3af73b91e79f8ecf8f
 bunny-none frame_0001.png b1cb238899da32f68328df4589e3707bd435037e841cdc3bd92fbbcdeef2fc7e
 bunny-none lights.json c9783aa9a6641edc30d129c59f46519eb054a7a73fcb76955bf0c34d7e4435a1
 bunny-none stats.csv f81d6fe21e7305425deef527fa8b936ee80aa86cbb74e321678e5bc73fda57e5
-bunny-brute frame_0000.exr ffb25bacf1875a8a325a7e3b42e2553fd6c4f7c9cdbc38f1de9f79f6304caff2
+bunny-brute frame_0000.exr 58784e8a6058cee25e59722d35ff5872946235113f0f1105a70b1c6334961bb8
 bunny-brute frame_0000.png a40349e2f26e212a5c1a0769171627c495be9533f8e5e43bda63b5d1626e8db4
-bunny-brute frame_0001.exr 9dfd71fa71dd549ee68cceca368ffec8756f249647c1d9b68fd9d85c6a0ea56e
+bunny-brute frame_0001.exr 24d4e303c848cfe3cd25609784145c9e1bbd46401bcf9654192606e9aa39b01d
 bunny-brute frame_0001.png 43b35e9ff06ca0dd60c7a2a2bf07cdb1d97e8e00f545847a8b5dd15a25e0cd76
 bunny-brute lights.json c9783aa9a6641edc30d129c59f46519eb054a7a73fcb76955bf0c34d7e4435a1
 bunny-brute stats.csv ecbe98428374ccf54efba77e17cae9f777d3bd21f98341a50f148580a3e62e5a
-bunny-scan-warp-boundary frame_0000.exr c747f9f74efdbbab7512c1b41770c4a98978d2796c46d4dd0ed895b9fb3f8d32
+bunny-scan-warp-boundary frame_0000.exr a2f1fc2ce4d4268ee148efc1f622a6c93e045ee2a537b9f0688a7b2f458677ad
 bunny-scan-warp-boundary frame_0000.png b5875f92ae4375335ab2b594a598778ca39a23402cf8f90f6f4aae91f7dd93be
-bunny-scan-warp-boundary frame_0001.exr 3fc5c5c199a99e33e1adda2ffa378d05f8b4d95a3a7bc70176c87da34f40a4fb
+bunny-scan-warp-boundary frame_0001.exr 43364ead88e04e984be0fdafd6ca803d88282fd6b2fa84862610e0eb114f5e19
 bunny-scan-warp-boundary frame_0001.png 0f77d5e210565479f10987d1ffdd530fd55096daab929fa02309457c045c87e0
 bunny-scan-warp-boundary lights.json c9783aa9a6641edc30d129c59f46519eb054a7a73fcb76955bf0c34d7e4435a1
 bunny-scan-warp-boundary stats.csv 9a91c445e193e9da2b5567b68a3f396318f29c6f9777ce0c63316b21c9182959
-bunny-grid-warp-boundary frame_0000.exr 6f9496567e3e1513911eaf3052d2e975e13346b15bb5ac11fd00552f9877f823
+bunny-grid-warp-boundary frame_0000.exr db7c4f0e47dc12dc59ad9d936b727269473a30fae72594e1eaab28c0256aa2e5
 bunny-grid-warp-boundary frame_0000.png 1577c5c33e04e5bc12d95de7b48593bf15ce7bacd2e82d79fed46f4dcb58dbcb
-bunny-grid-warp-boundary frame_0001.exr 45487260f1357f4e68f887e0caa5ebf9c5e94499f654ac6af9f2b9f94b863c28
+bunny-grid-warp-boundary frame_0001.exr b0ee87edaa785575c4c3c57f1d90c595c25c81ad175377a8cc44fdc95ff29986
 bunny-grid-warp-boundary frame_0001.png 257ca4da7846b2d18f95ea882803bb81075a81a189364d83b1ae105d9a3c7d5c
 bunny-grid-warp-boundary lights.json c9783aa9a6641edc30d129c59f46519eb054a7a73fcb76955bf0c34d7e4435a1
 bunny-grid-warp-boundary stats.csv aa2bf7c47bf449e1328eede03814407a420a85cb7407600377ea6c32a69c3b91
-bunny-grid-nowarp-boundary frame_0000.exr 77257dcebec7fa613f0eb4aaf3e2f28b472e15fefa8eb9ffdf70f895bb08ea48
+bunny-grid-nowarp-boundary frame_0000.exr dc7c3b85d874589481ba7f92d82bb52b6e7c29baa2c7ce93f9588a6dfdb09bd5
 bunny-grid-nowarp-boundary frame_0000.png a5e790ebc14ba6df03278b88f589a0aa81ca7e431fd02f48eba8335d84d2c598
-bunny-grid-nowarp-boundary frame_0001.exr d1393b620f38ced1c6ddca37957fd345cfb2b68286a0ab1d926aac11fd8d3d4b
+bunny-grid-nowarp-boundary frame_0001.exr f92edd63d53333d266443503d33ec4f6c8d1ba8ffb784024a3149c8f56cb2197
 bunny-grid-nowarp-boundary frame_0001.png bcbc04c59ae34e2918111818eb66cbc4751b331df498309024284697c2699a29
 bunny-grid-nowarp-boundary lights.json c9783aa9a6641edc30d129c59f46519eb054a7a73fcb76955bf0c34d7e4435a1
 bunny-grid-nowarp-boundary stats.csv 4e2c57cea6dc9b82fbb3c0f0fb89d68763d418cc91b07c6b59541ad43e1ffa25
-bunny-grid-warp-uncertainty frame_0000.exr 9c65976d067816ef7c548e574aabb2d7f6a1c749513a9dd2a33b5c81702caad1
+bunny-grid-warp-uncertainty frame_0000.exr 9fd24a27a1d7496b4689a90dbef72e2fc74031f2b7e27ebf0711ad92615202d8
 bunny-grid-warp-uncertainty frame_0000.png 7085633a355c4b6489361cb9ca9a38b7dfaa1560fbcfcc827f7bac02d44689ce
-bunny-grid-warp-uncertainty frame_0001.exr b3b20981c15f17db727969d8ee702cc12916f6ace0c3c89a28ef5611b0a8cbf5
+bunny-grid-warp-uncertainty frame_0001.exr 84b85a75d8f84afdf72e9d8914d6b39bdf15724435f94877cb7a14f69bab743e
 bunny-grid-warp-uncertainty frame_0001.png 86f3248e7450e98fdddb29f30a307100626ed8371910d20119a1072eb5b2b3cc
 bunny-grid-warp-uncertainty lights.json c9783aa9a6641edc30d129c59f46519eb054a7a73fcb76955bf0c34d7e4435a1
 bunny-grid-warp-uncertainty stats.csv 15d6d0f55d9e8e62b36865b5e7e5ec49de07a25c395d7e4d3d145878e411312f
-bunny-grid-nowarp-uncertainty frame_0000.exr 4773dba6494cfd7f231767d4dbdfc762670f809954e85bd3819d8e3b09afbe5c
+bunny-grid-nowarp-uncertainty frame_0000.exr 2129efa2554f2248c00b6ed2f647c079c32f52bfef6265ebacc58978dc4c4257
 bunny-grid-nowarp-uncertainty frame_0000.png e98ccc5d7e3a6dc7e546b8b7d9fbb7d3a31bc0fab9e83bb0bdd7cb6af7f36e9d
-bunny-grid-nowarp-uncertainty frame_0001.exr dd4fd6ad32d6a891aaa7c8e87691815287ffefb19db6001f8ce5cd5e8a60b82d
+bunny-grid-nowarp-uncertainty frame_0001.exr b391372b12f9dfcc5119dcc19ba5df8ca85c0cb5adf771de78878bbe1b52ed38
 bunny-grid-nowarp-uncertainty frame_0001.png ef412762b9601fc6358900db55474181b5c6391c2fea3af6f983290fd3935256
 bunny-grid-nowarp-uncertainty lights.json c9783aa9a6641edc30d129c59f46519eb054a7a73fcb76955bf0c34d7e4435a1
 bunny-grid-nowarp-uncertainty stats.csv b06e222a66b76d6c20a0e2dcf748c37c1ef72aa860390b0d655393255100746f
-bunny-scan-nowarp-uncertainty frame_0000.exr d2d5db1926fd75a4ac589d80e12ae696d911e0efc418d2edc5765e5e726b27e9
+bunny-scan-nowarp-uncertainty frame_0000.exr c49fa4cdff9b88da38193a469d0dfda362fc56d4dde78edc00d00233bec78977
 bunny-scan-nowarp-uncertainty frame_0000.png 4161372d609609adae2538c34551c6a4de0b850c05e58b24ab43a7979d8b739d
-bunny-scan-nowarp-uncertainty frame_0001.exr 586b9eaff429838744bbd70d5eb94fd741ac761ec38975525810ab95ff8dd9f6
+bunny-scan-nowarp-uncertainty frame_0001.exr abd75befca3be9275f63af20e160382d9dce16ed8328f579f6070d8a00137138
 bunny-scan-nowarp-uncertainty frame_0001.png f8ea4886b2b651ef0e150d3fab4a241e44c6fe1ed5a26b3d641c47535aaeaad6
 bunny-scan-nowarp-uncertainty lights.json c9783aa9a6641edc30d129c59f46519eb054a7a73fcb76955bf0c34d7e4435a1
 bunny-scan-nowarp-uncertainty stats.csv 91fd060eaa65a54a47ffd0b4224faa77c67a4f010538666186422b76587bee56
-bunny-nowarp-all frame_0000.exr 50e7298dd1723922b68be5452cf0107bfa7908133af538e835fa098d3d5e0538
+bunny-nowarp-all frame_0000.exr 71a03644f6682ac090d975877cc66c7e726a26074617c2ff842e4fcec35012d1
 bunny-nowarp-all frame_0000.png 71bc907594e64ad7bde3665b2a882e4663046d931d32a90557600feb21e81628
-bunny-nowarp-all frame_0001.exr 5397e5c740329ce621efb2b5cf9d1046b75e684ffca5e84ba20275d72d7d68e8
+bunny-nowarp-all frame_0001.exr 0b7e2c0506cbb3fbc00f5a48a8e166a52f762324a51a09621a295df7f6e0c1f5
 bunny-nowarp-all frame_0001.png a510e905cfa8c9a1643b6ecbfea80472561bbf343544a033bd01dcfc8ec9808d
 bunny-nowarp-all lights.json c9783aa9a6641edc30d129c59f46519eb054a7a73fcb76955bf0c34d7e4435a1
 bunny-nowarp-all stats.csv fd951dece046206b16da8fe8ccdb54c43fb34f6f5ef7ae9f1ebb49a1e9deca81
-bunny-nowarp-contrary frame_0000.exr 8c12dd234c219c34f6fa2f8ff12f1ee32db874cea955c4add40550ff4a093042
+bunny-nowarp-contrary frame_0000.exr 87a631e68ecb3d84528e4ddb934a48efeb7c2d7fd4b7e0c1d0d161d34b645c3b
 bunny-nowarp-contrary frame_0000.png 21942eaf65090481fc6430e42941103f23c9cab7b43189b9fba6f83b68defa3b
-bunny-nowarp-contrary frame_0001.exr 6cd956118fda48638497062bd71bb1992705d0e8cf56b90bb34f226bcde103ed
+bunny-nowarp-contrary frame_0001.exr 47f53e815af6e19a8185cd07f79f615f7710b8ff382047edf5e3279b0d58ccd3
 bunny-nowarp-contrary frame_0001.png d47aaca9ab1d7aea6fed399d8f8a370e5a5b5435e522fe48987f36cd06848c17
 bunny-nowarp-contrary lights.json c9783aa9a6641edc30d129c59f46519eb054a7a73fcb76955bf0c34d7e4435a1
 bunny-nowarp-contrary stats.csv ae451332f58af1cdbcb22210e860ab0c524ed7702cad28313aff3d4cf19c2bd9
-bunny-warp-contrary frame_0000.exr 0db88fae253c681413ddf21356bfd61082772a84216cf16847b6a13c07f8e2ce
+bunny-warp-contrary frame_0000.exr 9de5073923a62b8c5e8dc3b4aa2b8cef78bde45e7728c7295e70c48c35571d8e
 bunny-warp-contrary frame_0000.png 7683291a8b85517127f170d7af2f1522b138e7375707832994675cd3efc16575
-bunny-warp-contrary frame_0001.exr 349e54dfb32dc697e38835e70de1a6fbe1415dcef5be68522c748fd9190ec019
+bunny-warp-contrary frame_0001.exr 504c0e1f05f8cc3c693b692b5b81c3af12f9273a8239f3c193ecdb8ec919022d
 bunny-warp-contrary frame_0001.png 6e066d51831786a925eb937725581c0146f76f504b010125a534e5479830b587
 bunny-warp-contrary lights.json c9783aa9a6641edc30d129c59f46519eb054a7a73fcb76955bf0c34d7e4435a1
 bunny-warp-contrary stats.csv b07a37cfd09572776a54f1c0c2d4d42a818a01cb3c713865e29abfc3b706c126
-bunny-tuned frame_0001.exr 7d5189a29cd754aab32378a432cc08d8a552bd3f98c1350f3558e8d4e8758cdd
+bunny-tuned frame_0001.exr 83b3103874625b571328924cc09bb33e32f7810ebc76141d81b23b480c52b23f
 bunny-tuned frame_0001.png d123a9878b78174a17cad2e6bf93effda02fc4341a7bbf684635fd65ba14b34d
 bunny-tuned lights.json f7dd94f909deb0f100b9dbfd34fb72d29f04f800af100ca2098df3f30729369f
 bunny-tuned stats.csv faf2475238baedcb9f492cf522e443cbd7b03d44b42b93eef8bbab17bde2473c
-bunny-scan-block frame_0001.exr 47341d354de7059f318093ab24f2f50b7afd3b18c2a04884bca4d1d914f5cc19
+bunny-scan-block frame_0001.exr 438349960e42d162a45e9ef4da2430d5cbb5a4b3d9fd43b91162932e675f4b17
 bunny-scan-block frame_0001.png fc31d8715dd95eb33d953ece63fdaa73cb2075d32fe6ffebc218327914bfa0ba
 bunny-scan-block lights.json c9783aa9a6641edc30d129c59f46519eb054a7a73fcb76955bf0c34d7e4435a1
 bunny-scan-block stats.csv f98ef6c8eda859fde763d085d27aae55e6456cd89010e8a05ed9c27adc32a64b
-bunny-validate frame_0000.exr 0671857ba39f77f77101b63c4041fd8df04cfe27a6bb2cedc5bdad6e3d64fc78
+bunny-validate frame_0000.exr 071b680ff4ffe4b76d3632fb7e6b58abe5b78c566cc74c064128d18bdb123c57
 bunny-validate frame_0000.png e98ccc5d7e3a6dc7e546b8b7d9fbb7d3a31bc0fab9e83bb0bdd7cb6af7f36e9d
-bunny-validate frame_0001.exr 726d73d09d7778db79c614899b67b8f538242ebb765a61d67d348a11b11829b2
+bunny-validate frame_0001.exr 119e15ac0cb2092e4c3b1a7da39efa0c181095d87e54a0cdda6c9679d4a31afd
 bunny-validate frame_0001.png ef412762b9601fc6358900db55474181b5c6391c2fea3af6f983290fd3935256
 bunny-validate lights.json c9783aa9a6641edc30d129c59f46519eb054a7a73fcb76955bf0c34d7e4435a1
 bunny-validate stats.csv 717b7d283c401494fe82797978d5d8a5fc171bc4408da573cfdc318b463c2b63
-bunny-validate-warp frame_0001.exr c37b775f28b2e715350007a72d23c06286591959a1260e3956215f314effd789
+bunny-validate-warp frame_0001.exr ba355bd83cbc7dce5a9a4108c8d7fb4d4ef6c9787fc24429e17d0d31ea55ab85
 bunny-validate-warp frame_0001.png 257ca4da7846b2d18f95ea882803bb81075a81a189364d83b1ae105d9a3c7d5c
 bunny-validate-warp lights.json c9783aa9a6641edc30d129c59f46519eb054a7a73fcb76955bf0c34d7e4435a1
 bunny-validate-warp stats.csv 467cf7670e72521c5b48e76ff3aefb58b83e085375382580428226363cccc99f
-bunny-validate-scan frame_0001.exr 8bf78c9700461d2f3e3934464791211526b734cb176e80a4875f46fb1dc46777
+bunny-validate-scan frame_0001.exr bac5874f03a25d902d8ac249724e9320254b0804b38a5933b2d41b1ce98d4e77
 bunny-validate-scan frame_0001.png 0f77d5e210565479f10987d1ffdd530fd55096daab929fa02309457c045c87e0
 bunny-validate-scan lights.json c9783aa9a6641edc30d129c59f46519eb054a7a73fcb76955bf0c34d7e4435a1
 bunny-validate-scan stats.csv 0a91cb5193527f9ba17ec361bb93a13c3e4012e75d0a617b85b7692e20d56526
-bunny-temporal-orbit frame_0002.exr e8ab5f258b0903a875ded88bbb25b56876df98d53fc0565f2a2b18dbc133068b
+bunny-temporal-orbit frame_0002.exr fbf8f814de8ed4966af5199f8d633d74f4e50263595a4da1ec796ea8e19a50c9
 bunny-temporal-orbit frame_0002.png dbfcd7e573569930f1b4437f137a9e51388a168ccfceba5eda9adc40e9696c38
-bunny-temporal-orbit frame_0003.exr f23476aecc9319409bfa0608768523618e3525d7a7d7f4897e21a5d068d2a139
+bunny-temporal-orbit frame_0003.exr 0e09bde41af1d5c9322a3bd8538715a9d2ce26cedfd2bd0e0152376a28b8135a
 bunny-temporal-orbit frame_0003.png b55c3b7396cd2a78bd75a0787c45cfa465e73a18182a3fe92627e9eceb7abca9
-bunny-temporal-orbit frame_0004.exr 4fbbbb85a9807b10f99e206be49560ac038d7a5bd7b9c01ebb3ab415362c6738
+bunny-temporal-orbit frame_0004.exr 9b9138617b9062a89176ee2d087376180ebc3284debca3a5cee395176e91562c
 bunny-temporal-orbit frame_0004.png 710bf59243d362444651c9eae7e0f2f1ca7db9b9512d5fe7e368bec76cbc1277
-bunny-temporal-orbit frame_0005.exr 62c243d82d440941339ea9711806a0cc561e0e4fc72428510a6d7f63966a01de
+bunny-temporal-orbit frame_0005.exr 18001dedaab43cb2c2306e8a154f0dd8c1c55ff6e33981b9ed973b2f4cb0fef9
 bunny-temporal-orbit frame_0005.png 9498a7400a70b5c501f81249cd5a4bdbb56163c9bff6a590754b509a72b5f58c
 bunny-temporal-orbit lights.json c9783aa9a6641edc30d129c59f46519eb054a7a73fcb76955bf0c34d7e4435a1
 bunny-temporal-orbit stats.csv e440494d921d420864e6b1cad66dc09309f4549220faf3f0823fa0d6ec73c08b
-bunny-temporal-warp frame_0000.exr ec5ddcb9c3192536d76d34dd80cd054de543c078b54dda3d88c79cbb42db88fb
+bunny-temporal-warp frame_0000.exr 2d9ddfb3b0c84c7849ede4ee324fd429b4f5e7bf008bffd78d1f45931a4b560d
 bunny-temporal-warp frame_0000.png 7085633a355c4b6489361cb9ca9a38b7dfaa1560fbcfcc827f7bac02d44689ce
-bunny-temporal-warp frame_0001.exr 7c9ed659ad693f04f2da6b67de76c8cbb0511722ca8bcb7ecf92fb5ea2580935
+bunny-temporal-warp frame_0001.exr 17ea27c30dcbe44449078f5ae3937f3b5d3d8bb6f7ca8e68a1c018962db0db6b
 bunny-temporal-warp frame_0001.png 772970b8f84f09af23ef134bcfce7597471e88b9e99979082dc0fc5cc4ec0d0e
-bunny-temporal-warp frame_0002.exr f8f2185bf5f53c2ba4af83a2fad4a38cde19467744ff692cc6fe202cfd4dc2de
+bunny-temporal-warp frame_0002.exr 6b0de07bfff6b9d7c467ed6214f8e36864b0d07580133448e16fa36232de1a38
 bunny-temporal-warp frame_0002.png 645966dd78586d66b0306cd0a9ab5d47f2e2a7e0b6ae1367f2fbabc3043c470c
 bunny-temporal-warp lights.json c9783aa9a6641edc30d129c59f46519eb054a7a73fcb76955bf0c34d7e4435a1
 bunny-temporal-warp stats.csv 4ab0ff830d3161814a2b6f7157f3a326143d115652b78ed8e8fd6e79534d2702
-bunny-brute-lambert frame_0000.exr cba9e3a8adce7d0d26f44f5ef05b9fa46ea1db7541d610ecd7deb4b8d86478b0
+bunny-brute-lambert frame_0000.exr b60ea9c12182fa5751d2d9c9d5356c04a79020395fbdcc4ca9e43ec0b5a827ff
 bunny-brute-lambert frame_0000.png ee648a99eb3f1b3129bab45f64dcfa09c3de1cb9711595a4ec51b1462c72f6ca
-bunny-brute-lambert frame_0001.exr 6ade9294008880fb47babc2f34011822460ce15771496477f0f6f24d4ddab621
+bunny-brute-lambert frame_0001.exr 5ecaff2b271fd11ea905e335f1056d9ba1cfee66300577f0eee73b22f195fce2
 bunny-brute-lambert frame_0001.png d81e4b8d6a073bf3881c7a34f7d26cb29a3274c97c196b6d9b5016d7335b8f00
 bunny-brute-lambert lights.json c9783aa9a6641edc30d129c59f46519eb054a7a73fcb76955bf0c34d7e4435a1
 bunny-brute-lambert stats.csv ecbe98428374ccf54efba77e17cae9f777d3bd21f98341a50f148580a3e62e5a
-bunny-temporal-spin frame_0000.exr e416e1702f7919d3016b8dc1e7275d6eeaba9adbd67de3ef7a675300d763aef1
+bunny-temporal-spin frame_0000.exr ab39c6eebfd83685a8e7998b164a659884402eb2a1cc797c715778a40b630096
 bunny-temporal-spin frame_0000.png b654ad58c5e9f00c5c9b361994c170eddbb0ccb7e2d47d59ba7411812f8adcc5
-bunny-temporal-spin frame_0001.exr 005fec05b5d0c54c62e1105d9c7dadd74860b0c2918e2b5fabcbaf01b9da5695
+bunny-temporal-spin frame_0001.exr 7c9e62b640973da538340fbd54b64d9681c0b62c71c6aa2929c2432382d0b986
 bunny-temporal-spin frame_0001.png 8c42427562ff654d0ab1c1a81b3af58cca26c8fad799b5174aaf41b766e5b66c
-bunny-temporal-spin frame_0002.exr 58f8cff5ca9af596850a5cc938cecdfbec9f89db977b53e742a067989b2bf3fc
+bunny-temporal-spin frame_0002.exr 09fa28a1aeb9e7598dbe2cc231d6cba96d37275ffa1bc51d4d760320c459bc29
 bunny-temporal-spin frame_0002.png 784f88143309b4ddbb8f6cfb12c6e137635abb99df8e2ab9823c7a3d51716042
-bunny-temporal-spin frame_0003.exr d1cb7677fb8d8dfa74834379f39d91b46d3bc451836877a80366923aa4054a0e
+bunny-temporal-spin frame_0003.exr 56fc1f4e3e6c4f3f8577ecd947bb6fc68501a1f175e6aaa9fbf74b4824a4a769
 bunny-temporal-spin frame_0003.png 44741f50124cf4c7759d8e9347d5b407baec77974bfba443d55a0aa5ebd97b52
 bunny-temporal-spin lights.json 103f720aa426b7ad9ed05f0b47b0a7d9096a5429b996d950aa4e62c981aa7cd5
 bunny-temporal-spin stats.csv f65a1fc55b9244ca2fded2012fa6605fc4952f05fca18ec38d431b3fa067515e
+bunny-spp4-pixel frame_0000.exr b48aaa163875774d01f6cdc519e64d15c0330dfb9cfcb0228b8742de18fba337
+bunny-spp4-pixel frame_0000.png 3e0154dcbe51968852e6acd3af60c631a722e74f48ff46bf99971ef4d1e7073f
+bunny-spp4-pixel frame_0001.exr 4fe8cf00a5cfe678f8e05f1aa61018e35070568e90729a57997a67df7980020b
+bunny-spp4-pixel frame_0001.png 104f849c7599fab50636e0853ba0151db1ef0c92dfe1d6eb5c3c7b40d5691989
+bunny-spp4-pixel lights.json c9783aa9a6641edc30d129c59f46519eb054a7a73fcb76955bf0c34d7e4435a1
+bunny-spp4-pixel stats.csv d254ff9601b4f0632a6f00fb12e7a3422a48c9ebb581ba4384ddb844a3ad4eb2
+shapes-turntable-spp4-pixel frame_0000.exr e924adf348361618570f72fa01c64624503d8551388f3f0ea1923713590ff78b
+shapes-turntable-spp4-pixel frame_0000.png 85c1731c255ec177e5cac891fdba50f44583927c1caddab62d81f1c8602d6b86
+shapes-turntable-spp4-pixel frame_0001.exr 0a57f6f0030495731f19039b291b3844b2757719995e354fc7d9e8ce8b4ff246
+shapes-turntable-spp4-pixel frame_0001.png c89f0a6c4a52e31b361fe4477e643da4486460468a786246cba0fd9cd26ff1ac
+shapes-turntable-spp4-pixel lights.json 5cf7fe6c2b49d21ac4ef6a534666f9447c2078055f30359c36e47887de596a74
+shapes-turntable-spp4-pixel stats.csv 2ee9bfa78dd1daf02054adf1bcb79ea44f94a98ef9d7392abfa2fd156f701c20
 ";
 
 fn sha(bytes: &[u8]) -> String {
@@ -355,6 +384,7 @@ macro_rules! golden {
 golden! {
     shapes_turntable: "shapes-turntable",
     shapes_turntable_spp4: "shapes-turntable-spp4",
+    shapes_turntable_spp4_pixel: "shapes-turntable-spp4-pixel",
     bunny_none: "bunny-none",
     bunny_brute: "bunny-brute",
     bunny_scan_warp_boundary: "bunny-scan-warp-boundary",
@@ -374,6 +404,7 @@ golden! {
     bunny_temporal_orbit: "bunny-temporal-orbit",
     bunny_temporal_warp: "bunny-temporal-warp",
     bunny_brute_lambert: "bunny-brute-lambert",
+    bunny_spp4_pixel: "bunny-spp4-pixel",
     bunny_temporal_spin: "bunny-temporal-spin",
 }
 

@@ -4,6 +4,8 @@
 //! fixed, so neither thread nor tile changes a sum); the point and spot lights' sums, one light
 //! at a time. A sample's radiance from them is the `radiance` module's.
 
+pub mod counted;
+
 use glam::Vec3;
 
 use crate::brdf::{Lobe, MAX_DV, Sums, light_terms};
@@ -734,7 +736,7 @@ mod tests {
 
     /// 200 pseudo-random lights (some below any horizon, unequal energies), padded as for a
     /// frame, and random normals and visibility words.
-    fn setup() -> (ShadeLights, Vec<(Vec3, [u64; 4])>) {
+    pub(super) fn setup() -> (ShadeLights, Vec<(Vec3, [u64; 4])>) {
         let mut seed = 99u32;
         let mut rnd = move || {
             seed = seed.wrapping_mul(1664525).wrapping_add(1013904223);

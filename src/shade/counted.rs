@@ -1,0 +1,338 @@
+//! Shading kernels for a group of samples that share one surface (decoupled shading: the
+//! pixel shading rate). Each light's unshadowed terms are evaluated
+//! once, for the group's lobe, and weighted by how many of the group's samples see the light
+//! — counts over the samples' bit rows — instead of once per sample: `Σ_j f_j · c_j` rather
+//! than `Σ_s Σ_j f_j(s) · V_sj`.
+//!
+//! The lanes are those of the per-sample kernels (lane l sums the lights j ≡ l mod 8 in
+//! increasing order, the lanes added in a fixed order at the end), and one member's counts
+//! are its bits, so a group of one sample gets the per-sample kernels' very bits. The body is
+//! written once over eight-lane arrays and compiled twice, for baseline x86-64 and with AVX2
+//! (the same operations in the same order, never fused multiply-adds): either copy gives the
+//! same bits, whatever the host.
+
+use glam::Vec3;
+
+use super::{BYTE_MASK, ShadeLights};
+use crate::bits::Rows;
+use crate::brdf::{Lobe, MAX_DV, Sums};
+
+/// The lights (one byte of word `k`, at `shift`) any row has.
+#[inline(always)]
+fn any(rows: Rows, k: usize) -> u64 {
+    let mut any = 0;
+    for m in 0..rows.len() {
+        any |= rows.word(m, k);
+    }
+    any
+}
+
+/// How many rows have each of the eight lights of word `k`'s byte at `shift`.
+#[inline(always)]
+fn counts(rows: Rows, k: usize, shift: u32) -> [f32; 8] {
+    let mut c = [0.0f32; 8];
+    for m in 0..rows.len() {
+        let mask = &BYTE_MASK[((rows.word(m, k) >> shift) & 0xff) as usize];
+        for l in 0..8 {
+            c[l] += mask[l];
+        }
+    }
+    c
+}
+
+/// Eight consecutive lights from `base` of one of [`ShadeLights`]' planes.
+#[inline(always)]
+fn lanes(plane: &[f32], base: usize) -> &[f32; 8] {
+    plane[base..base + 8].try_into().unwrap()
+}
+
+/// The cosine-weighted light of the group's visible lights on a surface with normal `n`:
+/// `Σ_j c_j E_j max(0, n·ω_j)` (`c_j`: the members that see light j). `n` need not be unit:
+/// the sum of the members' normals divided by their number makes a flat group's sum the sum
+/// of its members' sums.
+pub fn counted_light_sum(sl: &ShadeLights, n: Vec3, vis: Rows) -> Vec3 {
+    assert!(vis.words() * 64 <= sl.x.len());
+    #[cfg(target_arch = "x86_64")]
+    let lanes = if crate::simd::has_avx2() {
+        // SAFETY: AVX2 was detected.
+        unsafe { light_sum_avx2(sl, n, vis) }
+    } else {
+        light_sum_body(sl, n, vis)
+    };
+    #[cfg(not(target_arch = "x86_64"))]
+    let lanes = light_sum_body(sl, n, vis);
+    let sum = |a: [f32; 8]| ((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]));
+    Vec3::new(sum(lanes[0]), sum(lanes[1]), sum(lanes[2]))
+}
+
+/// [`counted_light_sum`]'s lanes.
+#[inline(always)]
+fn light_sum_body(sl: &ShadeLights, n: Vec3, vis: Rows) -> [[f32; 8]; 3] {
+    let mut acc = [[0.0f32; 8]; 3];
+    for k in 0..vis.words() {
+        let any = any(vis, k);
+        for b in 0..8u32 {
+            let shift = 8 * b;
+            if (any >> shift) & 0xff == 0 {
+                continue;
+            }
+            let base = k * 64 + 8 * b as usize;
+            let cnt = counts(vis, k, shift);
+            let (x, y, z) = (lanes(&sl.x, base), lanes(&sl.y, base), lanes(&sl.z, base));
+            let (r, g, bl) = (lanes(&sl.r, base), lanes(&sl.g, base), lanes(&sl.b, base));
+            for l in 0..8 {
+                let d = n.x * x[l] + n.y * y[l] + n.z * z[l];
+                let c = if d > 0.0 { d * cnt[l] } else { 0.0 };
+                acc[0][l] += r[l] * c;
+                acc[1][l] += g[l] * c;
+                acc[2][l] += bl[l] * c;
+            }
+        }
+    }
+    acc
+}
+
+/// [`light_sum_body`] compiled with AVX2.
+///
+/// # Safety
+/// The CPU has AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn light_sum_avx2(sl: &ShadeLights, n: Vec3, vis: Rows) -> [[f32; 8]; 3] {
+    light_sum_body(sl, n, vis)
+}
+
+/// The metallic-roughness light sums ([`Sums`]) of the group's visible lights for `lobe`, each
+/// light's terms counted once per member that sees it; with `above`, also `Σ c'_j Y_j cos D
+/// Vis` over the lights above the members' horizons (`c'_j`: the members that have light j
+/// above), the group's unshadowed specular luminance (else 0). Lights below the lobe's own
+/// horizon add nothing, whatever the members' horizons.
+pub fn counted_specular(
+    sl: &ShadeLights,
+    lobe: &Lobe,
+    vis: Rows,
+    above: Option<Rows>,
+) -> (Sums, f32) {
+    assert!(vis.words() * 64 <= sl.x.len());
+    assert!(above.is_none_or(|a| a.words() == vis.words() && a.len() == vis.len()));
+    let u = above.unwrap_or(vis);
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: AVX2 where detected.
+    let lanes = unsafe {
+        match (crate::simd::has_avx2(), above.is_some()) {
+            (true, false) => specular_avx2::<false>(sl, lobe, vis, u),
+            (true, true) => specular_avx2::<true>(sl, lobe, vis, u),
+            (false, false) => specular_body::<false>(sl, lobe, vis, u),
+            (false, true) => specular_body::<true>(sl, lobe, vis, u),
+        }
+    };
+    #[cfg(not(target_arch = "x86_64"))]
+    let lanes = if above.is_some() {
+        specular_body::<true>(sl, lobe, vis, u)
+    } else {
+        specular_body::<false>(sl, lobe, vis, u)
+    };
+    let sum = |a: &[f32; 8]| ((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]));
+    let rgb = |k: usize| Vec3::new(sum(&lanes[k]), sum(&lanes[k + 1]), sum(&lanes[k + 2]));
+    let sums = Sums {
+        s0: rgb(0),
+        s1: rgb(3),
+        s2: rgb(6),
+        s3: rgb(9),
+    };
+    (sums, sum(&lanes[12]))
+}
+
+/// The light terms of eight lights for `lobe`, as `crate::brdf::light_terms` computes them
+/// (operation for operation), with `cos` and `D · Vis` set to 0 where the light is below the
+/// lobe's horizon (so a count times them is 0, never 0 · ∞).
+#[inline(always)]
+fn terms(sl: &ShadeLights, lobe: &Lobe, base: usize) -> ([f32; 8], [f32; 8], [f32; 8]) {
+    let (x, y, z) = (lanes(&sl.x, base), lanes(&sl.y, base), lanes(&sl.z, base));
+    let (n, v) = (lobe.n, lobe.v);
+    let (mut cos, mut w, mut dv) = ([0.0f32; 8], [0.0f32; 8], [0.0f32; 8]);
+    for l in 0..8 {
+        let c = n.x * x[l] + n.y * y[l] + n.z * z[l];
+        let (hx, hy, hz) = (v.x + x[l], v.y + y[l], v.z + z[l]);
+        let hh = hx * hx + hy * hy + hz * hz;
+        let vh = (hh * 0.25).sqrt();
+        let t = 1.0 - vh;
+        let t2 = t * t;
+        w[l] = t2 * t2 * t;
+        let (cx, cy, cz) = (
+            n.y * hz - n.z * hy,
+            n.z * hx - n.x * hz,
+            n.x * hy - n.y * hx,
+        );
+        let cross = cx * cx + cy * cy + cz * cz;
+        let sum = lobe.n_dot_v + c;
+        let q = sum * sum * lobe.a2 + cross;
+        let kl = (c * c * lobe.one_minus_a2 + lobe.a2).sqrt();
+        let den = q * q * (c * lobe.kv + lobe.n_dot_v * kl);
+        let d = lobe.c * (hh * hh) / den;
+        let d = if d < MAX_DV { d } else { MAX_DV };
+        let up = c > 0.0;
+        cos[l] = if up { c } else { 0.0 };
+        dv[l] = if up { d } else { 0.0 };
+    }
+    (cos, w, dv)
+}
+
+/// [`counted_specular`]'s 13 × 8 lanes (s0, s1, s2, s3 as r, g, b each, then the unshadowed
+/// one). `U`: also the unshadowed sum, walking `above`'s lights (else `vis`'s).
+#[inline(always)]
+fn specular_body<const U: bool>(
+    sl: &ShadeLights,
+    lobe: &Lobe,
+    vis: Rows,
+    above: Rows,
+) -> [[f32; 8]; 13] {
+    let mut acc = [[0.0f32; 8]; 13];
+    for k in 0..vis.words() {
+        let any = if U { any(above, k) } else { any(vis, k) };
+        for b in 0..8u32 {
+            let shift = 8 * b;
+            if (any >> shift) & 0xff == 0 {
+                continue;
+            }
+            let base = k * 64 + 8 * b as usize;
+            let cv = counts(vis, k, shift);
+            let (cos, w, dv) = terms(sl, lobe, base);
+            for (ch, e) in [&sl.r, &sl.g, &sl.b].into_iter().enumerate() {
+                let e = lanes(e, base);
+                for l in 0..8 {
+                    let ec = e[l] * (cos[l] * cv[l]);
+                    acc[ch][l] += ec;
+                    acc[3 + ch][l] += ec * w[l];
+                    let ecd = ec * dv[l];
+                    acc[6 + ch][l] += ecd;
+                    acc[9 + ch][l] += ecd * w[l];
+                }
+            }
+            if U {
+                let ca = counts(above, k, shift);
+                let lum = lanes(&sl.lum, base);
+                for l in 0..8 {
+                    acc[12][l] += lum[l] * (cos[l] * ca[l]) * dv[l];
+                }
+            }
+        }
+    }
+    acc
+}
+
+/// [`specular_body`] compiled with AVX2.
+///
+/// # Safety
+/// The CPU has AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn specular_avx2<const U: bool>(
+    sl: &ShadeLights,
+    lobe: &Lobe,
+    vis: Rows,
+    above: Rows,
+) -> [[f32; 8]; 13] {
+    specular_body::<U>(sl, lobe, vis, above)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rows(bits: &[[u64; 4]]) -> Vec<u64> {
+        bits.iter().flatten().copied().collect()
+    }
+
+    fn bitwise(s: &Sums) -> [u32; 12] {
+        let v = [s.s0, s.s1, s.s2, s.s3];
+        std::array::from_fn(|i| v[i / 3].to_array()[i % 3].to_bits())
+    }
+
+    #[test]
+    fn a_group_of_one_sample_gets_the_per_sample_kernels_bits() {
+        let (sl, cases) = crate::shade::tests::setup();
+        for (i, (n, bits)) in cases.iter().enumerate() {
+            let v = Vec3::new(0.2, 0.5, 0.8).normalize();
+            let lobe = Lobe::new(*n, v, 0.1 + (i % 9) as f32 * 0.1);
+            let mut above = [0u64; 4];
+            crate::shade::above_horizon(&sl, *n, &mut above);
+            let one = crate::bits::rows(bits, 4);
+            let a = crate::bits::rows(&above, 4);
+            let (want, wu) = crate::shade::specular_sums(&sl, &lobe, bits, &above, true);
+            let (got, gu) = counted_specular(&sl, &lobe, one, Some(a));
+            assert_eq!(bitwise(&got), bitwise(&want), "case {i}");
+            assert_eq!(gu.to_bits(), wu.to_bits(), "case {i}");
+            let (plain, _) = counted_specular(&sl, &lobe, one, None);
+            assert_eq!(bitwise(&plain), bitwise(&want), "case {i}");
+            let lambert = crate::shade::light_sum(&sl, *n, bits);
+            assert_eq!(counted_light_sum(&sl, *n, one), lambert, "case {i}");
+        }
+    }
+
+    #[test]
+    fn counts_sum_the_members_lights_and_skip_those_below_the_lobes_horizon() {
+        let (sl, cases) = crate::shade::tests::setup();
+        let lobe = Lobe::new(cases[0].0, Vec3::new(0.3, 0.3, 0.9).normalize(), 0.4);
+        // Every member's own bits, cut to the lobe's horizon: the group's sums are the sum of
+        // the members' sums (to rounding).
+        let mut up = [0u64; 4];
+        crate::shade::above_horizon(&sl, lobe.n, &mut up);
+        let members: Vec<[u64; 4]> = cases[..16]
+            .iter()
+            .map(|(_, b)| std::array::from_fn(|k| b[k] & up[k]))
+            .collect();
+        let flat = rows(&members);
+        let (got, _) = counted_specular(&sl, &lobe, crate::bits::rows(&flat, 4), None);
+        let mut want = Sums::default();
+        for m in &members {
+            let (s, _) = crate::shade::specular_sums(&sl, &lobe, m, m, false);
+            want.s0 += s.s0;
+            want.s1 += s.s1;
+            want.s2 += s.s2;
+            want.s3 += s.s3;
+        }
+        for (g, w) in [(got.s0, want.s0), (got.s2, want.s2), (got.s3, want.s3)] {
+            assert!(
+                (g - w).abs().max_element() <= 1e-5 * w.max_element(),
+                "{g} {w}"
+            );
+        }
+        // The members' own bits, lights below the lobe's horizon included: those add nothing.
+        let raw = rows(&cases[..16].iter().map(|c| c.1).collect::<Vec<_>>());
+        let (all, _) = counted_specular(&sl, &lobe, crate::bits::rows(&raw, 4), None);
+        assert_eq!(bitwise(&all), bitwise(&got));
+        let lambert = counted_light_sum(&sl, lobe.n, crate::bits::rows(&raw, 4));
+        let cut = counted_light_sum(&sl, lobe.n, crate::bits::rows(&flat, 4));
+        assert_eq!(lambert, cut);
+        assert!(lambert.min_element() > 0.0);
+    }
+
+    #[test]
+    fn both_copies_of_the_counted_kernels_give_the_same_bits() {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            let (sl, cases) = crate::shade::tests::setup();
+            let members: Vec<[u64; 4]> = cases.iter().map(|c| c.1).collect();
+            for (i, group) in members.chunks(7).enumerate() {
+                let flat = rows(group);
+                let r = crate::bits::rows(&flat, 4);
+                let lobe = Lobe::new(cases[i].0, Vec3::Z, 0.05 + (i % 7) as f32 * 0.15);
+                let base = specular_body::<true>(&sl, &lobe, r, r);
+                // SAFETY: AVX2 was detected.
+                let avx = unsafe { specular_avx2::<true>(&sl, &lobe, r, r) };
+                assert_eq!(
+                    base.map(|l| l.map(f32::to_bits)),
+                    avx.map(|l| l.map(f32::to_bits))
+                );
+                let base = light_sum_body(&sl, cases[i].0, r);
+                // SAFETY: as above.
+                let avx = unsafe { light_sum_avx2(&sl, cases[i].0, r) };
+                assert_eq!(
+                    base.map(|l| l.map(f32::to_bits)),
+                    avx.map(|l| l.map(f32::to_bits))
+                );
+            }
+        }
+    }
+}
