@@ -457,7 +457,7 @@ struct Shader<'a> {
     /// normal).
     caches: (LambertCache, Catchers),
     /// The pixel's samples to shade in groups (region indices), and their traced bits
-    /// (validated), a row each.
+    /// (validated), a row each, then a spare row for the samples shaded alone.
     member: Vec<usize>,
     members: usize,
     truth: Vec<u64>,
@@ -478,7 +478,7 @@ impl<'a> Shader<'a> {
             caches: Default::default(),
             member: vec![0; spp],
             members: 0,
-            truth: vec![0; spp * words],
+            truth: vec![0; (spp + 1) * words],
             group_vis: Vec::with_capacity(spp * words),
             group_above: Vec::with_capacity(spp * words),
             group_of: vec![0; spp],
@@ -486,8 +486,11 @@ impl<'a> Shader<'a> {
         }
     }
 
-    /// Sample `q` (a hit): its radiance and alpha, or — a sample of the model at the pixel
-    /// rate — nothing yet but its alpha, 1, its radiance left to [`Shader::groups`].
+    /// Sample `q` (a hit): its radiance and alpha, or — a glTF-material sample of the model at
+    /// the pixel rate — nothing yet but its alpha, 1, its radiance left to
+    /// [`Shader::groups`]. [ours] Lambertian samples are shaded alone at either rate: their
+    /// kernel costs about what counting their lights would (three products a light), and a
+    /// flat surface's samples reuse one sum ([`LambertCache`]), which counting cannot.
     fn sample(&mut self, bufs: &TileBuffers, q: usize) -> (Vec3, f32) {
         let (ctx, w) = (self.ctx, self.words);
         let s = &bufs.surf[q];
@@ -498,7 +501,7 @@ impl<'a> Shader<'a> {
             // map's unshadowed light); the file's point and spot lights do not darken it.
             let sum = self.cache.light_sum(&ctx.shade_lights, s.n, vis);
             self.caches.1.sample(ctx, s, above, sum)
-        } else if self.shared {
+        } else if self.shared && !s.material.lambert {
             self.member[self.members] = q;
             self.members += 1;
             (Vec3::ZERO, 1.0)
@@ -516,9 +519,14 @@ impl<'a> Shader<'a> {
     fn validate(&mut self, bufs: &TileBuffers, q: usize, counts: &mut Counts) -> (u64, Vec3) {
         let (ctx, w) = (self.ctx, self.words);
         let s = &bufs.surf[q];
-        let grouped = self.shared && !s.catcher;
-        // A grouped sample's row is its place among the members (it was just added).
-        let row = if grouped { self.members - 1 } else { 0 };
+        let grouped = self.shared && !s.catcher && !s.material.lambert;
+        // A grouped sample's row is its place among the members (it was just added); another
+        // sample's is the spare row after them, which no member's traced bits occupy.
+        let row = if grouped {
+            self.members - 1
+        } else {
+            self.member.len()
+        };
         let truth = bits::rows_mut(&mut self.truth, w).into_row(row);
         let vis = bits::rows(&bufs.vis, w).row(q);
         let above = bits::rows(&bufs.above, w).row(q);
@@ -564,7 +572,30 @@ impl<'a> Shader<'a> {
         let members = &self.member[..self.members];
         let count = group(&bufs.surf, members, &mut self.group_of);
         let mut lit = Vec3::ZERO;
+        let row = |i: usize, q: usize| {
+            if traced {
+                bits::rows(&self.truth, w).row(i)
+            } else {
+                bits::rows(&bufs.vis, w).row(q)
+            }
+        };
         for g in 0..count as u8 {
+            let mut of = members
+                .iter()
+                .enumerate()
+                .filter(|&(i, _)| self.group_of[i] == g);
+            let (first, &q) = of.next().expect("a group has a first member");
+            if of.next().is_none() {
+                // A sample alone is shaded as at the sample rate: the same bits, no copies.
+                let above = bits::rows(&bufs.above, w).row(q);
+                let cache = if traced {
+                    &mut self.caches.0
+                } else {
+                    &mut self.cache
+                };
+                lit += radiance_at(ctx, &bufs.surf[q], row(first, q), above, cache);
+                continue;
+            }
             self.group_vis.clear();
             self.group_above.clear();
             self.group_surf.clear();
@@ -573,12 +604,7 @@ impl<'a> Shader<'a> {
                     continue;
                 }
                 self.group_surf.push(bufs.surf[q]);
-                let vis = if traced {
-                    bits::rows(&self.truth, w).row(i)
-                } else {
-                    bits::rows(&bufs.vis, w).row(q)
-                };
-                self.group_vis.extend_from_slice(vis);
+                self.group_vis.extend_from_slice(row(i, q));
                 self.group_above
                     .extend_from_slice(bits::rows(&bufs.above, w).row(q));
             }

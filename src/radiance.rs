@@ -9,7 +9,7 @@ use glam::Vec3;
 use crate::bits::Rows;
 use crate::brdf::{Lobe, MeanWeights, Reflectance, Sums, Weights};
 use crate::context::{FrameContext, Surface};
-use crate::shade::counted::{counted_light_sum, counted_specular};
+use crate::shade::counted::counted_specular;
 use crate::shade::{LambertCache, point_lights, point_sums, reflect, specular_sums};
 
 /// A sample's radiance (its background aside): the visible lights in `vis` (those above its
@@ -72,8 +72,8 @@ fn point_radiance(ctx: &FrameContext, s: &Surface, vis: &[u64]) -> Vec3 {
     }
 }
 
-/// The summed radiance of `members`, samples of one pixel that share a surface
-/// (`crate::shading_rate`), with visible lights `vis` and lights above their horizons `above`
+/// The summed radiance of `members`, samples of one pixel that share a glTF-material surface
+/// (`crate::shading_rate`; Lambertian samples are shaded alone), with visible lights `vis` and lights above their horizons `above`
 /// (a row each, in the members' order): [`radiance_at`] of each, added, but with the map's
 /// lights evaluated once for the group — at the members' mean normal, view direction and
 /// roughness, each light counted once per member that sees it — and reflected by the mean of
@@ -83,32 +83,23 @@ pub fn group_radiance(ctx: &FrameContext, members: &[Surface], vis: Rows, above:
     let sl = &ctx.shade_lights;
     let count = members.len() as f32;
     let lead = &members[0];
-    let n_sum: Vec3 = members.iter().map(|s| s.n).sum();
-    let mut lit = if lead.material.lambert {
-        let albedo: Vec3 = members
-            .iter()
-            .map(|s| s.albedo * s.material.occlusion)
-            .sum();
-        // The normals' sum over their number, not made unit: on a flat group, the sum of the
-        // members' own cosines.
-        reflect(albedo / count, counted_light_sum(sl, n_sum / count, vis))
-    } else {
-        let mut weights = MeanWeights::default();
-        for s in members {
-            weights.add(&Weights::new(s.albedo, &s.material), s.material.occlusion);
-        }
-        let dir: Vec3 = members.iter().map(|s| s.dir).sum();
-        let roughness: f32 = members.iter().map(|s| s.material.roughness).sum();
-        let shared = Shared {
-            n: n_sum.normalize_or(lead.n),
-            v: (-dir).normalize_or(-lead.dir),
-            roughness: roughness / count,
-            members: count,
-        };
-        shared.radiance(ctx, &weights.mean(), |lobe, unshadowed| {
-            counted_specular(sl, lobe, vis, unshadowed.then_some(above))
-        })
+    debug_assert!(members.iter().all(|s| !s.material.lambert));
+    let mut weights = MeanWeights::default();
+    for s in members {
+        weights.add(&Weights::new(s.albedo, &s.material), s.material.occlusion);
+    }
+    let n: Vec3 = members.iter().map(|s| s.n).sum();
+    let dir: Vec3 = members.iter().map(|s| s.dir).sum();
+    let roughness: f32 = members.iter().map(|s| s.material.roughness).sum();
+    let shared = Shared {
+        n: n.normalize_or(lead.n),
+        v: (-dir).normalize_or(-lead.dir),
+        roughness: roughness / count,
+        members: count,
     };
+    let mut lit = shared.radiance(ctx, &weights.mean(), |lobe, unshadowed| {
+        counted_specular(sl, lobe, vis, unshadowed.then_some(above))
+    });
     for (i, s) in members.iter().enumerate() {
         if ctx.has_points() {
             lit += point_radiance(ctx, s, vis.row(i));

@@ -51,7 +51,7 @@ impl FromStr for ShadingRate {
 }
 
 /// The cosine of the largest angle between two samples' shading normals that share a lobe
-/// (about 2.6°), on a rough or Lambertian surface. [ours] Chosen by measurement against
+/// (about 2.6°), on a rough surface. [ours] Chosen by measurement against
 /// per-sample shading (BENCHMARKS.md): the lobe's normal is the members' mean.
 pub const SAME_NORMAL: f32 = 0.999;
 

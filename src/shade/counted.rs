@@ -46,62 +46,6 @@ fn lanes(plane: &[f32], base: usize) -> &[f32; 8] {
     plane[base..base + 8].try_into().unwrap()
 }
 
-/// The cosine-weighted light of the group's visible lights on a surface with normal `n`:
-/// `Σ_j c_j E_j max(0, n·ω_j)` (`c_j`: the members that see light j). `n` need not be unit:
-/// the sum of the members' normals divided by their number makes a flat group's sum the sum
-/// of its members' sums.
-pub fn counted_light_sum(sl: &ShadeLights, n: Vec3, vis: Rows) -> Vec3 {
-    assert!(vis.words() * 64 <= sl.x.len());
-    #[cfg(target_arch = "x86_64")]
-    let lanes = if crate::simd::has_avx2() {
-        // SAFETY: AVX2 was detected.
-        unsafe { light_sum_avx2(sl, n, vis) }
-    } else {
-        light_sum_body(sl, n, vis)
-    };
-    #[cfg(not(target_arch = "x86_64"))]
-    let lanes = light_sum_body(sl, n, vis);
-    let sum = |a: [f32; 8]| ((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]));
-    Vec3::new(sum(lanes[0]), sum(lanes[1]), sum(lanes[2]))
-}
-
-/// [`counted_light_sum`]'s lanes.
-#[inline(always)]
-fn light_sum_body(sl: &ShadeLights, n: Vec3, vis: Rows) -> [[f32; 8]; 3] {
-    let mut acc = [[0.0f32; 8]; 3];
-    for k in 0..vis.words() {
-        let any = any(vis, k);
-        for b in 0..8u32 {
-            let shift = 8 * b;
-            if (any >> shift) & 0xff == 0 {
-                continue;
-            }
-            let base = k * 64 + 8 * b as usize;
-            let cnt = counts(vis, k, shift);
-            let (x, y, z) = (lanes(&sl.x, base), lanes(&sl.y, base), lanes(&sl.z, base));
-            let (r, g, bl) = (lanes(&sl.r, base), lanes(&sl.g, base), lanes(&sl.b, base));
-            for l in 0..8 {
-                let d = n.x * x[l] + n.y * y[l] + n.z * z[l];
-                let c = if d > 0.0 { d * cnt[l] } else { 0.0 };
-                acc[0][l] += r[l] * c;
-                acc[1][l] += g[l] * c;
-                acc[2][l] += bl[l] * c;
-            }
-        }
-    }
-    acc
-}
-
-/// [`light_sum_body`] compiled with AVX2.
-///
-/// # Safety
-/// The CPU has AVX2.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-unsafe fn light_sum_avx2(sl: &ShadeLights, n: Vec3, vis: Rows) -> [[f32; 8]; 3] {
-    light_sum_body(sl, n, vis)
-}
-
 /// The metallic-roughness light sums ([`Sums`]) of the group's visible lights for `lobe`, each
 /// light's terms counted once per member that sees it; with `above`, also `Σ c'_j Y_j cos D
 /// Vis` over the lights above the members' horizons (`c'_j`: the members that have light j
@@ -265,8 +209,6 @@ mod tests {
             assert_eq!(gu.to_bits(), wu.to_bits(), "case {i}");
             let (plain, _) = counted_specular(&sl, &lobe, one, None);
             assert_eq!(bitwise(&plain), bitwise(&want), "case {i}");
-            let lambert = crate::shade::light_sum(&sl, *n, bits);
-            assert_eq!(counted_light_sum(&sl, *n, one), lambert, "case {i}");
         }
     }
 
@@ -302,10 +244,6 @@ mod tests {
         let raw = rows(&cases[..16].iter().map(|c| c.1).collect::<Vec<_>>());
         let (all, _) = counted_specular(&sl, &lobe, crate::bits::rows(&raw, 4), None);
         assert_eq!(bitwise(&all), bitwise(&got));
-        let lambert = counted_light_sum(&sl, lobe.n, crate::bits::rows(&raw, 4));
-        let cut = counted_light_sum(&sl, lobe.n, crate::bits::rows(&flat, 4));
-        assert_eq!(lambert, cut);
-        assert!(lambert.min_element() > 0.0);
     }
 
     #[test]
@@ -321,13 +259,6 @@ mod tests {
                 let base = specular_body::<true>(&sl, &lobe, r, r);
                 // SAFETY: AVX2 was detected.
                 let avx = unsafe { specular_avx2::<true>(&sl, &lobe, r, r) };
-                assert_eq!(
-                    base.map(|l| l.map(f32::to_bits)),
-                    avx.map(|l| l.map(f32::to_bits))
-                );
-                let base = light_sum_body(&sl, cases[i].0, r);
-                // SAFETY: as above.
-                let avx = unsafe { light_sum_avx2(&sl, cases[i].0, r) };
                 assert_eq!(
                     base.map(|l| l.map(f32::to_bits)),
                     avx.map(|l| l.map(f32::to_bits))
