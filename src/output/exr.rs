@@ -417,7 +417,7 @@ mod tests {
         for c in film.channels(false) {
             for i in 0..(w * h) as usize {
                 // Smooth with some noise, so chunks compress to different sizes.
-                let v = (i as f32 * 0.013).sin() + ((i * 7919) % 13) as f32 * 0.01;
+                let v = libm::sinf(i as f32 * 0.013) + ((i * 7919) % 13) as f32 * 0.01;
                 film.set(c, i, v);
             }
         }
