@@ -146,6 +146,7 @@ fn text_value(s: &str) -> AttributeValue {
 
 /// The film's channels over `rect` (frame pixels), in [`Film::channels`] order (with
 /// `reference`, the validation's brute-force image too); half-float where `half` allows.
+/// Copied a channel per task on the current rayon pool.
 pub fn film_channels(
     film: &Film,
     rect: Rect,
@@ -154,7 +155,7 @@ pub fn film_channels(
 ) -> Vec<AnyChannel<FlatSamples>> {
     let fw = film.width as usize;
     film.channels(reference)
-        .into_iter()
+        .into_par_iter()
         .map(|c| {
             let mut v = Vec::with_capacity(rect.area());
             for y in rect.y0..rect.y1 {
