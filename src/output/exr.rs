@@ -293,23 +293,39 @@ impl ReadFrame {
 /// Reads every channel of the first layer of an EXR made by [`encode_frame`] (half-float
 /// channels widened to f32).
 pub fn read_frame(path: &Path) -> Result<ReadFrame> {
+    read_frame_with(path, true)
+}
+
+/// [`read_frame`] decompressing on the calling thread: for callers that read many frames at
+/// once, a frame per thread, where the exr crate's parallel reading (a thread pool of every
+/// core for each file) only costs.
+pub fn read_frame_here(path: &Path) -> Result<ReadFrame> {
+    read_frame_with(path, false)
+}
+
+fn read_frame_with(path: &Path, parallel: bool) -> Result<ReadFrame> {
     let file = std::fs::File::open(path)
         .map_err(|e| crate::error::input_error(path, format!("cannot open: {e}")))?;
-    read_frame_from(std::io::BufReader::new(file))
+    read_frame_from(std::io::BufReader::new(file), parallel)
         .map_err(|e| crate::error::input_error(path, format!("not a readable EXR: {e}")))
 }
 
 /// [`read_frame`] from any seekable reader.
 fn read_frame_from(
     reader: impl std::io::Read + std::io::Seek + Send,
+    parallel: bool,
 ) -> std::result::Result<ReadFrame, exr::error::Error> {
-    let image = read()
+    let read = read()
         .no_deep_data()
         .largest_resolution_level()
         .all_channels()
         .first_valid_layer()
-        .all_attributes()
-        .from_buffered(reader)?;
+        .all_attributes();
+    let image = if parallel {
+        read.from_buffered(reader)?
+    } else {
+        read.non_parallel().from_buffered(reader)?
+    };
     let layer = image.layer_data;
     let channels = layer
         .channel_data
@@ -394,7 +410,7 @@ mod tests {
             assert!(encode_frame(&film, &header, false).unwrap() == first);
         }
         // Sorted by name, the header reads back.
-        let back = read_frame_from(std::io::Cursor::new(first)).unwrap();
+        let back = read_frame_from(std::io::Cursor::new(first), false).unwrap();
         let attrs = &back.attributes;
         assert_eq!(attrs.world_to_normalized_device, Some([1.0; 16]));
         assert_eq!(
