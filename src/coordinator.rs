@@ -1,8 +1,8 @@
 //! The coordinator: loads an animation's inputs once, renders its frames tile by tile over a
 //! worker pool — two frames in flight, so the next frame's tiles start while the last tiles of
 //! the current one finish — and hands finished frames to a few writer threads, which encode
-//! them on a pool of their own while rendering goes on, several frames at once. Memory stays bounded
-//! by the frames rendering and the frames being written.
+//! them on a pool of their own while rendering goes on, several frames at once. Memory stays
+//! bounded by the frames rendering and the frames being written.
 
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -240,10 +240,10 @@ impl Run<'_> {
     /// frames in order (a frame starts once its predecessor is complete, so its tiles read the
     /// whole previous frame) and hands each finished film to a free writer thread; up to
     /// [`WRITES_IN_FLIGHT`] frames are written at once, each encoded in parallel beside the
-    /// tiles ([`write_pool`]). Files are per frame, so the order frames are written in does not matter. A
-    /// driver waits while every writer is busy, so memory stays bounded by the chains in
-    /// flight (each holds at most the previous frame's carried data and the one being built)
-    /// and the writers' frames.
+    /// tiles ([`write_pool`]). Files are per frame, so the order frames are written in does
+    /// not matter. A driver waits while every writer is busy, so memory stays bounded by the
+    /// chains in flight (each holds at most the previous frame's carried data and the one
+    /// being built) and the writers' frames.
     fn chains(&self, work: &[Chain], sink: &dyn FrameSink) -> Result<Done> {
         let next = AtomicUsize::new(0);
         let failed = AtomicBool::new(false);
@@ -375,8 +375,8 @@ impl Run<'_> {
     }
 
     /// Writer thread `k`: hands each finished frame it receives to `sink`, on the encoders'
-    /// pool (the encoding is parallel inside), and says how long that took and what rendering went on
-    /// meanwhile. Stops at the first error (then `fail`s the run) or once another writer
+    /// pool (the encoding is parallel inside), and says how long that took and what rendering
+    /// went on meanwhile. Stops at the first error (then `fail`s the run) or once another writer
     /// failed; the frames it did not take stay unwritten, for `--resume`.
     fn write(
         &self,
