@@ -1,12 +1,12 @@
 //! The coordinator: loads an animation's inputs once, renders its frames tile by tile over a
 //! worker pool — two frames in flight, so the next frame's tiles start while the last tiles of
-//! the current one finish — and streams finished frames over a bounded channel to one writer
-//! thread that writes them while rendering goes on. Memory stays bounded by the frames in
-//! flight and the channel's capacity.
+//! the current one finish — and hands finished frames to a few writer threads, which encode
+//! them on a pool of their own while rendering goes on, several frames at once. Memory stays
+//! bounded by the frames rendering and the frames being written.
 
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use anyhow::Context;
 use crossbeam_channel::{Receiver, Sender, bounded};
@@ -28,6 +28,8 @@ use crate::run::{FrameSink, Progress, RunOptions, RunSummary, Silent};
 
 /// Frames rendered at once (see `render_animation`); the memory estimate counts them.
 const FRAMES_IN_FLIGHT: usize = crate::limits::FRAMES_IN_FLIGHT;
+/// Frames written at once; the memory estimate counts them too.
+const WRITES_IN_FLIGHT: usize = crate::limits::WRITES_IN_FLIGHT;
 
 /// The tiles a run renders and the region that bounds them: `--region`'s tiles, or the
 /// tiles of `indices` (sorted; the frame-anchored grid) with their bounding rectangle, so
@@ -54,6 +56,19 @@ pub fn thread_pool(threads: usize) -> Result<rayon::ThreadPool> {
         .thread_name(|i| format!("envshadow-worker-{i}"))
         .build()
         .context("starting the worker threads")
+}
+
+/// The pool frames are encoded on, as many threads as the workers: apart from theirs, so that
+/// a worker waiting inside a frame's encoding never picks up a whole frame's rendering (rayon
+/// lets a thread blocked in a join run any queued job), nor a frame's rendering a write.
+/// Rendering and writing share the cores through the system's scheduler; once rendering is
+/// over, the last frames' writing has every core.
+fn write_pool(threads: usize) -> Result<rayon::ThreadPool> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .thread_name(|i| format!("envshadow-encoder-{i}"))
+        .build()
+        .context("starting the writing threads")
 }
 
 /// Renders the animation's selected frames into its output folder.
@@ -116,16 +131,19 @@ pub fn render_animation(
     let (list, region) = selection(anim, opts);
     progress.begin(todo.len(), list.len());
     let pool = thread_pool(anim.render.threads)?;
+    let encoders = write_pool(pool.current_num_threads())?;
     let run = Run {
         anim,
         inputs: &inputs,
         pool: &pool,
+        encoders: &encoders,
         list: &list,
         region,
         cancel: &opts.cancel,
         progress,
+        timeline: Timeline::default(),
     };
-    let done = run.chains(&work, sink);
+    let done = run.chains(&work, &*sink);
     progress.finish();
     let done = done?;
     // Frames finished before the stop are written; the rest waits for `--resume`.
@@ -190,10 +208,14 @@ struct Run<'r> {
     anim: &'r Animation,
     inputs: &'r Inputs,
     pool: &'r rayon::ThreadPool,
+    /// Where frames are encoded ([`write_pool`]).
+    encoders: &'r rayon::ThreadPool,
     list: &'r [Tile],
     region: Option<Rect>,
     cancel: &'r Cancel,
     progress: &'r dyn Progress,
+    /// When frames rendered, for what the writing of each frame overlapped.
+    timeline: Timeline,
 }
 
 /// What the writer and the chains did: the frames written and their counts, and every frame's
@@ -203,31 +225,52 @@ struct Done {
     rendered: usize,
     counts: Counts,
     thread_seconds: f64,
+    /// The frames' writing: wall seconds summed over frames, and the part of them during
+    /// which some frame was rendering.
+    writing: f64,
+    overlapped: f64,
 }
 
 impl Run<'_> {
     /// Renders the chains of `work` and hands every written frame to `sink`, returning the
-    /// first error of any chain or of the writer.
+    /// first error of any chain or writer.
     ///
     /// Two chains in flight share the pool: while the last tiles of one frame finish, idle
     /// workers take tiles of the other chain's frame. Each driver thread renders its chain's
     /// frames in order (a frame starts once its predecessor is complete, so its tiles read the
-    /// whole previous frame), hands each frame's tiles to the pool and sends the finished film
-    /// to the writer; files are per frame, so the order they are written in does not matter.
-    /// Memory stays bounded by the chains in flight (each holds at most the previous frame's
-    /// carried data and the one being built) plus the channel's capacity.
-    fn chains(&self, work: &[Chain], sink: &mut dyn FrameSink) -> Result<Done> {
+    /// whole previous frame) and hands each finished film to a free writer thread; up to
+    /// [`WRITES_IN_FLIGHT`] frames are written at once, each encoded in parallel beside the
+    /// tiles ([`write_pool`]). Files are per frame, so the order frames are written in does
+    /// not matter. A driver waits while every writer is busy, so memory stays bounded by the
+    /// chains in flight (each holds at most the previous frame's carried data and the one
+    /// being built) and the writers' frames.
+    fn chains(&self, work: &[Chain], sink: &dyn FrameSink) -> Result<Done> {
         let next = AtomicUsize::new(0);
         let failed = AtomicBool::new(false);
         let first_error: Mutex<Option<anyhow::Error>> = Mutex::new(None);
         let thread_seconds = Mutex::new(0.0f64);
-        let (tx, rx) = bounded::<(Film, FrameStats)>(FRAMES_IN_FLIGHT);
+        let fail = |e: anyhow::Error| {
+            failed.store(true, Ordering::Relaxed);
+            first_error.lock().unwrap().get_or_insert(e);
+        };
+        // No queue: a finished frame goes straight to a writer that is free.
+        let (tx, rx) = bounded::<(Film, FrameStats)>(0);
+        let to_write: usize = work
+            .iter()
+            .map(|c| c.frames.iter().filter(|f| f.1).count())
+            .sum();
         let written = std::thread::scope(|s| {
-            let writer = s.spawn(|| self.write(rx, sink));
+            let writers: Vec<_> = (0..WRITES_IN_FLIGHT.min(to_write))
+                .map(|k| {
+                    let rx = rx.clone();
+                    let (failed, fail) = (&failed, &fail);
+                    s.spawn(move || self.write(k, rx, sink, failed, fail))
+                })
+                .collect();
+            drop(rx);
             for _ in 0..FRAMES_IN_FLIGHT.min(work.len()) {
                 let tx = tx.clone();
-                let (next, failed, first_error, thread_seconds) =
-                    (&next, &failed, &first_error, &thread_seconds);
+                let (next, failed, fail, thread_seconds) = (&next, &failed, &fail, &thread_seconds);
                 s.spawn(move || {
                     loop {
                         let k = next.fetch_add(1, Ordering::Relaxed);
@@ -239,10 +282,9 @@ impl Run<'_> {
                         }
                         match self.chain(&work[k], &tx, failed, thread_seconds) {
                             Ok(true) => {}
-                            Ok(false) => break, // the writer failed; reported below
+                            Ok(false) => break, // the writers failed; reported below
                             Err(e) => {
-                                failed.store(true, Ordering::Relaxed);
-                                first_error.lock().unwrap().get_or_insert(e);
+                                fail(e);
                                 break;
                             }
                         }
@@ -250,15 +292,34 @@ impl Run<'_> {
                 });
             }
             drop(tx);
-            writer
-                .join()
-                .map_err(|_| anyhow::anyhow!("the writer thread panicked"))
-        })?;
+            let mut done = Done::default();
+            for w in writers {
+                let d = w
+                    .join()
+                    .map_err(|_| anyhow::anyhow!("a writer thread panicked"))?;
+                done.rendered += d.rendered;
+                done.counts += d.counts;
+                done.writing += d.writing;
+                done.overlapped += d.overlapped;
+            }
+            Ok::<_, anyhow::Error>(done)
+        });
         if let Some(e) = first_error.into_inner().unwrap() {
             return Err(e);
         }
         let mut done = written?;
         done.thread_seconds = thread_seconds.into_inner().unwrap();
+        if done.rendered > 0 {
+            self.progress.detail(&format!(
+                "writing: {} frames in {:.2} s summed ({:.3} s each), {:.0} % of it while frames \
+                 rendered; the last frame written {:.3} s after the last frame rendered",
+                done.rendered,
+                done.writing,
+                done.writing / done.rendered as f64,
+                100.0 * done.overlapped / done.writing.max(1e-9),
+                self.timeline.tail().as_secs_f64()
+            ));
+        }
         Ok(done)
     }
 
@@ -284,7 +345,8 @@ impl Run<'_> {
                 no_validate: !write,
             };
             let shown: &dyn Progress = if write { self.progress } else { &Silent };
-            let (film, stats, carried) = self.pool.install(|| {
+            let span = self.timeline.rendering(frame);
+            let rendered = self.pool.install(|| {
                 render_tile_list(
                     self.anim,
                     self.inputs,
@@ -295,7 +357,9 @@ impl Run<'_> {
                     &link,
                     self.cancel,
                 )
-            })?;
+            });
+            self.timeline.rendered(span);
+            let (film, stats, carried) = rendered?;
             *thread_seconds.lock().unwrap() += stats.thread_seconds;
             // The previous frame's data has been used: free it now.
             prev = carried;
@@ -310,20 +374,127 @@ impl Run<'_> {
         Ok(true)
     }
 
-    /// The writer thread: hands each finished frame to `sink` as it arrives.
-    fn write(&self, rx: Receiver<(Film, FrameStats)>, sink: &mut dyn FrameSink) -> Result<Done> {
+    /// Writer thread `k`: hands each finished frame it receives to `sink`, on the encoders'
+    /// pool (the encoding is parallel inside), and says how long that took and what rendering
+    /// went on meanwhile. Stops at the first error (then `fail`s the run) or once another writer
+    /// failed; the frames it did not take stay unwritten, for `--resume`.
+    fn write(
+        &self,
+        k: usize,
+        rx: Receiver<(Film, FrameStats)>,
+        sink: &dyn FrameSink,
+        failed: &AtomicBool,
+        fail: &(dyn Fn(anyhow::Error) + Sync),
+    ) -> Done {
         let mut done = Done::default();
         for (film, stats) in rx {
-            let writing = Instant::now();
-            sink.write(&film, &stats)?;
+            if failed.load(Ordering::Relaxed) {
+                break;
+            }
+            let from = Instant::now();
+            if let Err(e) = self.encoders.install(|| sink.write(&film, &stats)) {
+                fail(e);
+                break;
+            }
+            let to = Instant::now();
+            self.timeline.written(to);
+            let (frames, beside) = self.timeline.overlap(from, to);
+            let seconds = (to - from).as_secs_f64();
+            let meanwhile = if frames.is_empty() {
+                "while no frame rendered".to_string()
+            } else {
+                format!(
+                    "overlapping the rendering of frame{} {} for {:.3} s of it",
+                    if frames.len() > 1 { "s" } else { "" },
+                    frames
+                        .iter()
+                        .map(|f| f.to_string())
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                    beside.as_secs_f64()
+                )
+            };
             self.progress.detail(&format!(
-                "frame {}: written in {:.3} s",
-                stats.frame,
-                writing.elapsed().as_secs_f64()
+                "frame {}: written in {seconds:.3} s by writer {k}, {meanwhile}",
+                stats.frame
             ));
+            done.writing += seconds;
+            done.overlapped += beside.as_secs_f64();
             done.counts += stats.counts;
             done.rendered += 1;
         }
-        Ok(done)
+        done
+    }
+}
+
+/// When each frame rendered and when the last one was written: what a frame's writing
+/// overlapped, measured.
+#[derive(Default)]
+struct Timeline {
+    /// Each frame rendered or rendering: its number, start and end.
+    renders: Mutex<Vec<(usize, Instant, Option<Instant>)>>,
+    last_written: Mutex<Option<Instant>>,
+}
+
+impl Timeline {
+    /// `frame` starts rendering; returns its place for [`rendered`](Self::rendered).
+    fn rendering(&self, frame: usize) -> usize {
+        let mut r = self.renders.lock().unwrap();
+        r.push((frame, Instant::now(), None));
+        r.len() - 1
+    }
+
+    fn rendered(&self, span: usize) {
+        self.renders.lock().unwrap()[span].2 = Some(Instant::now());
+    }
+
+    fn written(&self, at: Instant) {
+        let mut last = self.last_written.lock().unwrap();
+        *last = Some(last.map_or(at, |l| l.max(at)));
+    }
+
+    /// The frames whose rendering overlapped `from..to`, and how much of that time some frame
+    /// was rendering (the union of their spans within it).
+    fn overlap(&self, from: Instant, to: Instant) -> (Vec<usize>, Duration) {
+        let now = Instant::now();
+        let mut spans: Vec<(Instant, Instant, usize)> = self
+            .renders
+            .lock()
+            .unwrap()
+            .iter()
+            .filter_map(|&(f, a, b)| {
+                let (a, b) = (a.max(from), b.unwrap_or(now).min(to));
+                (a < b).then_some((a, b, f))
+            })
+            .collect();
+        spans.sort();
+        let (mut covered, mut reach) = (Duration::ZERO, from);
+        for &(a, b, _) in &spans {
+            let a = a.max(reach);
+            if b > a {
+                covered += b - a;
+                reach = b;
+            }
+        }
+        let mut frames: Vec<usize> = spans.iter().map(|s| s.2).collect();
+        frames.sort_unstable();
+        frames.dedup();
+        (frames, covered)
+    }
+
+    /// How long after the last frame finished rendering the last frame was written: the
+    /// writing that rendering could not hide.
+    fn tail(&self) -> Duration {
+        let rendered = self
+            .renders
+            .lock()
+            .unwrap()
+            .iter()
+            .filter_map(|r| r.2)
+            .max();
+        match (rendered, *self.last_written.lock().unwrap()) {
+            (Some(r), Some(w)) => w.saturating_duration_since(r),
+            _ => Duration::ZERO,
+        }
     }
 }

@@ -3,6 +3,7 @@
 //! `records/runs.csv`.
 
 use std::path::PathBuf;
+use std::sync::Mutex;
 
 use crate::anim::Animation;
 use crate::error::{Result, input_error};
@@ -29,7 +30,9 @@ pub struct FrameFiles {
     resume: bool,
     /// The settings' fingerprint, which each frame's record names.
     settings: String,
-    stats: StatsFile,
+    /// Frames finish in any order, on several writer threads: each sets its row and
+    /// rewrites the file holding the lock, so the file last written has every row set.
+    stats: Mutex<StatsFile>,
 }
 
 impl FrameFiles {
@@ -38,7 +41,7 @@ impl FrameFiles {
     pub fn new(anim: &Animation, opts: &RunOptions) -> FrameFiles {
         let dir = anim.output.dir.clone();
         FrameFiles {
-            stats: StatsFile::open(&dir.join("stats.csv")),
+            stats: Mutex::new(StatsFile::open(&dir.join("stats.csv"))),
             dir,
             format: frame_format(anim),
             fps: anim.output.fps,
@@ -81,15 +84,16 @@ impl FrameSink for FrameFiles {
         self.record = now.lines;
         // A kill between a frame's commit and the stats.csv that follows it loses no row: the
         // committed frame's record has it.
+        let stats = self.stats.get_mut().unwrap();
         let mut restored = 0;
         for rec in FrameRecord::read_all(&self.dir) {
-            if rec.sizes_match(&self.dir) && self.stats.row(rec.frame) != Some(&rec.stats_row) {
-                self.stats.set_row(rec.frame, &rec.stats_row);
+            if rec.sizes_match(&self.dir) && stats.row(rec.frame) != Some(&rec.stats_row) {
+                stats.set_row(rec.frame, &rec.stats_row);
                 restored += 1;
             }
         }
         if restored > 0 {
-            self.stats.write(&self.dir.join("stats.csv"))?;
+            stats.write(&self.dir.join("stats.csv"))?;
         }
         Ok(())
     }
@@ -100,11 +104,13 @@ impl FrameSink for FrameFiles {
             .is_some_and(|r| r.settings == self.settings && r.files_match(&self.dir))
     }
 
-    fn write(&mut self, film: &Film, stats: &FrameStats) -> Result<()> {
+    /// Commits the frame's files with its record (frames apart, at once), then its row.
+    fn write(&self, film: &Film, stats: &FrameStats) -> Result<()> {
         let header = exr_header(stats, self.fps, &self.record);
         let rec = output::publish_frame(&self.dir, film, &header, &self.format, &self.settings)?;
-        self.stats.set_row(stats.frame, &rec.stats_row);
-        self.stats.write(&self.dir.join("stats.csv"))
+        let mut rows = self.stats.lock().unwrap();
+        rows.set_row(stats.frame, &rec.stats_row);
+        rows.write(&self.dir.join("stats.csv"))
     }
 
     /// Records the run in `records/runs.csv`: its wall time beside its frames' thread-seconds.

@@ -237,8 +237,12 @@ pub struct Request {
     pub spp: u32,
 }
 
-/// Frames alive at once: two rendering, two waiting in the writer's channel, one being written.
-const FRAMES_ALIVE: u64 = 5;
+/// Films alive at once: [`FRAMES_IN_FLIGHT`] rendering, and [`WRITES_IN_FLIGHT`] being
+/// written (no frame waits in a queue: a finished frame goes to a free writer, its driver
+/// waiting while none is), each counted twice: a frame being written holds its film and
+/// about as much again in its encoder's copies (the EXR's channels, the preview's pixels,
+/// the encoded files).
+const FRAMES_ALIVE: u64 = (FRAMES_IN_FLIGHT + 2 * WRITES_IN_FLIGHT) as u64;
 /// The widest halo a tile reads beyond its edges (the scanline block of 64, the grid's h0 ≤ 64).
 const HALO: u64 = 64;
 
@@ -299,6 +303,11 @@ pub fn check_memory(source: impl AsRef<Path>, r: &Request) -> Result<()> {
 /// each holds its own posed copy of the scene and its BVH.
 pub const FRAMES_IN_FLIGHT: usize = 2;
 
+/// Frames written at once (the coordinator's writer threads, each encoding one frame on the
+/// worker pool): several, so that writing keeps up with rendering on many cores, where a
+/// frame renders in less time than one frame's PNG compression, which is one stream.
+pub const WRITES_IN_FLIGHT: usize = 3;
+
 /// Bytes per loaded vertex: position and normal (12 each), texture coordinates (8).
 const SCENE_VERTEX: u128 = 32;
 /// Bytes per loaded triangle: three indices and a material.
@@ -325,8 +334,9 @@ const TEXTURE_DECODE_TEXEL: u128 = 24;
 /// Bytes each thread of a render reserves: its stack, and the allocator's arena for it (glibc
 /// reserves 64 MB of address space per arena).
 const THREAD_BYTES: u128 = 72_000_000;
-/// Threads beside the workers: the main thread, the writer and a driver per frame in flight.
-const OTHER_THREADS: u128 = 2 + FRAMES_IN_FLIGHT as u128;
+/// Threads beside the workers and the encoders (as many as the workers): the main thread,
+/// the writers and a driver per frame in flight.
+const OTHER_THREADS: u128 = 1 + (WRITES_IN_FLIGHT + FRAMES_IN_FLIGHT) as u128;
 /// The process before it loads anything: the program and its libraries mapped, the main
 /// thread's stack, the allocator's first heap (42 MB of address space measured), rounded up.
 const PROCESS_BYTES: u128 = 64_000_000;
@@ -439,7 +449,8 @@ impl Budget {
     /// A render's budget: its request, and `posed` frames whose scene is posed (and its BVH
     /// built) at once — 0 when the scene does not move, and one BVH serves every frame.
     pub fn new(request: &Request, posed: usize) -> Budget {
-        let threads = u128::from(worker_threads(request.threads)) + OTHER_THREADS;
+        // The workers, and as many encoders.
+        let threads = 2 * u128::from(worker_threads(request.threads)) + OTHER_THREADS;
         Budget {
             render: estimate_bytes(request) + threads * THREAD_BYTES + PROCESS_BYTES,
             request: Some(*request),

@@ -19,7 +19,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use anyhow::Context;
-use image::{Rgb, RgbImage, RgbaImage};
+use image::{Rgb, RgbImage};
 use rayon::prelude::*;
 
 use crate::envmap::EnvMap;
@@ -267,7 +267,7 @@ fn scan_frame(dir: &Path, out: &Path, frame: usize, gif: bool) -> Scan {
         scan.rays_hist = hist;
         scan.wrong_max = wrong_max;
     } else {
-        match output::exr::read_frame(&exr) {
+        match output::exr::read_frame_here(&exr) {
             Ok(f) => {
                 scan.exr_ok = true;
                 if let Some(r) = f.channel(Channel::Rays.name()) {
@@ -299,7 +299,7 @@ fn heat_maps(
     wrong_top: f32,
 ) -> Result<HeatMaps> {
     let exr = frame_path(dir, frame, "exr");
-    let f = match output::exr::read_frame(&exr) {
+    let f = match output::exr::read_frame_here(&exr) {
         Ok(f) => f,
         // A file the record vouched for by its size alone may still not read: said on the
         // frame, as when the first pass reads it.
@@ -359,26 +359,60 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
 
     // Pass 1: thumbnails, previews for the GIF (when there is no video), and the colour
     // scales' ranges over all frames.
-    let scans: Vec<Scan> = rows
+    let mut scans: Vec<Scan> = rows
         .par_iter()
         .map(|r| scan_frame(dir, &out, r.frame, video.is_none()))
         .collect();
     let (rays_max, wrong_max, any_wrong_channel) = colour_scales(&scans);
 
-    // Pass 2: the heat maps.
-    let maps: Vec<HeatMaps> = rows
-        .par_iter()
-        .zip(&scans)
-        .map(|(r, s)| {
-            if s.exr_ok {
-                heat_maps(dir, &out, r.frame, rays_max, wrong_max)
-            } else {
-                Ok((None, None, None))
+    // Pass 2, the heat maps, beside the pictures that do not read the frames: the animated
+    // preview (the video, else a GIF), the colour scales, the plots and the lights.
+    let previews: Vec<RgbImage> = scans.iter_mut().filter_map(|s| s.gif.take()).collect();
+    let series = plot_series(&rows);
+    let (maps, pictures) = rayon::join(
+        || -> Result<Vec<HeatMaps>> {
+            rows.par_iter()
+                .zip(&scans)
+                .map(|(r, s)| {
+                    if s.exr_ok {
+                        heat_maps(dir, &out, r.frame, rays_max, wrong_max)
+                    } else {
+                        Ok((None, None, None))
+                    }
+                })
+                .collect()
+        },
+        || -> Result<_> {
+            let animation = match video {
+                Some(v) => Animation::Video(v),
+                None if !previews.is_empty() => {
+                    write_gif(&out.join("turntable.gif"), &previews)?;
+                    Animation::Gif
+                }
+                None => Animation::None,
+            };
+            let scale = |from: f32| {
+                RgbImage::from_fn(256, 14, |x, _| {
+                    Rgb(ramp(from + (1.0 - from) * x as f32 / 255.0))
+                })
+            };
+            save_png(&out.join("scale_rays.png"), &scale(0.0))?;
+            if any_wrong_channel {
+                save_png(&out.join("scale_wrong.png"), &scale(WRONG_RAMP_START))?;
             }
-        })
-        .collect::<Result<_>>()?;
+            // Savings plot, one panel per quantity.
+            let frames = (rows[0].frame as f64, rows[rows.len() - 1].frame as f64);
+            let axes = series
+                .par_iter()
+                .map(|s| draw_plot(&out.join(s.file), s, frames))
+                .collect::<Result<Vec<_>>>()?;
+            // The lights over the environment map.
+            let lights_note = lights_picture(dir, &out.join("lights.png"));
+            Ok((animation, axes, lights_note))
+        },
+    );
+    let (maps, (animation, axes, lights_note)) = (maps?, pictures?);
     let mut images = Vec::new();
-    let mut previews = Vec::new();
     for (s, (rays_map, wrong_map, unread)) in scans.into_iter().zip(maps) {
         let problem = match (s.problem, unread) {
             (Some(a), Some(b)) => Some(format!("{a}; {b}")),
@@ -390,40 +424,7 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
             wrong_map,
             problem,
         });
-        previews.extend(s.gif);
     }
-
-    // Colour scales.
-    let scale = |from: f32| {
-        RgbImage::from_fn(256, 14, |x, _| {
-            Rgb(ramp(from + (1.0 - from) * x as f32 / 255.0))
-        })
-    };
-    save_png(&out.join("scale_rays.png"), &scale(0.0))?;
-    if any_wrong_channel {
-        save_png(&out.join("scale_wrong.png"), &scale(WRONG_RAMP_START))?;
-    }
-
-    // The animation: the video, else an animated preview.
-    let animation = match video {
-        Some(v) => Animation::Video(v),
-        None if !previews.is_empty() => {
-            write_gif(&out.join("turntable.gif"), &previews)?;
-            Animation::Gif
-        }
-        None => Animation::None,
-    };
-
-    // Savings plot, one panel per quantity.
-    let series = plot_series(&rows);
-    let frames = (rows[0].frame as f64, rows[rows.len() - 1].frame as f64);
-    let mut axes = Vec::new();
-    for s in &series {
-        axes.push(draw_plot(&out.join(s.file), s, frames)?);
-    }
-
-    // The lights over the environment map.
-    let lights_note = lights_picture(dir, &out.join("lights.png"));
 
     let html = page(
         dir,
@@ -547,17 +548,36 @@ fn file_name(p: &Path) -> String {
         .unwrap_or_else(|| p.display().to_string())
 }
 
+/// The animated preview: each frame's palette (NeuQuant at speed 10) and its LZW stream made
+/// in parallel, then the frames written in order — the file the image crate's GIF encoder
+/// writes, a frame at a time.
 fn write_gif(path: &Path, frames: &[RgbImage]) -> Result<()> {
-    use image::codecs::gif::{GifEncoder, Repeat};
-    use image::{Delay, Frame};
+    let Some(first) = frames.first() else {
+        return Ok(());
+    };
+    let size = |n: u32| u16::try_from(n).context("encoding GIF: a preview over 65535 pixels");
+    let (width, height) = (size(first.width())?, size(first.height())?);
+    let encoded: Vec<gif::Frame> = frames
+        .par_iter()
+        .map(|p| {
+            let mut rgba = image::DynamicImage::ImageRgb8(p.clone())
+                .to_rgba8()
+                .into_raw();
+            let mut frame = gif::Frame::from_rgba_speed(width, height, &mut rgba, 10);
+            frame.delay = (GIF_FRAME_MS / 10) as u16; // hundredths of a second
+            frame.dispose = gif::DisposalMethod::Background;
+            frame.make_lzw_pre_encoded();
+            frame
+        })
+        .collect();
     let mut bytes = Vec::new();
     {
-        let mut enc = GifEncoder::new_with_speed(&mut bytes, 10);
-        enc.set_repeat(Repeat::Infinite).context("encoding GIF")?;
-        for p in frames {
-            let rgba: RgbaImage = image::DynamicImage::ImageRgb8(p.clone()).to_rgba8();
-            let frame = Frame::from_parts(rgba, 0, 0, Delay::from_numer_denom_ms(GIF_FRAME_MS, 1));
-            enc.encode_frame(frame).context("encoding GIF")?;
+        let mut enc = gif::Encoder::new(&mut bytes, width, height, &[]).context("encoding GIF")?;
+        enc.set_repeat(gif::Repeat::Infinite)
+            .context("encoding GIF")?;
+        for frame in &encoded {
+            enc.write_lzw_pre_encoded_frame(frame)
+                .context("encoding GIF")?;
         }
     }
     output::write_atomic(path, &bytes)

@@ -47,15 +47,18 @@ impl Progress for Silent {}
 
 /// Where a run's finished frames go: frame files and `stats.csv` in the output folder
 /// (`frame_files::FrameFiles`), or a farm job's tile images and statistics (the farm's `JobWriter`).
-pub trait FrameSink: Send {
+/// Several frames are written at once, from different threads: `write` takes `&self`.
+pub trait FrameSink: Send + Sync {
     /// Called once the output folder exists, before any frame is rendered.
     fn begin(&mut self) -> Result<()> {
         Ok(())
     }
     /// Whether `frame` is already complete here (`--resume` skips it).
     fn frame_done(&self, frame: usize) -> bool;
-    /// Publishes one finished frame (from the writer thread, in the order frames finish).
-    fn write(&mut self, film: &Film, stats: &FrameStats) -> Result<()>;
+    /// Publishes one finished frame. Called inside a rayon pool of as many threads as the
+    /// render's workers, which its encoding may use, for several frames at once, in the order
+    /// frames finish: what it writes must not depend on that order.
+    fn write(&self, film: &Film, stats: &FrameStats) -> Result<()>;
     /// The run ended with every frame written: what it did.
     fn finish(&mut self, _summary: &RunSummary) -> Result<()> {
         Ok(())

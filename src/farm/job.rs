@@ -276,7 +276,7 @@ impl FrameSink for JobWriter {
     }
 
     /// Publishes one rendered frame: the tile image, then its statistics.
-    fn write(&mut self, film: &Film, stats: &FrameStats) -> Result<()> {
+    fn write(&self, film: &Film, stats: &FrameStats) -> Result<()> {
         let exr_path = tiles_path(&self.dir, stats.frame, "exr");
         write_tile_image(&exr_path, film, self.bbox)?;
         let bytes =

@@ -7,15 +7,19 @@
 //! `envshadow/…`: the frame number, the settings and the frame's counts.
 //!
 //! With `half`, every channel but those that need more ([`Channel::exact`]: counts and
-//! depth) is stored as 16-bit half float. ZIP compression in increasing scanline order,
-//! written on one thread, attributes in name order (as OpenEXR's own library writes them), so
-//! the same film always gives the same bytes.
+//! depth) is stored as 16-bit half float. ZIP compression, chunks compressed in parallel and
+//! written in increasing scanline order, attributes in name order (as OpenEXR's own library
+//! writes them), so the same film always gives the same bytes.
 
 use std::path::Path;
 
 use anyhow::{Context, anyhow};
+use exr::block::writer::ChunksWriter;
+use exr::block::{BlockIndex, UncompressedBlock};
+use exr::image::write::layers::{LayersWriter, WritableLayers};
 use exr::meta::attribute::{AttributeValue, Chromaticities, Text};
 use exr::prelude::*;
+use rayon::prelude::*;
 
 use crate::error::Result;
 use crate::film::Film;
@@ -142,6 +146,7 @@ fn text_value(s: &str) -> AttributeValue {
 
 /// The film's channels over `rect` (frame pixels), in [`Film::channels`] order (with
 /// `reference`, the validation's brute-force image too); half-float where `half` allows.
+/// Copied a channel per task on the current rayon pool.
 pub fn film_channels(
     film: &Film,
     rect: Rect,
@@ -150,7 +155,7 @@ pub fn film_channels(
 ) -> Vec<AnyChannel<FlatSamples>> {
     let fw = film.width as usize;
     film.channels(reference)
-        .into_iter()
+        .into_par_iter()
         .map(|c| {
             let mut v = Vec::with_capacity(rect.area());
             for y in rect.y0..rect.y1 {
@@ -180,9 +185,10 @@ pub fn write_channels(
     super::write_atomic(path, &bytes).with_context(|| format!("writing EXR {}", path.display()))
 }
 
-/// The EXR file of `channels` of a `size` image with the given attributes: ZIP compression
-/// in increasing scanline order on one thread, attributes in name order, so the same
-/// samples and attributes always give the same bytes.
+/// The EXR file of `channels` of a `size` image with the given attributes: ZIP compression,
+/// chunk by chunk in parallel on the current rayon pool, the chunks written in increasing
+/// scanline order whatever order they finish in, and attributes in name order, so the same
+/// samples and attributes always give the same bytes, on any number of threads.
 fn encode(
     size: (usize, usize),
     channels: Vec<AnyChannel<FlatSamples>>,
@@ -200,16 +206,30 @@ fn encode(
         encoding,
         AnyChannels::sort(SmallVec::from_vec(channels)),
     );
-    let image = Image {
-        attributes: image_attrs,
-        layer_data: layer,
-    };
+    let headers = layer.infer_headers(&image_attrs);
+    let layers = layer.create_writer(&headers);
     let mut bytes = std::io::Cursor::new(Vec::new());
-    image
-        .write()
-        .non_parallel()
-        .to_buffered(&mut bytes)
-        .context("encoding EXR")?;
+    // What the exr crate's own writer does, but on our pool: its parallel writer builds a
+    // thread pool of every core for each file, whatever `--threads` says.
+    exr::block::write(&mut bytes, headers, true, |meta, chunks| {
+        let blocks: Vec<(usize, BlockIndex)> =
+            meta.enumerate_ordered_header_block_indices().collect();
+        let compressed = blocks
+            .into_par_iter()
+            .map(|(index, block)| {
+                let data = layers.extract_uncompressed_block(&meta.headers, block);
+                let chunk =
+                    UncompressedBlock { index: block, data }.compress_to_chunk(&meta.headers)?;
+                Ok((index, chunk))
+            })
+            .collect::<exr::error::Result<Vec<_>>>()?;
+        // `collect` keeps the blocks' order: the file's chunks increase in y.
+        for (index, chunk) in compressed {
+            chunks.write_chunk(index, chunk)?;
+        }
+        Ok(())
+    })
+    .context("encoding EXR")?;
     let mut bytes = bytes.into_inner();
     sort_attributes(&mut bytes)?;
     Ok(bytes)
@@ -273,23 +293,39 @@ impl ReadFrame {
 /// Reads every channel of the first layer of an EXR made by [`encode_frame`] (half-float
 /// channels widened to f32).
 pub fn read_frame(path: &Path) -> Result<ReadFrame> {
+    read_frame_with(path, true)
+}
+
+/// [`read_frame`] decompressing on the calling thread: for callers that read many frames at
+/// once, a frame per thread, where the exr crate's parallel reading (a thread pool of every
+/// core for each file) only costs.
+pub fn read_frame_here(path: &Path) -> Result<ReadFrame> {
+    read_frame_with(path, false)
+}
+
+fn read_frame_with(path: &Path, parallel: bool) -> Result<ReadFrame> {
     let file = std::fs::File::open(path)
         .map_err(|e| crate::error::input_error(path, format!("cannot open: {e}")))?;
-    read_frame_from(std::io::BufReader::new(file))
+    read_frame_from(std::io::BufReader::new(file), parallel)
         .map_err(|e| crate::error::input_error(path, format!("not a readable EXR: {e}")))
 }
 
 /// [`read_frame`] from any seekable reader.
 fn read_frame_from(
     reader: impl std::io::Read + std::io::Seek + Send,
+    parallel: bool,
 ) -> std::result::Result<ReadFrame, exr::error::Error> {
-    let image = read()
+    let read = read()
         .no_deep_data()
         .largest_resolution_level()
         .all_channels()
         .first_valid_layer()
-        .all_attributes()
-        .from_buffered(reader)?;
+        .all_attributes();
+    let image = if parallel {
+        read.from_buffered(reader)?
+    } else {
+        read.non_parallel().from_buffered(reader)?
+    };
     let layer = image.layer_data;
     let channels = layer
         .channel_data
@@ -374,7 +410,7 @@ mod tests {
             assert!(encode_frame(&film, &header, false).unwrap() == first);
         }
         // Sorted by name, the header reads back.
-        let back = read_frame_from(std::io::Cursor::new(first)).unwrap();
+        let back = read_frame_from(std::io::Cursor::new(first), false).unwrap();
         let attrs = &back.attributes;
         assert_eq!(attrs.world_to_normalized_device, Some([1.0; 16]));
         assert_eq!(
@@ -387,6 +423,81 @@ mod tests {
                 .other
                 .contains_key(&text("envshadow/stats.thread_seconds"))
         );
+    }
+
+    /// Chunks compressed in parallel are the file the exr crate's own sequential writer
+    /// makes, byte for byte, on any number of threads: the chunks stay in increasing y.
+    #[test]
+    fn parallel_compression_writes_the_sequential_writers_bytes() {
+        let (w, h) = (37, 101); // seven 16-line chunks, the last one short
+        let mut film = Film::new(w, h, Default::default());
+        for c in film.channels(false) {
+            for i in 0..(w * h) as usize {
+                // Smooth with some noise, so chunks compress to different sizes.
+                let v = libm::sinf(i as f32 * 0.013) + ((i * 7919) % 13) as f32 * 0.01;
+                film.set(c, i, v);
+            }
+        }
+        let stats = stats();
+        let header = FrameHeader {
+            world_to_camera: [0.0; 16],
+            world_to_ndc: [1.0; 16],
+            fps: 24.0,
+            settings: &[],
+            stats: &stats,
+        };
+        for half in [false, true] {
+            let channels = film_channels(&film, Rect::frame(w, h), false, half);
+            let size = (w as usize, h as usize);
+            let layer = Layer::new(
+                size,
+                LayerAttributes::default(),
+                Encoding {
+                    compression: Compression::ZIP16,
+                    blocks: Blocks::ScanLines,
+                    line_order: LineOrder::Increasing,
+                },
+                AnyChannels::sort(SmallVec::from_vec(channels.clone())),
+            );
+            let image = Image {
+                attributes: ImageAttributes::new(IntegerBounds::from_dimensions(size)),
+                layer_data: layer,
+            };
+            let mut sequential = std::io::Cursor::new(Vec::new());
+            image
+                .write()
+                .non_parallel()
+                .to_buffered(&mut sequential)
+                .unwrap();
+            let mut sequential = sequential.into_inner();
+            sort_attributes(&mut sequential).unwrap();
+            for threads in [1, 3, 8] {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                let attrs = ImageAttributes::new(IntegerBounds::from_dimensions(size));
+                let ours = pool
+                    .install(|| encode(size, channels.clone(), LayerAttributes::default(), attrs))
+                    .unwrap();
+                assert!(
+                    ours == sequential,
+                    "half {half}, {threads} threads: other bytes"
+                );
+            }
+            // The frame writer's own path too: the same bytes on any pool.
+            let one = rayon::ThreadPoolBuilder::new()
+                .num_threads(1)
+                .build()
+                .unwrap();
+            let many = rayon::ThreadPoolBuilder::new()
+                .num_threads(6)
+                .build()
+                .unwrap();
+            let a = one.install(|| encode_frame(&film, &header, half)).unwrap();
+            let b = many.install(|| encode_frame(&film, &header, half)).unwrap();
+            assert!(a == b, "half {half}: a frame's bytes depend on the threads");
+        }
     }
 
     #[test]

@@ -123,24 +123,29 @@ pub struct FrameFormat {
     pub half: bool,
 }
 
-/// A frame's two files: the EXR and the PNG preview.
+/// A frame's two files: the EXR and the PNG preview, encoded at once on the current rayon
+/// pool (each also parallel inside: the EXR's chunks, the preview's rows).
 fn encode_files(
     film: &Film,
     header: &exr::FrameHeader,
     format: &FrameFormat,
 ) -> Result<[Vec<u8>; 2]> {
-    let exr = exr::encode_frame(film, header, format.half)?;
-    let png = png::encode_preview(
-        film.width,
-        film.height,
-        &film
-            .layer(Channel::BEAUTY)
-            .expect("every film holds the beauty"),
-        film.plane(Channel::A),
-        format.exposure,
-        format.view,
-    )?;
-    Ok([exr, png])
+    let (exr, png) = rayon::join(
+        || exr::encode_frame(film, header, format.half),
+        || {
+            png::encode_preview(
+                film.width,
+                film.height,
+                &film
+                    .layer(Channel::BEAUTY)
+                    .expect("every film holds the beauty"),
+                film.plane(Channel::A),
+                format.exposure,
+                format.view,
+            )
+        },
+    );
+    Ok([exr?, png?])
 }
 
 /// Publishes one frame into `dir`: `frame_NNNN.png`, then its record
@@ -157,14 +162,15 @@ pub fn publish_frame(
 ) -> Result<record::FrameRecord> {
     let frame = header.stats.frame;
     let [exr, png] = encode_files(film, header, format)?;
+    let (exr_sha256, png_sha256) = rayon::join(|| record::sha256(&exr), || record::sha256(&png));
     let rec = record::FrameRecord {
         format: record::FRAME_FORMAT.into(),
         frame,
         settings: settings.into(),
         exr_bytes: exr.len() as u64,
-        exr_sha256: record::sha256(&exr),
+        exr_sha256,
         png_bytes: png.len() as u64,
-        png_sha256: record::sha256(&png),
+        png_sha256,
         stats_row: header.stats.csv_row(),
         rays_histogram: record::histogram_text(&record::count_histogram(
             film.plane(Channel::Rays).unwrap_or_default(),

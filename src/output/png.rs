@@ -4,6 +4,7 @@
 //! alpha, as PNG defines it, where the frame has transparent pixels.
 
 use anyhow::Context;
+use rayon::prelude::*;
 
 use crate::error::Result;
 use crate::view::View;
@@ -26,7 +27,8 @@ fn encode8(width: u32, height: u32, color: png::ColorType, pixels: &[u8]) -> Res
 
 /// The PNG file of a preview of linear RGB pixels, premultiplied by `alpha` where given:
 /// `exposure`, then `view`; RGBA with the colour unpremultiplied before the view when some
-/// pixel is less than opaque, else RGB.
+/// pixel is less than opaque, else RGB. Rows go through the view in parallel on the current
+/// rayon pool (each pixel's bytes depend on it alone); the compression is one stream.
 pub fn encode_preview(
     width: u32,
     height: u32,
@@ -35,20 +37,31 @@ pub fn encode_preview(
     exposure: f32,
     view: View,
 ) -> Result<Vec<u8>> {
+    let row = (width as usize).max(1);
     let Some(alpha) = alpha.filter(|a| a.iter().any(|&v| v < 1.0)) else {
-        let mut bytes = Vec::with_capacity(beauty.len() * 3);
-        for p in beauty {
-            bytes.extend_from_slice(&view.to_8bit(*p, exposure));
-        }
+        let mut bytes = vec![0u8; beauty.len() * 3];
+        bytes
+            .par_chunks_mut(row * 3)
+            .zip(beauty.par_chunks(row))
+            .for_each(|(out, px)| {
+                for (o, p) in out.chunks_exact_mut(3).zip(px) {
+                    o.copy_from_slice(&view.to_8bit(*p, exposure));
+                }
+            });
         return encode8(width, height, png::ColorType::Rgb, &bytes);
     };
-    let mut bytes = Vec::with_capacity(beauty.len() * 4);
-    for (p, &a) in beauty.iter().zip(alpha) {
-        let a = a.clamp(0.0, 1.0);
-        let straight = if a > 0.0 { p.map(|c| c / a) } else { [0.0; 3] };
-        bytes.extend_from_slice(&view.to_8bit(straight, exposure));
-        bytes.push((a * 255.0 + 0.5) as u8);
-    }
+    let mut bytes = vec![0u8; beauty.len() * 4];
+    bytes
+        .par_chunks_mut(row * 4)
+        .zip(beauty.par_chunks(row).zip(alpha.par_chunks(row)))
+        .for_each(|(out, (px, al))| {
+            for (o, (p, &a)) in out.chunks_exact_mut(4).zip(px.iter().zip(al)) {
+                let a = a.clamp(0.0, 1.0);
+                let straight = if a > 0.0 { p.map(|c| c / a) } else { [0.0; 3] };
+                o[..3].copy_from_slice(&view.to_8bit(straight, exposure));
+                o[3] = (a * 255.0 + 0.5) as u8;
+            }
+        });
     encode8(width, height, png::ColorType::Rgba, &bytes)
 }
 

@@ -43,3 +43,4 @@ mod simd;
 mod slurm;
 mod temporal;
 mod truck;
+mod writing;
