@@ -148,8 +148,11 @@ fn a_kill_before_any_rename_or_a_full_disk_at_any_write_then_resume_loses_nothin
     let out = tmp.path().join("out");
     let mut failures = Failures::new();
     // strace counts a syscall per thread: the main thread publishes settings.txt and
-    // lights.json, the writer thread then each frame's PNG, record, EXR and stats.csv. A fault
-    // at the n-th call of each thread reaches every publication of both.
+    // lights.json, the writer threads then each its frames' PNG, record, EXR and stats.csv. A
+    // fault at the n-th call of each thread, for every n up to the number of publications,
+    // reaches every publication of every thread; how many of those n fire is the busiest
+    // thread's count, which depends on how the frames fell to the writers (several write at
+    // once): at least one frame's four publications, at most all of them.
     let publications = 4 * FRAMES;
     for (syscall, fault) in [("rename", "signal=SIGKILL"), ("write", "error=ENOSPC")] {
         let mut fired = 0;
@@ -160,8 +163,8 @@ fn a_kill_before_any_rename_or_a_full_disk_at_any_write_then_resume_loses_nothin
             }
         }
         // One more than there are finishes untouched.
-        failures.check_eq(fired, publications, || {
-            format!("{syscall} faults that fired")
+        failures.check((4..=publications).contains(&fired), || {
+            format!("{syscall} faults that fired: {fired}, expected 4 to {publications}")
         });
     }
     failures.assert_none();
