@@ -667,9 +667,10 @@ mod tests {
         let sixteen = Request { spp: 16, ..one };
         let (a, b) = (estimate_bytes(&one), estimate_bytes(&sixteen));
         // Tiles and halos 4× wider in samples: the per-sample state grows 16×; the films
-        // (five frames alive) only by the coverage channel.
-        let (films, per_light) = (1920 * 1080 * 20 * 5, 400 * 256);
-        let coverage = 1920 * 1080 * 4 * 5;
+        // (of the frames alive) only by the coverage channel.
+        let alive = u128::from(FRAMES_ALIVE);
+        let (films, per_light) = (1920 * 1080 * 20 * alive, 400 * 256);
+        let coverage = 1920 * 1080 * 4 * alive;
         assert_eq!(
             b - films - coverage - per_light,
             16 * (a - films - per_light),

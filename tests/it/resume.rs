@@ -148,8 +148,9 @@ fn a_kill_before_any_rename_or_a_full_disk_at_any_write_then_resume_loses_nothin
     let out = tmp.path().join("out");
     let mut failures = Failures::new();
     // strace counts a syscall per thread: the main thread publishes settings.txt and
-    // lights.json, the writer thread then each frame's PNG, record, EXR and stats.csv. A fault
-    // at the n-th call of each thread reaches every publication of both.
+    // lights.json, the writers then each frame's PNG, record, EXR and stats.csv, a frame's four
+    // on one thread, frames on several threads at once. A fault at the n-th call of each
+    // thread reaches every publication of every thread.
     let publications = 4 * FRAMES;
     for (syscall, fault) in [("rename", "signal=SIGKILL"), ("write", "error=ENOSPC")] {
         let mut fired = 0;
@@ -159,9 +160,10 @@ fn a_kill_before_any_rename_or_a_full_disk_at_any_write_then_resume_loses_nothin
                 fired += 1;
             }
         }
-        // One more than there are finishes untouched.
-        failures.check_eq(fired, publications, || {
-            format!("{syscall} faults that fired")
+        // The n-th call fires where some thread made n: up to the most one thread published
+        // (one frame's at least, every frame's at most); one more than all finishes untouched.
+        failures.check((4..=publications).contains(&fired), || {
+            format!("{syscall} faults that fired: {fired}, expected 4 to {publications}")
         });
     }
     failures.assert_none();
