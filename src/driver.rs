@@ -402,9 +402,11 @@ fn shade(
                 }
             }
             if shader.members > 0 {
-                lit += shader.groups(bufs, false);
+                let members = &shader.member[..shader.members];
+                let groups = group(&bufs.surf, members, &mut shader.group_of);
+                lit += shader.groups(bufs, groups, false);
                 if holds.validated {
-                    exact += shader.groups(bufs, true);
+                    exact += shader.groups(bufs, groups, true);
                 }
             }
             // Each channel's value (those the tile does not hold are dropped).
@@ -486,25 +488,31 @@ impl<'a> Shader<'a> {
         }
     }
 
-    /// Sample `q` (a hit): its radiance and alpha, or — a glTF-material sample of the model at
-    /// the pixel rate — nothing yet but its alpha, 1, its radiance left to
-    /// [`Shader::groups`]. [ours] Lambertian samples are shaded alone at either rate: their
-    /// kernel costs about what counting their lights would (three products a light), and a
-    /// flat surface's samples reuse one sum ([`LambertCache`]), which counting cannot.
+    /// Whether hit `s` is shaded with its pixel's group: at the pixel rate, a glTF-material
+    /// sample of the model (not a catcher). [ours] Lambertian samples are shaded alone at
+    /// either rate: their kernel costs about what counting their lights would (three products
+    /// a light), and a flat surface's samples reuse one sum ([`LambertCache`]), which counting
+    /// cannot.
+    fn grouped(&self, s: &Surface) -> bool {
+        self.shared && !s.catcher && !s.material.lambert
+    }
+
+    /// Sample `q` (a hit): its radiance and alpha, or — a sample [`Shader::grouped`] — nothing
+    /// yet but its alpha, 1, its radiance left to [`Shader::groups`].
     fn sample(&mut self, bufs: &TileBuffers, q: usize) -> (Vec3, f32) {
         let (ctx, w) = (self.ctx, self.words);
         let s = &bufs.surf[q];
         let vis = bits::rows(&bufs.vis, w).row(q);
         let above = bits::rows(&bufs.above, w).row(q);
-        if s.catcher {
+        if self.grouped(s) {
+            self.member[self.members] = q;
+            self.members += 1;
+            (Vec3::ZERO, 1.0)
+        } else if s.catcher {
             // [ours] A catcher's shadow is the map's lights' (its fraction is against the
             // map's unshadowed light); the file's point and spot lights do not darken it.
             let sum = self.cache.light_sum(&ctx.shade_lights, s.n, vis);
             self.caches.1.sample(ctx, s, above, sum)
-        } else if self.shared && !s.material.lambert {
-            self.member[self.members] = q;
-            self.members += 1;
-            (Vec3::ZERO, 1.0)
         } else {
             (radiance_at(ctx, s, vis, above, &mut self.cache), 1.0)
         }
@@ -519,7 +527,7 @@ impl<'a> Shader<'a> {
     fn validate(&mut self, bufs: &TileBuffers, q: usize, counts: &mut Counts) -> (u64, Vec3) {
         let (ctx, w) = (self.ctx, self.words);
         let s = &bufs.surf[q];
-        let grouped = self.shared && !s.catcher && !s.material.lambert;
+        let grouped = self.grouped(s);
         // A grouped sample's row is its place among the members (it was just added); another
         // sample's is the spare row after them, which no member's traced bits occupy.
         let row = if grouped {
@@ -564,13 +572,12 @@ impl<'a> Shader<'a> {
         (wv + wb, exact)
     }
 
-    /// The summed radiance of the pixel's gathered samples, shaded in groups that share a
-    /// surface (`crate::shading_rate`), from their visible lights or, for the reference
-    /// (`traced`), from the lights [`Shader::validate`] traced.
-    fn groups(&mut self, bufs: &TileBuffers, traced: bool) -> Vec3 {
+    /// The summed radiance of the pixel's gathered samples, shaded in the `count` groups that
+    /// share a surface (`group_of`, from `crate::shading_rate::group`), from their visible
+    /// lights or, for the reference (`traced`), from the lights [`Shader::validate`] traced.
+    fn groups(&mut self, bufs: &TileBuffers, count: usize, traced: bool) -> Vec3 {
         let (ctx, w) = (self.ctx, self.words);
         let members = &self.member[..self.members];
-        let count = group(&bufs.surf, members, &mut self.group_of);
         let mut lit = Vec3::ZERO;
         let row = |i: usize, q: usize| {
             if traced {

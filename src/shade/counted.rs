@@ -13,9 +13,9 @@
 
 use glam::Vec3;
 
-use super::{BYTE_MASK, ShadeLights};
+use super::{BYTE_MASK, ShadeLights, specular_totals};
 use crate::bits::Rows;
-use crate::brdf::{Lobe, MAX_DV, Sums};
+use crate::brdf::{Lobe, Sums, light_terms};
 
 /// The lights (one byte of word `k`, at `shift`) any row has.
 #[inline(always)]
@@ -76,48 +76,21 @@ pub fn counted_specular(
     } else {
         specular_body::<false>(sl, lobe, vis, u)
     };
-    let sum = |a: &[f32; 8]| ((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]));
-    let rgb = |k: usize| Vec3::new(sum(&lanes[k]), sum(&lanes[k + 1]), sum(&lanes[k + 2]));
-    let sums = Sums {
-        s0: rgb(0),
-        s1: rgb(3),
-        s2: rgb(6),
-        s3: rgb(9),
-    };
-    (sums, sum(&lanes[12]))
+    specular_totals(&lanes)
 }
 
-/// The light terms of eight lights for `lobe`, as `crate::brdf::light_terms` computes them
-/// (operation for operation), with `cos` and `D · Vis` set to 0 where the light is below the
-/// lobe's horizon (so a count times them is 0, never 0 · ∞).
+/// The light terms of eight lights for `lobe` ([`light_terms`]), with `cos` and `D · Vis` set
+/// to 0 where the light is below the lobe's horizon (so a count times them is 0, never 0 · ∞).
 #[inline(always)]
 fn terms(sl: &ShadeLights, lobe: &Lobe, base: usize) -> ([f32; 8], [f32; 8], [f32; 8]) {
     let (x, y, z) = (lanes(&sl.x, base), lanes(&sl.y, base), lanes(&sl.z, base));
-    let (n, v) = (lobe.n, lobe.v);
     let (mut cos, mut w, mut dv) = ([0.0f32; 8], [0.0f32; 8], [0.0f32; 8]);
     for l in 0..8 {
-        let c = n.x * x[l] + n.y * y[l] + n.z * z[l];
-        let (hx, hy, hz) = (v.x + x[l], v.y + y[l], v.z + z[l]);
-        let hh = hx * hx + hy * hy + hz * hz;
-        let vh = (hh * 0.25).sqrt();
-        let t = 1.0 - vh;
-        let t2 = t * t;
-        w[l] = t2 * t2 * t;
-        let (cx, cy, cz) = (
-            n.y * hz - n.z * hy,
-            n.z * hx - n.x * hz,
-            n.x * hy - n.y * hx,
-        );
-        let cross = cx * cx + cy * cy + cz * cz;
-        let sum = lobe.n_dot_v + c;
-        let q = sum * sum * lobe.a2 + cross;
-        let kl = (c * c * lobe.one_minus_a2 + lobe.a2).sqrt();
-        let den = q * q * (c * lobe.kv + lobe.n_dot_v * kl);
-        let d = lobe.c * (hh * hh) / den;
-        let d = if d < MAX_DV { d } else { MAX_DV };
-        let up = c > 0.0;
-        cos[l] = if up { c } else { 0.0 };
-        dv[l] = if up { d } else { 0.0 };
+        let t = light_terms(lobe, Vec3::new(x[l], y[l], z[l]));
+        let up = t.cos > 0.0;
+        cos[l] = if up { t.cos } else { 0.0 };
+        w[l] = t.w;
+        dv[l] = if up { t.dv } else { 0.0 };
     }
     (cos, w, dv)
 }

@@ -340,6 +340,12 @@ pub fn specular_sums(
     } else {
         specular_lanes::<false>(sl, lobe, vis, above)
     };
+    specular_totals(&lanes)
+}
+
+/// The 13 × 8 lane sums of the specular kernels (s0, s1, s2, s3 as r, g, b each, then the
+/// unshadowed one) added up: each sum's eight lanes in a fixed order.
+fn specular_totals(lanes: &[[f32; 8]; 13]) -> (Sums, f32) {
     let sum = |a: &[f32; 8]| ((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]));
     let rgb = |k: usize| Vec3::new(sum(&lanes[k]), sum(&lanes[k + 1]), sum(&lanes[k + 2]));
     let sums = Sums {
