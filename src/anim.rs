@@ -52,7 +52,7 @@
 //! # background_color = [0.18, 0.18, 0.18]   # with "color": linear RGB
 //! # background_blur = 10.0      # with "blurred": degrees
 //! exposure = 1.0                # PNG preview exposure, before the view transform
-//! view = "agx"                  # PNG view transform: "agx", "filmic" or "standard"
+//! view = "agx"                  # PNG view transform: "agx", "hable" or "standard"
 //! tile = 64
 //! threads = 0                   # 0: all cores
 //! [output]

@@ -159,9 +159,10 @@ macro_rules! settings_list {
                 /// Exposure of the PNG previews, a multiplier applied before the view transform (the
                 /// EXR keeps linear radiance; default 1).
                 exposure: f32 = 1.0, key Exposure, flag "exposure" [value_name = "X"], check check_finite;
-                /// View transform of the PNG previews, after the exposure: agx (the default, as
-                /// Blender 4's: highlights roll off and desaturate), filmic (Hable's curve) or
-                /// standard (the sRGB curve, clipped at 1). The EXR stays linear.
+                /// View transform of the PNG previews, after the exposure: agx (the default,
+                /// Blender's AgX: highlights roll off and desaturate), hable (John Hable's filmic
+                /// curve, not Blender's Filmic) or standard (the sRGB curve, clipped at 1). The
+                /// EXR stays linear.
                 view: View = View::Agx, key View, flag "view" [value_name = "NAME"], check any;
                 /// Tile size in pixels: 0 (the whole frame is one tile) or at least 8 (default 64).
                 tile: u32 = 64, key Tile, flag "tile" [value_name = "N"], check check_tile;

@@ -1,4 +1,4 @@
-//! PNG previews: exposure, then the view transform ([`View`]: AgX, filmic or the clipped
+//! PNG previews: exposure, then the view transform ([`View`]: AgX, Hable's curve or the clipped
 //! sRGB curve), 8 bits, tagged sRGB (an `sRGB` chunk with its `gAMA` and `cHRM` fallbacks),
 //! so colour-managed viewers show them as written; RGBA with straight (unpremultiplied)
 //! alpha, as PNG defines it, where the frame has transparent pixels.

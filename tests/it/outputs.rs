@@ -214,7 +214,7 @@ fn the_png_is_the_exr_through_the_view() {
             View::Standard,
             vec!["--view", "standard", "--exposure", "2"],
         ),
-        (View::Filmic, vec!["--view", "filmic"]),
+        (View::Hable, vec!["--view", "hable"]),
     ] {
         let mut args = vec!["--frames", "2"];
         args.extend(flags.iter().copied());
@@ -251,7 +251,22 @@ fn the_png_is_the_exr_through_the_view() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{err}");
     assert!(
-        err.contains("aces") && err.contains("standard, filmic or agx"),
+        err.contains("aces") && err.contains("standard, hable or agx"),
+        "{err}"
+    );
+    // The old name of Hable's curve is refused with a pointer to its new one: it promised
+    // Blender's Filmic, which it is not.
+    let o = common::bin()
+        .arg("render")
+        .arg(SPEC)
+        .args(["--view", "filmic", "--out"])
+        .arg(tmp.path().join("old"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("hable") && err.contains("not Blender's Filmic"),
         "{err}"
     );
 }
