@@ -24,7 +24,11 @@ pub struct Surface {
     /// Unit shading normal (after the normal map), on the side facing the camera: it decides
     /// which lights are above the horizon, and shades.
     pub n: Vec3,
-    /// Unit geometric normal, on the side facing the camera.
+    /// Unit normal of the geometric horizon, on the side facing the camera: no light below it
+    /// is received, whatever the shading normal. The facet's normal; with the terminator
+    /// offset ([`FrameContext::terminator_offset`]) the smooth surface's, the interpolated
+    /// vertex normal (before the normal map), whose lights past the facet's plane the lifted
+    /// shadow rays then decide.
     pub ng: Vec3,
     /// Where shadow rays start: `p` moved along `ng` by a bound on its floating-point error
     /// ([`crate::offset`]), so no ray finds the surface it leaves, at any scale.
@@ -74,6 +78,10 @@ pub struct FrameContext<'a> {
     /// point-sampled textures (level-0 bilinear lookups). Set by
     /// [`with_samples`](Self::with_samples), see [`texture_footprint`].
     pub texture_footprint: f32,
+    /// Whether shadow rays leave from their point lifted onto the smooth surface of the vertex
+    /// normals ([`crate::offset::terminator_lift`]); see
+    /// [`with_terminator_offset`](Self::with_terminator_offset).
+    pub terminator_offset: bool,
     /// The prefiltered environment for lobes too narrow for the lights (none: the lights
     /// alone); see [`with_glossy`](Self::with_glossy).
     pub glossy: Option<&'a Glossy>,
@@ -108,8 +116,18 @@ impl<'a> FrameContext<'a> {
             shade_lights: ShadeLights::new(lights),
             samples: Samples::one(),
             texture_footprint: 0.0,
+            terminator_offset: false,
             glossy: None,
             env_turn: None,
+        }
+    }
+
+    /// This context with shadow rays leaving from the flat triangles (`false`, the default) or
+    /// from the smooth surface of the vertex normals (`true`).
+    pub fn with_terminator_offset(self, terminator_offset: bool) -> FrameContext<'a> {
+        FrameContext {
+            terminator_offset,
+            ..self
         }
     }
 
@@ -237,15 +255,28 @@ impl<'a> FrameContext<'a> {
         };
         // The material there, and the interpolated normal bent by its normal map (in the
         // mesh's own orientation, before either normal turns to the camera).
-        let at = self
-            .scene
-            .material_at(tri, bary, footprint, self.scene.shading_normal(tri, bary));
+        let smooth = self.scene.shading_normal(tri, bary);
+        let at = self.scene.material_at(tri, bary, footprint, smooth);
         let mut n = at.normal;
         // Shade the side the camera sees: both normals turn towards the viewer.
-        if ng.dot(dir) > 0.0 {
+        let side = if ng.dot(dir) > 0.0 {
             ng = -ng;
             n = -n;
-        }
+            -1.0
+        } else {
+            1.0
+        };
+        // The terminator offset: shadow rays leave from the smooth surface, and lights are
+        // received down to its horizon, not the facet's (whose steps draw a faceted
+        // terminator on a coarse mesh) — where it leans less than 90° from the facet.
+        let (from, horizon) = if self.terminator_offset {
+            let normals = self.scene.corner_normals(tri);
+            let lift = crate::offset::terminator_lift(p, [p0, p1, p2], normals, bary, side, ng);
+            let smooth = smooth * side;
+            (p + lift, if smooth.dot(ng) > 0.0 { smooth } else { ng })
+        } else {
+            (p, ng)
+        };
         // An interpolated normal pointing away from the visible side (back-to-back faces in
         // scanned meshes) would light the surface from behind; the facet's own normal will not.
         if n.dot(ng) <= 0.0 || !n.is_finite() {
@@ -254,8 +285,8 @@ impl<'a> FrameContext<'a> {
         Surface {
             p,
             n,
-            ng,
-            origin: offset_origin(p, err, ng),
+            ng: horizon,
+            origin: offset_origin(from, err, ng),
             albedo: at.base_color,
             dir,
             hit: true,

@@ -120,7 +120,8 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
     let accel = scene.accel();
     let lights = inputs.lights_at(&anim, args.frame);
     let ctx = FrameContext::new(scene, &accel, camera, &lights, &inputs.env)
-        .with_samples(samples.clone());
+        .with_samples(samples.clone())
+        .with_terminator_offset(anim.render.terminator_offset);
     write_surface(&dir.join("surface.f32"), &ctx)?;
     write_materials(dir, scene)?;
 

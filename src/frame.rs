@@ -113,6 +113,7 @@ pub fn render_tile_list(
     let lights = inputs.lights_at(anim, frame);
     let ctx = FrameContext::new(scene, accel, camera, &lights, &inputs.env)
         .with_samples(anim.render.samples())
+        .with_terminator_offset(anim.render.terminator_offset)
         .with_glossy(anim.render.glossy_env.then(|| inputs.glossy()).flatten())
         .with_backdrop(&inputs.backdrop)
         .with_environment_turn(anim.motion.environment_degrees(frame));

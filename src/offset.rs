@@ -65,6 +65,41 @@ pub fn offset_origin(p: Vec3, err: Vec3, ng: Vec3) -> Vec3 {
     Vec3::new(away(o.x, ng.x), away(o.y, ng.y), away(o.z, ng.z))
 }
 
+/// How far to move a shadow ray's point `p` (at barycentrics `(u, v)` of the triangle with
+/// `corners`) onto the smooth surface its vertex `normals` describe, seen from `side` (1 on
+/// the normals' side, −1 behind them): Hanika's shadow-terminator fix ("Hacking the Shadow
+/// Terminator", Ray Tracing Gems II, 2021), `Σ bᵢ · max(0, −(p − cᵢ)·nᵢ) · nᵢ` — the point
+/// projected onto each corner's tangent plane where it lies below it, blended by the
+/// barycentrics. Zero on flat parts (every normal the face's) and on concave ones (the point
+/// above every tangent plane); on a coarse convex mesh it lifts the point out of the shadow
+/// of its own neighbouring facets, which is what draws a faceted terminator. [ours] Zero
+/// where the blend would point below the triangle (normals bent past its plane), so a ray
+/// never leaves from under the surface it starts on.
+#[inline]
+pub fn terminator_lift(
+    p: Vec3,
+    corners: [Vec3; 3],
+    normals: [Vec3; 3],
+    (u, v): (f32, f32),
+    side: f32,
+    ng: Vec3,
+) -> Vec3 {
+    let w = [1.0 - u - v, u, v];
+    let mut lift = Vec3::ZERO;
+    for i in 0..3 {
+        let n = normals[i] * side;
+        let below = (p - corners[i]).dot(n);
+        if below < 0.0 {
+            lift -= n * (below * w[i]);
+        }
+    }
+    if lift.dot(ng) > 0.0 && lift.is_finite() {
+        lift
+    } else {
+        Vec3::ZERO
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -267,5 +302,34 @@ mod tests {
             }
         }
         assert!(rays > 10_000, "{rays}");
+    }
+
+    /// Hanika's lift: zero on a flat patch (every corner normal the face's) and on a concave
+    /// one; on a convex one it moves the point outwards, onto the tangent planes it lies
+    /// below — and seen from behind (`side` −1) the same patch is concave.
+    #[test]
+    fn the_terminator_lift_raises_points_of_convex_patches_only() {
+        let c = [Vec3::ZERO, Vec3::X, Vec3::Y];
+        let p = Vec3::new(0.25, 0.25, 0.0);
+        let bary = (0.25, 0.25);
+        let up = Vec3::Z;
+        assert_eq!(terminator_lift(p, c, [up; 3], bary, 1.0, up), Vec3::ZERO);
+        // Corner normals leaning away from the centroid: a cap (convex).
+        let centre = Vec3::new(1.0 / 3.0, 1.0 / 3.0, 0.0);
+        let cap = c.map(|v| (v - centre + up * 4.0).normalize());
+        let lift = terminator_lift(p, c, cap, bary, 1.0, up);
+        assert!(lift.z > 0.0 && lift.z < 0.1, "{lift}");
+        // The same cap seen from below is a bowl: no lift.
+        assert_eq!(terminator_lift(p, c, cap, bary, -1.0, -up), Vec3::ZERO);
+        // Normals leaning towards the centroid: a bowl from above, a cap from below.
+        let bowl = c.map(|v| (centre - v + up * 4.0).normalize());
+        assert_eq!(terminator_lift(p, c, bowl, bary, 1.0, up), Vec3::ZERO);
+        let under = terminator_lift(p, c, bowl, bary, -1.0, -up);
+        assert!(under.z < 0.0, "{under}");
+        // At a corner the point lies on that corner's tangent plane: nothing to lift.
+        assert_eq!(
+            terminator_lift(c[0], c, cap, (0.0, 0.0), 1.0, up),
+            Vec3::ZERO
+        );
     }
 }

@@ -390,6 +390,12 @@ impl Scene {
         (b - a).cross(c - a).normalize_or_zero()
     }
 
+    /// The vertex normals of triangle `tri`'s corners.
+    #[inline]
+    pub fn corner_normals(&self, tri: usize) -> [Vec3; 3] {
+        self.triangles[tri].map(|i| self.normals[i as usize])
+    }
+
     /// Interpolated, normalised vertex normal at barycentric `(u, v)` of triangle `tri`; the face
     /// normal where the interpolation cancels.
     pub fn shading_normal(&self, tri: usize, bary: (f32, f32)) -> Vec3 {

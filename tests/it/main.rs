@@ -42,5 +42,6 @@ mod scene;
 mod simd;
 mod slurm;
 mod temporal;
+mod terminator;
 mod truck;
 mod writing;
