@@ -472,13 +472,10 @@ impl Animation {
             (None, Some(f)) => SceneSource::File(rel(f)),
             _ => bail_input!(path, "[scene] needs exactly one of `builtin` or `file`"),
         };
-        let env = match flags.env.as_deref() {
-            Some(p) if p == Path::new("builtin:sky") => Some(EnvSource::Sky),
-            Some(p) => Some(EnvSource::File(p.to_path_buf())),
-            None => None,
-        };
+        // `--env` replaces the spec's map (relative to the working directory, as flags are).
         let env = match (&spec.environment.builtin, &spec.environment.file) {
-            _ if env.is_some() => env.unwrap_or(EnvSource::Sky),
+            _ if flags.env.as_deref() == Some(Path::new("builtin:sky")) => EnvSource::Sky,
+            _ if flags.env.is_some() => EnvSource::File(flags.env.clone().unwrap_or_default()),
             (Some(b), None) if b == "sky" => EnvSource::Sky,
             (Some(b), None) => bail_input!(
                 path,

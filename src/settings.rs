@@ -508,15 +508,17 @@ fn check_finite(v: &f32) -> std::result::Result<(), String> {
 }
 
 fn check_intensity(v: &f32) -> std::result::Result<(), String> {
-    if v.is_finite() && *v >= 0.0 {
+    check_finite(v)?;
+    if *v >= 0.0 {
         Ok(())
     } else {
-        Err("must be a finite number ≥ 0".into())
+        Err("must be ≥ 0".into())
     }
 }
 
 fn check_distance(v: &f32) -> std::result::Result<(), String> {
-    if v.is_finite() && *v >= 0.0 {
+    check_finite(v)?;
+    if *v >= 0.0 {
         Ok(())
     } else {
         Err("must be 0 (auto-framed) or a positive distance".into())
@@ -524,7 +526,8 @@ fn check_distance(v: &f32) -> std::result::Result<(), String> {
 }
 
 fn check_elevation(v: &f32) -> std::result::Result<(), String> {
-    if v.is_finite() && (-90.0..=90.0).contains(v) {
+    check_finite(v)?;
+    if (-90.0..=90.0).contains(v) {
         Ok(())
     } else {
         Err("must be -90 to 90 degrees".into())
@@ -532,7 +535,8 @@ fn check_elevation(v: &f32) -> std::result::Result<(), String> {
 }
 
 fn check_vfov(v: &f32) -> std::result::Result<(), String> {
-    if v.is_finite() && *v > 0.0 && *v < 180.0 {
+    check_finite(v)?;
+    if *v > 0.0 && *v < 180.0 {
         Ok(())
     } else {
         Err("must be between 0 and 180 degrees (both excluded)".into())
