@@ -19,12 +19,16 @@
 //! scene_lights = true           # also the glTF file's own lights (KHR_lights_punctual)
 //! [camera]
 //! target = [0.0, 0.5, 0.0]      # default: the scene's bounding-box centre
-//! distance = 7.0                # default: frames the model as it turns (at most 9/10 of the frame)
+//! distance = 7.0                # 0 or absent: auto-framed (the model fills at most 9/10)
 //! elevation = 25.0              # degrees above the horizon
 //! azimuth = 20.0                # degrees from +Z towards +X
 //! vfov = 40.0                   # vertical field of view, degrees
 //! # position = [x, y, z]        # instead of distance/elevation/azimuth
-//! # from_file = true            # use the glTF file's camera
+//! # from_file = true            # use the glTF file's first camera
+//! # Each of rotation, intensity, distance, elevation, azimuth, vfov and from_file has its flag
+//! # (--env-rotation, --env-intensity, --distance, …, --gltf-camera), and [motion]'s frames and
+//! # degrees_per_frame theirs (--frame-count, --degrees-per-frame); `render --write-spec FILE`
+//! # writes a render's resolved settings as a spec like this one.
 //! [motion]
 //! kind = "orbit"                # camera orbits the target; "spin": the scene turns;
 //!                               # "environment": the lights and background turn; "none"
