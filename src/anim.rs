@@ -19,12 +19,16 @@
 //! scene_lights = true           # also the glTF file's own lights (KHR_lights_punctual)
 //! [camera]
 //! target = [0.0, 0.5, 0.0]      # default: the scene's bounding-box centre
-//! distance = 7.0                # default: frames the model as it turns (at most 9/10 of the frame)
+//! distance = 7.0                # 0 or absent: auto-framed (the model fills at most 9/10)
 //! elevation = 25.0              # degrees above the horizon
 //! azimuth = 20.0                # degrees from +Z towards +X
 //! vfov = 40.0                   # vertical field of view, degrees
 //! # position = [x, y, z]        # instead of distance/elevation/azimuth
-//! # from_file = true            # use the glTF file's camera
+//! # from_file = true            # use the glTF file's first camera
+//! # Each of rotation, intensity, distance, elevation, azimuth, vfov and from_file has its flag
+//! # (--env-rotation, --env-intensity, --distance, …, --gltf-camera), and [motion]'s frames and
+//! # degrees_per_frame theirs (--frame-count, --degrees-per-frame); `render --write-spec FILE`
+//! # writes a render's resolved settings as a spec like this one.
 //! [motion]
 //! kind = "orbit"                # camera orbits the target; "spin": the scene turns;
 //!                               # "environment": the lights and background turn; "none"
@@ -86,8 +90,8 @@ use crate::motion::{Motion, MotionSpecs};
 use crate::output::record::{SettingsRecord, file_sha256};
 use crate::scene::{MaterialOverride, Scene};
 use crate::settings::{
-    Lights, LightsLayer, Output, OutputLayer, Render, RenderLayer, SceneLayer, SceneSettings,
-    Source, check_applies,
+    CameraLayer, EnvLayer, Lights, LightsLayer, Output, OutputLayer, Render, RenderLayer,
+    SceneLayer, SceneSettings, Source, check_applies,
 };
 
 /// Limits checked before any work starts (see [`crate::limits`]).
@@ -145,10 +149,9 @@ impl SceneSpec {
 struct EnvSpec {
     builtin: Option<String>,
     file: Option<PathBuf>,
-    #[serde(default)]
-    rotation: f32,
-    #[serde(default = "one")]
-    intensity: f32,
+    // The settings of `EnvLayer` (`crate::settings`), by name, as `SceneSpec`'s.
+    rotation: Option<f32>,
+    intensity: Option<f32>,
 }
 
 impl Default for EnvSpec {
@@ -156,8 +159,18 @@ impl Default for EnvSpec {
         EnvSpec {
             builtin: Some("sky".into()),
             file: None,
-            rotation: 0.0,
-            intensity: 1.0,
+            rotation: None,
+            intensity: None,
+        }
+    }
+}
+
+impl EnvSpec {
+    /// The settings given in the spec's `[environment]`.
+    fn layer(&self) -> EnvLayer {
+        EnvLayer {
+            rotation: self.rotation,
+            intensity: self.intensity,
         }
     }
 }
@@ -166,47 +179,45 @@ impl Default for EnvSpec {
 #[serde(deny_unknown_fields)]
 struct CameraSpec {
     target: Option<[f32; 3]>,
-    distance: Option<f32>,
-    #[serde(default = "default_elevation")]
-    elevation: f32,
-    #[serde(default = "default_azimuth")]
-    azimuth: f32,
-    #[serde(default = "default_vfov")]
-    vfov: f32,
     #[serde(default = "default_up")]
     up: [f32; 3],
     position: Option<[f32; 3]>,
-    #[serde(default)]
-    from_file: bool,
+    // The settings of `CameraLayer` (`crate::settings`), by name, as `SceneSpec`'s.
+    distance: Option<f32>,
+    elevation: Option<f32>,
+    azimuth: Option<f32>,
+    vfov: Option<f32>,
+    from_file: Option<bool>,
 }
 
 impl Default for CameraSpec {
     fn default() -> Self {
         CameraSpec {
             target: None,
-            distance: None,
-            elevation: default_elevation(),
-            azimuth: default_azimuth(),
-            vfov: default_vfov(),
             up: default_up(),
             position: None,
-            from_file: false,
+            distance: None,
+            elevation: None,
+            azimuth: None,
+            vfov: None,
+            from_file: None,
         }
     }
 }
 
-fn one() -> f32 {
-    1.0
+impl CameraSpec {
+    /// The settings given in the spec's `[camera]`.
+    fn layer(&self) -> CameraLayer {
+        CameraLayer {
+            distance: self.distance,
+            elevation: self.elevation,
+            azimuth: self.azimuth,
+            vfov: self.vfov,
+            from_file: self.from_file,
+        }
+    }
 }
-fn default_elevation() -> f32 {
-    25.0
-}
-fn default_azimuth() -> f32 {
-    20.0
-}
-fn default_vfov() -> f32 {
-    40.0
-}
+
 fn default_up() -> [f32; 3] {
     [0.0, 1.0, 0.0]
 }
@@ -296,8 +307,29 @@ pub struct AnimFlags {
     /// Frames to render, from 0: a list of pieces joined by commas, each N, A-B (B included,
     /// as Blender's), A..B (B excluded), or A..=B, a range optionally with :STEP, e.g.
     /// `1-10`, `1,5,9`, `1-10:2`, `0..24`, `1-3,7,10-20:5`. Default: all of the animation.
+    /// A model's turntable (no spec) grows to the last frame asked for at its 5° a frame
+    /// (frame N is N×5° round, whatever the selection); --frame-count N instead spreads one
+    /// turn over N frames. A spec's frames past its last are refused.
     #[arg(long, value_name = "LIST")]
     pub frames: Option<FrameSet>,
+    /// Frames in the animation, over a single motion's `[motion] frames` (72 for a model's
+    /// turntable): its turn (`turn_degrees`, default 360°) spreads over them unless
+    /// --degrees-per-frame (or the spec's `degrees_per_frame`) says otherwise.
+    #[arg(long, value_name = "N")]
+    pub frame_count: Option<usize>,
+    /// Degrees the motion turns from one frame to the next, over a single motion's
+    /// `[motion] degrees_per_frame` or `turn_degrees` (a model's turntable: 5).
+    #[arg(long, value_name = "DEGREES", allow_negative_numbers = true)]
+    pub degrees_per_frame: Option<f32>,
+    /// Light the scene with this lat-long map (.exr, .hdr; `builtin:sky` for the built-in
+    /// sky) instead of the spec's `[environment]` map (a model's default: the built-in sky at
+    /// intensity 0.25). Relative to the working directory.
+    #[arg(long, value_name = "MAP")]
+    pub env: Option<PathBuf>,
+    #[command(flatten)]
+    pub environment: EnvLayer,
+    #[command(flatten)]
+    pub camera: CameraLayer,
     #[command(flatten)]
     pub scene: SceneLayer,
     #[command(flatten)]
@@ -340,8 +372,9 @@ impl MaterialFlags {
 
 impl AnimFlags {
     /// Refuses the settings given here that `command` does not read: they would change nothing
-    /// it writes. The material flags are not settings; every command that takes them reads
-    /// them.
+    /// it writes. The material flags, `--env`, `--frame-count`, `--degrees-per-frame` and the
+    /// environment's and camera's settings are not refused: every command that takes them
+    /// (render, plan, export) reads them.
     pub fn refuse_unread(&self, reads: &[Key], command: &str) -> Result<()> {
         if self.frames.is_some() {
             bail_input!("--frames", "does not apply to {command}");
@@ -417,7 +450,13 @@ impl Animation {
     /// value is checked where it came from, and a setting the chosen method does not read is
     /// refused.
     pub fn parse(text: &str, path: &Path, flags: &AnimFlags) -> Result<Animation> {
-        let spec: Spec =
+        Animation::parse_as(text, path, flags, false)
+    }
+
+    /// [`parse`](Self::parse); `grows`: frames asked for past the last lengthen a single
+    /// motion at its degrees per frame (a model's turntable, whose frame count is ours).
+    fn parse_as(text: &str, path: &Path, flags: &AnimFlags, grows: bool) -> Result<Animation> {
+        let mut spec: Spec =
             toml::from_str(text).map_err(|e| input_error(path, toml_message(text, &e)))?;
         let base = path.parent().unwrap_or(Path::new("")).to_path_buf();
         let rel = |p: &Path| {
@@ -437,7 +476,10 @@ impl Animation {
             (None, Some(f)) => SceneSource::File(rel(f)),
             _ => bail_input!(path, "[scene] needs exactly one of `builtin` or `file`"),
         };
+        // `--env` replaces the spec's map (relative to the working directory, as flags are).
         let env = match (&spec.environment.builtin, &spec.environment.file) {
+            _ if flags.env.as_deref() == Some(Path::new("builtin:sky")) => EnvSource::Sky,
+            _ if flags.env.is_some() => EnvSource::File(flags.env.clone().unwrap_or_default()),
             (Some(b), None) if b == "sky" => EnvSource::Sky,
             (Some(b), None) => bail_input!(
                 path,
@@ -449,7 +491,7 @@ impl Animation {
             }
             (None, None) => EnvSource::Sky,
         };
-        let motion = Motion::from_spec(&spec.motion, path)?;
+        let motion = motion_of(&mut spec.motion, path, flags, grows)?;
         let frame_count = motion.frame_count();
         let (spec_source, flags_source) = (Source::Spec(path), Source::Flags);
         let spec_scene = spec.scene.layer();
@@ -457,6 +499,11 @@ impl Animation {
         spec.lights.check(spec_source)?;
         spec.render.check(spec_source)?;
         spec.output.check(spec_source)?;
+        let (spec_env, spec_camera) = (spec.environment.layer(), spec.camera.layer());
+        spec_env.check(spec_source)?;
+        spec_camera.check(spec_source)?;
+        flags.environment.check(flags_source)?;
+        flags.camera.check(flags_source)?;
         flags.scene.check(flags_source)?;
         flags.lights.check(flags_source)?;
         flags.render.check(flags_source)?;
@@ -484,17 +531,8 @@ impl Animation {
                 "[scene] catchers names glTF nodes; the built-in shapes scene has none"
             );
         }
-        let v3 = |a: [f32; 3]| Vec3::from_array(a);
-        let camera = CameraRig {
-            target: spec.camera.target.map(v3),
-            distance: spec.camera.distance,
-            elevation_deg: spec.camera.elevation,
-            azimuth_deg: spec.camera.azimuth,
-            vfov_deg: spec.camera.vfov,
-            up: v3(spec.camera.up),
-            position: spec.camera.position.map(v3),
-            from_file: spec.camera.from_file,
-        };
+        let camera = camera_rig(&spec.camera, &flags.camera)?;
+        let environment = flags.environment.clone().over(spec_env).resolve();
         let mut anim = Animation {
             spec_path: path.to_path_buf(),
             name: spec.name.clone().unwrap_or_else(|| {
@@ -506,8 +544,8 @@ impl Animation {
             scene_settings: flags.scene.clone().over(spec_scene).resolve(),
             catchers: spec.scene.catchers.clone(),
             env,
-            env_rotation_deg: spec.environment.rotation,
-            env_intensity: spec.environment.intensity,
+            env_rotation_deg: environment.rotation,
+            env_intensity: environment.intensity,
             camera,
             motion,
             frame_count,
@@ -527,7 +565,7 @@ impl Animation {
                 bail_input!(
                     "--frames",
                     "{r}: frame(s) {outside} are past the animation's last frame, {} (its {} \
-                     frames are numbered from 0)",
+                     frames are numbered from 0; --frame-count N makes it N frames long)",
                     anim.frame_count.saturating_sub(1),
                     anim.frame_count
                 );
@@ -546,6 +584,7 @@ impl Animation {
     /// map `env`; 200 lights; 640×480 at 4 samples per pixel; a ground if
     /// the model has none (`[scene] ground = "auto"`); frames in `out/<model's name>/`.
     pub fn of_model(model: &Path, env: Option<&Path>, flags: &AnimFlags) -> Result<Animation> {
+        let env = env.or(flags.env.as_deref());
         let stem = model
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
@@ -556,10 +595,12 @@ impl Animation {
                 .map_err(|e| input_error(p, format!("cannot resolve the path: {e}")))
         };
         let environment = match env {
-            Some(map) => format!("file = {}", quote(&absolute(map)?.to_string_lossy())),
+            Some(map) if map != Path::new("builtin:sky") => {
+                format!("file = {}", quote(&absolute(map)?.to_string_lossy()))
+            }
             // The built-in sun is bright: at a quarter (as the default animation has it) a
             // white model does not clip at exposure 1.
-            None => "builtin = \"sky\"\nintensity = 0.25".to_string(),
+            _ => "builtin = \"sky\"\nintensity = 0.25".to_string(),
         };
         let text = format!(
             "name = {name}\n[scene]\nfile = {file}\n[environment]\n{environment}\n\
@@ -569,7 +610,7 @@ impl Animation {
             file = quote(&absolute(model)?.to_string_lossy()),
             dir = quote(&Path::new("out").join(&stem).to_string_lossy()),
         );
-        Animation::parse(&text, model, flags)
+        Animation::parse_as(&text, model, flags, true)
     }
 
     /// The loaded `scene` as the spec asks for it: turned upright (`[scene] up`), its materials
@@ -731,25 +772,7 @@ impl Animation {
         if self.camera.up.length_squared() == 0.0 {
             bail_input!(path, "[camera] up = [0, 0, 0] has no direction");
         }
-        if self.env_intensity < 0.0 {
-            bail_input!(
-                path,
-                "[environment] intensity = {} must be ≥ 0",
-                self.env_intensity
-            );
-        }
-        if !(self.camera.vfov_deg > 0.0 && self.camera.vfov_deg < 179.0) {
-            bail_input!(
-                path,
-                "[camera] vfov = {} must be between 0 and 179 degrees",
-                self.camera.vfov_deg
-            );
-        }
-        if let Some(d) = self.camera.distance
-            && !(d.is_finite() && d > 0.0)
-        {
-            bail_input!(path, "[camera] distance = {d} must be positive");
-        }
+        // Intensity, field of view and distance are checked as settings, where they enter.
         Ok(())
     }
 
@@ -951,6 +974,138 @@ impl Animation {
     }
 }
 
+impl Animation {
+    /// This animation as a spec (`render --write-spec`): every setting resolved, the command
+    /// line's included, input files and the output folder by absolute path, so that the
+    /// spec renders the same frames from any folder. `--frames` is a selection, not a
+    /// setting: the spec renders every frame.
+    pub fn spec_text(&self) -> Result<String> {
+        use crate::settings::{CameraSettings, EnvSettings, spec_float};
+        use toml::Value as V;
+        let absolute = |p: &Path| -> Result<V> {
+            let a = std::path::absolute(p)
+                .map_err(|e| input_error(p, format!("cannot resolve the path: {e}")))?;
+            Ok(V::String(a.to_string_lossy().into_owned()))
+        };
+        let float = |x: f32| V::Float(spec_float(x));
+        let vector = |v: Vec3| V::Array(v.to_array().map(float).to_vec());
+        let mut doc = toml::Table::new();
+        doc.insert("name".into(), V::String(self.name.clone()));
+
+        let mut scene = self.scene_settings.layer().spec_table();
+        match &self.scene {
+            SceneSource::Shapes => scene.insert("builtin".into(), V::String("shapes".into())),
+            SceneSource::File(p) => scene.insert("file".into(), absolute(p)?),
+        };
+        if !self.catchers.is_empty() {
+            let names = self.catchers.iter().map(|c| V::String(c.clone())).collect();
+            scene.insert("catchers".into(), V::Array(names));
+        }
+        doc.insert("scene".into(), V::Table(scene));
+
+        let environment = EnvSettings {
+            rotation: self.env_rotation_deg,
+            intensity: self.env_intensity,
+        };
+        let mut env = environment.layer().spec_table();
+        match &self.env {
+            EnvSource::Sky => env.insert("builtin".into(), V::String("sky".into())),
+            EnvSource::File(p) => env.insert("file".into(), absolute(p)?),
+        };
+        doc.insert("environment".into(), V::Table(env));
+        doc.insert("lights".into(), V::Table(self.lights.layer().spec_table()));
+
+        let c = &self.camera;
+        let placed = CameraSettings {
+            distance: c.distance.unwrap_or(0.0),
+            elevation: c.elevation_deg,
+            azimuth: c.azimuth_deg,
+            vfov: c.vfov_deg,
+            from_file: c.from_file,
+        };
+        let mut camera = placed.layer().spec_table();
+        camera.insert("up".into(), vector(c.up));
+        if let Some(t) = c.target {
+            camera.insert("target".into(), vector(t));
+        }
+        if let Some(p) = c.position {
+            camera.insert("position".into(), vector(p));
+        }
+        doc.insert("camera".into(), V::Table(camera));
+        doc.insert("motion".into(), self.motion.spec_value());
+        doc.insert("render".into(), V::Table(self.spec_render().spec_table()));
+
+        let mut output = self.output.layer().spec_table();
+        output.insert("dir".into(), absolute(&self.output.dir)?);
+        doc.insert("output".into(), V::Table(output));
+        let materials = self.spec_materials()?;
+        if !materials.is_empty() {
+            doc.insert("material".into(), V::Table(materials));
+        }
+        let text = toml::to_string(&doc)
+            .map_err(|e| input_error(&self.spec_path, format!("cannot write as a spec: {e}")))?;
+        Ok(format!(
+            "# Written by `envshadow render --write-spec`: the resolved settings of a render of\n\
+             # {}; `envshadow render` this file renders the same frames.\n{text}",
+            self.spec_path.display()
+        ))
+    }
+
+    /// Writes [`spec_text`](Self::spec_text) to `path` (a temporary file, then renamed).
+    pub fn write_spec(&self, path: &Path) -> Result<()> {
+        let text = self.spec_text()?;
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir)
+                .map_err(|e| input_error(dir, format!("cannot create the folder: {e}")))?;
+        }
+        crate::output::write_atomic(path, text.as_bytes())
+    }
+
+    /// The `[render]` settings a spec gives: those the method reads, the key-frame interval
+    /// with temporal prediction, the background's colour or blur with that background (a
+    /// spec giving the others is refused).
+    fn spec_render(&self) -> RenderLayer {
+        use crate::background::Background;
+        let r = &self.render;
+        let mut layer = r.layer();
+        for (key, _) in layer.clone().given_keys() {
+            let unread = crate::settings::method_specific(key) && !r.method.reads(key);
+            let off = match key {
+                Key::Keyframe => !r.temporal,
+                Key::BackgroundColor => r.background != Background::Color,
+                Key::BackgroundBlur => r.background != Background::Blurred,
+                _ => false,
+            };
+            if unread || off {
+                layer.clear(key);
+            }
+        }
+        layer
+    }
+
+    /// The `[material]` table that overrides the materials as the spec's `[material]` and
+    /// the command line's `--clay`, `--lambert` do: those apply after the spec's named
+    /// overrides, so they join each named table too.
+    fn spec_materials(&self) -> Result<toml::Table> {
+        let flags = &self.material_flags;
+        let mut merged = flags.over(&self.materials);
+        for o in merged.named.values_mut() {
+            *o = flags.over(o);
+        }
+        let lines: String = merged
+            .given()
+            .into_iter()
+            .map(|(key, value)| format!("{key} = {value}\n"))
+            .collect();
+        toml::from_str(&lines).map_err(|e| {
+            input_error(
+                &self.spec_path,
+                format!("[material] cannot be written as a spec: {e}"),
+            )
+        })
+    }
+}
+
 /// Refuses the background settings that the chosen background does not read: a colour
 /// without `background = "color"`, a blur without `"blurred"` (they would change nothing).
 fn check_background(given: &RenderLayer, flags: &RenderLayer, path: &Path) -> Result<()> {
@@ -1020,6 +1175,90 @@ pub fn default_keyframe(motion: &Motion) -> u32 {
     } else {
         0
     }
+}
+
+/// The spec's motion with the command line's `--frame-count` and `--degrees-per-frame` over
+/// its one `[motion]` table; `grows`: frames asked for (`--frames`) past the last lengthen
+/// that table at its degrees per frame, so frame N is the same picture whatever is asked.
+fn motion_of(
+    specs: &mut crate::motion::MotionSpecs,
+    path: &Path,
+    flags: &AnimFlags,
+    grows: bool,
+) -> Result<Motion> {
+    if let Some(n) = flags.frame_count
+        && !(1..=limits::MAX_FRAMES).contains(&n)
+    {
+        return Err(input_error(
+            "",
+            format!(
+                "--frame-count {n}: must be 1 to {} frames",
+                limits::MAX_FRAMES
+            ),
+        ));
+    }
+    if let Some(d) = flags.degrees_per_frame
+        && !d.is_finite()
+    {
+        return Err(input_error(
+            "",
+            format!("--degrees-per-frame {d}: is not a finite number"),
+        ));
+    }
+    if let Err(n) = specs.set_single(flags.frame_count, flags.degrees_per_frame) {
+        let flag = if flags.frame_count.is_some() {
+            "--frame-count"
+        } else {
+            "--degrees-per-frame"
+        };
+        bail_input!(
+            flag,
+            "applies to one [motion] table; {} has a sequence of {n} [[motion]] tables (edit their frames there)",
+            path.display()
+        );
+    }
+    let motion = Motion::from_spec(specs, path)?;
+    let last = flags.frames.as_ref().and_then(FrameSet::last);
+    match last {
+        Some(last) if grows && motion.is_single() && last >= motion.frame_count() => {
+            let d = motion.segments()[0].degrees_per_frame;
+            // The limit on frames is checked with the animation's (`validate`).
+            let _ = specs.set_single(Some(last.saturating_add(1)), Some(d));
+            Motion::from_spec(specs, path)
+        }
+        _ => Ok(motion),
+    }
+}
+
+/// The camera as the spec's `[camera]` and the command line's camera flags place it. A flag
+/// that places the camera by angles (--distance, --elevation, --azimuth) replaces the spec's
+/// `position`; one the file's camera would ignore is refused.
+fn camera_rig(spec: &CameraSpec, flags: &CameraLayer) -> Result<CameraRig> {
+    let given = flags.clone().over(spec.layer());
+    let c = given.resolve();
+    let by_angles =
+        flags.distance.is_some() || flags.elevation.is_some() || flags.azimuth.is_some();
+    if c.from_file {
+        for (key, _) in flags.given_keys() {
+            if key != Key::FromFile {
+                bail_input!(
+                    format!("--{}", key.flag()),
+                    "does not apply with the file's camera (--gltf-camera, [camera] from_file), which has its own"
+                );
+            }
+        }
+    }
+    let v3 = |a: [f32; 3]| Vec3::from_array(a);
+    Ok(CameraRig {
+        target: spec.target.map(v3),
+        distance: (c.distance > 0.0).then_some(c.distance),
+        elevation_deg: c.elevation,
+        azimuth_deg: c.azimuth,
+        vfov_deg: c.vfov,
+        up: v3(spec.up),
+        position: spec.position.filter(|_| !by_angles).map(v3),
+        from_file: c.from_file,
+    })
 }
 
 /// A TOML error as one line, naming the table and key it is about where the position shows

@@ -179,6 +179,48 @@ macro_rules! settings_list {
                 threads: usize = 0, key Threads, flag "threads" [value_name = "N"], check any;
             }
 
+            /// How the environment map is placed (`[environment]`, beside its `builtin` or `file`).
+            ["environment"] EnvSettings, EnvLayer, EnvSweep {
+                /// Turn the environment (its lights and the background) about the up axis,
+                /// degrees (default 0): +90 moves what was seen along +Z to be seen along +X.
+                rotation: f32 = 0.0, key EnvRotation,
+                    flag "env-rotation" [value_name = "DEGREES", allow_negative_numbers = true],
+                    check check_finite;
+                /// Scale the environment's radiance, its lights and the background alike, at
+                /// least 0 (default 1; a model's turntable under the built-in sky has 0.25).
+                intensity: f32 = 1.0, key EnvIntensity,
+                    flag "env-intensity" [value_name = "X", allow_negative_numbers = true],
+                    check check_intensity;
+            }
+
+            /// Where the camera stands (`[camera]`, beside its `target`, `up` and `position`).
+            ["camera"] CameraSettings, CameraLayer, CameraSweep {
+                /// Camera distance from its target, in scene units (0, the default: auto-framed, the
+                /// model filling at most nine tenths of the frame at every angle of its turn).
+                distance: f32 = 0.0, key Distance,
+                    flag "distance" [value_name = "D", allow_negative_numbers = true],
+                    check check_distance;
+                /// Camera elevation above the horizon, degrees, -90 to 90 (default 25).
+                elevation: f32 = 25.0, key Elevation,
+                    flag "elevation" [value_name = "DEGREES", allow_negative_numbers = true],
+                    check check_elevation;
+                /// Camera azimuth about the target, degrees from +Z towards +X (default 20); an
+                /// orbit starts there.
+                azimuth: f32 = 20.0, key Azimuth,
+                    flag "azimuth" [value_name = "DEGREES", allow_negative_numbers = true],
+                    check check_finite;
+                /// Vertical field of view, degrees, between 0 and 180 (default 40).
+                vfov: f32 = 40.0, key Vfov, flag "vfov" [alias = "fov", value_name = "DEGREES",
+                    allow_negative_numbers = true],
+                    check check_vfov;
+                /// Look through the glTF file's first perspective camera (its position, direction
+                /// and field of view) instead of placing one by distance, elevation and azimuth
+                /// (default false); an orbit turns it about the point it looks at.
+                from_file: bool = false, key FromFile,
+                    flag "gltf-camera" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
+                        default_missing_value = "true"], check any;
+            }
+
             /// What is done to the loaded scene (`[scene]`, beside the file it comes from).
             ["scene"] SceneSettings, SceneLayer, SceneSweep {
                 /// The file's up axis: y (glTF's, the default) or z (the scene, its cameras included,
@@ -232,7 +274,8 @@ macro_rules! key_enum {
             )*
         }
     )*) => {
-        /// One setting of a spec's tables (`[lights]`, `[render]`, `[scene]`, `[output]`).
+        /// One setting of a spec's tables (`[lights]`, `[render]`, `[environment]`, `[camera]`,
+        /// `[scene]`, `[output]`).
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
         pub enum Key {
             $($(

@@ -379,6 +379,68 @@ impl Motion {
     }
 }
 
+impl MotionSpecs {
+    /// One `[motion]` table's `frames` and `degrees_per_frame` replaced where given (the
+    /// command line's `--frame-count`, `--degrees-per-frame`): a new frame count spreads the
+    /// table's `turn_degrees` (default 360°) over the new frames unless a degrees per frame is
+    /// given here or in the table. `Err(n)` for a sequence of `n` motions, whose frames are
+    /// its motions'.
+    pub(crate) fn set_single(
+        &mut self,
+        frames: Option<usize>,
+        degrees_per_frame: Option<f32>,
+    ) -> std::result::Result<(), usize> {
+        let m = match self {
+            MotionSpecs::One(m) => m,
+            MotionSpecs::Many(_) if frames.is_none() && degrees_per_frame.is_none() => {
+                return Ok(());
+            }
+            MotionSpecs::Many(v) => return Err(v.len()),
+        };
+        if let Some(n) = frames {
+            m.frames = FramesSpec::Count(n);
+        }
+        if let Some(d) = degrees_per_frame {
+            m.degrees_per_frame = Some(d);
+            m.turn_degrees = None;
+        }
+        Ok(())
+    }
+}
+
+impl Motion {
+    /// The motion as a spec writes it (`render --write-spec`): one `[motion]` table, or the
+    /// `[[motion]]` tables of a sequence, each with its frames, kind, degrees per frame and
+    /// pivot, so that it reads back as this motion.
+    pub fn spec_value(&self) -> toml::Value {
+        let tables: Vec<toml::Value> = self
+            .segments
+            .iter()
+            .map(|s| {
+                let mut t = toml::Table::new();
+                t.insert("kind".into(), toml::Value::String(s.kind.name().into()));
+                let frames = if self.single {
+                    toml::Value::Integer(s.frames.len() as i64)
+                } else {
+                    toml::Value::String(format!("{}-{}", s.frames.start, s.frames.end - 1))
+                };
+                t.insert("frames".into(), frames);
+                let float = |x: f32| toml::Value::Float(crate::settings::spec_float(x));
+                t.insert("degrees_per_frame".into(), float(s.degrees_per_frame));
+                if let Some(p) = s.pivot {
+                    let p = p.to_array().map(float).to_vec();
+                    t.insert("pivot".into(), toml::Value::Array(p));
+                }
+                toml::Value::Table(t)
+            })
+            .collect();
+        match &tables[..] {
+            [one] if self.single => one.clone(),
+            _ => toml::Value::Array(tables),
+        }
+    }
+}
+
 /// How errors and the settings record name segment `i`: `[motion]`, or `[[motion]] 2`
 /// (counted from 1, as the file lists them).
 fn place(single: bool, i: usize) -> String {

@@ -34,6 +34,11 @@ use crate::view::View;
 /// A setting's value as flags, specs and messages spell it.
 pub trait Value: Clone + Debug + Send + Sync + 'static {
     fn show(&self) -> String;
+
+    /// The value as a spec writes it (`render --write-spec`): read back, it is this value.
+    fn toml(&self) -> toml::Value {
+        toml::Value::String(self.show())
+    }
 }
 
 macro_rules! value_by_display {
@@ -45,17 +50,70 @@ macro_rules! value_by_display {
         }
     )*};
 }
+
+macro_rules! value_integer {
+    ($($t:ty),*) => {$(
+        impl Value for $t {
+            fn show(&self) -> String {
+                self.to_string()
+            }
+
+            fn toml(&self) -> toml::Value {
+                toml::Value::Integer(i64::try_from(*self).unwrap_or(i64::MAX))
+            }
+        }
+    )*};
+}
+value_integer!(u32, usize);
+
+impl Value for bool {
+    fn show(&self) -> String {
+        self.to_string()
+    }
+
+    fn toml(&self) -> toml::Value {
+        toml::Value::Boolean(*self)
+    }
+}
+
+impl Value for f32 {
+    fn show(&self) -> String {
+        self.to_string()
+    }
+
+    fn toml(&self) -> toml::Value {
+        toml::Value::Float(spec_float(*self))
+    }
+}
+
+/// `x` as the f64 a spec writes: its shortest spelling (0.1, not 0.100000001…) when that
+/// reads back as `x`, else its exact value.
+pub fn spec_float(x: f32) -> f64 {
+    let short: f64 = format!("{x:?}").parse().unwrap_or(x as f64);
+    if short as f32 == x { short } else { x as f64 }
+}
+
+impl Value for Rgb {
+    fn show(&self) -> String {
+        self.to_string()
+    }
+
+    fn toml(&self) -> toml::Value {
+        toml::Value::Array(
+            self.0
+                .iter()
+                .map(|&c| toml::Value::Float(spec_float(c)))
+                .collect(),
+        )
+    }
+}
+
 value_by_display!(
-    u32,
-    usize,
-    bool,
-    f32,
     Method,
     FloodTo,
     Filter,
     ShadingRate,
     Background,
-    Rgb,
     Ground,
     Up,
     View
@@ -246,6 +304,17 @@ macro_rules! settings_table {
                 v
             }
 
+            /// The given settings as a spec's table writes them (`render --write-spec`).
+            pub fn spec_table(&self) -> toml::Table {
+                let mut t = toml::Table::new();
+                $(
+                    if let Some(x) = &self.$field {
+                        t.insert(stringify!($field).to_string(), Value::toml(x));
+                    }
+                )*
+                t
+            }
+
             /// Forgets the setting `key`, if given.
             pub fn clear(&mut self, key: Key) {
                 $( if key == Key::$key { self.$field = None; } )*
@@ -434,7 +503,43 @@ fn check_finite(v: &f32) -> std::result::Result<(), String> {
     if v.is_finite() {
         Ok(())
     } else {
-        Err("must be a finite number".into())
+        Err("is not a finite number".into())
+    }
+}
+
+fn check_intensity(v: &f32) -> std::result::Result<(), String> {
+    check_finite(v)?;
+    if *v >= 0.0 {
+        Ok(())
+    } else {
+        Err("must be ≥ 0".into())
+    }
+}
+
+fn check_distance(v: &f32) -> std::result::Result<(), String> {
+    check_finite(v)?;
+    if *v >= 0.0 {
+        Ok(())
+    } else {
+        Err("must be 0 (auto-framed) or a positive distance".into())
+    }
+}
+
+fn check_elevation(v: &f32) -> std::result::Result<(), String> {
+    check_finite(v)?;
+    if (-90.0..=90.0).contains(v) {
+        Ok(())
+    } else {
+        Err("must be -90 to 90 degrees".into())
+    }
+}
+
+fn check_vfov(v: &f32) -> std::result::Result<(), String> {
+    check_finite(v)?;
+    if *v > 0.0 && *v < 180.0 {
+        Ok(())
+    } else {
+        Err("must be between 0 and 180 degrees (both excluded)".into())
     }
 }
 
@@ -633,11 +738,15 @@ mod tests {
         let cmd = clap::Command::new("settings");
         let cmd = LightsLayer::augment_args(cmd);
         let cmd = RenderLayer::augment_args(cmd);
+        let cmd = EnvLayer::augment_args(cmd);
+        let cmd = CameraLayer::augment_args(cmd);
         let cmd = SceneLayer::augment_args(cmd);
         let cmd = OutputLayer::augment_args(cmd);
         let defaults = [
             Lights::default().layer().given_keys(),
             Render::default().layer().given_keys(),
+            EnvSettings::default().layer().given_keys(),
+            CameraSettings::default().layer().given_keys(),
             SceneSettings::default().layer().given_keys(),
             Output::default().layer().given_keys(),
         ]

@@ -185,12 +185,14 @@ pub struct RenderArgs {
     /// for a default turntable of it: 72 frames orbiting the model, auto-framed, built-in
     /// sky (or --env), a ground if it has none, 640x480 at 4 spp, into out/<model name>/.
     pub spec: PathBuf,
-    /// With a model instead of a spec: light it with this lat-long map (.exr, .hdr) instead
-    /// of the built-in sky.
-    #[arg(long, value_name = "MAP")]
-    pub env: Option<PathBuf>,
     #[command(flatten)]
     pub flags: AnimFlags,
+    /// Render nothing: write this render's resolved settings (the spec's, or a model's
+    /// turntable's, with every flag applied) as a spec to FILE, which `envshadow render FILE`
+    /// renders into the same frames, byte for byte (all of them: --frames is not written).
+    /// Its input and output paths are absolute, so it renders the same from anywhere.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["resume", "region", "job", "tiles"])]
+    pub write_spec: Option<PathBuf>,
     /// Skip frames whose EXR and PNG already exist in the output folder.
     #[arg(long)]
     pub resume: bool,
@@ -515,15 +517,19 @@ fn assemble(args: AssembleArgs, talk: Talk) -> Result<()> {
 
 fn render(args: RenderArgs, talk: Talk) -> Result<()> {
     let anim = if envshadow::anim::is_model(&args.spec) {
-        Animation::of_model(&args.spec, args.env.as_deref(), &args.flags)?
-    } else if args.env.is_some() {
-        return Err(input_error(
-            "--env",
-            "applies to a model (envshadow render model.glb); a spec names its map in [environment]",
-        ));
+        Animation::of_model(&args.spec, None, &args.flags)?
     } else {
         Animation::load(&args.spec, &args.flags)?
     };
+    if let Some(file) = &args.write_spec {
+        anim.write_spec(file)?;
+        talk.done(&format!(
+            "wrote {}: renders as this command would (envshadow render {})",
+            file.display(),
+            file.display()
+        ));
+        return Ok(());
+    }
     let selection = match (args.job, args.of, &args.tiles) {
         (Some(index), Some(of), _) => Some(envshadow::farm::JobSelection::Planned {
             index,

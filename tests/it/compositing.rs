@@ -659,9 +659,10 @@ fn background_and_scene_settings_are_checked_and_named() {
         &["render", &spec("c.toml", "catchers = [\"Floor\"]\n")],
         &["c.toml", "catchers", "shapes"],
     );
+    // Issue 40: --env lights a spec too (over its [environment]); a missing map is named.
     fails(
         &["render", &plain, "--env", "x.hdr"],
-        &["--env", "applies to a model"],
+        &["x.hdr", "environment map not found"],
     );
     let model = common::asset("bunny_res4.glb");
     fails(

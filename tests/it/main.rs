@@ -25,6 +25,7 @@ mod golden;
 mod hostile;
 mod interrupt;
 mod lights;
+mod look;
 mod materials;
 mod maths;
 mod memory;
