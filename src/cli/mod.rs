@@ -107,11 +107,13 @@ pub enum Command {
 
 #[derive(Args, Debug)]
 pub struct VideoArgs {
-    /// A render's output folder (with frame_NNNN.png).
+    /// A render's output folder (with frame_NNNN.png, or the names its settings.txt's
+    /// `[output] output_pattern` gives).
     pub dir: PathBuf,
-    /// Frames per second (default: the render's `[output] fps`, from DIR/settings.txt, else 24).
+    /// Frames per second: a whole number, N/D (30000/1001) or 23.976, 29.97, 59.94 (the NTSC
+    /// n·1000/1001). Default: the render's `[output] fps`, from DIR/settings.txt, else 24.
     #[arg(long, value_name = "FPS")]
-    pub fps: Option<f32>,
+    pub fps: Option<envshadow::output::rate::FrameRate>,
     /// Where to write the video (default: DIR/video.mp4; the report shows only that one).
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
@@ -636,7 +638,7 @@ fn video(args: VideoArgs, talk: Talk) -> Result<()> {
         v.width,
         v.height,
         v.fps,
-        v.frames as f32 / v.fps,
+        v.frames as f64 / v.fps.as_f64(),
         start.elapsed().as_secs_f64()
     ));
     if args.out.is_none() && args.dir.join("report.html").is_file() {
