@@ -39,6 +39,9 @@ Output: results on stdout, progress and notes on stderr; -q prints only errors, 
 (per tile, timings).
 
 Frames (--frames) are numbered from 0; 1-10 includes 10 (as Blender's lists), 0..10 does not.
+Files are named frame_0000.exr/.png; --output-pattern turntable_#### names them as Blender does
+(the # run is the zero-padded number) and --frame-start 1 numbers them from 1 (--frames still
+counts from 0). --fps 29.97 is stored exactly, as 30000/1001.
 
 Limits, checked before work starts: width and height up to 16384, 64 Mpixels, 4096 lights,
 10^6 frames, 2 GB per input file, 2^26 triangles, and 16 GB of expected memory.

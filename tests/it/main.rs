@@ -29,6 +29,7 @@ mod materials;
 mod maths;
 mod memory;
 mod motion;
+mod names;
 mod outputs;
 mod predict;
 mod punctual;
