@@ -63,6 +63,9 @@
 //! dir = "out/shapes"
 //! half = false                  # half-float EXR channels (counts and depth stay float)
 //! fps = 24.0                    # frame rate: the EXR's framesPerSecond, the video's
+//!                               # (29.97 or "30000/1001": stored as 30000/1001)
+//! # output_pattern = "turntable_####"   # frame names, Blender's #: turntable_0001.exr
+//! # frame_start = 1             # the first frame's number (1: Blender's numbering)
 //! video = false                 # encode DIR/video.mp4 with ffmpeg at the end
 //! # [material]                  # overrides every material (docs/materials.md)
 //! # base_color = [0.5, 0.5, 0.5]   # linear; replaces factor, texture colour, vertex colours
@@ -964,8 +967,15 @@ impl Animation {
         for (key, value) in self.material_flags.given() {
             put(&format!("[material] (command line) {key}"), value);
         }
+        let output_defaults = Output::default().layer().given_keys();
         for (key, value) in self.output.layer().given_keys() {
-            // The folder and the video change no frame's bytes.
+            // The folder and the video change no frame's bytes. The names are recorded when
+            // not the defaults (folders from before them still resume): readers of the folder
+            // find its frames by them (`FrameNames::of_folder`).
+            let names = matches!(key, Key::OutputPattern | Key::FrameStart);
+            if names && output_defaults.contains(&(key, value.clone())) {
+                continue;
+            }
             if !matches!(key, Key::Dir | Key::Video) {
                 put(&setting(key), value);
             }

@@ -9,18 +9,20 @@ use crate::anim::Animation;
 use crate::error::{Result, input_error};
 use crate::film::Film;
 use crate::output;
+use crate::output::rate::FrameRate;
 use crate::output::record::{FrameRecord, SettingsRecord};
 use crate::output::runs::RunRecord;
 use crate::output::stats::{FrameStats, StatsFile};
 use crate::run::{FrameSink, RunOptions, RunSummary};
 use crate::tile::Rect;
 
-/// A render's own folder: `frame_NNNN.exr` and `.png` per frame, each committed with its
+/// A render's own folder: `frame_NNNN.exr` and `.png` per frame (or as `--output-pattern`
+/// and `--frame-start` name them), each committed with its
 /// record, `settings.txt`, and `stats.csv` rebuilt from the records ([`output::record`]).
 pub struct FrameFiles {
     dir: PathBuf,
     format: output::FrameFormat,
-    fps: f32,
+    fps: FrameRate,
     /// The settings record's lines, which each frame's EXR header repeats.
     record: Vec<(String, String)>,
     /// What the settings record is made from (in `begin`: the inputs are loaded by then, so a
@@ -87,7 +89,9 @@ impl FrameSink for FrameFiles {
         let stats = self.stats.get_mut().unwrap();
         let mut restored = 0;
         for rec in FrameRecord::read_all(&self.dir) {
-            if rec.sizes_match(&self.dir) && stats.row(rec.frame) != Some(&rec.stats_row) {
+            if rec.sizes_match(&self.dir, &self.format.names)
+                && stats.row(rec.frame) != Some(&rec.stats_row)
+            {
                 stats.set_row(rec.frame, &rec.stats_row);
                 restored += 1;
             }
@@ -100,13 +104,15 @@ impl FrameSink for FrameFiles {
 
     /// The frame's record names this run's settings and its EXR and PNG are the recorded files.
     fn frame_done(&self, frame: usize) -> bool {
-        FrameRecord::read(&self.dir, frame)
-            .is_some_and(|r| r.settings == self.settings && r.files_match(&self.dir))
+        FrameRecord::read(&self.dir, frame).is_some_and(|r| {
+            r.settings == self.settings && r.files_match(&self.dir, &self.format.names)
+        })
     }
 
     /// Commits the frame's files with its record (frames apart, at once), then its row.
     fn write(&self, film: &Film, stats: &FrameStats) -> Result<()> {
-        let header = exr_header(stats, self.fps, &self.record);
+        let number = self.format.names.number(stats.frame);
+        let header = exr_header(stats, number, self.fps, &self.record);
         let rec = output::publish_frame(&self.dir, film, &header, &self.format, &self.settings)?;
         let mut rows = self.stats.lock().unwrap();
         rows.set_row(stats.frame, &rec.stats_row);
@@ -129,20 +135,22 @@ impl FrameSink for FrameFiles {
     }
 }
 
-/// How `anim`'s frames are written: preview exposure and view, EXR precision.
+/// How `anim`'s frames are written: preview exposure and view, EXR precision, file names.
 pub fn frame_format(anim: &Animation) -> output::FrameFormat {
     output::FrameFormat {
         exposure: anim.render.exposure,
         view: anim.render.view,
         half: anim.output.half,
+        names: anim.output.frame_names(),
     }
 }
 
-/// A frame's EXR header: its camera (from `stats`, as the frame was rendered), the frame
-/// rate, the settings record's lines and its statistics.
+/// A frame's EXR header: its camera (from `stats`, as the frame was rendered), its `number`
+/// (as its file is named), the frame rate, the settings record's lines and its statistics.
 pub fn exr_header<'a>(
     stats: &'a FrameStats,
-    fps: f32,
+    number: usize,
+    fps: FrameRate,
     settings: &'a [(String, String)],
 ) -> output::exr::FrameHeader<'a> {
     let camera = crate::camera::Camera::look_at(
@@ -157,6 +165,7 @@ pub fn exr_header<'a>(
     output::exr::FrameHeader {
         world_to_camera,
         world_to_ndc,
+        number,
         fps,
         settings,
         stats,

@@ -248,9 +248,21 @@ macro_rules! settings_list {
                 half: bool = false, key Half,
                     flag "half" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
                         default_missing_value = "true"], check any;
-                /// Frames per second of the animation: the EXR's `framesPerSecond`, the video's rate
-                /// (default 24).
-                fps: f32 = 24.0, key Fps, flag "fps" [value_name = "FPS"], check check_fps;
+                /// Frames per second of the animation, stored exactly as a rational: the EXR's
+                /// `framesPerSecond`, the video's rate (default 24). A whole number, N/D
+                /// (30000/1001), or the NTSC decimals 23.976, 29.97, 59.94, which are n·1000/1001.
+                fps: FrameRate = FrameRate::whole(24), key Fps, flag "fps" [value_name = "FPS"],
+                    check check_fps;
+                /// Frame file names, Blender's way: the run of # is the frame number, zero-padded
+                /// to its length (turntable_#### → turntable_0001.exr and .png); without #, four
+                /// digits are appended. A file name, not a path: no / \ or %. Default `frame_####`.
+                output_pattern: Pattern = Pattern::default(), key OutputPattern,
+                    flag "output-pattern" [value_name = "PATTERN"], check any;
+                /// Number of the first frame in the file names and the EXR's `envshadow/frame`: a
+                /// frame's number is this plus its index (--frames counts from 0 whatever it is).
+                /// --frame-start 1 numbers frames from 1, as Blender does. Default 0.
+                frame_start: u32 = 0, key FrameStart, flag "frame-start" [value_name = "N"],
+                    check check_frame_start;
                 /// At the end of a render, encode the frames' PNGs into DIR/video.mp4 (H.264) with
                 /// the system's ffmpeg, as `envshadow video DIR` does. Default false.
                 video: bool = false, key Video,

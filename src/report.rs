@@ -1,6 +1,6 @@
 //! The render report: `DIR/report.html`, one self-contained page about a finished render, built
-//! only from what the render left in its folder (`stats.csv`, `frame_NNNN.exr`/`.png`,
-//! `lights.json`, `video.mp4`). Generated pictures go to `DIR/report/`; the page references
+//! only from what the render left in its folder (`stats.csv`, `frame_NNNN.exr`/`.png` or the
+//! names its `settings.txt` gives, `lights.json`, `video.mp4`). Generated pictures go to `DIR/report/`; the page references
 //! them, the frame PNGs and the video by relative paths, uses no JavaScript and nothing from
 //! the network, so it works opened from disk.
 //!
@@ -27,8 +27,9 @@ use crate::error::{Result, input_error};
 use crate::film::Channel;
 use crate::folder::VIDEO_FILE;
 use crate::lights::{self, LightSet};
+use crate::output;
+use crate::output::names::FrameNames;
 use crate::output::record::{FrameRecord, count_histogram, finite_max, parse_histogram};
-use crate::output::{self, frame_path};
 use crate::plot::{draw_lines, save_png, tick};
 use crate::predict::Method;
 
@@ -211,6 +212,8 @@ fn histogram_percentile(hist: &[u64], p: f64) -> f32 {
 
 /// What the report found about one frame's files.
 struct FrameImages {
+    /// The frame's PNG, as the folder names it (`frame_0003.png`, `turntable_0004.png`).
+    png: String,
     thumb: Option<String>,
     rays_map: Option<String>,
     wrong_map: Option<String>,
@@ -229,7 +232,7 @@ struct Scan {
     problem: Option<String>,
 }
 
-fn scan_frame(dir: &Path, out: &Path, frame: usize, gif: bool) -> Scan {
+fn scan_frame(dir: &Path, names: &FrameNames, out: &Path, frame: usize, gif: bool) -> Scan {
     let mut scan = Scan {
         thumb: None,
         gif: None,
@@ -239,7 +242,7 @@ fn scan_frame(dir: &Path, out: &Path, frame: usize, gif: bool) -> Scan {
         problem: None,
     };
     let mut problems = Vec::new();
-    let png = frame_path(dir, frame, "png");
+    let png = names.path(dir, frame, "png");
     match image::open(&png) {
         Ok(img) => {
             // A transparent frame is shown over a checkerboard.
@@ -258,10 +261,10 @@ fn scan_frame(dir: &Path, out: &Path, frame: usize, gif: bool) -> Scan {
     // The colour scales' figures from the frame's record where its files are the recorded
     // ones (sizes: cheap), else from the EXR itself (a folder from an earlier version).
     let recorded = FrameRecord::read(dir, frame)
-        .filter(|r| r.sizes_match(dir))
+        .filter(|r| r.sizes_match(dir, names))
         .and_then(|r| Some((parse_histogram(&r.rays_histogram)?, r.wrong_max)))
         .filter(|(hist, _)| !hist.is_empty());
-    let exr = frame_path(dir, frame, "exr");
+    let exr = names.path(dir, frame, "exr");
     if let Some((hist, wrong_max)) = recorded {
         scan.exr_ok = true;
         scan.rays_hist = hist;
@@ -293,12 +296,13 @@ type HeatMaps = (Option<String>, Option<String>, Option<String>);
 /// EXR does not read.
 fn heat_maps(
     dir: &Path,
+    names: &FrameNames,
     out: &Path,
     frame: usize,
     rays_top: f32,
     wrong_top: f32,
 ) -> Result<HeatMaps> {
-    let exr = frame_path(dir, frame, "exr");
+    let exr = names.path(dir, frame, "exr");
     let f = match output::exr::read_frame_here(&exr) {
         Ok(f) => f,
         // A file the record vouched for by its size alone may still not read: said on the
@@ -352,6 +356,7 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
         return Err(input_error(dir, "not a folder"));
     }
     let rows = read_stats(&dir.join("stats.csv"))?;
+    let names = FrameNames::of_folder(dir);
     let out = dir.join("report");
     std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
     remove_old_pictures(&out)?;
@@ -361,7 +366,7 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
     // scales' ranges over all frames.
     let mut scans: Vec<Scan> = rows
         .par_iter()
-        .map(|r| scan_frame(dir, &out, r.frame, video.is_none()))
+        .map(|r| scan_frame(dir, &names, &out, r.frame, video.is_none()))
         .collect();
     let (rays_max, wrong_max, any_wrong_channel) = colour_scales(&scans);
 
@@ -375,7 +380,7 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
                 .zip(&scans)
                 .map(|(r, s)| {
                     if s.exr_ok {
-                        heat_maps(dir, &out, r.frame, rays_max, wrong_max)
+                        heat_maps(dir, &names, &out, r.frame, rays_max, wrong_max)
                     } else {
                         Ok((None, None, None))
                     }
@@ -413,12 +418,13 @@ pub fn write_report(dir: &Path) -> Result<PathBuf> {
     );
     let (maps, (animation, axes, lights_note)) = (maps?, pictures?);
     let mut images = Vec::new();
-    for (s, (rays_map, wrong_map, unread)) in scans.into_iter().zip(maps) {
+    for ((s, (rays_map, wrong_map, unread)), r) in scans.into_iter().zip(maps).zip(&rows) {
         let problem = match (s.problem, unread) {
             (Some(a), Some(b)) => Some(format!("{a}; {b}")),
             (a, b) => a.or(b),
         };
         images.push(FrameImages {
+            png: names.name(r.frame, "png"),
             thumb: s.thumb,
             rays_map,
             wrong_map,
@@ -925,7 +931,7 @@ fn animation_figure(h: &mut String, animation: Animation, images: &[FrameImages]
                     .iter()
                     .zip(rows)
                     .find(|(i, _)| i.thumb.is_some())
-                    .map(|(_, r)| format!("frame_{:04}.png", r.frame))
+                    .map(|(i, _)| esc(&i.png))
                     .unwrap_or_default()
             );
         }
@@ -972,9 +978,10 @@ fn contact_sheet(h: &mut String, rows: &[Row], images: &[FrameImages]) {
             if let Some(t) = &fi.thumb {
                 let _ = writeln!(
                     h,
-                    "<figure><a href=\"frame_{0:04}.png\"><img src=\"report/{t}\" alt=\"frame {0}\" loading=\"lazy\"></a>\
+                    "<figure><a href=\"{1}\"><img src=\"report/{t}\" alt=\"frame {0}\" loading=\"lazy\"></a>\
                      <figcaption>{0}</figcaption></figure>",
-                    r.frame
+                    r.frame,
+                    esc(&fi.png)
                 );
             }
         }
@@ -1054,8 +1061,9 @@ fn frame_detail(
             Some(t) => {
                 let _ = write!(
                     h,
-                    "<td><a href=\"frame_{0:04}.png\"><img src=\"report/{t}\" alt=\"frame {0}\" loading=\"lazy\"></a></td>",
-                    r.frame
+                    "<td><a href=\"{1}\"><img src=\"report/{t}\" alt=\"frame {0}\" loading=\"lazy\"></a></td>",
+                    r.frame,
+                    esc(&fi.png)
                 );
             }
             None => h.push_str("<td>—</td>"),

@@ -24,6 +24,8 @@ use crate::background::{Background, Rgb, check_rgb};
 use crate::error::{Result, input_error};
 use crate::key::Key;
 use crate::lights::Sampler;
+use crate::output::names::{FrameNames, Pattern};
+use crate::output::rate::FrameRate;
 use crate::predict::{FloodTo, Method, Params};
 use crate::samples::{Filter, Samples};
 use crate::scene::Up;
@@ -116,7 +118,9 @@ value_by_display!(
     Background,
     Ground,
     Up,
-    View
+    View,
+    FrameRate,
+    Pattern
 );
 
 impl Value for Sampler {
@@ -151,7 +155,8 @@ deserialize_by_from_str!(
     Background,
     Ground,
     Up,
-    View
+    View,
+    Pattern
 );
 
 /// Where a layer of settings came from, so a message names a value as the user wrote it.
@@ -489,13 +494,26 @@ fn check_blur(v: &f32) -> std::result::Result<(), String> {
 }
 
 /// Highest frame rate: a turntable is watched, not sampled.
-pub const MAX_FPS: f32 = 240.0;
+pub const MAX_FPS: f64 = 240.0;
 
-fn check_fps(v: &f32) -> std::result::Result<(), String> {
-    if v.is_finite() && (1.0..=MAX_FPS).contains(v) {
+fn check_fps(v: &FrameRate) -> std::result::Result<(), String> {
+    if (1.0..=MAX_FPS).contains(&v.as_f64()) {
         Ok(())
     } else {
         Err(format!("must be a frame rate from 1 to {MAX_FPS}"))
+    }
+}
+
+/// Highest start frame: Blender's own highest frame number.
+pub const MAX_FRAME_START: u32 = 1_048_574;
+
+fn check_frame_start(v: &u32) -> std::result::Result<(), String> {
+    if *v <= MAX_FRAME_START {
+        Ok(())
+    } else {
+        Err(format!(
+            "must be 0 to {MAX_FRAME_START} (Blender's highest frame)"
+        ))
     }
 }
 
@@ -569,6 +587,13 @@ impl Render {
             busy_voters: self.busy_voters,
             trace_all_share: self.trace_all_share,
         }
+    }
+}
+
+impl Output {
+    /// How the frames' files are named (`output_pattern`, `frame_start`).
+    pub fn frame_names(&self) -> FrameNames {
+        FrameNames::new(self.output_pattern.clone(), self.frame_start as usize)
     }
 }
 
@@ -785,6 +810,16 @@ mod tests {
         names.dedup();
         assert_eq!(names.len(), Key::ALL.len(), "two settings of one name");
         assert_eq!(Key::from_name("no_such_setting"), None);
+    }
+
+    /// Folder readers find a render's frame names by these settings' lines in its
+    /// `settings.txt` (`FrameNames::from_record`).
+    #[test]
+    fn the_frame_names_lines_are_the_settings_keys() {
+        use crate::output::names::{PATTERN_LINE, START_LINE};
+        let line = |k: Key| format!("[{}] {}", k.table(), k.name());
+        assert_eq!(line(Key::OutputPattern), PATTERN_LINE);
+        assert_eq!(line(Key::FrameStart), START_LINE);
     }
 
     /// The settings the methods read, from their orders' and rules' `reads`.

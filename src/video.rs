@@ -3,8 +3,9 @@
 //! downloaded: without it the command says what to install.
 //!
 //! The frames go to ffmpeg as raw RGB through a pipe, in frame-number order (a folder with
-//! gaps gives a video without them), at the animation's frame rate (`[output] fps`, from the
-//! folder's `settings.txt`). The encoding is what players and web pages expect: H.264
+//! gaps gives a video without them), found by the folder's names (`frame_NNNN.png`, or its
+//! `[output] output_pattern`), at the animation's frame rate (`[output] fps`, from the
+//! folder's `settings.txt`, passed as the exact rational: 30000/1001). The encoding is what players and web pages expect: H.264
 //! (libx264, CRF 18, preset medium: visually lossless for renders), 4:2:0 chroma
 //! (`yuv420p`, which needs even sizes: an odd width or height gets its last column or row
 //! repeated), BT.709 matrix, limited range, tagged sRGB-transfer BT.709 so players convert
@@ -20,6 +21,8 @@ use anyhow::Context;
 
 use crate::error::{Result, input_error};
 use crate::folder::VIDEO_FILE;
+use crate::output::names::FrameNames;
+use crate::output::rate::FrameRate;
 use crate::output::record::SETTINGS_FILE;
 
 /// What to install when ffmpeg is missing.
@@ -38,7 +41,7 @@ pub struct Video {
     pub frames: usize,
     pub first: usize,
     pub last: usize,
-    pub fps: f32,
+    pub fps: FrameRate,
     /// The video's size (the frames' rounded up to even).
     pub width: u32,
     pub height: u32,
@@ -62,27 +65,21 @@ pub fn check_ffmpeg() -> Result<()> {
 }
 
 /// The frame rate a render folder's `settings.txt` records (`[output] fps`), if any.
-pub fn recorded_fps(dir: &Path) -> Option<f32> {
+pub fn recorded_fps(dir: &Path) -> Option<FrameRate> {
     let text = std::fs::read_to_string(dir.join(SETTINGS_FILE)).ok()?;
     text.lines()
         .find_map(|l| l.strip_prefix("[output] fps = "))
         .and_then(|v| v.trim().parse().ok())
 }
 
-/// The folder's frame PNGs (`frame_NNNN.png`), by frame number.
-fn frame_pngs(dir: &Path) -> Result<Vec<(usize, PathBuf)>> {
+/// The folder's frame PNGs (named by `names`), by frame number.
+fn frame_pngs(dir: &Path, names: &FrameNames) -> Result<Vec<(usize, PathBuf)>> {
     let rd = std::fs::read_dir(dir).map_err(|e| input_error(dir, format!("cannot list: {e}")))?;
     let mut frames: Vec<(usize, PathBuf)> = rd
         .flatten()
         .filter_map(|e| {
-            let name = e.file_name();
-            let n = name
-                .to_str()?
-                .strip_prefix("frame_")?
-                .strip_suffix(".png")?
-                .parse()
-                .ok()?;
-            Some((n, e.path()))
+            let frame = names.frame_of(e.file_name().to_str()?, "png")?;
+            Some((names.number(frame), e.path()))
         })
         .collect();
     frames.sort();
@@ -91,11 +88,11 @@ fn frame_pngs(dir: &Path) -> Result<Vec<(usize, PathBuf)>> {
 
 /// Encodes the PNGs of the render folder `dir` into `out` (default `DIR/video.mp4`) at `fps`
 /// frames per second (see the module doc).
-pub fn write_video(dir: &Path, fps: f32, out: Option<&Path>) -> Result<Video> {
+pub fn write_video(dir: &Path, fps: FrameRate, out: Option<&Path>) -> Result<Video> {
     if !dir.is_dir() {
         return Err(input_error(dir, "no such folder"));
     }
-    if !(fps.is_finite() && (1.0..=crate::settings::MAX_FPS).contains(&fps)) {
+    if !(1.0..=crate::settings::MAX_FPS).contains(&fps.as_f64()) {
         return Err(input_error(
             "--fps",
             format!(
@@ -104,11 +101,12 @@ pub fn write_video(dir: &Path, fps: f32, out: Option<&Path>) -> Result<Video> {
             ),
         ));
     }
-    let frames = frame_pngs(dir)?;
+    let names = FrameNames::of_folder(dir);
+    let frames = frame_pngs(dir, &names)?;
     let Some((first, first_path)) = frames.first() else {
         return Err(input_error(
             dir,
-            "no frame_NNNN.png in it: nothing to encode",
+            format!("no {} in it: nothing to encode", names.shown("png")),
         ));
     };
     let size = image::image_dimensions(first_path)
@@ -134,7 +132,7 @@ fn encode(
     frames: &[(usize, PathBuf)],
     size: (u32, u32),
     even: (u32, u32),
-    fps: f32,
+    fps: FrameRate,
 ) -> Result<()> {
     let mut child = Command::new("ffmpeg")
         .args(["-hide_banner", "-loglevel", "error", "-y"])

@@ -39,6 +39,9 @@ Output: results on stdout, progress and notes on stderr; -q prints only errors, 
 (per tile, timings).
 
 Frames (--frames) are numbered from 0; 1-10 includes 10 (as Blender's lists), 0..10 does not.
+Files are named frame_0000.exr/.png; --output-pattern turntable_#### names them as Blender does
+(the # run is the zero-padded number) and --frame-start 1 numbers them from 1 (--frames still
+counts from 0). --fps 29.97 is stored exactly, as 30000/1001.
 
 Limits, checked before work starts: width and height up to 16384, 64 Mpixels, 4096 lights,
 10^6 frames, 2 GB per input file, 2^26 triangles, and 16 GB of expected memory.
@@ -107,11 +110,13 @@ pub enum Command {
 
 #[derive(Args, Debug)]
 pub struct VideoArgs {
-    /// A render's output folder (with frame_NNNN.png).
+    /// A render's output folder (with frame_NNNN.png, or the names its settings.txt's
+    /// `[output] output_pattern` gives).
     pub dir: PathBuf,
-    /// Frames per second (default: the render's `[output] fps`, from DIR/settings.txt, else 24).
+    /// Frames per second: a whole number, N/D (30000/1001) or 23.976, 29.97, 59.94 (the NTSC
+    /// n·1000/1001). Default: the render's `[output] fps`, from DIR/settings.txt, else 24.
     #[arg(long, value_name = "FPS")]
-    pub fps: Option<f32>,
+    pub fps: Option<envshadow::output::rate::FrameRate>,
     /// Where to write the video (default: DIR/video.mp4; the report shows only that one).
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
@@ -642,7 +647,7 @@ fn video(args: VideoArgs, talk: Talk) -> Result<()> {
         v.width,
         v.height,
         v.fps,
-        v.frames as f32 / v.fps,
+        v.frames as f64 / v.fps.as_f64(),
         start.elapsed().as_secs_f64()
     ));
     if args.out.is_none() && args.dir.join("report.html").is_file() {

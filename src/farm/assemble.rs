@@ -19,6 +19,7 @@ use crate::film::Counts;
 use crate::film::{Film, Holds};
 use crate::frame_files::exr_header;
 use crate::output::exr::{fill_film, read_frame};
+use crate::output::rate::FrameRate;
 use crate::output::record::SettingsRecord;
 use crate::output::stats::{FrameStats, StatsFile};
 use crate::output::write_atomic;
@@ -37,7 +38,7 @@ pub struct Assembled {
     /// The expected jobs that owe frames (in plan order): what a re-run must render.
     pub pending: Vec<Job>,
     /// The plan asked for a video (`[output] video`) at this frame rate.
-    pub video_fps: Option<f32>,
+    pub video_fps: Option<FrameRate>,
 }
 
 /// A valid job folder.
@@ -104,8 +105,9 @@ pub fn assemble(dir: &Path) -> Result<Assembled> {
                 camera_up: v(tf.camera_up),
                 vfov_deg: tf.vfov_deg,
             };
-            let header = exr_header(&stats, settings.fps, &settings.record);
             let format = settings.frame_format();
+            let number = format.names.number(f);
+            let header = exr_header(&stats, number, settings.fps, &settings.record);
             match &record {
                 Some(r) => {
                     publish_frame(dir, &film, &header, &format, &r.fingerprint())?;
@@ -166,7 +168,7 @@ struct Judged {
     /// `lights.json`, the same in every valid job.
     lights: Option<Vec<u8>>,
     /// The plan's video frame rate.
-    video_fps: Option<f32>,
+    video_fps: Option<FrameRate>,
 }
 
 /// What the frames of a farm render came to, frame by frame.

@@ -22,6 +22,8 @@ use crate::farm::plan::{By, Job};
 use crate::film::Counts;
 use crate::film::Film;
 use crate::frames::FrameSet;
+use crate::output::names::FrameNames;
+use crate::output::rate::FrameRate;
 use crate::output::stats::FrameStats;
 use crate::output::write_atomic;
 use crate::run::FrameSink;
@@ -48,7 +50,7 @@ pub struct Settings {
     #[serde(default)]
     pub half: bool,
     #[serde(default = "default_fps")]
-    pub fps: f32,
+    pub fps: FrameRate,
     pub validate: bool,
     /// Samples per pixel: above 1, tile images carry `coverage` (absent in manifests written
     /// before samples per pixel: 1).
@@ -216,7 +218,7 @@ fn standard_view() -> crate::view::View {
     crate::view::View::Standard
 }
 
-fn default_fps() -> f32 {
+fn default_fps() -> FrameRate {
     crate::settings::Output::default().fps
 }
 
@@ -227,6 +229,7 @@ impl Settings {
             exposure: self.exposure,
             view: self.view,
             half: self.half,
+            names: FrameNames::from_record(&self.record),
         }
     }
 }

@@ -45,7 +45,7 @@ pub struct PlanFile {
     /// frames at. Not a job setting (the jobs render the same bits either way); absent in
     /// plans written before it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub video_fps: Option<f32>,
+    pub video_fps: Option<crate::output::rate::FrameRate>,
 }
 
 /// The plan request for an animation (its selected frames and tile grid).

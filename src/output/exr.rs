@@ -23,6 +23,7 @@ use rayon::prelude::*;
 
 use crate::error::Result;
 use crate::film::Film;
+use crate::output::rate::FrameRate;
 use crate::output::stats::{FrameStats, HEADER};
 use crate::tile::Rect;
 
@@ -34,8 +35,11 @@ pub struct FrameHeader<'a> {
     /// makes them).
     pub world_to_camera: [f32; 16],
     pub world_to_ndc: [f32; 16],
-    /// The animation's frame rate (`framesPerSecond`).
-    pub fps: f32,
+    /// The frame's number (`envshadow/frame`): the start frame plus its index, as its file
+    /// name has it.
+    pub number: usize,
+    /// The animation's frame rate (`framesPerSecond`, a rational: 29.97 is 30000/1001).
+    pub fps: FrameRate,
     /// The settings the frame was rendered with: the lines of `settings.txt`
     /// (`[render] method` → `envshadow/render.method`).
     pub settings: &'a [(String, String)],
@@ -66,7 +70,7 @@ pub fn encode_frame(film: &Film, header: &FrameHeader, half: bool) -> Result<Vec
         software_name: Some(text(SOFTWARE)),
         world_to_camera: Some(header.world_to_camera),
         world_to_normalized_device: Some(header.world_to_ndc),
-        frames_per_second: Some(rational(header.fps)),
+        frames_per_second: Some((header.fps.num as i32, header.fps.den)),
         ..LayerAttributes::default()
     };
     let mut put = |name: String, value: AttributeValue| {
@@ -75,7 +79,7 @@ pub fn encode_frame(film: &Film, header: &FrameHeader, half: bool) -> Result<Vec
     let stats = header.stats;
     put(
         "envshadow/frame".into(),
-        AttributeValue::I32(stats.frame as i32),
+        AttributeValue::I32(header.number as i32),
     );
     for (key, value) in header.settings {
         put(
@@ -119,21 +123,6 @@ const REC709: Chromaticities = Chromaticities {
     blue: Vec2(0.15, 0.06),
     white: Vec2(0.3127, 0.3290),
 };
-
-/// A frame rate as OpenEXR's rational: whole rates exactly, others to a thousandth.
-fn rational(fps: f32) -> (i32, u32) {
-    if fps.fract() == 0.0 {
-        (fps as i32, 1)
-    } else {
-        let n = (fps * 1000.0).round() as i32;
-        let g = gcd(n.unsigned_abs(), 1000);
-        (n / g as i32, 1000 / g)
-    }
-}
-
-fn gcd(a: u32, b: u32) -> u32 {
-    if b == 0 { a.max(1) } else { gcd(b, a % b) }
-}
 
 /// A text attribute's bytes: UTF-8, as OpenEXR's library and OpenImageIO read strings.
 fn text(s: &str) -> Text {
@@ -401,7 +390,8 @@ mod tests {
         let header = FrameHeader {
             world_to_camera: [0.0; 16],
             world_to_ndc: [1.0; 16],
-            fps: 24.0,
+            number: stats.frame,
+            fps: FrameRate::whole(24),
             settings: &settings,
             stats: &stats,
         };
@@ -442,7 +432,8 @@ mod tests {
         let header = FrameHeader {
             world_to_camera: [0.0; 16],
             world_to_ndc: [1.0; 16],
-            fps: 24.0,
+            number: stats.frame,
+            fps: FrameRate::whole(24),
             settings: &[],
             stats: &stats,
         };
@@ -498,13 +489,6 @@ mod tests {
             let b = many.install(|| encode_frame(&film, &header, half)).unwrap();
             assert!(a == b, "half {half}: a frame's bytes depend on the threads");
         }
-    }
-
-    #[test]
-    fn frame_rates_become_exact_rationals() {
-        assert_eq!(rational(24.0), (24, 1));
-        assert_eq!(rational(12.5), (25, 2));
-        assert_eq!(rational(23.976), (2997, 125));
     }
 
     #[test]

@@ -5,7 +5,9 @@
 
 pub mod exr;
 pub mod lock;
+pub mod names;
 pub mod png;
+pub mod rate;
 pub mod record;
 pub mod runs;
 pub mod stats;
@@ -108,19 +110,17 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     })
 }
 
-/// `DIR/frame_0042.ext`.
-pub fn frame_path(dir: &Path, frame: usize, ext: &str) -> PathBuf {
-    dir.join(format!("frame_{frame:04}.{ext}"))
-}
-
 /// How a render writes its frames: the previews' exposure and view transform, the EXR's
-/// precision, and what its header records beside each frame's own [`exr::FrameHeader`].
+/// precision, the files' names, and what its header records beside each frame's own
+/// [`exr::FrameHeader`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct FrameFormat {
     pub exposure: f32,
     pub view: View,
     /// Half-float EXR channels where they suffice (`--half`).
     pub half: bool,
+    /// The frames' file names (`--output-pattern`, `--frame-start`).
+    pub names: names::FrameNames,
 }
 
 /// A frame's two files: the EXR and the PNG preview, encoded at once on the current rayon
@@ -148,9 +148,9 @@ fn encode_files(
     Ok([exr?, png?])
 }
 
-/// Publishes one frame into `dir`: `frame_NNNN.png`, then its record
-/// (`records/frame_NNNN.json`: `stats_row`, the `settings` fingerprint and both files'
-/// checksums), then `frame_NNNN.exr`, whose rename commits the frame — a kill at any instant
+/// Publishes one frame into `dir`: its PNG (`frame_NNNN.png`, or as `format.names` names it),
+/// then its record (`records/frame_NNNN.json`, by the frame's index: `stats_row`, the
+/// `settings` fingerprint and both files' checksums), then its EXR, whose rename commits the frame — a kill at any instant
 /// leaves either the frame with its record, or a frame `--resume` renders again. Returns the
 /// record.
 pub fn publish_frame(
@@ -177,13 +177,14 @@ pub fn publish_frame(
         )),
         wrong_max: film.plane(Channel::Wrong).map(record::finite_max),
     };
-    write_atomic(&frame_path(dir, frame, "png"), &png)?;
+    write_atomic(&format.names.path(dir, frame, "png"), &png)?;
     rec.write(dir)?;
-    write_atomic(&frame_path(dir, frame, "exr"), &exr)?;
+    write_atomic(&format.names.path(dir, frame, "exr"), &exr)?;
     Ok(rec)
 }
 
-/// Writes one frame's files: `frame_NNNN.exr` (beauty + AOVs) and `frame_NNNN.png`.
+/// Writes one frame's files, named by `format.names`: `frame_NNNN.exr` (beauty + AOVs) and
+/// `frame_NNNN.png`.
 pub fn write_frame_files(
     dir: &Path,
     film: &Film,
@@ -192,8 +193,8 @@ pub fn write_frame_files(
 ) -> Result<()> {
     let frame = header.stats.frame;
     let [exr, png] = encode_files(film, header, format)?;
-    write_atomic(&frame_path(dir, frame, "exr"), &exr)?;
-    write_atomic(&frame_path(dir, frame, "png"), &png)
+    write_atomic(&format.names.path(dir, frame, "exr"), &exr)?;
+    write_atomic(&format.names.path(dir, frame, "png"), &png)
 }
 
 #[cfg(test)]

@@ -4,7 +4,8 @@
 //! - `settings.txt`: the resolved settings, one `key = value` per line ([`SettingsRecord`]);
 //!   `--resume` refuses a folder whose settings differ, naming the first difference.
 //! - `records/frame_0042.json`, one per frame ([`FrameRecord`]): the frame's `stats.csv` row,
-//!   the settings' fingerprint and the sizes and SHA-256 of its EXR and PNG. It is published
+//!   the settings' fingerprint and the sizes and SHA-256 of its EXR and PNG (named by the
+//!   folder's [`FrameNames`]; the record by the frame's index). It is published
 //!   after the PNG and before the EXR, whose rename commits the frame: a crash at any instant
 //!   leaves a frame either committed with its record, or not committed at all. `stats.csv` is
 //!   rebuilt from the records, and `--resume` skips a frame only when its files match its
@@ -18,6 +19,7 @@ use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
 use crate::error::{Result, input_error};
+use crate::output::names::FrameNames;
 
 /// The settings file of a render folder.
 pub const SETTINGS_FILE: &str = "settings.txt";
@@ -249,17 +251,19 @@ impl FrameRecord {
         super::write_atomic(&path, json.as_bytes())
     }
 
-    /// Whether the frame's EXR and PNG have the recorded sizes (cheap: no reading).
-    pub fn sizes_match(&self, dir: &Path) -> bool {
-        let len = |ext| std::fs::metadata(super::frame_path(dir, self.frame, ext)).map(|m| m.len());
+    /// Whether the frame's EXR and PNG (named by `names`) have the recorded sizes (cheap: no
+    /// reading).
+    pub fn sizes_match(&self, dir: &Path, names: &FrameNames) -> bool {
+        let len = |ext| std::fs::metadata(names.path(dir, self.frame, ext)).map(|m| m.len());
         len("exr").is_ok_and(|n| n == self.exr_bytes)
             && len("png").is_ok_and(|n| n == self.png_bytes)
     }
 
-    /// Whether the frame's EXR and PNG are the very files recorded (sizes and SHA-256).
-    pub fn files_match(&self, dir: &Path) -> bool {
-        let sum = |ext| file_sha256(&super::frame_path(dir, self.frame, ext)).ok();
-        self.sizes_match(dir)
+    /// Whether the frame's EXR and PNG (named by `names`) are the very files recorded (sizes
+    /// and SHA-256).
+    pub fn files_match(&self, dir: &Path, names: &FrameNames) -> bool {
+        let sum = |ext| file_sha256(&names.path(dir, self.frame, ext)).ok();
+        self.sizes_match(dir, names)
             && sum("exr").is_some_and(|s| s == self.exr_sha256)
             && sum("png").is_some_and(|s| s == self.png_sha256)
     }

@@ -30,6 +30,7 @@ mod materials;
 mod maths;
 mod memory;
 mod motion;
+mod names;
 mod outputs;
 mod predict;
 mod punctual;
