@@ -941,8 +941,15 @@ impl Animation {
         for (key, value) in self.material_flags.given() {
             put(&format!("[material] (command line) {key}"), value);
         }
+        let output_defaults = Output::default().layer().given_keys();
         for (key, value) in self.output.layer().given_keys() {
-            // The folder and the video change no frame's bytes.
+            // The folder and the video change no frame's bytes. The EXR layout and
+            // Cryptomatte are recorded when not the defaults, so folders from before them
+            // still resume.
+            let later = matches!(key, Key::ExrLayout | Key::Cryptomatte);
+            if later && output_defaults.contains(&(key, value.clone())) {
+                continue;
+            }
             if !matches!(key, Key::Dir | Key::Video) {
                 put(&setting(key), value);
             }

@@ -167,7 +167,10 @@ impl Ids {
         let mut materials = self.materials.clone();
         materials.sort();
         materials.dedup();
-        [manifest(&self.listed_objects(triangles)), manifest(&materials)]
+        [
+            manifest(&self.listed_objects(triangles)),
+            manifest(&materials),
+        ]
     }
 }
 
@@ -198,7 +201,11 @@ impl Ranking {
     /// Adds `weight` to `id`.
     #[inline]
     pub fn add(&mut self, id: f32, weight: f32) {
-        match self.seen.iter_mut().find(|(i, _)| i.to_bits() == id.to_bits()) {
+        match self
+            .seen
+            .iter_mut()
+            .find(|(i, _)| i.to_bits() == id.to_bits())
+        {
             Some((_, w)) => *w += weight,
             None => self.seen.push((id, weight)),
         }
@@ -255,7 +262,14 @@ mod tests {
     /// The exponent is clamped: no ID is zero, denormal, infinite or NaN; other bits pass.
     #[test]
     fn hashes_become_finite_normal_floats() {
-        for h in [0u32, 0x0000_0001, 0x807f_ffff, 0x7f80_0000, 0xffff_ffff, 0x3f80_0000] {
+        for h in [
+            0u32,
+            0x0000_0001,
+            0x807f_ffff,
+            0x7f80_0000,
+            0xffff_ffff,
+            0x3f80_0000,
+        ] {
             let f = hash_to_float(h);
             assert!(f.is_normal(), "{h:08x} → {f}");
             assert_eq!(f.to_bits() & 0x807f_ffff, h & 0x807f_ffff);
@@ -281,7 +295,11 @@ mod tests {
     #[test]
     fn triangles_find_their_objects() {
         let ids = Ids::new(
-            &[("b".into(), 10..20), ("a".into(), 0..5), ("b".into(), 30..31)],
+            &[
+                ("b".into(), 10..20),
+                ("a".into(), 0..5),
+                ("b".into(), 30..31),
+            ],
             &["m".into(), "m".into(), "n".into()],
         );
         assert_eq!(ids.object_id(0), id("a"));

@@ -135,6 +135,7 @@ pub fn frame_format(anim: &Animation) -> output::FrameFormat {
         exposure: anim.render.exposure,
         view: anim.render.view,
         half: anim.output.half,
+        layout: anim.output.exr_layout,
     }
 }
 

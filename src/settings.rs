@@ -24,6 +24,7 @@ use crate::background::{Background, Rgb, check_rgb};
 use crate::error::{Result, input_error};
 use crate::key::Key;
 use crate::lights::Sampler;
+use crate::output::exr::ExrLayout;
 use crate::predict::{FloodTo, Method, Params};
 use crate::samples::{Filter, Samples};
 use crate::scene::Up;
@@ -58,7 +59,8 @@ value_by_display!(
     Rgb,
     Ground,
     Up,
-    View
+    View,
+    ExrLayout
 );
 
 impl Value for Sampler {
@@ -93,7 +95,8 @@ deserialize_by_from_str!(
     Background,
     Ground,
     Up,
-    View
+    View,
+    ExrLayout
 );
 
 /// Where a layer of settings came from, so a message names a value as the user wrote it.

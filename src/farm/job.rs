@@ -49,6 +49,9 @@ pub struct Settings {
     pub half: bool,
     #[serde(default = "default_fps")]
     pub fps: f32,
+    /// The EXR's channel names (absent in manifests written before layouts: ours).
+    #[serde(default)]
+    pub exr_layout: crate::output::exr::ExrLayout,
     pub validate: bool,
     /// Samples per pixel: above 1, tile images carry `coverage` (absent in manifests written
     /// before samples per pixel: 1).
@@ -80,6 +83,7 @@ impl Settings {
             view: anim.render.view,
             half: anim.output.half,
             fps: anim.output.fps,
+            exr_layout: anim.output.exr_layout,
             validate: anim.render.validate,
             spp: anim.render.spp,
             alpha: anim.render.background == crate::background::Background::Transparent,
@@ -227,6 +231,7 @@ impl Settings {
             exposure: self.exposure,
             view: self.view,
             half: self.half,
+            layout: self.exr_layout,
         }
     }
 }
