@@ -969,11 +969,15 @@ impl Animation {
         }
         let output_defaults = Output::default().layer().given_keys();
         for (key, value) in self.output.layer().given_keys() {
-            // The folder and the video change no frame's bytes. The names are recorded when
-            // not the defaults (folders from before them still resume): readers of the folder
-            // find its frames by them (`FrameNames::of_folder`).
-            let names = matches!(key, Key::OutputPattern | Key::FrameStart);
-            if names && output_defaults.contains(&(key, value.clone())) {
+            // The folder and the video change no frame's bytes. The names, the EXR layout and
+            // Cryptomatte are recorded when not the defaults (folders from before them still
+            // resume): readers of the folder find its frames by the names
+            // (`FrameNames::of_folder`).
+            let later = matches!(
+                key,
+                Key::OutputPattern | Key::FrameStart | Key::ExrLayout | Key::Cryptomatte
+            );
+            if later && output_defaults.contains(&(key, value.clone())) {
                 continue;
             }
             if !matches!(key, Key::Dir | Key::Video) {

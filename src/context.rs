@@ -48,6 +48,8 @@ pub struct Surface {
     /// The index of its material in the scene: at the pixel shading rate, samples of another
     /// material are shaded apart.
     pub material_index: u32,
+    /// The triangle hit: its object's name for ID mattes (`crate::cryptomatte`).
+    pub tri: u32,
 }
 
 /// Everything a tile needs about its frame: shared, read-only, across threads.
@@ -293,6 +295,7 @@ impl<'a> FrameContext<'a> {
             material: at.sample,
             catcher: self.scene.is_catcher(tri),
             material_index: self.scene.tri_material[tri],
+            tri: hit.tri,
         }
     }
 

@@ -21,6 +21,7 @@ use crate::bits;
 use crate::buffers::TileBuffers;
 use crate::catcher::{self, Catchers};
 use crate::context::{FrameContext, Surface};
+use crate::cryptomatte::{Ids, RANKS, Ranking};
 use crate::film::{BACKGROUND_DEPTH, Channel, Counts, Holds, Planes, TileResult};
 use crate::history::CarryPatch;
 use crate::lattice::{Lattice, LatticePatch};
@@ -55,6 +56,8 @@ pub struct FrameWork<'a> {
     pub validate: bool,
     /// How often a pixel's samples are shaded (`--shading-rate`).
     pub shading_rate: ShadingRate,
+    /// The scene's IDs, with Cryptomatte (`--cryptomatte`).
+    pub ids: Option<&'a Ids>,
 }
 
 impl FrameWork<'_> {
@@ -190,6 +193,7 @@ impl FrameWork<'_> {
             validated: self.validate,
             samples: self.k() > 1,
             transparent: self.ctx.backdrop.is_transparent(),
+            cryptomatte: self.ids.is_some(),
         }
     }
 
@@ -282,7 +286,7 @@ impl FrameWork<'_> {
         let counts = count_halo(&slot.bufs);
         let result = shade(
             self.ctx,
-            self.shading_rate,
+            (self.shading_rate, self.ids),
             &slot.bufs,
             pixels,
             self.holds(),
@@ -327,9 +331,12 @@ fn count_halo(bufs: &TileBuffers) -> Counts {
 /// that hit the model are shaded in groups that share a surface, after the pixel's other
 /// samples (background and catchers, shaded one by one); the reference is shaded the same
 /// way from the traced bits, so the validated error is the method's alone.
+///
+/// With Cryptomatte (`ids`), each hit sample counts for its object's and its material's ID,
+/// and the pixel's IDs are ranked by their share of its samples ([`Mattes`]).
 fn shade(
     ctx: &FrameContext,
-    rate: ShadingRate,
+    (rate, ids): (ShadingRate, Option<&Ids>),
     bufs: &TileBuffers,
     pixels: Rect,
     holds: Holds,
@@ -343,6 +350,7 @@ fn shade(
     let mut p = 0;
     let (eye, forward) = (ctx.camera.position, ctx.camera.forward());
     let mut shader = Shader::new(ctx, rate, (k * k) as usize, w);
+    let mut mattes = ids.map(|ids| Mattes::new(ids, (k * k) as usize));
     for py in pixels.y0..pixels.y1 {
         for px in pixels.x0..pixels.x1 {
             let mut lit = Vec3::ZERO;
@@ -356,6 +364,9 @@ fn shade(
             let mut n_sum = Vec3::ZERO;
             let mut a_sum = Vec3::ZERO;
             shader.members = 0;
+            if let Some(m) = &mut mattes {
+                m.clear();
+            }
             for j in 0..k {
                 for i in 0..k {
                     let (x, y) = (px * k + i, py * k + j);
@@ -380,6 +391,9 @@ fn shade(
                         continue;
                     }
                     hits += 1;
+                    if let Some(m) = &mut mattes {
+                        m.add(&s);
+                    }
                     nearest = nearest.min((s.p - eye).dot(forward));
                     n_sum += s.n;
                     a_sum += s.albedo;
@@ -436,6 +450,9 @@ fn shade(
             ] {
                 planes.set(c, p, v);
             }
+            if let Some(m) = &mut mattes {
+                m.write(&mut planes, p, spp);
+            }
             p += 1;
         }
     }
@@ -443,6 +460,52 @@ fn shade(
         rect: pixels,
         planes,
         counts,
+    }
+}
+
+/// A pixel's Cryptomatte ranks, gathered sample by sample: its objects' and materials' IDs,
+/// each counted once per sample that saw it (the filter placed the samples, so each weighs
+/// the same), written as shares of the pixel's samples.
+struct Mattes<'a> {
+    ids: &'a Ids,
+    objects: Ranking,
+    materials: Ranking,
+}
+
+impl<'a> Mattes<'a> {
+    fn new(ids: &'a Ids, spp: usize) -> Mattes<'a> {
+        Mattes {
+            ids,
+            objects: Ranking::new(spp),
+            materials: Ranking::new(spp),
+        }
+    }
+
+    fn clear(&mut self) {
+        self.objects.clear();
+        self.materials.clear();
+    }
+
+    /// A sample that hit `s`.
+    #[inline]
+    fn add(&mut self, s: &Surface) {
+        self.objects.add(self.ids.object_id(s.tri), 1.0);
+        self.materials
+            .add(self.ids.material_id(s.material_index), 1.0);
+    }
+
+    /// Writes the pixel's ranks into pixel `p` of `planes`, coverages as shares of `spp`.
+    fn write(&mut self, planes: &mut Planes, p: usize, spp: f32) {
+        for (ranking, channels) in [&mut self.objects, &mut self.materials]
+            .into_iter()
+            .zip(Channel::CRYPTOMATTE)
+        {
+            let ranks: [(f32, f32); RANKS] = ranking.ranks();
+            for (r, (id, count)) in ranks.into_iter().enumerate() {
+                planes.set(channels[2 * r], p, id);
+                planes.set(channels[2 * r + 1], p, count / spp);
+            }
+        }
     }
 }
 

@@ -3,10 +3,12 @@
 //!
 //! The film holds one plane (row-major `f32`) per [`Channel`], those the frame keeps, and
 //! every layer is a line of [`LAYERS`]. A new layer is its `Channel` variants with their
-//! lines there (EXR name, precision, blank value, when held, where listed), and the lines in
-//! the tile driver's `shade` that compute and write its per-pixel value.
+//! lines there (EXR names, ours and Blender's, precision, blank value, when held, where
+//! listed), and the lines in the tile driver's `shade` that compute and write its per-pixel
+//! value.
 
 use std::ops::AddAssign;
+use std::sync::Arc;
 
 use crate::tile::Rect;
 use crate::view::View;
@@ -130,6 +132,9 @@ pub struct Film {
     planes: Planes,
     /// Sum of the tiles' counts.
     pub counts: Counts,
+    /// With Cryptomatte (`--cryptomatte`): the manifests of its types
+    /// ([`crate::cryptomatte::TYPES`]), which the EXR header carries.
+    pub cryptomatte: Option<Arc<[String; 2]>>,
 }
 
 impl Film {
@@ -141,6 +146,7 @@ impl Film {
             height,
             planes: Planes::new(width as usize * height as usize, holds),
             counts: Counts::default(),
+            cryptomatte: None,
         }
     }
 
@@ -309,6 +315,36 @@ pub enum Channel {
     RefR,
     RefG,
     RefB,
+    /// Cryptomatte (`--cryptomatte`, see `crate::cryptomatte`): per type, three layers of two
+    /// ranks, each an ID (the hash of an object's or a material's name as a float) and its
+    /// coverage, the share of the pixel's samples that saw it (the samples are placed by the
+    /// filter, so each weighs the same); a pixel's coverages add up to the share of its
+    /// samples that hit the scene ([`Channel::Coverage`], 1 at one sample on a hit), the
+    /// background's having no ID.
+    Object00R,
+    Object00G,
+    Object00B,
+    Object00A,
+    Object01R,
+    Object01G,
+    Object01B,
+    Object01A,
+    Object02R,
+    Object02G,
+    Object02B,
+    Object02A,
+    Material00R,
+    Material00G,
+    Material00B,
+    Material00A,
+    Material01R,
+    Material01G,
+    Material01B,
+    Material01A,
+    Material02R,
+    Material02G,
+    Material02B,
+    Material02A,
 }
 
 impl Channel {
@@ -319,6 +355,31 @@ impl Channel {
     pub const NORMAL: [Channel; 3] = [Channel::NX, Channel::NY, Channel::NZ];
     pub const ALBEDO: [Channel; 3] = [Channel::AlbedoR, Channel::AlbedoG, Channel::AlbedoB];
     pub const REFERENCE: [Channel; 3] = [Channel::RefR, Channel::RefG, Channel::RefB];
+    /// Cryptomatte's channels per type ([`crate::cryptomatte::TYPES`]' order): rank 0's ID
+    /// and coverage, rank 1's, … (`CryptoObject00.R`, `.G`, `.B`, `.A`, `CryptoObject01.R`, …).
+    pub const CRYPTOMATTE: [[Channel; 2 * crate::cryptomatte::RANKS]; 2] = {
+        use Channel::*;
+        [
+            [
+                Object00R, Object00G, Object00B, Object00A, Object01R, Object01G, Object01B,
+                Object01A, Object02R, Object02G, Object02B, Object02A,
+            ],
+            [
+                Material00R,
+                Material00G,
+                Material00B,
+                Material00A,
+                Material01R,
+                Material01G,
+                Material01B,
+                Material01A,
+                Material02R,
+                Material02G,
+                Material02B,
+                Material02A,
+            ],
+        ]
+    };
 
     fn layer(self) -> &'static Layer {
         &LAYERS[self as usize]
@@ -327,6 +388,11 @@ impl Channel {
     /// The channel's name in an EXR file.
     pub fn name(self) -> &'static str {
         self.layer().name
+    }
+
+    /// The channel's name in Blender's multilayer layout (`ViewLayer.Combined.R`, …).
+    pub fn blender_name(self) -> &'static str {
+        self.layer().blender
     }
 
     /// Whether the channel stays 32-bit float in a half-float EXR (`--half`).
@@ -344,6 +410,8 @@ pub struct Holds {
     pub samples: bool,
     /// A transparent background: the alpha.
     pub transparent: bool,
+    /// `--cryptomatte`: the ID mattes.
+    pub cryptomatte: bool,
 }
 
 impl Holds {
@@ -353,6 +421,7 @@ impl Holds {
             Held::Validated => self.validated,
             Held::Samples => self.samples,
             Held::Transparent => self.transparent,
+            Held::Cryptomatte => self.cryptomatte,
         }
     }
 }
@@ -364,11 +433,14 @@ pub enum Held {
     Validated,
     Samples,
     Transparent,
+    Cryptomatte,
 }
 
 /// A channel's precision in a half-float EXR (`--half`) [ours]: counts (rays up to 4096
 /// lights × 64 samples, wrong pairs) are whole numbers beyond half's 2048, and depth needs
-/// more than half's 11 bits (and its range: the background's 1e10), so they stay `Full`.
+/// more than half's 11 bits (and its range: the background's 1e10), so they stay `Full`, as
+/// do Cryptomatte's IDs (a float's every bit is the hash) and coverages (as Blender writes
+/// them).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Precision {
     Half,
@@ -390,8 +462,11 @@ pub enum Listed {
 #[derive(Clone, Copy, Debug)]
 pub struct Layer {
     pub channel: Channel,
-    /// Its name in an EXR file.
+    /// Its name in an EXR file, and in Blender's multilayer layout (`--exr-layout blender`):
+    /// `ViewLayer.<pass>.<channel>`, Blender's pass where it has one (`Combined`, `Depth`,
+    /// `Normal`, `DiffCol` for the albedo), ours under our pass names otherwise.
     pub name: &'static str,
+    pub blender: &'static str,
     pub precision: Precision,
     /// Its value where no sample wrote one (a pixel no tile rendered).
     pub blank: f32,
@@ -401,7 +476,7 @@ pub struct Layer {
 
 const fn line(
     channel: Channel,
-    name: &'static str,
+    [name, blender]: [&'static str; 2],
     precision: Precision,
     blank: f32,
     held: Held,
@@ -410,6 +485,7 @@ const fn line(
     Layer {
         channel,
         name,
+        blender,
         precision,
         blank,
         held,
@@ -417,58 +493,56 @@ const fn line(
     }
 }
 
-/// Every channel, in [`Channel`]'s order (which files list them in).
+/// Every channel, in [`Channel`]'s order (which files list them in). Blender's single-value
+/// passes have one channel named `X` (its AOVs') or `Z` (depth); ours follow the former.
+#[rustfmt::skip]
 pub const LAYERS: &[Layer] = {
     use Channel::*;
     use Held::*;
     use Precision::*;
     &[
-        line(R, "R", Half, 0.0, Always, Listed::Held),
-        line(G, "G", Half, 0.0, Always, Listed::Held),
-        line(B, "B", Half, 0.0, Always, Listed::Held),
-        line(A, "A", Half, 0.0, Transparent, Listed::Always(1.0)),
-        line(Z, "Z", Full, BACKGROUND_DEPTH, Always, Listed::Held),
-        line(NX, "N.X", Half, 0.0, Always, Listed::Held),
-        line(NY, "N.Y", Half, 0.0, Always, Listed::Held),
-        line(NZ, "N.Z", Half, 0.0, Always, Listed::Held),
-        line(AlbedoR, "albedo.R", Half, 0.0, Always, Listed::Held),
-        line(AlbedoG, "albedo.G", Half, 0.0, Always, Listed::Held),
-        line(AlbedoB, "albedo.B", Half, 0.0, Always, Listed::Held),
-        line(Rays, "shadow.rays", Full, 0.0, Always, Listed::Held),
-        line(Visible, "shadow.visible", Half, 0.0, Always, Listed::Held),
-        line(Wrong, "shadow.wrong", Full, 0.0, Validated, Listed::Held),
-        line(
-            Coverage,
-            "shadow.coverage",
-            Half,
-            0.0,
-            Samples,
-            Listed::Held,
-        ),
-        line(
-            RefR,
-            "reference.R",
-            Half,
-            0.0,
-            Validated,
-            Listed::TileImages,
-        ),
-        line(
-            RefG,
-            "reference.G",
-            Half,
-            0.0,
-            Validated,
-            Listed::TileImages,
-        ),
-        line(
-            RefB,
-            "reference.B",
-            Half,
-            0.0,
-            Validated,
-            Listed::TileImages,
-        ),
+        line(R, ["R", "ViewLayer.Combined.R"], Half, 0.0, Always, Listed::Held),
+        line(G, ["G", "ViewLayer.Combined.G"], Half, 0.0, Always, Listed::Held),
+        line(B, ["B", "ViewLayer.Combined.B"], Half, 0.0, Always, Listed::Held),
+        line(A, ["A", "ViewLayer.Combined.A"], Half, 0.0, Transparent, Listed::Always(1.0)),
+        line(Z, ["Z", "ViewLayer.Depth.Z"], Full, BACKGROUND_DEPTH, Always, Listed::Held),
+        line(NX, ["N.X", "ViewLayer.Normal.X"], Half, 0.0, Always, Listed::Held),
+        line(NY, ["N.Y", "ViewLayer.Normal.Y"], Half, 0.0, Always, Listed::Held),
+        line(NZ, ["N.Z", "ViewLayer.Normal.Z"], Half, 0.0, Always, Listed::Held),
+        line(AlbedoR, ["albedo.R", "ViewLayer.DiffCol.R"], Half, 0.0, Always, Listed::Held),
+        line(AlbedoG, ["albedo.G", "ViewLayer.DiffCol.G"], Half, 0.0, Always, Listed::Held),
+        line(AlbedoB, ["albedo.B", "ViewLayer.DiffCol.B"], Half, 0.0, Always, Listed::Held),
+        line(Rays, ["shadow.rays", "ViewLayer.ShadowRays.X"], Full, 0.0, Always, Listed::Held),
+        line(Visible, ["shadow.visible", "ViewLayer.ShadowVisible.X"], Half, 0.0, Always, Listed::Held),
+        line(Wrong, ["shadow.wrong", "ViewLayer.ShadowWrong.X"], Full, 0.0, Validated, Listed::Held),
+        line(Coverage, ["shadow.coverage", "ViewLayer.ShadowCoverage.X"], Half, 0.0, Samples, Listed::Held),
+        line(RefR, ["reference.R", "ViewLayer.Reference.R"], Half, 0.0, Validated, Listed::TileImages),
+        line(RefG, ["reference.G", "ViewLayer.Reference.G"], Half, 0.0, Validated, Listed::TileImages),
+        line(RefB, ["reference.B", "ViewLayer.Reference.B"], Half, 0.0, Validated, Listed::TileImages),
+        line(Object00R, ["CryptoObject00.R", "ViewLayer.CryptoObject00.R"], Full, 0.0, Cryptomatte, Listed::Held),
+        line(Object00G, ["CryptoObject00.G", "ViewLayer.CryptoObject00.G"], Full, 0.0, Cryptomatte, Listed::Held),
+        line(Object00B, ["CryptoObject00.B", "ViewLayer.CryptoObject00.B"], Full, 0.0, Cryptomatte, Listed::Held),
+        line(Object00A, ["CryptoObject00.A", "ViewLayer.CryptoObject00.A"], Full, 0.0, Cryptomatte, Listed::Held),
+        line(Object01R, ["CryptoObject01.R", "ViewLayer.CryptoObject01.R"], Full, 0.0, Cryptomatte, Listed::Held),
+        line(Object01G, ["CryptoObject01.G", "ViewLayer.CryptoObject01.G"], Full, 0.0, Cryptomatte, Listed::Held),
+        line(Object01B, ["CryptoObject01.B", "ViewLayer.CryptoObject01.B"], Full, 0.0, Cryptomatte, Listed::Held),
+        line(Object01A, ["CryptoObject01.A", "ViewLayer.CryptoObject01.A"], Full, 0.0, Cryptomatte, Listed::Held),
+        line(Object02R, ["CryptoObject02.R", "ViewLayer.CryptoObject02.R"], Full, 0.0, Cryptomatte, Listed::Held),
+        line(Object02G, ["CryptoObject02.G", "ViewLayer.CryptoObject02.G"], Full, 0.0, Cryptomatte, Listed::Held),
+        line(Object02B, ["CryptoObject02.B", "ViewLayer.CryptoObject02.B"], Full, 0.0, Cryptomatte, Listed::Held),
+        line(Object02A, ["CryptoObject02.A", "ViewLayer.CryptoObject02.A"], Full, 0.0, Cryptomatte, Listed::Held),
+        line(Material00R, ["CryptoMaterial00.R", "ViewLayer.CryptoMaterial00.R"], Full, 0.0, Cryptomatte, Listed::Held),
+        line(Material00G, ["CryptoMaterial00.G", "ViewLayer.CryptoMaterial00.G"], Full, 0.0, Cryptomatte, Listed::Held),
+        line(Material00B, ["CryptoMaterial00.B", "ViewLayer.CryptoMaterial00.B"], Full, 0.0, Cryptomatte, Listed::Held),
+        line(Material00A, ["CryptoMaterial00.A", "ViewLayer.CryptoMaterial00.A"], Full, 0.0, Cryptomatte, Listed::Held),
+        line(Material01R, ["CryptoMaterial01.R", "ViewLayer.CryptoMaterial01.R"], Full, 0.0, Cryptomatte, Listed::Held),
+        line(Material01G, ["CryptoMaterial01.G", "ViewLayer.CryptoMaterial01.G"], Full, 0.0, Cryptomatte, Listed::Held),
+        line(Material01B, ["CryptoMaterial01.B", "ViewLayer.CryptoMaterial01.B"], Full, 0.0, Cryptomatte, Listed::Held),
+        line(Material01A, ["CryptoMaterial01.A", "ViewLayer.CryptoMaterial01.A"], Full, 0.0, Cryptomatte, Listed::Held),
+        line(Material02R, ["CryptoMaterial02.R", "ViewLayer.CryptoMaterial02.R"], Full, 0.0, Cryptomatte, Listed::Held),
+        line(Material02G, ["CryptoMaterial02.G", "ViewLayer.CryptoMaterial02.G"], Full, 0.0, Cryptomatte, Listed::Held),
+        line(Material02B, ["CryptoMaterial02.B", "ViewLayer.CryptoMaterial02.B"], Full, 0.0, Cryptomatte, Listed::Held),
+        line(Material02A, ["CryptoMaterial02.A", "ViewLayer.CryptoMaterial02.A"], Full, 0.0, Cryptomatte, Listed::Held),
     ]
 };
 

@@ -145,17 +145,23 @@ pub fn render_tile_list(
             .for_samples(ctx.samples.k)
             .for_cutouts(accel.has_cutouts()),
     );
+    let ids = anim
+        .output
+        .cryptomatte
+        .then(|| inputs.scene.cryptomatte_ids());
     let work = FrameWork {
         ctx: &ctx,
         shadows: &shadows,
         link: &link,
         validate: anim.render.validate && !temporal.no_validate,
         shading_rate: anim.render.shading_rate,
+        ids: ids.as_ref(),
     };
     let lattice = shared_phases(&work, anim, list, region, cancel, &mut time)?;
     let results = final_phase(&work, list, &lattice, frame, progress, cancel, &mut time)?;
     let (width, height) = (anim.render.width, anim.render.height);
     let mut film = Film::new(width, height, work.holds());
+    film.cryptomatte = ids.map(|i| std::sync::Arc::new(i.manifests(scene.triangle_count())));
     let mut carried = link.carried(frame, width, height, ctx.words());
     for (r, patch) in &results {
         film.add(r);

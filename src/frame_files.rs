@@ -142,6 +142,7 @@ pub fn frame_format(anim: &Animation) -> output::FrameFormat {
         view: anim.render.view,
         half: anim.output.half,
         names: anim.output.frame_names(),
+        layout: anim.output.exr_layout,
     }
 }
 

@@ -263,6 +263,19 @@ macro_rules! settings_list {
                 /// --frame-start 1 numbers frames from 1, as Blender does. Default 0.
                 frame_start: u32 = 0, key FrameStart, flag "frame-start" [value_name = "N"],
                     check check_frame_start;
+                /// How the EXR's channels are named: envshadow (the default: `R G B A`, `Z`, `N.X`,
+                /// `albedo.R`, `shadow.rays`, …) or blender (Blender's multilayer names, which its
+                /// compositor opens as a render of its own: `ViewLayer.Combined.R`,
+                /// `ViewLayer.Depth.Z`, `ViewLayer.Normal.X`, `ViewLayer.DiffCol.R` for the albedo,
+                /// ours as `ViewLayer.ShadowRays.X`, …).
+                exr_layout: ExrLayout = ExrLayout::Envshadow, key ExrLayout,
+                    flag "exr-layout" [value_name = "LAYOUT"], check any;
+                /// Cryptomatte ID mattes in the EXR, objects and materials by name (Psyop's
+                /// specification, which Nuke and Blender read: CryptoObject00–02 and
+                /// CryptoMaterial00–02, six ranks each, the manifests in the header). Default false.
+                cryptomatte: bool = false, key Cryptomatte,
+                    flag "cryptomatte" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
+                        default_missing_value = "true"], check any;
                 /// At the end of a render, encode the frames' PNGs into DIR/video.mp4 (H.264) with
                 /// the system's ffmpeg, as `envshadow video DIR` does. Default false.
                 video: bool = false, key Video,

@@ -35,6 +35,7 @@ pub mod cancel;
 pub mod catcher;
 pub mod context;
 pub mod coordinator;
+pub mod cryptomatte;
 pub mod driver;
 pub mod envmap;
 pub mod error;

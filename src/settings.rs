@@ -26,6 +26,7 @@ use crate::key::Key;
 use crate::lights::Sampler;
 use crate::output::names::{FrameNames, Pattern};
 use crate::output::rate::FrameRate;
+use crate::output::exr::ExrLayout;
 use crate::predict::{FloodTo, Method, Params};
 use crate::samples::{Filter, Samples};
 use crate::scene::Up;
@@ -120,7 +121,8 @@ value_by_display!(
     Up,
     View,
     FrameRate,
-    Pattern
+    Pattern,
+    ExrLayout
 );
 
 impl Value for Sampler {
@@ -156,7 +158,8 @@ deserialize_by_from_str!(
     Ground,
     Up,
     View,
-    Pattern
+    Pattern,
+    ExrLayout
 );
 
 /// Where a layer of settings came from, so a message names a value as the user wrote it.

@@ -62,6 +62,17 @@ fn frame_list(frames: &BTreeSet<usize>) -> String {
 pub fn assemble(dir: &Path) -> Result<Assembled> {
     let judged = Judged::read(dir)?;
     let settings = &judged.settings;
+    // [ours] Tile images carry the ID mattes' ranks, but the manifests need the scene, which
+    // assembling never loads: refused rather than frames without the mattes they were asked for.
+    let key = crate::key::Key::Cryptomatte;
+    let setting = format!("[{}] {}", key.table(), key.name());
+    if settings.record.contains(&(setting, "true".to_string())) {
+        return Err(crate::error::input_error(
+            dir,
+            "rendered with --cryptomatte, which assembling farm jobs does not support yet: \
+             render the frames in one process",
+        ));
+    }
     let stats_path = dir.join("stats.csv");
     let mut stats_file = StatsFile::open(&stats_path);
     let mut tally = Tally::default();
@@ -81,6 +92,7 @@ pub fn assemble(dir: &Path) -> Result<Assembled> {
             validated: settings.validate,
             samples: settings.spp > 1,
             transparent: settings.alpha,
+            cryptomatte: false,
         };
         let mut film = Film::new(settings.width, settings.height, holds);
         let pieces = judged.pieces(f, Some(&mut film), &mut tally);

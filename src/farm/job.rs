@@ -51,6 +51,9 @@ pub struct Settings {
     pub half: bool,
     #[serde(default = "default_fps")]
     pub fps: FrameRate,
+    /// The EXR's channel names (absent in manifests written before layouts: ours).
+    #[serde(default)]
+    pub exr_layout: crate::output::exr::ExrLayout,
     pub validate: bool,
     /// Samples per pixel: above 1, tile images carry `coverage` (absent in manifests written
     /// before samples per pixel: 1).
@@ -82,6 +85,7 @@ impl Settings {
             view: anim.render.view,
             half: anim.output.half,
             fps: anim.output.fps,
+            exr_layout: anim.output.exr_layout,
             validate: anim.render.validate,
             spp: anim.render.spp,
             alpha: anim.render.background == crate::background::Background::Transparent,
@@ -230,6 +234,7 @@ impl Settings {
             view: self.view,
             half: self.half,
             names: FrameNames::from_record(&self.record),
+            layout: self.exr_layout,
         }
     }
 }

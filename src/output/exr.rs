@@ -6,6 +6,17 @@
 //! (Rec.709 primaries, D65 white: the renderer's linear RGB), `software` — and ours as
 //! `envshadow/…`: the frame number, the settings and the frame's counts.
 //!
+//! With Cryptomatte (`--cryptomatte`), the ID mattes' ranks `CryptoObject00.R` …
+//! `CryptoMaterial02.A` and, per type, the specification's `cryptomatte/<key>/name`, `hash`,
+//! `conversion` and `manifest` attributes (`crate::cryptomatte`).
+//!
+//! The layout ([`ExrLayout`], `--exr-layout`) names the channels: ours as above (the
+//! default), or Blender's multilayer names (`ViewLayer.Combined.R`, `ViewLayer.Depth.Z`,
+//! `ViewLayer.Normal.X`, `ViewLayer.DiffCol.R`, ours as `ViewLayer.ShadowRays.X`, …; see
+//! [`Channel::blender_name`]) with the `BlenderMultiChannel` attribute Blender writes in its
+//! own multilayer files, and the Cryptomatte types named `ViewLayer.CryptoObject`, as
+//! Blender names its own.
+//!
 //! With `half`, every channel but those that need more ([`Channel::exact`]: counts and
 //! depth) is stored as 16-bit half float. ZIP compression, chunks compressed in parallel and
 //! written in increasing scanline order, attributes in name order (as OpenEXR's own library
@@ -21,8 +32,9 @@ use exr::meta::attribute::{AttributeValue, Chromaticities, Text};
 use exr::prelude::*;
 use rayon::prelude::*;
 
+use crate::cryptomatte;
 use crate::error::Result;
-use crate::film::Film;
+use crate::film::{Channel, Film};
 use crate::output::rate::FrameRate;
 use crate::output::stats::{FrameStats, HEADER};
 use crate::tile::Rect;
@@ -49,6 +61,74 @@ pub struct FrameHeader<'a> {
     pub stats: &'a FrameStats,
 }
 
+/// How a frame's channels are named (`--exr-layout`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ExrLayout {
+    /// Ours: `R G B A`, `Z`, `N.X`, `albedo.R`, `shadow.rays`, … (the default).
+    #[default]
+    Envshadow,
+    /// Blender's multilayer EXR: `ViewLayer.Combined.R`, `ViewLayer.Depth.Z`, …
+    Blender,
+}
+
+impl ExrLayout {
+    /// The name on the command line and in specs.
+    pub fn name(self) -> &'static str {
+        match self {
+            ExrLayout::Envshadow => "envshadow",
+            ExrLayout::Blender => "blender",
+        }
+    }
+
+    /// Channel `c`'s name in this layout.
+    pub fn channel_name(self, c: Channel) -> &'static str {
+        match self {
+            ExrLayout::Envshadow => c.name(),
+            ExrLayout::Blender => c.blender_name(),
+        }
+    }
+
+    /// A Cryptomatte type's name (`CryptoObject`) in this layout: Blender prefixes its view
+    /// layer, as its channels are.
+    pub fn cryptomatte_name(self, type_name: &str) -> String {
+        match self {
+            ExrLayout::Envshadow => type_name.to_string(),
+            ExrLayout::Blender => format!("{BLENDER_VIEW_LAYER}.{type_name}"),
+        }
+    }
+}
+
+/// The view layer Blender names in its multilayer files by default.
+pub const BLENDER_VIEW_LAYER: &str = "ViewLayer";
+
+/// The `BlenderMultiChannel` attribute's value in Blender's multilayer files.
+pub const BLENDER_MULTI_CHANNEL: &str = "Blender V2.55.1 and newer";
+
+impl std::fmt::Display for ExrLayout {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for ExrLayout {
+    type Err = String;
+    fn from_str(s: &str) -> std::result::Result<ExrLayout, String> {
+        match s {
+            "envshadow" => Ok(ExrLayout::Envshadow),
+            "blender" => Ok(ExrLayout::Blender),
+            _ => Err(format!(
+                "unknown EXR layout {s:?} (expected envshadow or blender)"
+            )),
+        }
+    }
+}
+
+impl serde::Serialize for ExrLayout {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
 /// This build's name and version, for the `software` attribute.
 pub const SOFTWARE: &str = concat!("envshadow ", env!("CARGO_PKG_VERSION"));
 
@@ -62,10 +142,16 @@ fn run_dependent(column: &str) -> bool {
         || column.contains("time")
 }
 
-/// The EXR file of a frame's film, half-float where `half` allows, with `header`.
-pub fn encode_frame(film: &Film, header: &FrameHeader, half: bool) -> Result<Vec<u8>> {
+/// The EXR file of a frame's film, half-float where `half` allows, with `header`, its
+/// channels named as `layout` says.
+pub fn encode_frame(
+    film: &Film,
+    header: &FrameHeader,
+    half: bool,
+    layout: ExrLayout,
+) -> Result<Vec<u8>> {
     let rect = Rect::frame(film.width, film.height);
-    let channels = film_channels(film, rect, false, half);
+    let channels = channels_in(film, rect, false, half, layout);
     let mut attrs = LayerAttributes {
         software_name: Some(text(SOFTWARE)),
         world_to_camera: Some(header.world_to_camera),
@@ -90,6 +176,26 @@ pub fn encode_frame(film: &Film, header: &FrameHeader, half: bool) -> Result<Vec
     for (column, value) in HEADER.split(',').zip(stats.csv_row().split(',')) {
         if column != "frame" && !value.is_empty() && !run_dependent(column) {
             put(format!("envshadow/stats.{column}"), text_value(value));
+        }
+    }
+    if layout == ExrLayout::Blender {
+        put(
+            "BlenderMultiChannel".into(),
+            text_value(BLENDER_MULTI_CHANNEL),
+        );
+    }
+    if let Some(manifests) = &film.cryptomatte {
+        for (type_name, manifest) in cryptomatte::TYPES.iter().zip(manifests.iter()) {
+            let name = layout.cryptomatte_name(type_name);
+            let key = cryptomatte::key(&name);
+            for (attr, value) in [
+                ("name", name.as_str()),
+                ("hash", "MurmurHash3_32"),
+                ("conversion", "uint32_to_float32"),
+                ("manifest", manifest),
+            ] {
+                put(format!("cryptomatte/{key}/{attr}"), text_value(value));
+            }
         }
     }
     let image_attrs = ImageAttributes {
@@ -142,6 +248,17 @@ pub fn film_channels(
     reference: bool,
     half: bool,
 ) -> Vec<AnyChannel<FlatSamples>> {
+    channels_in(film, rect, reference, half, ExrLayout::Envshadow)
+}
+
+/// [`film_channels`] named as `layout` says.
+fn channels_in(
+    film: &Film,
+    rect: Rect,
+    reference: bool,
+    half: bool,
+    layout: ExrLayout,
+) -> Vec<AnyChannel<FlatSamples>> {
     let fw = film.width as usize;
     film.channels(reference)
         .into_par_iter()
@@ -157,7 +274,7 @@ pub fn film_channels(
             } else {
                 FlatSamples::F32(v)
             };
-            AnyChannel::new(c.name(), samples)
+            AnyChannel::new(layout.channel_name(c), samples)
         })
         .collect()
 }
@@ -395,9 +512,9 @@ mod tests {
             settings: &settings,
             stats: &stats,
         };
-        let first = encode_frame(&film, &header, false).unwrap();
+        let first = encode_frame(&film, &header, false, ExrLayout::Envshadow).unwrap();
         for _ in 0..10 {
-            assert!(encode_frame(&film, &header, false).unwrap() == first);
+            assert!(encode_frame(&film, &header, false, ExrLayout::Envshadow).unwrap() == first);
         }
         // Sorted by name, the header reads back.
         let back = read_frame_from(std::io::Cursor::new(first), false).unwrap();
@@ -485,8 +602,12 @@ mod tests {
                 .num_threads(6)
                 .build()
                 .unwrap();
-            let a = one.install(|| encode_frame(&film, &header, half)).unwrap();
-            let b = many.install(|| encode_frame(&film, &header, half)).unwrap();
+            let a = one
+                .install(|| encode_frame(&film, &header, half, ExrLayout::Envshadow))
+                .unwrap();
+            let b = many
+                .install(|| encode_frame(&film, &header, half, ExrLayout::Envshadow))
+                .unwrap();
             assert!(a == b, "half {half}: a frame's bytes depend on the threads");
         }
     }

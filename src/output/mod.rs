@@ -121,6 +121,8 @@ pub struct FrameFormat {
     pub half: bool,
     /// The frames' file names (`--output-pattern`, `--frame-start`).
     pub names: names::FrameNames,
+    /// How the EXR's channels are named (`--exr-layout`).
+    pub layout: exr::ExrLayout,
 }
 
 /// A frame's two files: the EXR and the PNG preview, encoded at once on the current rayon
@@ -131,7 +133,7 @@ fn encode_files(
     format: &FrameFormat,
 ) -> Result<[Vec<u8>; 2]> {
     let (exr, png) = rayon::join(
-        || exr::encode_frame(film, header, format.half),
+        || exr::encode_frame(film, header, format.half, format.layout),
         || {
             png::encode_preview(
                 film.width,

@@ -126,6 +126,15 @@ impl Part {
     pub fn is_named(&self, name: &str) -> bool {
         self.node.as_deref() == Some(name) || self.mesh.as_deref() == Some(name)
     }
+
+    /// Its name as an object: the node's, else its mesh's, else `object N` (N its index in
+    /// [`Scene::parts`]).
+    pub fn object_name(&self, index: usize) -> String {
+        self.node
+            .clone()
+            .or_else(|| self.mesh.clone())
+            .unwrap_or_else(|| format!("object {index}"))
+    }
 }
 
 /// Which way is up in a scene file: glTF's +Y, or +Z (CAD and many exported models), which
@@ -236,6 +245,19 @@ impl Scene {
     /// [`Scene::load_bytes`] against `budget`, which then counts the scene.
     pub fn load_bytes_within(bytes: &[u8], path: &Path, budget: &mut Budget) -> Result<Scene> {
         gltf::load_bytes(bytes, path, budget)
+    }
+
+    /// The scene's ID mattes (`--cryptomatte`): its parts as objects ([`Part::object_name`])
+    /// and its materials by name.
+    pub fn cryptomatte_ids(&self) -> crate::cryptomatte::Ids {
+        let objects: Vec<(String, Range<usize>)> = self
+            .parts
+            .iter()
+            .enumerate()
+            .map(|(i, p)| (p.object_name(i), p.triangles.clone()))
+            .collect();
+        let materials: Vec<String> = self.materials.iter().map(|m| m.name.clone()).collect();
+        crate::cryptomatte::Ids::new(&objects, &materials)
     }
 
     /// The built-in `shapes` scene: sphere, box, cylinder, cone, torus and a thin upright slab

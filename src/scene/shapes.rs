@@ -73,6 +73,19 @@ pub(super) fn build() -> Scene {
     );
     unit_box(&mut b);
 
+    // Each object is its material's triangles, named as it (for ID mattes and `[scene]
+    // catchers`).
+    let mut start = 0;
+    let tris = &b.scene.tri_material;
+    for (m, material) in b.scene.materials.iter().enumerate() {
+        let end = start + tris[start..].iter().take_while(|&&t| t == m as u32).count();
+        b.scene.parts.push(super::Part {
+            node: Some(material.name.clone()),
+            mesh: None,
+            triangles: start..end,
+        });
+        start = end;
+    }
     b.scene
 }
 

@@ -15,6 +15,7 @@ mod chaos;
 mod cli;
 mod common;
 mod compositing;
+mod compositor_exr;
 mod envmap;
 mod export;
 mod farm;
