@@ -26,8 +26,8 @@ use crate::key::Key;
 use crate::lights::Sampler;
 use crate::predict::{FloodTo, Method, Params};
 use crate::samples::{Filter, Samples};
-use crate::scene::Up;
 use crate::scene::ground::Ground;
+use crate::scene::{AllowedFolder, Up};
 use crate::shading_rate::ShadingRate;
 use crate::view::View;
 
@@ -58,7 +58,8 @@ value_by_display!(
     Rgb,
     Ground,
     Up,
-    View
+    View,
+    AllowedFolder
 );
 
 impl Value for Sampler {
@@ -93,7 +94,8 @@ deserialize_by_from_str!(
     Background,
     Ground,
     Up,
-    View
+    View,
+    AllowedFolder
 );
 
 /// Where a layer of settings came from, so a message names a value as the user wrote it.
