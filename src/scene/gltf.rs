@@ -10,7 +10,7 @@ use glam::{DMat4, DVec3, Vec2, Vec3, Vec4};
 use sha2::{Digest, Sha256};
 use std::collections::HashMap;
 use std::ops::Range;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use ::gltf::accessor::{DataType, Dimensions};
 use ::gltf::mesh::{Mode, Semantic};
@@ -148,6 +148,43 @@ pub(super) fn load_bytes(
         );
     }
     Ok(scene)
+}
+
+/// The files a glTF file's buffers and images name (`data:` URIs aside), resolved and checked
+/// as loading reads them ([`Confinement::resolve`]), each once, in the file's order. A GLB
+/// whose header is broken names none: loading it says what is wrong.
+pub(super) fn external_files(path: &Path, allowed: &AllowedFolder) -> Result<Vec<PathBuf>> {
+    let bytes = read_regular(path, MAX_FILE_BYTES).map_err(|e| e.into_error(path, "scene file"))?;
+    if let (Some(b"glTF"), Some(d)) = (bytes.get(..4), bytes.get(8..12)) {
+        let declared = u32::from_le_bytes([d[0], d[1], d[2], d[3]]) as usize;
+        if declared < 12 || declared > bytes.len() {
+            return Ok(Vec::new());
+        }
+    }
+    let ::gltf::Gltf { document, .. } = ::gltf::Gltf::from_slice_without_validation(&bytes)
+        .map_err(|e| input_error(path, format!("not a valid glTF/GLB file: {e}")))?;
+    let confinement = Confinement::of_model(path, allowed)?;
+    let buffers = document.buffers().filter_map(|b| match b.source() {
+        ::gltf::buffer::Source::Uri(uri) => Some((format!("buffer {}", b.index()), uri)),
+        ::gltf::buffer::Source::Bin => None,
+    });
+    let images = document.images().filter_map(|i| match i.source() {
+        ::gltf::image::Source::Uri { uri, .. } => Some((format!("image {}", i.index()), uri)),
+        ::gltf::image::Source::View { .. } => None,
+    });
+    let mut files: Vec<PathBuf> = Vec::new();
+    for (what, uri) in buffers.chain(images) {
+        if uri.starts_with("data:") {
+            continue;
+        }
+        let file = confinement
+            .resolve(uri)
+            .map_err(|why| input_error(path, format!("{what}: {why}")))?;
+        if !files.contains(&file) {
+            files.push(file);
+        }
+    }
+    Ok(files)
 }
 
 /// gltf-json's validation indexes the accessor list with each POSITION reference before checking

@@ -21,7 +21,7 @@ mod texture;
 
 use glam::{DVec3, Mat3, Mat4, Vec2, Vec3, Vec4};
 use std::ops::Range;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use crate::error::Result;
 use crate::limits::Budget;
@@ -240,6 +240,13 @@ impl Scene {
         allowed: &AllowedFolder,
     ) -> Result<Scene> {
         gltf::load(path, budget, allowed)
+    }
+
+    /// The files a glTF file's buffers and images name, resolved inside its folder or
+    /// `allowed` as loading resolves them (`data:` URIs name none): what a host must hold
+    /// besides the model file to load it.
+    pub fn external_files(path: &Path, allowed: &AllowedFolder) -> Result<Vec<PathBuf>> {
+        gltf::external_files(path, allowed)
     }
 
     /// Loads a glTF or GLB file's bytes, as [`Scene::load`] does the file: `path` names it in

@@ -351,3 +351,54 @@ fn a_uri_with_control_characters_is_printed_escaped() {
         "{line}"
     );
 }
+
+/// Issue 39, item 10 (5 of the brief): `plan` left a `.gltf`'s `.bin` and textures out of
+/// `inputs.txt`, so a farm without a shared file system shipped a model that cannot load.
+#[test]
+fn plan_lists_every_file_a_gltf_references() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (mut g, mut rest) = triangle();
+    let uv = g.floats("VEC2", &[0.0, 0.0, 1.0, 0.0, 0.0, 1.0]);
+    rest["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = json!(uv);
+    rest["meshes"][0]["primitives"][0]["material"] = json!(0);
+    rest["materials"] = json!([{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]);
+    rest["textures"] = json!([{"source": 0}]);
+    rest["images"] = json!([{"uri": "tex%20ture.png"}]);
+    let model_dir = tmp.path().join("model");
+    fs::create_dir_all(&model_dir).unwrap();
+    let model = g.write_gltf(&model_dir, "m", rest);
+    fs::write(model_dir.join("tex ture.png"), b"not decoded by plan").unwrap();
+    let spec = tmp.path().join("anim.toml");
+    fs::write(
+        &spec,
+        format!(
+            "[scene]\nfile = {:?}\n[motion]\nframes = 2\n",
+            model.display().to_string()
+        ),
+    )
+    .unwrap();
+    let farm = tmp.path().join("farm");
+    let o = common::bin()
+        .arg("plan")
+        .arg(&spec)
+        .args(["--jobs", "2", "-q", "--out"])
+        .arg(&farm)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let listed = fs::read_to_string(farm.join("inputs.txt")).unwrap();
+    let listed: Vec<&str> = listed.lines().collect();
+    for f in [
+        &spec,
+        &model,
+        &model_dir.join("m.bin"),
+        &model_dir.join("tex ture.png"),
+    ] {
+        let want = fs::canonicalize(f).unwrap().display().to_string();
+        assert!(
+            listed.contains(&want.as_str()),
+            "{want} missing: {listed:?}"
+        );
+    }
+    assert_eq!(listed.len(), 4, "{listed:?}");
+}
