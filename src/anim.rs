@@ -134,6 +134,7 @@ struct SceneSpec {
     up: Option<crate::scene::Up>,
     ground: Option<crate::scene::ground::Ground>,
     shadow_catcher: Option<bool>,
+    allow_folder: Option<crate::scene::AllowedFolder>,
 }
 
 impl SceneSpec {
@@ -143,6 +144,7 @@ impl SceneSpec {
             up: self.up,
             ground: self.ground,
             shadow_catcher: self.shadow_catcher,
+            allow_folder: self.allow_folder.clone(),
         }
     }
 }

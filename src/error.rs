@@ -6,8 +6,33 @@
 //! Context is chained with `anyhow::Context`, so a message reads
 //! `while loading anims/x.toml: assets/b.glb: mesh 0 primitive 1: accessor 3 ...`.
 
+use std::borrow::Cow;
 use std::fmt;
 use std::path::Path;
+
+/// `s` with its control characters escaped (`\n`, `\t`, `\u{1b}`, …), for names, URIs and
+/// paths that reach a terminal or a log: an ANSI escape in a file's URI must not drive the
+/// terminal, nor a newline forge a line in a farm's log. Printable text, non-ASCII included,
+/// is kept as it is.
+pub fn escaped(s: &str) -> Cow<'_, str> {
+    if !s.chars().any(char::is_control) {
+        return Cow::Borrowed(s);
+    }
+    let mut out = String::with_capacity(s.len() + 8);
+    for c in s.chars() {
+        if c.is_control() {
+            out.extend(c.escape_debug());
+        } else {
+            out.push(c);
+        }
+    }
+    Cow::Owned(out)
+}
+
+/// [`escaped`] for a path (non-UTF-8 bytes shown as U+FFFD).
+pub fn escaped_path(path: &Path) -> String {
+    escaped(&path.to_string_lossy()).into_owned()
+}
 
 /// Exit codes, documented in `envshadow --help` and the README.
 pub mod exit {
@@ -31,7 +56,7 @@ pub struct InputError {
 impl InputError {
     pub fn new(path: impl AsRef<Path>, message: impl Into<String>) -> Self {
         InputError {
-            path: path.as_ref().display().to_string(),
+            path: escaped_path(path.as_ref()),
             message: message.into(),
         }
     }
@@ -91,3 +116,22 @@ pub fn exit_code(err: &anyhow::Error) -> i32 {
 }
 
 pub type Result<T> = anyhow::Result<T>;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 39: control characters in a name are escaped, printable text is kept.
+    #[test]
+    fn escaped_names_hold_no_control_characters() {
+        assert!(matches!(
+            escaped("plain/é.png"),
+            Cow::Borrowed("plain/é.png")
+        ));
+        let e = escaped("a\u{1b}[31mred\nforged\r\u{7f}\u{85}");
+        assert_eq!(e, "a\\u{1b}[31mred\\nforged\\r\\u{7f}\\u{85}");
+        assert!(!e.chars().any(char::is_control));
+        let err = InputError::new("x\ny.gltf", "bad");
+        assert_eq!(err.to_string(), "x\\ny.gltf: bad");
+    }
+}

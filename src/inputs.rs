@@ -96,8 +96,10 @@ impl Inputs {
         }
         let scene = match &anim.scene {
             SceneSource::Shapes => Scene::shapes(),
-            SceneSource::File(p) => Scene::load_within(p, &mut budget)
-                .with_context(|| format!("while loading {}", anim.spec_path.display()))?,
+            SceneSource::File(p) => {
+                Scene::load_allowing(p, &mut budget, &anim.scene_settings.allow_folder)
+                    .with_context(|| format!("while loading {}", anim.spec_path.display()))?
+            }
         };
         let scene = anim.prepare_scene(scene)?;
         // A spin poses the scene every frame: refused here if that could overflow (found by

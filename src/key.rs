@@ -236,6 +236,11 @@ macro_rules! settings_list {
                 shadow_catcher: bool = false, key ShadowCatcher,
                     flag "shadow-catcher" [value_name = "BOOL", num_args = 0..=1, require_equals = true,
                         default_missing_value = "true"], check any;
+                /// A folder a glTF file's external buffers and images may also be read from (default
+                /// none: only files inside the model's own folder, after following symbolic links,
+                /// are read; a URI leading elsewhere is refused). Relative to the working directory.
+                allow_folder: AllowedFolder = AllowedFolder::NONE, key AllowFolder,
+                    flag "allow-folder" [value_name = "DIR"], check any;
             }
 
             /// Where a render's files go (`[output]`).

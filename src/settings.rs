@@ -24,13 +24,13 @@ use crate::background::{Background, Rgb, check_rgb};
 use crate::error::{Result, input_error};
 use crate::key::Key;
 use crate::lights::Sampler;
+use crate::output::exr::ExrLayout;
 use crate::output::names::{FrameNames, Pattern};
 use crate::output::rate::FrameRate;
-use crate::output::exr::ExrLayout;
 use crate::predict::{FloodTo, Method, Params};
 use crate::samples::{Filter, Samples};
-use crate::scene::Up;
 use crate::scene::ground::Ground;
+use crate::scene::{AllowedFolder, Up};
 use crate::shading_rate::ShadingRate;
 use crate::view::View;
 
@@ -122,7 +122,8 @@ value_by_display!(
     View,
     FrameRate,
     Pattern,
-    ExrLayout
+    ExrLayout,
+    AllowedFolder
 );
 
 impl Value for Sampler {
@@ -159,7 +160,8 @@ deserialize_by_from_str!(
     Up,
     View,
     Pattern,
-    ExrLayout
+    ExrLayout,
+    AllowedFolder
 );
 
 /// Where a layer of settings came from, so a message names a value as the user wrote it.

@@ -84,9 +84,7 @@ pub fn write_plan(anim: &Animation, spec: &Path, jobs: usize, by: Option<By>) ->
     write_atomic(&dir.join("plan.json"), json.as_bytes())?;
     write_atomic(&dir.join("jobs.txt"), plan::job_lines(&list).as_bytes())?;
     let mut inputs = String::new();
-    for p in std::iter::once(spec.to_path_buf()).chain(identity::input_files(anim)) {
-        let abs = std::fs::canonicalize(&p)
-            .map_err(|e| input_error(&p, format!("cannot resolve: {e}")))?;
+    for abs in plan::input_files(spec, anim)? {
         inputs.push_str(&abs.display().to_string());
         inputs.push('\n');
     }

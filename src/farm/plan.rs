@@ -7,11 +7,14 @@
 
 use std::fmt;
 use std::ops::Range;
+use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use crate::anim::{Animation, SceneSource};
 use crate::error::{Result, input_error};
 use crate::frames::FrameSet;
+use crate::scene::Scene;
 
 /// How a plan splits the work.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
@@ -274,6 +277,28 @@ pub fn job_lines(jobs: &[Job]) -> String {
         ));
     }
     s
+}
+
+/// Every file a render of `anim` reads, for `inputs.txt` (what a farm without a shared file
+/// system ships to its hosts): the spec, the scene and map, and the buffers and images the
+/// scene's glTF file names, each once, absolute with links resolved.
+pub fn input_files(spec: &Path, anim: &Animation) -> Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    for p in std::iter::once(spec.to_path_buf()).chain(super::identity::input_files(anim)) {
+        let abs = std::fs::canonicalize(&p)
+            .map_err(|e| input_error(&p, format!("cannot resolve: {e}")))?;
+        if !files.contains(&abs) {
+            files.push(abs);
+        }
+    }
+    if let SceneSource::File(model) = &anim.scene {
+        for f in Scene::external_files(model, &anim.scene_settings.allow_folder)? {
+            if !files.contains(&f) {
+                files.push(f);
+            }
+        }
+    }
+    Ok(files)
 }
 
 #[cfg(test)]

@@ -18,14 +18,19 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 
-use crate::error::Result;
+use crate::error::{Result, escaped_path};
 use crate::film::{Channel, Film};
 use crate::view::View;
 
-/// The temporary name a file is written under before it is renamed into place: unique to the
-/// process (its PID), the write (a counter: threads of one process may publish the same file)
-/// and the moment (nanoseconds, for two hosts of a shared folder whose PIDs coincide), so two
-/// writers never share one.
+/// The mark every temporary name of ours carries (`<file>.envshadow-<pid>-<n>-<nanos>.tmp`),
+/// so that cleaning a folder never takes a user's own `.tmp` files
+/// (`thesis.docx.4242-1-deadbeef.tmp` looked like one of ours before the mark).
+const TEMP_TAG: &str = ".envshadow-";
+
+/// The temporary name a file is written under before it is renamed into place: marked as
+/// ours ([`TEMP_TAG`]) and unique to the process (its PID), the write (a counter: threads of
+/// one process may publish the same file) and the moment (nanoseconds, for two hosts of a
+/// shared folder whose PIDs coincide), so two writers never share one.
 pub fn temp_path(path: &Path) -> PathBuf {
     use std::sync::atomic::{AtomicU64, Ordering};
     static WRITES: AtomicU64 = AtomicU64::new(0);
@@ -34,36 +39,34 @@ pub fn temp_path(path: &Path) -> PathBuf {
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.subsec_nanos());
     let mut name = path.file_name().unwrap_or_default().to_os_string();
-    name.push(format!(".{}-{n}-{nanos:08x}.tmp", std::process::id()));
+    name.push(format!(
+        "{TEMP_TAG}{}-{n}-{nanos:08x}.tmp",
+        std::process::id()
+    ));
     path.with_file_name(name)
 }
 
-/// Whether `name` is one of [`temp_path`]'s names (`<file>.<pid>-<n>-<nanos>.tmp`, or the
-/// older `<file>.<pid>.tmp`): a file only a write in progress, or one a kill interrupted,
-/// leaves behind. Other names ending in `.tmp` are not ours.
+/// Whether `name` is one of [`temp_path`]'s names, `<file>.envshadow-<pid>-<n>-<nanos>.tmp`
+/// exactly: a file only a write in progress, or one a kill interrupted, leaves behind. Other
+/// names ending in `.tmp` are not ours.
 pub fn is_temp_name(name: &str) -> bool {
     let Some(stem) = name.strip_suffix(".tmp") else {
         return false;
     };
-    let Some((file, tag)) = stem.rsplit_once('.') else {
+    let Some((file, tag)) = stem.rsplit_once(TEMP_TAG) else {
         return false;
     };
-    let mut parts = tag.split('-');
-    let pid_ok = parts
-        .next()
-        .is_some_and(|p| !p.is_empty() && p.bytes().all(|b| b.is_ascii_digit()));
-    let rest: Vec<&str> = parts.collect();
-    let rest_ok = match rest.as_slice() {
-        [] => true,
-        [n, nanos] => {
-            !n.is_empty()
-                && n.bytes().all(|b| b.is_ascii_digit())
+    let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+    match tag.split('-').collect::<Vec<_>>().as_slice() {
+        [pid, n, nanos] => {
+            !file.is_empty()
+                && digits(pid)
+                && digits(n)
                 && nanos.len() == 8
                 && nanos.bytes().all(|b| b.is_ascii_hexdigit())
         }
         _ => false,
-    };
-    !file.is_empty() && pid_ok && rest_ok
+    }
 }
 
 /// Removes the temporaries an interrupted writer left in `dir` ([`is_temp_name`]); call it
@@ -87,23 +90,67 @@ pub fn remove_stale_temporaries(dir: &Path) -> Result<usize> {
     Ok(removed)
 }
 
-/// Writes a file atomically with `write`, which receives the temporary path.
+/// Refuses to publish over `path` when something other than a regular file stands there (a
+/// device node, a FIFO, a symbolic link, a folder): renaming over it would replace it — run as
+/// root, `--json /dev/null` would replace the system's `/dev/null` — and a link would be
+/// replaced, not followed. An [`crate::error::InputError`] naming the path (exit code 2).
+pub fn check_replaceable(path: &Path) -> Result<()> {
+    let Ok(meta) = fs::symlink_metadata(path) else {
+        return Ok(());
+    };
+    let ft = meta.file_type();
+    if ft.is_file() {
+        return Ok(());
+    }
+    use std::os::unix::fs::FileTypeExt;
+    let kind = if ft.is_symlink() {
+        "a symbolic link"
+    } else if ft.is_dir() {
+        "a folder"
+    } else if ft.is_fifo() {
+        "a FIFO"
+    } else if ft.is_char_device() || ft.is_block_device() {
+        "a device node"
+    } else if ft.is_socket() {
+        "a socket"
+    } else {
+        "not a regular file"
+    };
+    Err(crate::error::input_error(
+        path,
+        format!(
+            "the output path is {kind}; refusing to replace it (name a regular file or a new path)"
+        ),
+    ))
+}
+
+/// Writes a file atomically with `write`, which receives the temporary path. The target is
+/// checked with [`check_replaceable`] before writing and again just before the rename.
 pub fn write_atomic_with(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    check_replaceable(path)?;
     let tmp = temp_path(path);
     if let Err(e) = write(&tmp) {
         let _ = fs::remove_file(&tmp);
-        return Err(e.context(format!("writing {}", path.display())));
+        return Err(e.context(format!("writing {}", escaped_path(path))));
+    }
+    if let Err(e) = check_replaceable(path) {
+        let _ = fs::remove_file(&tmp);
+        return Err(e);
     }
     fs::rename(&tmp, path).with_context(|| {
         let _ = fs::remove_file(&tmp);
-        format!("publishing {}", path.display())
+        format!("publishing {}", escaped_path(path))
     })
 }
 
-/// Writes `bytes` to `path` atomically.
+/// Writes `bytes` to `path` atomically. The temporary is created new (never opened through
+/// something already at its name).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     write_atomic_with(path, |tmp| {
-        let mut f = fs::File::create(tmp)?;
+        let mut f = fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(tmp)?;
         f.write_all(bytes)?;
         f.sync_all()?;
         Ok(())
@@ -202,9 +249,10 @@ pub fn write_frame_files(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::os::unix::fs::FileTypeExt;
 
-    /// temp_path's names, this version's and the older PID-only ones, are recognised; a
-    /// user's own `.tmp` files and our published files are not.
+    /// temp_path's names are recognised; a user's own `.tmp` files (issue 39: even those
+    /// shaped like our older, unmarked names) and our published files are not.
     #[test]
     fn only_our_temporary_names_count_as_stale() {
         let ours = temp_path(Path::new("/x/frame_0001.exr"));
@@ -212,19 +260,61 @@ mod tests {
         let mut failures = Vec::new();
         for (name, want) in [
             (ours, true),
-            ("lights.json.4242.tmp", true),
-            ("stats.csv.17-3-0badcafe.tmp", true),
+            ("stats.csv.envshadow-17-3-0badcafe.tmp", true),
+            ("thesis.docx.4242-1-deadbeef.tmp", false),
+            ("x.123.tmp", false),
+            ("lights.json.4242.tmp", false),
             ("frame_0001.exr", false),
             ("notes.tmp", false),
             ("scratch.draft.tmp", false),
-            (".12.tmp", false),
-            ("a.12-3.tmp", false),
-            ("a.12-3-xyz.tmp", false),
+            (".envshadow-12-3-0badcafe.tmp", false),
+            ("a.envshadow-12-3.tmp", false),
+            ("a.envshadow-12-3-xyz.tmp", false),
+            ("a.envshadow-12-3-0badcafe-1.tmp", false),
         ] {
             if is_temp_name(name) != want {
                 failures.push(format!("{name}: {}", !want));
             }
         }
         assert!(failures.is_empty(), "{failures:?}");
+    }
+
+    /// Issue 39: a FIFO, a symbolic link and a folder at an output path are refused, named,
+    /// and left as they were; a regular file is replaced.
+    #[test]
+    fn publishing_refuses_to_replace_what_is_not_a_regular_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let outside = dir.path().join("outside.txt");
+        fs::write(&outside, b"keep").unwrap();
+        let link = dir.path().join("link.json");
+        std::os::unix::fs::symlink(&outside, &link).unwrap();
+        let folder = dir.path().join("folder.json");
+        fs::create_dir(&folder).unwrap();
+        let fifo = dir.path().join("fifo.json");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        assert!(made.is_ok_and(|s| s.success()), "mkfifo failed");
+        for target in [&link, &folder, &fifo] {
+            let err = write_atomic(target, b"new").unwrap_err();
+            assert_eq!(crate::error::exit_code(&err), crate::error::exit::BAD_INPUT);
+            assert!(
+                err.to_string().contains(&target.display().to_string()),
+                "{err}"
+            );
+        }
+        assert!(
+            fs::symlink_metadata(&link)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert!(fs::symlink_metadata(&fifo).unwrap().file_type().is_fifo());
+        assert!(folder.is_dir());
+        assert_eq!(fs::read(&outside).unwrap(), b"keep");
+        let regular = dir.path().join("plain.json");
+        fs::write(&regular, b"old").unwrap();
+        write_atomic(&regular, b"new").unwrap();
+        assert_eq!(fs::read(&regular).unwrap(), b"new");
+        let left: Vec<_> = fs::read_dir(dir.path()).unwrap().flatten().collect();
+        assert_eq!(left.len(), 5, "a temporary was left: {left:?}");
     }
 }

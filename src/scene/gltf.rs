@@ -17,13 +17,14 @@ use ::gltf::mesh::{Mode, Semantic};
 use ::gltf::{Accessor, Document, Node, Primitive};
 
 use super::material::{Material, TextureSlot, UvTransform};
+use super::resource::{AllowedFolder, Confinement};
 use super::texture::{Encoding, Sampler, Wrap};
 use super::{
     AlphaMode, Part, Scene, SceneCamera, SceneLight, SceneLightKind, Texture, extend_optional,
     normal_matrix, tangents,
 };
 use crate::bail_input;
-use crate::error::{Result, input_error};
+use crate::error::{Result, escaped, escaped_path, input_error};
 use crate::limits::{Budget, MAX_FILE_BYTES, NoMemory, SceneSize, read_regular, try_vec};
 
 /// An accessor without a buffer view is all zeros; more elements than this is surely a broken
@@ -35,17 +36,23 @@ const MAX_ACCESSOR_VALUES: usize = 3 * crate::limits::MAX_TRIANGLES;
 
 /// Loads a glTF file into a world-space [`Scene`], counted against `budget` before anything
 /// large is read or decoded.
-pub(super) fn load(path: &Path, budget: &mut Budget) -> Result<Scene> {
+pub(super) fn load(path: &Path, budget: &mut Budget, allowed: &AllowedFolder) -> Result<Scene> {
     let bytes = read_regular(path, MAX_FILE_BYTES).map_err(|e| e.into_error(path, "scene file"))?;
-    load_bytes(&bytes, path, budget)
+    load_bytes(&bytes, path, budget, allowed)
 }
 
-/// Loads a glTF file's bytes; `path` names it in errors and anchors relative URIs.
+/// Loads a glTF file's bytes; `path` names it in errors and anchors relative URIs, which must
+/// lead inside its folder or `allowed` ([`Confinement`]).
 ///
 /// Memory: the JSON alone says how many vertices and triangles every mesh instance adds and
 /// how long the buffers are, so that much is checked against `budget` before a buffer is read;
 /// once the images' headers are read, their texels are counted too, before any is decoded.
-pub(super) fn load_bytes(bytes: &[u8], path: &Path, budget: &mut Budget) -> Result<Scene> {
+pub(super) fn load_bytes(
+    bytes: &[u8],
+    path: &Path,
+    budget: &mut Budget,
+    allowed: &AllowedFolder,
+) -> Result<Scene> {
     // The gltf crate reports a short GLB as "could not completely read the object"; say more.
     if let (Some(b"glTF"), Some(declared)) = (bytes.get(..4), bytes.get(8..12)) {
         let declared = u32::from_le_bytes([declared[0], declared[1], declared[2], declared[3]]);
@@ -71,7 +78,7 @@ pub(super) fn load_bytes(bytes: &[u8], path: &Path, budget: &mut Budget) -> Resu
     check_position_references(path, &root)?;
     let document = Document::from_json(root)
         .map_err(|e| input_error(path, format!("not a valid glTF/GLB file: {e}")))?;
-    let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    let confinement = Confinement::of_model(path, allowed)?;
     let (mut size, used, origin) = count(path, &document)?;
     // The file (and the GLB chunk's copy of it) and the buffers it declares are held while
     // loading.
@@ -84,9 +91,9 @@ pub(super) fn load_bytes(bytes: &[u8], path: &Path, budget: &mut Budget) -> Resu
     let held = bytes.len() as u64 + blob_len;
     size.file_bytes = held + declared;
     budget.scene(path, size, held)?;
-    let buffers = load_buffers(path, &base, &document, blob)?;
+    let buffers = load_buffers(path, &confinement, &document, blob)?;
     let read: u64 = buffers.iter().map(|b| b.len() as u64).sum();
-    let images = Images::read(path, &base, &document, &buffers, &used)?;
+    let images = Images::read(path, &confinement, &document, &buffers, &used)?;
     size.file_bytes = bytes.len() as u64 + read + images.owned_bytes();
     // An image read both as sRGB and as linear data is decoded once for each.
     let decodings = |d: &DistinctImage| d.encodings.iter().filter(|&&e| e).count() as u64;
@@ -143,6 +150,43 @@ pub(super) fn load_bytes(bytes: &[u8], path: &Path, budget: &mut Budget) -> Resu
     Ok(scene)
 }
 
+/// The files a glTF file's buffers and images name (`data:` URIs aside), resolved and checked
+/// as loading reads them ([`Confinement::resolve`]), each once, in the file's order. A GLB
+/// whose header is broken names none: loading it says what is wrong.
+pub(super) fn external_files(path: &Path, allowed: &AllowedFolder) -> Result<Vec<PathBuf>> {
+    let bytes = read_regular(path, MAX_FILE_BYTES).map_err(|e| e.into_error(path, "scene file"))?;
+    if let (Some(b"glTF"), Some(d)) = (bytes.get(..4), bytes.get(8..12)) {
+        let declared = u32::from_le_bytes([d[0], d[1], d[2], d[3]]) as usize;
+        if declared < 12 || declared > bytes.len() {
+            return Ok(Vec::new());
+        }
+    }
+    let ::gltf::Gltf { document, .. } = ::gltf::Gltf::from_slice_without_validation(&bytes)
+        .map_err(|e| input_error(path, format!("not a valid glTF/GLB file: {e}")))?;
+    let confinement = Confinement::of_model(path, allowed)?;
+    let buffers = document.buffers().filter_map(|b| match b.source() {
+        ::gltf::buffer::Source::Uri(uri) => Some((format!("buffer {}", b.index()), uri)),
+        ::gltf::buffer::Source::Bin => None,
+    });
+    let images = document.images().filter_map(|i| match i.source() {
+        ::gltf::image::Source::Uri { uri, .. } => Some((format!("image {}", i.index()), uri)),
+        ::gltf::image::Source::View { .. } => None,
+    });
+    let mut files: Vec<PathBuf> = Vec::new();
+    for (what, uri) in buffers.chain(images) {
+        if uri.starts_with("data:") {
+            continue;
+        }
+        let file = confinement
+            .resolve(uri)
+            .map_err(|why| input_error(path, format!("{what}: {why}")))?;
+        if !files.contains(&file) {
+            files.push(file);
+        }
+    }
+    Ok(files)
+}
+
 /// gltf-json's validation indexes the accessor list with each POSITION reference before checking
 /// it is in range (a panic), so those references are checked first.
 fn check_position_references(path: &Path, root: &::gltf::json::Root) -> Result<()> {
@@ -171,7 +215,7 @@ fn check_position_references(path: &Path, root: &::gltf::json::Root) -> Result<(
 /// first `byteLength` bytes: the rest is never used).
 fn load_buffers(
     path: &Path,
-    base: &Path,
+    confinement: &Confinement,
     document: &Document,
     mut blob: Option<Vec<u8>>,
 ) -> Result<Vec<Vec<u8>>> {
@@ -188,7 +232,7 @@ fn load_buffers(
             },
             ::gltf::buffer::Source::Uri(uri) => read_uri(
                 path,
-                base,
+                confinement,
                 uri,
                 &format!("buffer {i}"),
                 buffer.length() as u64,
@@ -207,11 +251,17 @@ fn load_buffers(
     Ok(buffers)
 }
 
-/// The bytes a URI names: `data:…;base64,…`, or a (percent-encoded) path relative to `base`,
-/// of which at most `limit` bytes are read. Only regular files are read: a device
-/// (`/dev/zero`) would read until memory ran out, a FIFO block. Errors name the glTF file
-/// `path` and `what` the URI is for (`buffer 0`, `material 1: image 2`).
-fn read_uri(path: &Path, base: &Path, uri: &str, what: &str, limit: u64) -> Result<Vec<u8>> {
+/// The bytes a URI names: `data:…;base64,…`, or a file inside the folders `confinement` opens
+/// ([`Confinement::resolve`]), of which at most `limit` bytes are read. Only regular files are
+/// read: a device (`/dev/zero`) would read until memory ran out, a FIFO block. Errors name the
+/// glTF file `path` and `what` the URI is for (`buffer 0`, `material 1: image 2`).
+fn read_uri(
+    path: &Path,
+    confinement: &Confinement,
+    uri: &str,
+    what: &str,
+    limit: u64,
+) -> Result<Vec<u8>> {
     let err = |msg: String| input_error(path, format!("{what}: {msg}"));
     if let Some(rest) = uri.strip_prefix("data:") {
         let Some((_, payload)) = rest.split_once(";base64,") else {
@@ -219,43 +269,14 @@ fn read_uri(path: &Path, base: &Path, uri: &str, what: &str, limit: u64) -> Resu
         };
         return base64_decode(payload).ok_or_else(|| err("data: URI has invalid base64".into()));
     }
-    let relative = if let Some(rest) = uri.strip_prefix("file://") {
-        PathBuf::from(percent_decode(rest))
-    } else if uri.contains(':') {
-        return Err(err(format!("unsupported URI scheme in '{uri}'")));
-    } else {
-        base.join(percent_decode(uri))
-    };
-    let file = relative.display();
-    read_regular(&relative, limit).map_err(|e| match e {
-        crate::limits::ReadError::NoMemory(e) => {
-            anyhow::Error::new(e).context(format!("{}: {what}: reading '{file}'", path.display()))
-        }
-        crate::limits::ReadError::Io(e) => err(format!("cannot read external file '{file}': {e}")),
-        e => err(format!("external file '{file}' is {e}")),
+    let file = confinement.resolve(uri).map_err(err)?;
+    let shown = escaped(uri);
+    read_regular(&file, limit).map_err(|e| match e {
+        crate::limits::ReadError::NoMemory(e) => anyhow::Error::new(e)
+            .context(format!("{}: {what}: reading '{shown}'", escaped_path(path))),
+        crate::limits::ReadError::Io(e) => err(format!("cannot read external file '{shown}': {e}")),
+        e => err(format!("external file '{shown}' is {e}")),
     })
-}
-
-/// Decodes `%XX` escapes; invalid escapes are kept literally, invalid UTF-8 replaced.
-fn percent_decode(s: &str) -> String {
-    let bytes = s.as_bytes();
-    let mut out = Vec::with_capacity(bytes.len());
-    let mut i = 0;
-    while i < bytes.len() {
-        if bytes[i] == b'%' && i + 2 < bytes.len() {
-            let hex = std::str::from_utf8(&bytes[i + 1..i + 3])
-                .ok()
-                .and_then(|h| u8::from_str_radix(h, 16).ok());
-            if let Some(b) = hex {
-                out.push(b);
-                i += 3;
-                continue;
-            }
-        }
-        out.push(bytes[i]);
-        i += 1;
-    }
-    String::from_utf8_lossy(&out).into_owned()
 }
 
 /// Standard base64 (padding optional, whitespace ignored); `None` on any other character.
@@ -705,7 +726,7 @@ impl Images {
     /// material that uses an image.
     fn read(
         path: &Path,
-        base: &Path,
+        confinement: &Confinement,
         document: &Document,
         buffers: &[Vec<u8>],
         used: &[(usize, usize, Encoding)],
@@ -726,7 +747,7 @@ impl Images {
             };
             let encoded = match image.source() {
                 ::gltf::image::Source::Uri { uri, .. } => {
-                    Encoded::Owned(read_uri(path, base, uri, &at, MAX_FILE_BYTES)?)
+                    Encoded::Owned(read_uri(path, confinement, uri, &at, MAX_FILE_BYTES)?)
                 }
                 ::gltf::image::Source::View { view, .. } => {
                     let range = view.offset()..view.offset().saturating_add(view.length());

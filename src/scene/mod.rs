@@ -14,13 +14,14 @@ mod gltf;
 pub mod ground;
 mod material;
 mod origin;
+pub mod resource;
 mod shapes;
 mod tangents;
 mod texture;
 
 use glam::{DVec3, Mat3, Mat4, Vec2, Vec3, Vec4};
 use std::ops::Range;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use crate::error::Result;
 use crate::limits::Budget;
@@ -31,6 +32,7 @@ pub use material::{
     ior_f0,
 };
 pub use origin::render_origin;
+pub use resource::AllowedFolder;
 pub use texture::{Encoding, Sampler, Wrap, srgb_to_linear};
 
 /// A linear RGB texture (sRGB-decoded, or linear data as it was), with its alpha when the image
@@ -227,24 +229,44 @@ impl Scene {
     /// sizes) is counted from its headers and checked against the memory budget
     /// ([`crate::limits::Budget`]) before a buffer is read or an image decoded; each distinct
     /// image is decoded once, shared by every material that uses it.
+    ///
+    /// External buffers and images must lie inside the file's folder, after percent-decoding,
+    /// normalising and following links ([`resource::Confinement`]); [`Scene::load_allowing`]
+    /// opens one more folder.
     pub fn load(path: &Path) -> Result<Scene> {
-        gltf::load(path, &mut Budget::default())
+        gltf::load(path, &mut Budget::default(), &AllowedFolder::NONE)
     }
 
     /// [`Scene::load`] against a render's `budget`, which then counts the scene.
     pub fn load_within(path: &Path, budget: &mut Budget) -> Result<Scene> {
-        gltf::load(path, budget)
+        gltf::load(path, budget, &AllowedFolder::NONE)
+    }
+
+    /// [`Scene::load_within`], its external files read from its folder or `allowed`.
+    pub fn load_allowing(
+        path: &Path,
+        budget: &mut Budget,
+        allowed: &AllowedFolder,
+    ) -> Result<Scene> {
+        gltf::load(path, budget, allowed)
+    }
+
+    /// The files a glTF file's buffers and images name, resolved inside its folder or
+    /// `allowed` as loading resolves them (`data:` URIs name none): what a host must hold
+    /// besides the model file to load it.
+    pub fn external_files(path: &Path, allowed: &AllowedFolder) -> Result<Vec<PathBuf>> {
+        gltf::external_files(path, allowed)
     }
 
     /// Loads a glTF or GLB file's bytes, as [`Scene::load`] does the file: `path` names it in
-    /// errors, and external buffers and images are read relative to its folder.
+    /// errors, and external buffers and images are read from its folder.
     pub fn load_bytes(bytes: &[u8], path: &Path) -> Result<Scene> {
-        gltf::load_bytes(bytes, path, &mut Budget::default())
+        gltf::load_bytes(bytes, path, &mut Budget::default(), &AllowedFolder::NONE)
     }
 
     /// [`Scene::load_bytes`] against `budget`, which then counts the scene.
     pub fn load_bytes_within(bytes: &[u8], path: &Path, budget: &mut Budget) -> Result<Scene> {
-        gltf::load_bytes(bytes, path, budget)
+        gltf::load_bytes(bytes, path, budget, &AllowedFolder::NONE)
     }
 
     /// The scene's ID mattes (`--cryptomatte`): its parts as objects ([`Part::object_name`])

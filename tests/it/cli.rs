@@ -540,9 +540,10 @@ fn a_render_into_a_folder_another_render_holds_refuses_or_waits() {
 }
 
 /// Issue 20, item 3 (its temporaries): a render killed mid-write (SIGKILL, power) leaves
-/// `frame_NNNN.exr.<pid>….tmp` files that no later run removed. A render into the folder —
-/// here `--resume`, the command every message suggests — removes every temporary of ours,
-/// this version's names and the older PID-only ones, and keeps everything else.
+/// `frame_NNNN.exr.envshadow-<pid>….tmp` files that no later run removed. A render into the
+/// folder — here `--resume`, the command every message suggests — removes every temporary of
+/// ours and keeps everything else, `.tmp` names shaped like our older unmarked ones included
+/// (issue 39: they may be the user's).
 #[test]
 fn resume_removes_the_temporaries_a_killed_render_left() {
     let tmp = tempfile::tempdir().unwrap();
@@ -550,11 +551,16 @@ fn resume_removes_the_temporaries_a_killed_render_left() {
     let out = tmp.path().join("out");
     fs::create_dir_all(&out).unwrap();
     let stale = [
-        "frame_0001.exr.999999-0-0badcafe.tmp",
+        "frame_0001.exr.envshadow-999999-0-0badcafe.tmp",
+        "frame_0001.png.envshadow-4242-0-00000000.tmp",
+        "stats.csv.envshadow-17-3-00000001.tmp",
+    ];
+    let kept = [
+        "notes.tmp",
+        "README.txt",
         "frame_0001.png.4242.tmp",
         "stats.csv.17-3-00000001.tmp",
     ];
-    let kept = ["notes.tmp", "README.txt"];
     for n in stale.iter().chain(&kept) {
         fs::write(out.join(n), b"half").unwrap();
     }

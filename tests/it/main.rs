@@ -23,6 +23,7 @@ mod figures;
 mod frames;
 mod fuzz_regressions;
 mod golden;
+mod hardening;
 mod hostile;
 mod interrupt;
 mod lights;
