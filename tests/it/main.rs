@@ -22,6 +22,7 @@ mod figures;
 mod frames;
 mod fuzz_regressions;
 mod golden;
+mod help_drift;
 mod hostile;
 mod interrupt;
 mod lights;
