@@ -132,7 +132,8 @@ fn options(help: &str) -> BTreeMap<String, String> {
                 .split([',', ' ', '[', '<', '='])
                 .map(str::trim)
                 .find(|w| w.starts_with("--"))
-                .map(str::to_string);
+                // `--verbose...`: clap's mark of a flag that may repeat.
+                .map(|w| w.trim_end_matches('.').to_string());
             if let Some(long) = &long {
                 found.insert(long.clone(), String::new());
             }
@@ -179,6 +180,8 @@ const OTHER_TOOLS: &[&str] = &[
     "--test",
     "--pattern",
     "--over",
+    // macOS's `xcode-select --install` (the install section's C toolchain).
+    "--install",
 ];
 
 /// Every flag of every command, from their `--help`.
@@ -384,5 +387,108 @@ fn the_drift_checks_read_what_they_mean() {
     assert_eq!(
         code_in("a `x` b\n```sh\nc --d\n```\n    e\n"),
         vec!["c --d\n", "    e", "x"]
+    );
+}
+
+/// Issue 40: `lights --scene-lights` meant nothing there (a map has no glTF lights), and
+/// `export` took both `--frame` and `--frames`. Each is out of its command's help and refused
+/// with a word on what to use.
+#[test]
+fn flags_that_mean_nothing_to_a_command_are_left_out_and_refused() {
+    let lights = options(&run_ok(&["lights", "--help"]));
+    assert!(lights.contains_key("--lights") && !lights.contains_key("--scene-lights"));
+    let export = options(&run_ok(&["export", "--help"]));
+    assert!(export.contains_key("--frame") && !export.contains_key("--frames"));
+    let tmp = tempfile::tempdir().unwrap();
+    for (args, says) in [
+        (
+            vec![
+                "lights",
+                "builtin:sky",
+                "-n",
+                "8",
+                "--scene-lights=false",
+                "--png",
+            ],
+            "--scene-lights: means nothing to lights",
+        ),
+        (
+            vec![
+                "export",
+                "anims/shapes-turntable.toml",
+                "--frames",
+                "3",
+                "--out",
+            ],
+            "use --frame N (not --frames 3)",
+        ),
+    ] {
+        // The output path last: refused before anything is written there.
+        let out = common::bin()
+            .current_dir(root())
+            .args(&args)
+            .arg(tmp.path().join("x"))
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(common::error_line(&err).contains(says), "{args:?}: {err}");
+    }
+}
+
+/// Issue 40: `--resume`'s help said it skipped frames whose files exist; it checks them and
+/// the settings they were rendered with.
+#[test]
+fn resume_help_says_what_it_checks() {
+    let render = options(&run_ok(&["render", "--help"]));
+    let help = &render["--resume"];
+    for says in [
+        "SHA-256",
+        "other settings or inputs",
+        "first difference",
+        "--threads",
+    ] {
+        assert!(
+            help.contains(says),
+            "--resume's help lacks {says:?}: {help}"
+        );
+    }
+}
+
+/// GitHub's anchor of a heading: lowercase, punctuation dropped, spaces as dashes.
+fn anchor(heading: &str) -> String {
+    heading
+        .trim()
+        .to_lowercase()
+        .chars()
+        .filter(|c| c.is_alphanumeric() || matches!(c, ' ' | '-' | '_'))
+        .map(|c| if c == ' ' { '-' } else { c })
+        .collect()
+}
+
+/// Issue 40: the README's table of contents (and every link to one of its sections) leads
+/// to a heading it has.
+#[test]
+fn the_readmes_contents_lead_to_its_sections() {
+    let readme = readme();
+    let headings: BTreeSet<String> = readme
+        .lines()
+        .filter_map(|l| l.strip_prefix("## ").or_else(|| l.strip_prefix("### ")))
+        .map(anchor)
+        .collect();
+    let links: Vec<&str> = readme
+        .split("](#")
+        .skip(1)
+        .filter_map(|s| s.split(')').next())
+        .collect();
+    assert!(links.len() >= 20, "no table of contents: {links:?}");
+    let broken: Vec<&&str> = links.iter().filter(|l| !headings.contains(**l)).collect();
+    assert!(
+        broken.is_empty(),
+        "README.md links to no heading: {broken:?}"
+    );
+    assert_eq!(
+        anchor("Alpha and the scene file's lights"),
+        "alpha-and-the-scene-files-lights"
     );
 }
