@@ -36,6 +36,7 @@ mod punctual;
 mod raydump;
 mod render;
 mod report;
+mod rerender_note;
 mod resume;
 mod samples;
 mod scale;
