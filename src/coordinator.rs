@@ -102,6 +102,9 @@ pub fn render_animation(
     output::remove_stale_temporaries(dir)?;
     sink.begin()?;
     inputs.lights.write_json(&dir.join("lights.json"))?;
+    if !opts.resume {
+        note_rerendered(anim, &*sink, progress);
+    }
 
     let todo: Vec<usize> = anim
         .frames
@@ -159,6 +162,21 @@ pub fn render_animation(
     };
     sink.finish(&summary)?;
     Ok(summary)
+}
+
+/// Says, once, how many of the frames asked for are already complete here from these very
+/// settings: a plain run renders them again, which `--resume` would skip. (The check is
+/// `--resume`'s own; it hashes only frames whose record names these settings.)
+fn note_rerendered(anim: &Animation, sink: &dyn FrameSink, progress: &dyn Progress) {
+    let complete = anim.frames.iter().filter(|&f| sink.frame_done(f)).count();
+    if complete > 0 {
+        progress.note(&format!(
+            "{complete} complete frame{} of this render already here will be rendered again \
+             and overwritten; --resume would skip {}",
+            if complete == 1 { "" } else { "s" },
+            if complete == 1 { "it" } else { "them" }
+        ));
+    }
 }
 
 /// Loads `anim`'s inputs and tells the user what became of them: the loader's warnings, the

@@ -42,8 +42,9 @@ macro_rules! settings_list {
                 width: u32 = 640, key Width, flag "width" [value_name = "W"], check any;
                 /// Image height in pixels (default 480).
                 height: u32 = 480, key Height, flag "height" [value_name = "H"], check any;
-                /// Samples per pixel, a square from 1 to 64 (default 1: the pixel centre): a k×k
-                /// stratified, jittered pattern warped through --filter. Shadows are predicted
+                /// Samples per pixel, a square from 1 to 64 (default 1: the pixel centre; a model
+                /// render, `envshadow render model.glb`, uses 4): a k×k stratified, jittered pattern
+                /// warped through --filter. Shadows are predicted
                 /// between samples as between pixels. Above 1, textures are filtered (mip-mapped) to
                 /// what each sample covers; at 1 they are point-sampled, as they always were.
                 spp: u32 = 1, key Spp, flag "spp" [value_name = "N"], check check_spp;
@@ -245,7 +246,9 @@ macro_rules! settings_list {
 
             /// Where a render's files go (`[output]`).
             ["output"] Output, OutputLayer, OutputSweep {
-                /// Output folder (default `out`; relative to the working directory).
+                /// Output folder, relative to the working directory (default `out`, or a spec's
+                /// `[output] dir`; a model render, `envshadow render model.glb`, writes to
+                /// out/<model name>).
                 dir: PathBuf = PathBuf::from("out"), key Dir, flag "out" [value_name = "DIR"], check any;
                 /// Write the EXR's channels as 16-bit half floats where they suffice (beauty, normal,
                 /// albedo, fractions; ray counts, wrong pairs and depth stay 32-bit): about a third of

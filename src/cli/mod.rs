@@ -70,6 +70,9 @@ pub enum Command {
     /// Render an animation spec (TOML) into frames, stats.csv and lights.json.
     Render(RenderArgs),
     /// Reduce an environment map to N directional lights; write them as JSON and a picture.
+    // A map has no glTF lights: --scene-lights, which the lights settings share with render,
+    // means nothing here (refused in `lights`).
+    #[command(mut_arg("scene_lights", |a| a.hide(true)))]
     Lights(LightsArgs),
     /// Measure seconds per frame and shadow rays per second (see BENCHMARKS.md).
     Bench(BenchArgs),
@@ -93,6 +96,9 @@ pub enum Command {
     Version(VersionArgs),
     /// Write one frame's triangles, normals, albedos, lights, camera rays and shadow offset for
     /// another renderer (scripts/compare-mitsuba.sh).
+    // One frame: --frame; the --frames of the flags it shares with render is refused with a
+    // hint (in `run`).
+    #[command(mut_arg("frames", |a| a.hide(true)))]
     Export(envshadow::export::ExportArgs),
     /// Plot percent traced per frame with and without --temporal (DIR/savings.png) from two
     /// renders of the same frames (scripts/temporal-savings.sh makes both).
@@ -198,7 +204,11 @@ pub struct RenderArgs {
     /// Its input and output paths are absolute, so it renders the same from anywhere.
     #[arg(long, value_name = "FILE", conflicts_with_all = ["resume", "region", "job", "tiles"])]
     pub write_spec: Option<PathBuf>,
-    /// Skip frames whose EXR and PNG already exist in the output folder.
+    /// Skip the frames already complete in the output folder: those whose EXR and PNG are the
+    /// very files their record names (size and SHA-256), rendered with these settings. A
+    /// folder rendered with other settings or inputs is refused, naming the first difference
+    /// (settings.txt: every setting but --threads, --tile, --out and --video, and the SHA-256
+    /// of the scene and map files). Without it, every frame asked for is rendered again.
     #[arg(long)]
     pub resume: bool,
     /// When another render is writing the same output folder, wait for it to finish instead
@@ -295,6 +305,12 @@ pub fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
         Command::Export(args) => {
+            if let Some(frames) = &args.flags.frames {
+                return Err(input_error(
+                    "--frames",
+                    format!("export writes one frame: use --frame N (not --frames {frames})"),
+                ));
+            }
             let e = envshadow::export::run(&args)?;
             talk.warn(&e.warnings);
             talk.done(&format!(
@@ -658,6 +674,13 @@ fn video(args: VideoArgs, talk: Talk) -> Result<()> {
 }
 
 fn lights(args: LightsArgs, talk: Talk) -> Result<()> {
+    if args.lights.scene_lights.is_some() {
+        return Err(input_error(
+            "--scene-lights",
+            "means nothing to lights, which reduces a map: it is render's, for the lights a \
+             glTF file places",
+        ));
+    }
     args.lights.check(envshadow::settings::Source::Flags)?;
     let l = args.lights.resolve();
     if let Some(why) = envshadow::limits::lights_problem(l.count) {
