@@ -90,6 +90,27 @@ pub fn remove_stale_temporaries(dir: &Path) -> Result<usize> {
     Ok(removed)
 }
 
+/// What a file that is neither regular, a link nor a folder is (FIFOs, devices and sockets
+/// are Unix's; elsewhere it is only "not a regular file").
+#[cfg(unix)]
+fn special_kind(ft: fs::FileType) -> &'static str {
+    use std::os::unix::fs::FileTypeExt;
+    if ft.is_fifo() {
+        "a FIFO"
+    } else if ft.is_char_device() || ft.is_block_device() {
+        "a device node"
+    } else if ft.is_socket() {
+        "a socket"
+    } else {
+        "not a regular file"
+    }
+}
+
+#[cfg(not(unix))]
+fn special_kind(_: fs::FileType) -> &'static str {
+    "not a regular file"
+}
+
 /// Refuses to publish over `path` when something other than a regular file stands there (a
 /// device node, a FIFO, a symbolic link, a folder): renaming over it would replace it — run as
 /// root, `--json /dev/null` would replace the system's `/dev/null` — and a link would be
@@ -102,19 +123,12 @@ pub fn check_replaceable(path: &Path) -> Result<()> {
     if ft.is_file() {
         return Ok(());
     }
-    use std::os::unix::fs::FileTypeExt;
     let kind = if ft.is_symlink() {
         "a symbolic link"
     } else if ft.is_dir() {
         "a folder"
-    } else if ft.is_fifo() {
-        "a FIFO"
-    } else if ft.is_char_device() || ft.is_block_device() {
-        "a device node"
-    } else if ft.is_socket() {
-        "a socket"
     } else {
-        "not a regular file"
+        special_kind(ft)
     };
     Err(crate::error::input_error(
         path,
