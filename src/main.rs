@@ -22,7 +22,8 @@ fn main() {
         for cause in err.chain().skip(1) {
             msg.push_str(&format!(": {cause}"));
         }
-        cli::say(&msg);
+        // One line, whatever the names in it hold (issue 39: a URI's newline forged a line).
+        cli::say(&envshadow::error::escaped(&msg));
         std::process::exit(exit_code(&err));
     }
 }

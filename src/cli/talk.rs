@@ -7,6 +7,7 @@
 use std::io::Write;
 
 use clap::{ArgAction, Args};
+use envshadow::error::escaped;
 
 /// `-q` and `-v`, global: given before or after the command's name.
 #[derive(Args, Debug, Clone, Copy, Default)]
@@ -66,17 +67,19 @@ impl Talk {
         }
     }
 
-    /// What a loader skipped, one `warning: ` line each on stderr (not with `-q`).
+    /// What a loader skipped, one `warning: ` line each on stderr (not with `-q`), its control
+    /// characters escaped: a name from a file must not drive the terminal or forge a line.
     pub fn warn(self, warnings: &[String]) {
         for w in warnings {
-            self.info(&format!("warning: {w}"));
+            self.info(&escaped(&format!("warning: {w}")));
         }
     }
 
-    /// A line on stdout that reports what was done, `wrote …` (not with `-q`).
+    /// A line on stdout that reports what was done, `wrote …` (not with `-q`), its control
+    /// characters escaped (it names paths).
     pub fn done(self, line: &str) {
         if self.0 >= Level::Normal {
-            out(&format!("{line}\n"));
+            out(&format!("{}\n", escaped(line)));
         }
     }
 }

@@ -134,7 +134,7 @@ pub(super) fn load_bytes(
             .warnings
             .iter()
             .map(|w| {
-                w.trim_start_matches(&format!("{}: ", path.display()))
+                w.trim_start_matches(&format!("{}: ", escaped_path(path)))
                     .to_string()
             })
             .collect();
@@ -913,7 +913,8 @@ struct Loader<'a> {
 
 impl Loader<'_> {
     fn warn(&mut self, message: String) {
-        let message = format!("{}: {message}", self.path.display());
+        // Escaped: names from the file reach the terminal, the report and the settings record.
+        let message = escaped(&format!("{}: {message}", self.path.display())).into_owned();
         self.scene.warnings.push(message);
     }
 

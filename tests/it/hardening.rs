@@ -402,3 +402,45 @@ fn plan_lists_every_file_a_gltf_references() {
     }
     assert_eq!(listed.len(), 4, "{listed:?}");
 }
+
+/// Issue 39, item 6: a warning naming something from the file (an unsupported extension whose
+/// name holds an ANSI escape and a newline) is kept and printed escaped.
+#[test]
+fn a_warning_with_control_characters_is_printed_escaped() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (g, mut rest) = triangle();
+    rest["extensionsUsed"] = json!(["EXT_\u{1b}[2Jevil\nwarning: forged"]);
+    let model = g.write_gltf(tmp.path(), "m", rest);
+    let scene = Scene::load(&model).unwrap();
+    assert!(
+        scene
+            .warnings
+            .iter()
+            .any(|w| w.contains("EXT_\\u{1b}[2Jevil\\nwarning: forged")),
+        "{:?}",
+        scene.warnings
+    );
+    let o = common::bin()
+        .arg("render")
+        .arg(&model)
+        .args(["--width", "32", "--height", "24", "--lights", "8"])
+        .args(["--frames", "0..1", "--no-report", "--out"])
+        .arg(tmp.path().join("out"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let err = stderr(&o);
+    let raw: Vec<char> = err
+        .chars()
+        .filter(|&c| c.is_control() && c != '\n' && c != '\r')
+        .collect();
+    assert!(raw.is_empty(), "raw control characters {raw:?} in {err:?}");
+    assert!(
+        !err.lines().any(|l| l.starts_with("warning: forged")),
+        "{err}"
+    );
+    assert!(
+        err.contains("EXT_\\u{1b}[2Jevil\\nwarning: forged"),
+        "{err}"
+    );
+}
