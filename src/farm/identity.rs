@@ -3,6 +3,7 @@
 
 use crate::anim::{Animation, EnvSource, SceneSource};
 use crate::error::Result;
+use crate::scene::Scene;
 
 pub use crate::output::record::{file_sha256, sha256};
 
@@ -50,8 +51,16 @@ pub fn settings_fingerprint(anim: &Animation) -> Result<String> {
     a.render.threads = 0;
     a.output.dir = Default::default();
     a.output.video = false;
+    // Where the allowed folder lies is the host's layout; the files it lets in are hashed below.
+    a.scene_settings.allow_folder = Default::default();
     if let SceneSource::File(p) = &a.scene {
-        a.scene = SceneSource::File(format!("sha256:{}", file_sha256(p)?).into());
+        // A .gltf's buffers and textures decide the pixels as much as the .gltf itself: a host
+        // with another texture under the same name must not pass for the same render.
+        let mut hashes = vec![file_sha256(p)?];
+        for f in Scene::external_files(p, &anim.scene_settings.allow_folder)? {
+            hashes.push(file_sha256(&f)?);
+        }
+        a.scene = SceneSource::File(format!("sha256:{}", hashes.join("+")).into());
     }
     if let EnvSource::File(p) = &a.env {
         a.env = EnvSource::File(format!("sha256:{}", file_sha256(p)?).into());

@@ -444,3 +444,35 @@ fn a_warning_with_control_characters_is_printed_escaped() {
         "{err}"
     );
 }
+
+/// Two hosts agree on a render only when its every input agrees: a `.gltf` whose buffer
+/// differs under the same name is another render (the farm's fingerprint hashed only the
+/// `.gltf`), while the same files in another folder are the same render.
+#[test]
+fn farm_fingerprint_covers_a_gltfs_buffers_not_its_folder() {
+    use envshadow::anim::{AnimFlags, Animation};
+    use envshadow::farm::identity::settings_fingerprint;
+    let root = tempfile::tempdir().unwrap();
+    let fingerprint = |dir: &Path| {
+        let spec = dir.join("spec.toml");
+        let text = "[scene]\nfile = \"model.gltf\"\n[environment]\nbuiltin = \"sky\"\n";
+        fs::write(&spec, text).unwrap();
+        let anim = Animation::parse(text, &spec, &AnimFlags::default()).unwrap();
+        settings_fingerprint(&anim).unwrap()
+    };
+    let (g, rest) = triangle();
+    let (a, b) = (root.path().join("a"), root.path().join("b"));
+    for dir in [&a, &b] {
+        fs::create_dir_all(dir).unwrap();
+        g.write_gltf(dir, "model", rest.clone());
+    }
+    assert_eq!(fingerprint(&a), fingerprint(&b), "same files, other folder");
+    let mut bin = fs::read(b.join("model.bin")).unwrap();
+    bin[12] ^= 0x40; // the second vertex's x
+    fs::write(b.join("model.bin"), &bin).unwrap();
+    assert_ne!(
+        fingerprint(&a),
+        fingerprint(&b),
+        "another buffer under the same name"
+    );
+}
