@@ -104,15 +104,20 @@ impl Progress for Reporter {
             bar.inc(1);
         }
         if self.verbose {
+            // A tile of background only asks nothing: say so rather than "0 of 0 (0.00 %)".
+            let traced = if t.counts.queries == 0 {
+                "no shadow queries (no lit surface)".to_string()
+            } else {
+                format!(
+                    "{} of {} queries traced ({:.2} %)",
+                    t.counts.rays,
+                    t.counts.queries,
+                    t.counts.percent_traced()
+                )
+            };
             self.line(&format!(
-                "frame {} tile {} [{}]: {} of {} queries traced ({:.2} %), {:.3} s",
-                t.frame,
-                t.index,
-                t.rect,
-                t.counts.rays,
-                t.counts.queries,
-                t.counts.percent_traced(),
-                t.seconds
+                "frame {} tile {} [{}]: {traced}, {:.3} s",
+                t.frame, t.index, t.rect, t.seconds
             ));
         }
     }

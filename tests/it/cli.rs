@@ -830,9 +830,12 @@ fn quiet_says_nothing_and_verbose_says_more() {
         "inputs in ",
         "frame 2: written in ",
         "at pixels tracing every light",
+        // The sky's tiles ask nothing, and say so (they printed "0 of 0 queries traced").
+        "frame 0 tile 0 [0,0,16,16]: no shadow queries (no lit surface), ",
     ] {
         assert!(verbose.contains(needle), "{needle:?} not in {verbose}");
     }
+    assert!(!verbose.contains(" 0 of 0 "), "{verbose}");
     // What a command exists to print stays; its "wrote" lines go with -q.
     let json = tmp.path().join("l.json");
     let (code, out, err) = run_bin(&[
