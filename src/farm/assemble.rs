@@ -6,13 +6,15 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use glam::Vec3;
 
 use crate::error::{Result, input_error};
 use crate::farm::PlanFile;
 use crate::farm::job::{
-    FrameProblem, Manifest, Settings, TileFrame, check_frame, read_manifest, tiles_path,
+    CRYPTOMATTE_FILE, FrameProblem, Manifest, Settings, TileFrame, check_frame, read_manifest,
+    tiles_path,
 };
 use crate::farm::plan::{Job, PlanRequest, plan};
 use crate::film::Counts;
@@ -62,17 +64,6 @@ fn frame_list(frames: &BTreeSet<usize>) -> String {
 pub fn assemble(dir: &Path) -> Result<Assembled> {
     let judged = Judged::read(dir)?;
     let settings = &judged.settings;
-    // [ours] Tile images carry the ID mattes' ranks, but the manifests need the scene, which
-    // assembling never loads: refused rather than frames without the mattes they were asked for.
-    let key = crate::key::Key::Cryptomatte;
-    let setting = format!("[{}] {}", key.table(), key.name());
-    if settings.record.contains(&(setting, "true".to_string())) {
-        return Err(crate::error::input_error(
-            dir,
-            "rendered with --cryptomatte, which assembling farm jobs does not support yet: \
-             render the frames in one process",
-        ));
-    }
     let stats_path = dir.join("stats.csv");
     let mut stats_file = StatsFile::open(&stats_path);
     let mut tally = Tally::default();
@@ -92,9 +83,10 @@ pub fn assemble(dir: &Path) -> Result<Assembled> {
             validated: settings.validate,
             samples: settings.spp > 1,
             transparent: settings.alpha,
-            cryptomatte: false,
+            cryptomatte: judged.cryptomatte.is_some(),
         };
         let mut film = Film::new(settings.width, settings.height, holds);
+        film.cryptomatte = judged.cryptomatte.clone();
         let pieces = judged.pieces(f, Some(&mut film), &mut tally);
         if pieces.complete()
             && let Some(tf) = pieces.meta
@@ -179,6 +171,8 @@ struct Judged {
     folder_problem: BTreeMap<String, String>,
     /// `lights.json`, the same in every valid job.
     lights: Option<Vec<u8>>,
+    /// With `--cryptomatte`: the manifests of `cryptomatte.json`, the same in every valid job.
+    cryptomatte: Option<Arc<[String; 2]>>,
     /// The plan's video frame rate.
     video_fps: Option<FrameRate>,
 }
@@ -225,7 +219,12 @@ impl Judged {
         let grid = settings.grid();
         let (mut sources, mut folder_problem) =
             sort_folders(manifests, &settings, build.as_deref(), &grid);
-        let lights = shared_lights(&jobs_dir, &sources, &mut folder_problem);
+        let lights = shared_file(&jobs_dir, "lights.json", &sources, &mut folder_problem);
+        let cryptomatte = if settings.cryptomatte() {
+            shared_manifests(&jobs_dir, &sources, &mut folder_problem)
+        } else {
+            None
+        };
         sources.retain(|s| !folder_problem.contains_key(&s.folder));
         let frames: BTreeSet<usize> = expected.iter().flat_map(|j| j.frames.iter()).collect();
         Ok(Judged {
@@ -237,6 +236,7 @@ impl Judged {
             sources,
             folder_problem,
             lights,
+            cryptomatte,
             video_fps: plan_file.as_ref().and_then(|p| p.video_fps),
         })
     }
@@ -518,36 +518,59 @@ fn sort_folders(
     (sources, folder_problem)
 }
 
-/// lights.json: the same in every job (same inputs, same build), copied once. A job
-/// writes it before its first frame, so a job without it is not done (and a re-run of the
-/// job writes it again): a problem of its folder, as is one that differs.
-fn shared_lights(
+/// A file the same in every job (same inputs, same build: `lights.json`, `cryptomatte.json`),
+/// copied once. A job writes it before its first frame's files, so a job without it is not
+/// done (and a re-run of the job writes it again): a problem of its folder, as is one that
+/// differs.
+fn shared_file(
     jobs_dir: &Path,
+    name: &str,
     sources: &[Source],
     folder_problem: &mut BTreeMap<String, String>,
 ) -> Option<Vec<u8>> {
-    let mut lights: Option<Vec<u8>> = None;
+    let mut shared: Option<Vec<u8>> = None;
     for s in sources {
-        match std::fs::read(jobs_dir.join(&s.folder).join("lights.json")) {
-            Ok(bytes) => match &lights {
-                None => lights = Some(bytes),
+        match std::fs::read(jobs_dir.join(&s.folder).join(name)) {
+            Ok(bytes) => match &shared {
+                None => shared = Some(bytes),
                 Some(l) if *l != bytes => {
                     folder_problem
                         .entry(s.folder.clone())
-                        .or_insert_with(|| "lights.json differs from the other jobs'".into());
+                        .or_insert_with(|| format!("{name} differs from the other jobs'"));
                 }
                 Some(_) => {}
             },
             Err(e) => {
                 let p = match e.kind() {
-                    std::io::ErrorKind::NotFound => "no lights.json".to_string(),
-                    _ => format!("lights.json: cannot read: {e}"),
+                    std::io::ErrorKind::NotFound => format!("no {name}"),
+                    _ => format!("{name}: cannot read: {e}"),
                 };
                 folder_problem.entry(s.folder.clone()).or_insert(p);
             }
         }
     }
-    lights
+    shared
+}
+
+/// The Cryptomatte manifests every job published ([`shared_file`]); a job whose file is not
+/// two manifests is a problem of its folder.
+fn shared_manifests(
+    jobs_dir: &Path,
+    sources: &[Source],
+    folder_problem: &mut BTreeMap<String, String>,
+) -> Option<Arc<[String; 2]>> {
+    let bytes = shared_file(jobs_dir, CRYPTOMATTE_FILE, sources, folder_problem)?;
+    match serde_json::from_slice::<[String; 2]>(&bytes) {
+        Ok(m) => Some(Arc::new(m)),
+        Err(e) => {
+            for s in sources {
+                folder_problem
+                    .entry(s.folder.clone())
+                    .or_insert_with(|| format!("{CRYPTOMATTE_FILE}: not two manifests: {e}"));
+            }
+            None
+        }
+    }
 }
 
 /// Checks one job's frame `f` ([`check_frame`]) and, given a film, copies the job's tiles of

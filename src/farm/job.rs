@@ -4,6 +4,7 @@
 //! |---|---|
 //! | `job.json` | the manifest: format, build identity, host, settings fingerprint, frame and tile grid, the plan it belongs to, the job's frames and tiles |
 //! | `lights.json` | the lights, as a one-process render writes them |
+//! | `cryptomatte.json` | with `--cryptomatte`: the ID mattes' manifests, which the assembled frames' headers carry |
 //! | `tiles_0003.exr` | frame 3's pixels of the job's tiles, over the tiles' bounding rectangle (float channels `R G B rays visible`, with validation also `wrong ref.R ref.G ref.B`, with samples per pixel `coverage`, over a transparent background `A`) |
 //! | `tiles_0003.json` | frame 3's statistics for those tiles (counts, thread-seconds, camera) and the EXR's size and SHA-256; written after the EXR, so it marks the frame done |
 //!
@@ -28,6 +29,10 @@ use crate::output::stats::FrameStats;
 use crate::output::write_atomic;
 use crate::run::FrameSink;
 use crate::tile::{Rect, Tile, bounding, tiles};
+
+/// With `--cryptomatte`: the ID mattes' manifests ([`crate::cryptomatte::TYPES`]' order) as a
+/// JSON array of two strings, the same in every job.
+pub const CRYPTOMATTE_FILE: &str = "cryptomatte.json";
 
 /// The manifest's `format`; assemble refuses others.
 pub const FORMAT: &str = "envshadow-job 1";
@@ -93,6 +98,13 @@ impl Settings {
             alignment: anim.frame_alignment(),
             record: anim.settings_record()?.lines,
         })
+    }
+
+    /// Whether the frames carry Cryptomatte ID mattes (`--cryptomatte`, as the record says).
+    pub fn cryptomatte(&self) -> bool {
+        let key = crate::key::Key::Cryptomatte;
+        let setting = format!("[{}] {}", key.table(), key.name());
+        self.record.contains(&(setting, "true".to_string()))
     }
 
     /// The frame's tiles (frame-anchored grid).
@@ -285,6 +297,12 @@ impl FrameSink for JobWriter {
 
     /// Publishes one rendered frame: the tile image, then its statistics.
     fn write(&self, film: &Film, stats: &FrameStats) -> Result<()> {
+        // The ID mattes' manifests come from the scene's names, which assembling never
+        // loads: every frame publishes them (the same bytes each time) before its tile image.
+        if let Some(manifests) = &film.cryptomatte {
+            let json = serde_json::to_string(&**manifests).context("encoding the manifests")?;
+            write_atomic(&self.dir.join(CRYPTOMATTE_FILE), json.as_bytes())?;
+        }
         let exr_path = tiles_path(&self.dir, stats.frame, "exr");
         write_tile_image(&exr_path, film, self.bbox)?;
         let bytes =

@@ -173,6 +173,50 @@ fn jobs_assemble_into_the_one_process_render_and_name_what_is_missing() {
     assert!(out.join("frame_0007.exr").exists());
 }
 
+/// Cryptomatte through jobs: each job publishes the ID mattes' manifests beside its tiles
+/// (assembling never loads the scene, and refused `--cryptomatte` for want of them), and the
+/// assembled frames are the one-process render's bytes; a job without the manifests is named.
+#[test]
+fn cryptomatte_jobs_assemble_into_the_one_process_frames() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (refdir, out) = (tmp.path().join("ref"), tmp.path().join("farm"));
+    let mut flags: Vec<&str> = FLAGS.to_vec();
+    flags[1] = "0..2";
+    flags.push("--cryptomatte");
+    let (r, o) = (refdir.to_str().unwrap(), out.to_str().unwrap());
+    let mut one = vec!["render", SPEC, "--out", r, "--no-report", "-q"];
+    one.extend_from_slice(&flags);
+    ok(&envshadow(&one));
+    let mut plan = vec!["plan", SPEC, "--out", o, "--jobs", "2", "--by", "tiles"];
+    plan.extend_from_slice(&flags);
+    ok(&envshadow(&plan));
+    for k in ["0", "1"] {
+        let mut job = vec![
+            "render", SPEC, "--out", o, "--job", k, "--of", "2", "--by", "tiles", "-q",
+        ];
+        job.extend_from_slice(&flags);
+        ok(&envshadow(&job));
+    }
+    ok(&envshadow(&["assemble", o, "--no-report"]));
+    for f in 0..2 {
+        for ext in ["exr", "png"] {
+            let name = format!("frame_{f:04}.{ext}");
+            let same = fs::read(refdir.join(&name)).unwrap() == fs::read(out.join(&name)).unwrap();
+            assert!(same, "{name} differs from the one-process render");
+        }
+    }
+    let folder = fs::read_dir(out.join("jobs"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.join("cryptomatte.json").exists())
+        .expect("a job folder with cryptomatte.json");
+    fs::remove_file(folder.join("cryptomatte.json")).unwrap();
+    let bad = envshadow(&["assemble", o, "--no-report"]);
+    assert_eq!(bad.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(err.contains("no cryptomatte.json"), "{err}");
+}
+
 /// Issue 20, item 1: `render --job K --of N --resume` renders again exactly the frames whose
 /// files are missing, truncated or corrupt (the SHA-256 that tiles_NNNN.json records is
 /// checked, not only the size), and `assemble --pending` names the jobs a re-run must render.
