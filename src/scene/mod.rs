@@ -10,12 +10,18 @@
 //! Barycentric coordinates `(u, v)` name the point `(1 − u − v)·p0 + u·p1 + v·p2`.
 
 mod alpha;
+pub mod clip;
 mod gltf;
 pub mod ground;
 mod material;
+pub mod morph;
 mod origin;
+pub mod playback;
 pub mod resource;
+pub mod rig;
+mod rig_read;
 mod shapes;
+pub mod skin;
 mod tangents;
 mod texture;
 
@@ -214,6 +220,10 @@ pub struct Scene {
     /// Things skipped while loading (non-triangle primitives, …); each was also printed to
     /// stderr as `warning: …`.
     pub warnings: Vec<String>,
+    /// What posing the file's animations needs (its nodes, skins, animations and moving
+    /// primitives), shared by every copy; None when the file animates, skins and morphs
+    /// nothing, or for built-in scenes.
+    pub rig: Option<rig::Rig>,
 }
 
 impl Scene {
@@ -405,6 +415,10 @@ impl Scene {
                 }
                 // The positions count from the origin, which turns with them.
                 out.origin = m.as_dmat4().transform_point3(self.origin);
+                // Poses stand up as the loaded vertices did.
+                if let Some(rig) = &mut out.rig {
+                    rig.up = Up::Z;
+                }
                 out
             }
         }
