@@ -289,3 +289,80 @@ impl Rig {
         }
     }
 }
+
+impl Rig {
+    /// The points the model reaches at `times` (seconds) of clip `clip`, for framing: of each
+    /// pose, the corners of its outline seen from above (the convex hull of its vertices in
+    /// x, z) and its lowest and highest points — enough for the bounds and for the farthest
+    /// reach from any vertical axis, which a convex hull's corners attain.
+    pub fn reach(&self, scene: &Scene, clip: usize, times: &[f64]) -> Vec<Vec3> {
+        let which = self.data.moved_primitives(clip);
+        let mut model: Vec<u32> = scene.model_triangles().iter().flatten().copied().collect();
+        model.sort_unstable();
+        model.dedup();
+        let mut points = Vec::new();
+        for &t in times {
+            let mut posed = scene.clone();
+            self.pose(&mut posed, Some((clip, t)), &which);
+            let pose: Vec<Vec3> = model.iter().map(|&i| posed.positions[i as usize]).collect();
+            points.extend(extremes(&pose));
+        }
+        extremes(&points)
+    }
+}
+
+/// The corners of `points`' convex hull in x, z (Andrew's monotone chain) and its lowest and
+/// highest points.
+fn extremes(points: &[Vec3]) -> Vec<Vec3> {
+    if points.is_empty() {
+        return Vec::new();
+    }
+    let mut sorted = points.to_vec();
+    sorted.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.z.total_cmp(&b.z)));
+    let cross = |o: Vec3, a: Vec3, b: Vec3| (a.x - o.x) * (b.z - o.z) - (a.z - o.z) * (b.x - o.x);
+    let mut hull: Vec<Vec3> = Vec::new();
+    for pass in 0..2 {
+        let start = hull.len();
+        let iter: Box<dyn Iterator<Item = &Vec3>> = if pass == 0 {
+            Box::new(sorted.iter())
+        } else {
+            Box::new(sorted.iter().rev())
+        };
+        for &p in iter {
+            while hull.len() >= start + 2
+                && cross(hull[hull.len() - 2], hull[hull.len() - 1], p) <= 0.0
+            {
+                hull.pop();
+            }
+            hull.push(p);
+        }
+        hull.pop();
+    }
+    let lowest = points.iter().copied().min_by(|a, b| a.y.total_cmp(&b.y));
+    let highest = points.iter().copied().max_by(|a, b| a.y.total_cmp(&b.y));
+    hull.extend(lowest);
+    hull.extend(highest);
+    hull
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn extremes_keep_the_outline_and_the_heights() {
+        let mut points = vec![
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(2.0, 1.0, 0.0),
+            Vec3::new(2.0, 0.5, 2.0),
+            Vec3::new(0.0, 3.0, 2.0),
+        ];
+        // Inside the outline, and neither lowest nor highest: dropped.
+        points.push(Vec3::new(1.0, 1.0, 1.0));
+        let e = extremes(&points);
+        assert!(!e.contains(&Vec3::new(1.0, 1.0, 1.0)));
+        for p in &points[..4] {
+            assert!(e.contains(p), "{p} kept");
+        }
+    }
+}

@@ -17,9 +17,17 @@
 
 use std::path::{Path, PathBuf};
 
+use envshadow::anim::{AnimFlags, Animation};
+use envshadow::coordinator::thread_pool;
+use envshadow::film::{Channel, Film};
+use envshadow::frame::{Temporal, render_frame, render_frame_with};
+use envshadow::history::Carried;
+use envshadow::inputs::Inputs;
+use envshadow::run::Silent;
 use envshadow::scene::Scene;
+use envshadow::tile::Rect;
 
-use crate::common::require_tools;
+use crate::common::{self, require_tools};
 
 /// A model, one of its animations and the times compared.
 struct Case {
@@ -220,4 +228,180 @@ fn skins_and_default_weights_shape_the_rest_pose() {
         .map(|&i| scene.positions[i as usize].y)
         .fold(f32::MIN, f32::max);
     assert!((top - 0.875).abs() < 1e-6, "top at {top}");
+}
+
+/// A spec playing `file`'s animation (`animation`, `end`) at `fps` over `frames` frames of a
+/// still camera (or `motion`), small and validated.
+fn spec(file: &str, motion: &str, frames: usize, scene_keys: &str, fps: u32) -> Animation {
+    let text = format!(
+        "[scene]\nfile = \"{}\"\n{scene_keys}\n[lights]\ncount = 24\n\
+         [motion]\nkind = \"{motion}\"\nframes = {frames}\n\
+         [render]\nwidth = 64\nheight = 48\nvalidate = true\n[output]\nfps = {fps}\n",
+        data(file).display()
+    );
+    Animation::parse(&text, Path::new("anim.toml"), &AnimFlags::default()).unwrap()
+}
+
+fn film(anim: &Animation, inputs: &Inputs, frame: usize) -> Film {
+    render_frame(anim, inputs, frame, None, &Silent).unwrap().0
+}
+
+#[test]
+fn frames_past_the_end_loop_or_hold() {
+    // samplers.gltf's animation is 2 s long; at 4 fps frame 8 is its end, frame 9 is 2.25 s.
+    let looped = spec("samplers.gltf", "none", 12, "animation_end = \"loop\"", 4);
+    let inputs = Inputs::load(&looped).unwrap();
+    common::assert_same_film(&film(&looped, &inputs, 9), &film(&looped, &inputs, 1));
+    let held = spec("samplers.gltf", "none", 12, "animation_end = \"hold\"", 4);
+    let inputs = Inputs::load(&held).unwrap();
+    common::assert_same_film(&film(&held, &inputs, 9), &film(&held, &inputs, 8));
+    // And the animation does play: frame 1 is not frame 0.
+    let (a, b) = (film(&held, &inputs, 0), film(&held, &inputs, 1));
+    assert!(a.layer(Channel::BEAUTY) != b.layer(Channel::BEAUTY));
+}
+
+#[test]
+fn frames_past_the_end_are_refused_under_stop() {
+    let stop = spec("samplers.gltf", "none", 12, "animation_end = \"stop\"", 4);
+    let err = format!("{:#}", Inputs::load(&stop).err().unwrap());
+    assert!(
+        err.contains("frame 9 is at 2.2500 s, past the end of the animation (2.0000 s long")
+            && err.contains("the last frame it covers is 8"),
+        "{err}"
+    );
+    // Frames within it render.
+    let mut within = stop.clone();
+    within.frames = envshadow::frames::FrameSet::range(0..9);
+    assert!(Inputs::load(&within).is_ok());
+}
+
+#[test]
+fn an_animation_the_file_lacks_is_refused_naming_those_it_has() {
+    let walk = spec("Fox.glb", "none", 2, "animation = \"Trot\"", 24);
+    let err = format!("{:#}", Inputs::load(&walk).err().unwrap());
+    assert!(
+        err.contains("no animation named \"Trot\" (its animations: 0: Survey, 1: Walk, 2: Run)"),
+        "{err}"
+    );
+    let index = spec("Fox.glb", "none", 2, "animation = 3", 24);
+    let err = format!("{:#}", Inputs::load(&index).err().unwrap());
+    assert!(err.contains("no animation 3"), "{err}");
+    // A file without animations plays none by default, and refuses a named one.
+    let bunny = common::asset("bunny.glb");
+    let text = format!(
+        "[scene]\nfile = \"{}\"\nanimation = \"Walk\"\n",
+        bunny.display()
+    );
+    let a = Animation::parse(&text, Path::new("b.toml"), &AnimFlags::default()).unwrap();
+    let err = format!("{:#}", Inputs::load(&a).err().unwrap());
+    assert!(err.contains("(it has none)"), "{err}");
+}
+
+#[test]
+fn the_camera_frames_every_pose_not_the_rest_pose() {
+    // The samplers file's first animation moves the step cube, scales the cubic cube and
+    // bends the bar: the frame's bounds hold every frame's posed model.
+    let anim = spec("samplers.gltf", "orbit", 12, "ground = \"none\"", 6);
+    let inputs = Inputs::load(&anim).unwrap();
+    let (lo, hi) = inputs.scene.model_bounds();
+    let rest = {
+        let mut s = inputs.scene.clone();
+        s.framing = None;
+        s.model_bounds()
+    };
+    assert_ne!((lo, hi), rest, "the poses reach beyond the rest pose");
+    let slack = (hi - lo).length() * 1e-6;
+    for frame in 0..anim.frame_count {
+        let posed = inputs.posed(&anim, frame, None).unwrap().unwrap();
+        for p in &posed.positions {
+            assert!(
+                p.cmpge(lo - slack).all() && p.cmple(hi + slack).all(),
+                "frame {frame}: {p} outside the framed bounds {lo}..{hi}"
+            );
+        }
+    }
+}
+
+#[test]
+fn an_animated_frame_is_identical_whatever_the_tiles_and_threads() {
+    // The fox walking under an orbiting camera: the frame's posed scene and BVH are built per
+    // frame, and neither the tiles nor the threads change a bit; nor does a region render.
+    let anim = spec("Fox.glb", "orbit", 12, "animation = \"Walk\"", 24);
+    let inputs = Inputs::load(&anim).unwrap();
+    let render = |tile: u32, threads: usize, region: Option<Rect>| {
+        let mut a = anim.clone();
+        a.render.tile = tile;
+        let pool = thread_pool(threads).unwrap();
+        pool.install(|| render_frame(&a, &inputs, 5, region, &Silent))
+            .unwrap()
+            .0
+    };
+    let want = render(16, 1, None);
+    for (tile, threads) in [(8, 2), (64, 2), (24, 3)] {
+        common::assert_same_film(&render(tile, threads, None), &want);
+    }
+    // A region render's pixels are the whole frame's.
+    let region = Rect {
+        x0: 16,
+        y0: 8,
+        x1: 48,
+        y1: 40,
+    };
+    let part = render(16, 2, Some(region));
+    let (w, whole) = (64usize, want.layer(Channel::BEAUTY).unwrap());
+    let got = part.layer(Channel::BEAUTY).unwrap();
+    for y in region.y0..region.y1 {
+        for x in region.x0..region.x1 {
+            let i = y as usize * w + x as usize;
+            assert_eq!(got[i], whole[i], "pixel ({x}, {y})");
+        }
+    }
+}
+
+#[test]
+fn a_deforming_frame_does_not_read_the_previous_frames_visibility() {
+    // With --temporal, each frame of the walking fox is predicted from its own pixels (the
+    // previous frame's shadows moved with the fox): the chain renders exactly the frames a
+    // run without temporal prediction renders, and no pixel comes from the previous frame.
+    let mut anim = spec("Fox.glb", "orbit", 12, "animation = \"Walk\"", 24);
+    let inputs = Inputs::load(&anim).unwrap();
+    let alone: Vec<Film> = (0..3).map(|f| film(&anim, &inputs, f)).collect();
+    anim.render.temporal = true;
+    let mut prev: Option<Carried> = None;
+    for (f, want) in alone.iter().enumerate() {
+        let link = Temporal {
+            prev: prev.as_ref(),
+            carry: true,
+            no_validate: false,
+        };
+        let (film, stats, carried) =
+            render_frame_with(&anim, &inputs, f, None, &Silent, &link).unwrap();
+        assert_eq!(stats.counts.temporal_pixels, 0, "frame {f}");
+        common::assert_same_film(&film, want);
+        prev = carried;
+    }
+    // A still pose (the animation held past its end) is read again.
+    let mut held = spec(
+        "Fox.glb",
+        "none",
+        40,
+        "animation = \"Walk\"\nanimation_end = \"hold\"",
+        24,
+    );
+    held.render.temporal = true;
+    let inputs = Inputs::load(&held).unwrap();
+    let mut prev: Option<Carried> = None;
+    let mut reused = 0;
+    for f in 30..32 {
+        let link = Temporal {
+            prev: prev.as_ref(),
+            carry: true,
+            no_validate: false,
+        };
+        let (_, stats, carried) =
+            render_frame_with(&held, &inputs, f, None, &Silent, &link).unwrap();
+        reused += stats.counts.temporal_pixels;
+        prev = carried;
+    }
+    assert!(reused > 0, "the held pose reads the previous frame");
 }
