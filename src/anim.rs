@@ -135,6 +135,9 @@ struct SceneSpec {
     ground: Option<crate::scene::ground::Ground>,
     shadow_catcher: Option<bool>,
     allow_folder: Option<crate::scene::AllowedFolder>,
+    animation: Option<crate::scene::playback::Choice>,
+    animation_start: Option<f32>,
+    animation_end: Option<crate::scene::playback::AfterEnd>,
 }
 
 impl SceneSpec {
@@ -145,6 +148,9 @@ impl SceneSpec {
             ground: self.ground,
             shadow_catcher: self.shadow_catcher,
             allow_folder: self.allow_folder.clone(),
+            animation: self.animation.clone(),
+            animation_start: self.animation_start,
+            animation_end: self.animation_end,
         }
     }
 }

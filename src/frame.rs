@@ -99,12 +99,19 @@ pub fn render_tile_list(
     let mut time = FrameTime::new();
     let pivot = anim.pivot(&inputs.scene)?;
     let pose = anim.scene_transform(frame, pivot);
-    // A moving object gets its own posed scene and BVH; a still one shares the run's.
-    let moved = pose.map(|m| {
-        let scene = inputs.scene.transformed(m);
+    // A moving or animated object gets its own posed scene and BVH; a still one shares the
+    // run's.
+    let built = Instant::now();
+    let moved = inputs.posed(anim, frame, pose)?.map(|scene| {
         let accel = scene.accel();
         (scene, accel)
     });
+    if moved.is_some() {
+        progress.detail(&format!(
+            "frame {frame}: posed scene and BVH built in {:.1} ms",
+            built.elapsed().as_secs_f64() * 1e3
+        ));
+    }
     let (scene, accel) = match &moved {
         Some((scene, accel)) => (scene, accel),
         None => (&inputs.scene, inputs.still_accel()),
@@ -119,7 +126,14 @@ pub fn render_tile_list(
         .with_environment_turn(anim.motion.environment_degrees(frame));
     // The link in time, decided once for the frame.
     let prev_lights;
-    let before = match temporal.prev {
+    // A deforming animation moves shadows over still surfaces too: the previous frame's
+    // visibility does not vote on a frame whose geometry changed (it is predicted from its
+    // own pixels, as a key frame is, and still carries for the next).
+    let prev = match temporal.prev {
+        Some(c) if inputs.deforms_between(anim, c.frame, frame)? => None,
+        p => p,
+    };
+    let before = match prev {
         Some(carried) => {
             prev_lights = inputs.lights_at(anim, carried.frame);
             Some(Before {

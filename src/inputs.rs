@@ -9,12 +9,15 @@ use std::sync::OnceLock;
 use anyhow::Context;
 
 use crate::accel::Accel;
+use glam::Mat4;
+
 use crate::anim::{Animation, EnvSource, MotionKind, SceneSource};
 use crate::background::Backdrop;
 use crate::envmap::EnvMap;
 use crate::error::Result;
 use crate::glossy::Glossy;
 use crate::lights::LightSet;
+use crate::scene::playback::clip_time;
 use crate::scene::{Model, Scene};
 
 /// An animation's inputs, loaded once per run.
@@ -32,6 +35,19 @@ pub struct Inputs {
     /// The prefiltered environment, made by the first frame that needs it: only when some
     /// material is glossier than the lights resolve (see [`Glossy`]).
     glossy: OnceLock<Option<Glossy>>,
+    /// The file's animation this run plays (`[scene] animation`), if any.
+    pub playing: Option<Playing>,
+}
+
+/// The animation a run plays and how a frame's moment in it is found.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Playing {
+    /// Its index in the file's list.
+    pub clip: usize,
+    /// Its length, seconds.
+    pub duration: f64,
+    /// Whether it moves any vertex (an animation may move only a camera or an empty node).
+    pub deforms: bool,
 }
 
 impl Inputs {
@@ -44,7 +60,63 @@ impl Inputs {
             backdrop: Backdrop::Environment,
             still: OnceLock::new(),
             glossy: OnceLock::new(),
+            playing: None,
         }
+    }
+
+    /// The moment of the played animation `frame` shows, as (clip, seconds into it): None
+    /// when no animation plays; an error naming the frame past the end under
+    /// `animation_end = stop`.
+    pub fn clip_at(&self, anim: &Animation, frame: usize) -> Result<Option<(usize, f64)>> {
+        let Some(p) = self.playing else {
+            return Ok(None);
+        };
+        let settings = &anim.scene_settings;
+        let time = frame_time(anim, frame);
+        match clip_time(time, p.duration, settings.animation_end) {
+            Some(t) => Ok(Some((p.clip, t))),
+            None => crate::bail_input!(
+                &anim.spec_path,
+                "frame {frame} is at {time:.4} s, past the end of the animation ({:.4} s long; \
+                 [scene] animation_end = stop, --animation-end stop): the last frame it covers is {}",
+                p.duration,
+                last_frame(anim, p.duration)
+            ),
+        }
+    }
+
+    /// Whether the geometry of frame `to` differs from frame `from`'s by the played
+    /// animation (not by a spin, which moves it rigidly): then `from`'s visibility does not
+    /// predict `to`'s anywhere, since a moved occluder moves shadows over still surfaces too.
+    pub fn deforms_between(&self, anim: &Animation, from: usize, to: usize) -> Result<bool> {
+        if !self.playing.is_some_and(|p| p.deforms) {
+            return Ok(false);
+        }
+        Ok(self.clip_at(anim, from)? != self.clip_at(anim, to)?)
+    }
+
+    /// The scene `frame` shows, when it is not the still scene: the played animation's pose
+    /// at the frame's moment, then the spin `spin` (`[motion] kind = "spin"`).
+    pub fn posed(
+        &self,
+        anim: &Animation,
+        frame: usize,
+        spin: Option<Mat4>,
+    ) -> Result<Option<Scene>> {
+        let clip = self.clip_at(anim, frame)?;
+        let posed = match (clip, &self.scene.rig) {
+            (Some((c, t)), Some(rig)) => Some(rig.posed(&self.scene, c, t)),
+            _ => None,
+        };
+        Ok(match (posed, spin) {
+            (None, None) => None,
+            (Some(s), None) => Some(s),
+            (Some(mut s), Some(m)) => {
+                s.transform(m);
+                Some(s)
+            }
+            (None, Some(m)) => Some(self.scene.transformed(m)),
+        })
     }
 
     /// The environment prefiltered for glossy lobes, if any material may need it: one whose
@@ -102,6 +174,11 @@ impl Inputs {
             }
         };
         let scene = anim.prepare_scene(scene)?;
+        let playing = playing(anim, &scene)?;
+        let scene = match playing {
+            Some(p) => with_framing(anim, scene, p),
+            None => scene,
+        };
         // A spin poses the scene every frame: refused here if that could overflow (found by
         // fuzzing the posed scene: tests/data/fuzz/posed_scene/huge-pivot).
         for s in anim.motion.segments() {
@@ -130,8 +207,97 @@ impl Inputs {
         }
         let r = &anim.render;
         let backdrop = Backdrop::new(r.background, r.background_color, r.background_blur, &env)?;
-        Ok(Inputs::new(scene, env, lights).with_backdrop(backdrop))
+        let mut inputs = Inputs::new(scene, env, lights).with_backdrop(backdrop);
+        inputs.playing = playing;
+        // Refused before any frame renders: a frame past the end under `stop`.
+        for frame in anim.frames.iter() {
+            inputs.clip_at(anim, frame)?;
+        }
+        Ok(inputs)
     }
+}
+
+/// Most frames whose poses the framing samples: a longer animation is sampled at this many
+/// frames spread evenly over it (the same ones in every process, whatever it renders).
+const FRAMING_SAMPLES: usize = 240;
+
+/// `scene` with the points the model reaches over the animation's frames (all of them, not
+/// only those this run renders: every process frames alike), so that the camera frames the
+/// union of the poses ([`Scene::framing`]).
+fn with_framing(anim: &Animation, mut scene: Scene, playing: Playing) -> Scene {
+    let Some(rig) = scene.rig.clone() else {
+        return scene;
+    };
+    let n = anim.frame_count.max(1);
+    let frames: Vec<usize> = if n <= FRAMING_SAMPLES {
+        (0..n).collect()
+    } else {
+        (0..FRAMING_SAMPLES)
+            .map(|k| k * (n - 1) / (FRAMING_SAMPLES - 1))
+            .collect()
+    };
+    let settings = &anim.scene_settings;
+    let times: Vec<f64> = frames
+        .into_iter()
+        .filter_map(|f| {
+            clip_time(
+                frame_time(anim, f),
+                playing.duration,
+                settings.animation_end,
+            )
+        })
+        .collect();
+    let reach = rig.reach(&scene, playing.clip, &times);
+    scene.framing = Some(reach.into());
+    scene
+}
+
+/// The seconds frame `frame` shows: `frame ÷ fps + [scene] animation_start`.
+pub fn frame_time(anim: &Animation, frame: usize) -> f64 {
+    let fps = anim.output.fps;
+    frame as f64 * f64::from(fps.den) / f64::from(fps.num)
+        + f64::from(anim.scene_settings.animation_start)
+}
+
+/// The last frame whose moment lies within an animation `duration` seconds long.
+fn last_frame(anim: &Animation, duration: f64) -> String {
+    let fps = anim.output.fps;
+    let span = duration - f64::from(anim.scene_settings.animation_start);
+    if span < 0.0 {
+        return "none".to_string();
+    }
+    // The largest frame with frame·den/num ≤ span, by exact steps from the estimate.
+    let mut f = (span * f64::from(fps.num) / f64::from(fps.den)).floor() as usize;
+    while f > 0 && frame_time(anim, f) > duration {
+        f -= 1;
+    }
+    while frame_time(anim, f + 1) <= duration {
+        f += 1;
+    }
+    f.to_string()
+}
+
+/// The animation `[scene] animation` picks in `scene`'s file, checked.
+fn playing(anim: &Animation, scene: &Scene) -> Result<Option<Playing>> {
+    let choice = &anim.scene_settings.animation;
+    let clips = scene.rig.as_ref().map_or(&[][..], |r| r.clips());
+    let picked = choice.pick(clips).map_err(|why| {
+        crate::error::input_error(
+            &anim.spec_path,
+            format!(
+                "[scene] animation = {choice} (--animation): {} has {why}",
+                scene.source
+            ),
+        )
+    })?;
+    Ok(picked.map(|clip| Playing {
+        clip,
+        duration: clips[clip].duration,
+        deforms: scene
+            .rig
+            .as_ref()
+            .is_some_and(|r| r.data.moved_primitives(clip).contains(&true)),
+    }))
 }
 
 /// What became of the scene file's lights, for the user: lit by them, or ignored.

@@ -242,6 +242,21 @@ macro_rules! settings_list {
                 /// are read; a URI leading elsewhere is refused). Relative to the working directory.
                 allow_folder: AllowedFolder = AllowedFolder::NONE, key AllowFolder,
                     flag "allow-folder" [value_name = "DIR"], check any;
+                /// The glTF file's animation to play: its name, its index from 0, first (the default:
+                /// the file's first animation, when it has one) or none (the rest pose: skins and
+                /// default morph weights still applied). Plays with the turntable or a still camera.
+                animation: Choice = Choice::First, key Animation,
+                    flag "animation" [value_name = "NAME|INDEX"], check any;
+                /// Seconds into the animation at frame 0: frame N shows the moment N ÷ fps + this
+                /// (default 0).
+                animation_start: f32 = 0.0, key AnimationStart,
+                    flag "animation-start" [value_name = "SECONDS", allow_negative_numbers = true],
+                    check check_finite;
+                /// What frames past the animation's end show: loop (the default: it starts over),
+                /// hold (its last pose) or stop (such frames are refused, naming the last one that
+                /// is not).
+                animation_end: AfterEnd = AfterEnd::Loop, key AnimationEnd,
+                    flag "animation-end" [value_name = "WHAT"], check any;
             }
 
             /// Where a render's files go (`[output]`).

@@ -30,6 +30,7 @@ use crate::output::rate::FrameRate;
 use crate::predict::{FloodTo, Method, Params};
 use crate::samples::{Filter, Samples};
 use crate::scene::ground::Ground;
+use crate::scene::playback::{AfterEnd, Choice};
 use crate::scene::{AllowedFolder, Up};
 use crate::shading_rate::ShadingRate;
 use crate::view::View;
@@ -123,7 +124,9 @@ value_by_display!(
     FrameRate,
     Pattern,
     ExrLayout,
-    AllowedFolder
+    AllowedFolder,
+    Choice,
+    AfterEnd
 );
 
 impl Value for Sampler {
@@ -161,7 +164,8 @@ deserialize_by_from_str!(
     View,
     Pattern,
     ExrLayout,
-    AllowedFolder
+    AllowedFolder,
+    AfterEnd
 );
 
 /// Where a layer of settings came from, so a message names a value as the user wrote it.

@@ -122,12 +122,15 @@ pub(super) fn load_bytes(
         material_map: HashMap::new(),
         images,
         default_material: None,
+        rig: super::rig_read::wanted(&document).then(Default::default),
+        placing: (0, None),
         unsupported_extensions_seen: Default::default(),
         warned: Default::default(),
     };
+    loader.start_rig()?;
     loader.walk()?;
     loader.warn_extensions();
-    let scene = loader.scene;
+    let scene = loader.finish_rig()?;
     if scene.triangles.is_empty() {
         // One line: what was skipped explains why nothing is left.
         let skipped: Vec<String> = scene
@@ -826,6 +829,8 @@ struct MaterialAttributes {
 /// A primitive's vertices placed in the scene (world space, counted from the render origin):
 /// every attribute, one entry per vertex.
 struct Vertices {
+    /// The vertex each copy the tangent generator made was copied from, in order.
+    copied: Vec<u32>,
     positions: Vec<Vec3>,
     normals: Vec<Vec3>,
     uvs: Vec<Vec2>,
@@ -838,6 +843,7 @@ impl Vertices {
     /// Appends a copy of vertex `v` (a vertex the tangent generator split), every attribute
     /// but the tangents, which the generator returns for the copies too.
     fn copy_vertex(&mut self, v: usize) {
+        self.copied.push(v as u32);
         self.positions.push(self.positions[v]);
         self.normals.push(self.normals[v]);
         self.uvs.push(self.uvs[v]);
@@ -904,6 +910,10 @@ struct Loader<'a> {
     images: Images,
     /// Scene index of the default grey material, once some primitive needed it.
     default_material: Option<u32>,
+    /// What posing will need, when the file animates, skins or morphs anything.
+    rig: Option<super::rig::RigData>,
+    /// The node whose meshes are being read, and its skin.
+    placing: (usize, Option<usize>),
     /// Material extensions some material's warning already named.
     unsupported_extensions_seen: std::collections::HashSet<String>,
     /// Materials already warned about for a primitive attribute they lack or the renderer
@@ -924,6 +934,10 @@ impl Loader<'_> {
         let (path, document) = (self.path, self.document);
         walk(path, document, |node, world| {
             let n = node.index();
+            if let Some(rig) = &mut self.rig {
+                rig.order.push(n);
+                self.placing = (n, node.skin().map(|s| s.index()));
+            }
             if let Some(camera) = node.camera() {
                 self.camera(n, &camera, world);
             }
@@ -1097,6 +1111,7 @@ impl Loader<'_> {
         self.keep_front_faces(&at, world, &world_pos, &mut tris);
         let smooth = smooth_normals(&world_pos, &tris);
         let mut vertices = Vertices {
+            copied: Vec::new(),
             normals: place_normals(normals.as_deref(), smooth, world),
             positions: world_pos,
             uvs: match file.uvs {
@@ -1117,6 +1132,15 @@ impl Loader<'_> {
             &mut vertices,
             &mut tris,
         );
+        self.keep_for_rig(
+            &at,
+            primitive,
+            &positions,
+            normals.as_deref(),
+            world,
+            &vertices,
+            &tris,
+        )?;
         self.append(&at, material, vertices, tris)
     }
 
@@ -1964,7 +1988,7 @@ fn assemble(mode: Mode, idx: &[u32]) -> Vec<[u32; 3]> {
 /// Area-weighted vertex normals (the sum of unnormalised face normals), normalised. A vertex
 /// whose sum cancels (back-to-back faces) takes its largest incident face's normal; a vertex no
 /// triangle uses gets +Y, which nothing will see.
-fn smooth_normals(positions: &[Vec3], tris: &[[u32; 3]]) -> Vec<Vec3> {
+pub(super) fn smooth_normals(positions: &[Vec3], tris: &[[u32; 3]]) -> Vec<Vec3> {
     let mut sum = vec![Vec3::ZERO; positions.len()];
     let mut largest = vec![Vec3::ZERO; positions.len()];
     for t in tris {
@@ -1990,4 +2014,137 @@ fn smooth_normals(positions: &[Vec3], tris: &[[u32; 3]]) -> Vec<Vec3> {
             }
         })
         .collect()
+}
+
+/// Posing (super::rig): what the loader keeps of the nodes, skins, animations and moving
+/// primitives, and the rest pose it leaves in the scene.
+impl Loader<'_> {
+    /// Reads the nodes, skins and animations, before the meshes: a primitive is kept for
+    /// posing only if something can move it.
+    fn start_rig(&mut self) -> Result<()> {
+        if self.rig.is_none() {
+            return Ok(());
+        }
+        let read = |at: &str, acc: &Accessor| self.read_accessor(at, acc);
+        let data = super::rig::RigData {
+            nodes: super::rig_read::nodes(self.document),
+            skins: super::rig_read::skins(self.path, self.document, &read)?,
+            clips: super::rig_read::clips(self.path, self.document, &read)?,
+            origin: self.scene.origin,
+            ..Default::default()
+        };
+        self.rig = Some(data);
+        Ok(())
+    }
+
+    /// Keeps a primitive just placed by `world` (its vertices `v`, triangles `tris`) for
+    /// posing, in its mesh's space, when a skin, a morph target or an animation can move it.
+    #[allow(clippy::too_many_arguments)]
+    fn keep_for_rig(
+        &mut self,
+        at: &str,
+        primitive: &Primitive,
+        positions: &[[f32; 3]],
+        file_normals: Option<&[[f32; 3]]>,
+        world: DMat4,
+        v: &Vertices,
+        tris: &[[u32; 3]],
+    ) -> Result<()> {
+        let Some(rig) = &self.rig else {
+            return Ok(());
+        };
+        let (node, skin) = self.placing;
+        let count = positions.len();
+        let read = |at: &str, acc: &Accessor| self.read_accessor(at, acc);
+        let mut influences = match skin {
+            Some(s) => {
+                let joints = rig.skins[s].joints.len();
+                super::rig_read::influences(self.path, at, primitive, count, joints, &read)?
+            }
+            None => Default::default(),
+        };
+        let mut targets = super::rig_read::targets(self.path, at, primitive, count, &read)?;
+        // A channel on the node or on one of its ancestors moves it.
+        let mut animated = false;
+        let mut up = Some(node);
+        while let Some(k) = up {
+            animated |= rig
+                .clips
+                .iter()
+                .flat_map(|c| &c.channels)
+                .any(|ch| ch.node == k);
+            up = rig.nodes[k].parent;
+        }
+        if influences.is_empty() && targets.is_empty() && !animated {
+            return Ok(());
+        }
+        let mut local: Vec<Vec3> = positions.iter().map(|&p| Vec3::from_array(p)).collect();
+        for &c in &v.copied {
+            let c = c as usize;
+            local.push(local[c]);
+            if !influences.is_empty() {
+                let m = super::skin::Influences::MAX;
+                influences.joints.extend_from_within(c * m..(c + 1) * m);
+                influences.weights.extend_from_within(c * m..(c + 1) * m);
+            }
+            for t in &mut targets.0 {
+                for a in [&mut t.positions, &mut t.normals, &mut t.tangents] {
+                    if !a.is_empty() {
+                        a.push(a[c]);
+                    }
+                }
+            }
+        }
+        // The placed normals carried back (by the transpose of the normal matrix's inverse):
+        // the file's, or the loader's fallback where it had none or a broken one.
+        let back = world.as_mat4();
+        let back = glam::Mat3::from_mat4(back).transpose();
+        let normals = v
+            .normals
+            .iter()
+            .map(|&n| (back * n).normalize_or_zero())
+            .collect();
+        let first_vertex = self.scene.positions.len();
+        let first_triangle = self.scene.triangles.len();
+        let primitive = super::rig::RigPrimitive {
+            node,
+            skin: skin.filter(|_| !influences.is_empty()),
+            first_vertex,
+            triangles: first_triangle..first_triangle + tris.len(),
+            mirrored: world.determinant() < 0.0,
+            positions: local,
+            normals,
+            smooth: file_normals.is_none(),
+            tangents: v
+                .tangents
+                .as_deref()
+                .map(|t| super::rig_read::local_tangents(t, world))
+                .unwrap_or_default(),
+            influences,
+            targets,
+        };
+        if let Some(rig) = &mut self.rig {
+            rig.primitives.push(primitive);
+        }
+        Ok(())
+    }
+
+    /// The scene, with its rig when the file has one, in its rest pose: skins bent by their
+    /// joints at rest, morph targets at their default weights.
+    fn finish_rig(self) -> Result<Scene> {
+        let mut scene = self.scene;
+        let Some(data) = self.rig else {
+            return Ok(scene);
+        };
+        let rig = super::rig::Rig {
+            data: std::sync::Arc::new(data),
+            up: super::Up::Y,
+        };
+        let bent = rig.data.bent_at_rest();
+        if bent.iter().any(|&b| b) {
+            rig.pose(&mut scene, None, &bent);
+        }
+        scene.rig = Some(rig);
+        Ok(scene)
+    }
 }

@@ -10,12 +10,18 @@
 //! Barycentric coordinates `(u, v)` name the point `(1 − u − v)·p0 + u·p1 + v·p2`.
 
 mod alpha;
+pub mod clip;
 mod gltf;
 pub mod ground;
 mod material;
+pub mod morph;
 mod origin;
+pub mod playback;
 pub mod resource;
+pub mod rig;
+mod rig_read;
 mod shapes;
+pub mod skin;
 mod tangents;
 mod texture;
 
@@ -214,6 +220,16 @@ pub struct Scene {
     /// Things skipped while loading (non-triangle primitives, …); each was also printed to
     /// stderr as `warning: …`.
     pub warnings: Vec<String>,
+    /// What posing the file's animations needs (its nodes, skins, animations and moving
+    /// primitives), shared by every copy; None when the file animates, skins and morphs
+    /// nothing, or for built-in scenes.
+    pub rig: Option<rig::Rig>,
+    /// Points the model reaches in the poses a render plays (the played animation's frames),
+    /// which [`model_bounds`](Self::model_bounds) and
+    /// [`model_radius_about`](Self::model_radius_about) read instead of the vertices: the
+    /// camera frames and a spin turns about the union of the poses, not the rest pose. None
+    /// when nothing plays.
+    pub framing: Option<std::sync::Arc<[Vec3]>>,
 }
 
 impl Scene {
@@ -322,7 +338,14 @@ impl Scene {
     /// Bounds of the model: [`bounds`](Self::bounds) without the ground envshadow added, if
     /// any (what the camera frames and a spin turns about).
     pub fn model_bounds(&self) -> (Vec3, Vec3) {
-        bounds_of(&self.positions, self.model_triangles())
+        match &self.framing {
+            Some(points) if !points.is_empty() => {
+                let lo = points.iter().fold(Vec3::INFINITY, |a, &p| a.min(p));
+                let hi = points.iter().fold(Vec3::NEG_INFINITY, |a, &p| a.max(p));
+                (lo, hi)
+            }
+            _ => bounds_of(&self.positions, self.model_triangles()),
+        }
     }
 
     /// The model's triangles: all of them but the ground envshadow added, if any (it comes
@@ -336,9 +359,17 @@ impl Scene {
     /// (a turntable's spin or orbit).
     pub fn model_radius_about(&self, axis: Vec3) -> f32 {
         let mut r2 = 0.0f32;
-        for &i in self.model_triangles().iter().flatten() {
-            let d = self.positions[i as usize] - axis;
+        let mut reach = |p: Vec3| {
+            let d = p - axis;
             r2 = r2.max(d.x * d.x + d.z * d.z);
+        };
+        match &self.framing {
+            Some(points) if !points.is_empty() => points.iter().for_each(|&p| reach(p)),
+            _ => {
+                for &i in self.model_triangles().iter().flatten() {
+                    reach(self.positions[i as usize]);
+                }
+            }
         }
         r2.sqrt()
     }
@@ -405,6 +436,10 @@ impl Scene {
                 }
                 // The positions count from the origin, which turns with them.
                 out.origin = m.as_dmat4().transform_point3(self.origin);
+                // Poses stand up as the loaded vertices did.
+                if let Some(rig) = &mut out.rig {
+                    rig.up = Up::Z;
+                }
                 out
             }
         }
@@ -503,11 +538,17 @@ impl Scene {
     /// the lights.
     pub fn transformed(&self, m: Mat4) -> Scene {
         let mut out = self.clone();
+        out.transform(m);
+        out
+    }
+
+    /// [`transformed`](Self::transformed) in place: a posed copy is moved without another.
+    pub fn transform(&mut self, m: Mat4) {
         let normal_matrix = normal_matrix(m);
-        for p in &mut out.positions {
+        for p in &mut self.positions {
             *p = m.transform_point3(*p);
         }
-        for n in &mut out.normals {
+        for n in &mut self.normals {
             let t = (normal_matrix * *n).normalize_or_zero();
             // A singular `m` flattens normals; keep the old one rather than a zero vector.
             if t != Vec3::ZERO {
@@ -517,18 +558,17 @@ impl Scene {
         // Tangents are surface directions: they move with `m` itself; a mirror flips the
         // bitangent's handedness, as it flips the winding.
         let handedness = if m.determinant() < 0.0 { -1.0 } else { 1.0 };
-        for t in &mut out.tangents {
+        for t in &mut self.tangents {
             let moved = m.transform_vector3(t.truncate()).normalize_or_zero();
             if moved != Vec3::ZERO {
                 *t = moved.extend(t.w * handedness);
             }
         }
         if m.determinant() < 0.0 {
-            for t in &mut out.triangles {
+            for t in &mut self.triangles {
                 t.swap(1, 2);
             }
         }
-        out
     }
 
     /// Why turning this scene about a vertical axis through `pivot` could overflow (a posed

@@ -1,0 +1,407 @@
+//! Playback of a glTF file's own animation (node channels, skins, morph targets): our posed
+//! vertices against Blender's evaluation of the same file and time.
+//!
+//! Blender (Debian's 3.4, its glTF importer, `frame_set`, the evaluated meshes; see
+//! scripts/blender-pose.py) is the independent side. Its importer is exact for `STEP` and
+//! `LINEAR` translation, scale and weights at any time, but it turns `CUBICSPLINE` into Bézier
+//! curves with automatic handles (the file's tangents dropped) and interpolates rotations
+//! component-wise rather than by slerp: where an animation has those, we compare at its key
+//! times, where both are exact. Between keys, the samplers are checked against the
+//! specification's formulas by the unit tests of src/scene/clip.rs.
+//!
+//! The vertices are compared as sets (Blender's importer merges and splits vertices): every
+//! vertex of ours lies within 1e-4 of the model's size of one of Blender's, and every one of
+//! Blender's of one of ours. Blender's answers are also kept in tests/data/gltf-anim/*.blender.json
+//! (remade by `scripts/blender-pose.py`, the command in each case below), so the comparison
+//! runs without Blender too; with Blender installed (CI installs it) it runs live as well.
+
+use std::path::{Path, PathBuf};
+
+use envshadow::anim::{AnimFlags, Animation};
+use envshadow::coordinator::thread_pool;
+use envshadow::film::{Channel, Film};
+use envshadow::frame::{Temporal, render_frame, render_frame_with};
+use envshadow::history::Carried;
+use envshadow::inputs::Inputs;
+use envshadow::run::Silent;
+use envshadow::scene::Scene;
+use envshadow::tile::Rect;
+
+use crate::common::{self, require_tools};
+
+/// A model, one of its animations and the times compared.
+struct Case {
+    file: &'static str,
+    animation: usize,
+    times: &'static [f64],
+}
+
+/// Every case: the samplers file's two animations (every sampler kind; STEP and LINEAR
+/// between keys), Khronos's SimpleSkin and Fox (a skinned character, two of its three
+/// animations).
+const CASES: &[Case] = &[
+    Case {
+        file: "samplers.gltf",
+        animation: 0,
+        times: &[0.0, 0.5, 1.5, 2.0],
+    },
+    Case {
+        file: "samplers.gltf",
+        animation: 1,
+        times: &[0.3, 0.8, 1.7, 2.5],
+    },
+    Case {
+        file: "SimpleSkin.gltf",
+        animation: 0,
+        times: &[1.0, 2.5],
+    },
+    Case {
+        file: "Fox.glb",
+        animation: 0,
+        times: &[0.0, 1.0, 2.5],
+    },
+    Case {
+        file: "Fox.glb",
+        animation: 2,
+        times: &[0.5],
+    },
+];
+
+fn data(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/gltf-anim")
+        .join(name)
+}
+
+/// The stored Blender answer for a case.
+fn reference(case: &Case) -> PathBuf {
+    data(&format!("{}.a{}.blender.json", case.file, case.animation))
+}
+
+/// Our vertices of `scene` posed at time `t` of `animation`, in world space.
+fn ours(scene: &Scene, animation: usize, t: f64) -> Vec<[f64; 3]> {
+    let rig = scene.rig.as_ref().expect("the file has a rig");
+    let posed = rig.posed(scene, animation, t);
+    posed
+        .positions
+        .iter()
+        .map(|p| {
+            let w = p.as_dvec3() + scene.origin;
+            [w.x, w.y, w.z]
+        })
+        .collect()
+}
+
+/// Blender's poses from its JSON: one vertex list per time.
+fn poses(json: &str) -> Vec<(f64, Vec<[f64; 3]>)> {
+    let v: serde_json::Value = serde_json::from_str(json).unwrap();
+    v["poses"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| {
+            let vertices = p["vertices"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|x| {
+                    let c = x.as_array().unwrap();
+                    [0, 1, 2].map(|k| c[k].as_f64().unwrap())
+                })
+                .collect();
+            (p["time"].as_f64().unwrap(), vertices)
+        })
+        .collect()
+}
+
+/// The farthest any point of `a` lies from its nearest point of `b`.
+fn farthest_from(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
+    a.iter()
+        .map(|p| {
+            b.iter()
+                .map(|q| (0..3).map(|k| (p[k] - q[k]).powi(2)).sum::<f64>())
+                .fold(f64::INFINITY, f64::min)
+                .sqrt()
+        })
+        .fold(0.0, f64::max)
+}
+
+/// The model's size: its rest pose's bounding-box diagonal.
+fn size(scene: &Scene) -> f64 {
+    let (lo, hi) = scene.bounds();
+    f64::from((hi - lo).length())
+}
+
+/// Compares each time of `case` with Blender's answer `json`; returns the worst distance
+/// over the model's size, and fails naming the case and time past 1e-4.
+fn compare(case: &Case, json: &str) -> f64 {
+    let scene = Scene::load(&data(case.file)).unwrap();
+    let size = size(&scene);
+    let theirs = poses(json);
+    assert_eq!(
+        theirs.iter().map(|p| p.0).collect::<Vec<_>>(),
+        case.times,
+        "{}: Blender's answer holds other times",
+        case.file
+    );
+    let mut worst = 0.0f64;
+    for (t, blender) in &theirs {
+        let ours = ours(&scene, case.animation, *t);
+        let d = farthest_from(&ours, blender).max(farthest_from(blender, &ours)) / size;
+        assert!(
+            d <= 1e-4,
+            "{} animation {} at {t} s: a vertex lies {d:.2e} of the model's size from the other side's nearest",
+            case.file,
+            case.animation
+        );
+        worst = worst.max(d);
+    }
+    worst
+}
+
+/// Runs scripts/blender-pose.py on a case; its JSON.
+fn blender(case: &Case, out: &Path) -> String {
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/blender-pose.py");
+    let mut cmd = std::process::Command::new("blender");
+    cmd.args(["-b", "--factory-startup", "--python-exit-code", "1", "-P"])
+        .arg(&script)
+        .arg("--")
+        .arg(data(case.file))
+        .arg(out)
+        .args(["--animation", &case.animation.to_string()])
+        .args(case.times.iter().map(|t| t.to_string()));
+    let run = cmd.output().expect("blender runs");
+    assert!(
+        run.status.success(),
+        "blender failed on {}: {}",
+        case.file,
+        String::from_utf8_lossy(&run.stderr)
+    );
+    std::fs::read_to_string(out).unwrap()
+}
+
+#[test]
+fn posed_vertices_match_blenders_stored_answers() {
+    for case in CASES {
+        let json = std::fs::read_to_string(reference(case)).unwrap();
+        let worst = compare(case, &json);
+        eprintln!(
+            "{} animation {}: worst {worst:.2e} of the model's size",
+            case.file, case.animation
+        );
+    }
+}
+
+#[test]
+fn posed_vertices_match_blender() {
+    if !require_tools(
+        "posed_vertices_match_blender",
+        &["blender"],
+        "apt-get install blender python3-numpy",
+    ) {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    for (k, case) in CASES.iter().enumerate() {
+        let json = blender(case, &dir.path().join(format!("{k}.json")));
+        let worst = compare(case, &json);
+        eprintln!(
+            "{} animation {} (Blender now): worst {worst:.2e} of the model's size",
+            case.file, case.animation
+        );
+    }
+}
+
+#[test]
+fn skins_and_default_weights_shape_the_rest_pose() {
+    // The samplers file's morph cube has default weights (0.25, 0): target 0 lifts its top
+    // face by 0.5, so at rest the top stands at 0.25 + 0.125 above the node (y = 0.5).
+    let scene = Scene::load(&data("samplers.gltf")).unwrap();
+    let part = scene
+        .parts
+        .iter()
+        .find(|p| p.node.as_deref() == Some("morph cube"))
+        .unwrap();
+    let top = scene.triangles[part.triangles.clone()]
+        .iter()
+        .flatten()
+        .map(|&i| scene.positions[i as usize].y)
+        .fold(f32::MIN, f32::max);
+    assert!((top - 0.875).abs() < 1e-6, "top at {top}");
+}
+
+/// A spec playing `file`'s animation (`animation`, `end`) at `fps` over `frames` frames of a
+/// still camera (or `motion`), small and validated.
+fn spec(file: &str, motion: &str, frames: usize, scene_keys: &str, fps: u32) -> Animation {
+    let text = format!(
+        "[scene]\nfile = \"{}\"\n{scene_keys}\n[lights]\ncount = 24\n\
+         [motion]\nkind = \"{motion}\"\nframes = {frames}\n\
+         [render]\nwidth = 64\nheight = 48\nvalidate = true\n[output]\nfps = {fps}\n",
+        data(file).display()
+    );
+    Animation::parse(&text, Path::new("anim.toml"), &AnimFlags::default()).unwrap()
+}
+
+fn film(anim: &Animation, inputs: &Inputs, frame: usize) -> Film {
+    render_frame(anim, inputs, frame, None, &Silent).unwrap().0
+}
+
+#[test]
+fn frames_past_the_end_loop_or_hold() {
+    // samplers.gltf's animation is 2 s long; at 4 fps frame 8 is its end, frame 9 is 2.25 s.
+    let looped = spec("samplers.gltf", "none", 12, "animation_end = \"loop\"", 4);
+    let inputs = Inputs::load(&looped).unwrap();
+    common::assert_same_film(&film(&looped, &inputs, 9), &film(&looped, &inputs, 1));
+    let held = spec("samplers.gltf", "none", 12, "animation_end = \"hold\"", 4);
+    let inputs = Inputs::load(&held).unwrap();
+    common::assert_same_film(&film(&held, &inputs, 9), &film(&held, &inputs, 8));
+    // And the animation does play: frame 1 is not frame 0.
+    let (a, b) = (film(&held, &inputs, 0), film(&held, &inputs, 1));
+    assert!(a.layer(Channel::BEAUTY) != b.layer(Channel::BEAUTY));
+}
+
+#[test]
+fn frames_past_the_end_are_refused_under_stop() {
+    let stop = spec("samplers.gltf", "none", 12, "animation_end = \"stop\"", 4);
+    let err = format!("{:#}", Inputs::load(&stop).err().unwrap());
+    assert!(
+        err.contains("frame 9 is at 2.2500 s, past the end of the animation (2.0000 s long")
+            && err.contains("the last frame it covers is 8"),
+        "{err}"
+    );
+    // Frames within it render.
+    let mut within = stop.clone();
+    within.frames = envshadow::frames::FrameSet::range(0..9);
+    assert!(Inputs::load(&within).is_ok());
+}
+
+#[test]
+fn an_animation_the_file_lacks_is_refused_naming_those_it_has() {
+    let walk = spec("Fox.glb", "none", 2, "animation = \"Trot\"", 24);
+    let err = format!("{:#}", Inputs::load(&walk).err().unwrap());
+    assert!(
+        err.contains("no animation named \"Trot\" (its animations: 0: Survey, 1: Walk, 2: Run)"),
+        "{err}"
+    );
+    let index = spec("Fox.glb", "none", 2, "animation = 3", 24);
+    let err = format!("{:#}", Inputs::load(&index).err().unwrap());
+    assert!(err.contains("no animation 3"), "{err}");
+    // A file without animations plays none by default, and refuses a named one.
+    let bunny = common::asset("bunny.glb");
+    let text = format!(
+        "[scene]\nfile = \"{}\"\nanimation = \"Walk\"\n",
+        bunny.display()
+    );
+    let a = Animation::parse(&text, Path::new("b.toml"), &AnimFlags::default()).unwrap();
+    let err = format!("{:#}", Inputs::load(&a).err().unwrap());
+    assert!(err.contains("(it has none)"), "{err}");
+}
+
+#[test]
+fn the_camera_frames_every_pose_not_the_rest_pose() {
+    // The samplers file's first animation moves the step cube, scales the cubic cube and
+    // bends the bar: the frame's bounds hold every frame's posed model.
+    let anim = spec("samplers.gltf", "orbit", 12, "ground = \"none\"", 6);
+    let inputs = Inputs::load(&anim).unwrap();
+    let (lo, hi) = inputs.scene.model_bounds();
+    let rest = {
+        let mut s = inputs.scene.clone();
+        s.framing = None;
+        s.model_bounds()
+    };
+    assert_ne!((lo, hi), rest, "the poses reach beyond the rest pose");
+    let slack = (hi - lo).length() * 1e-6;
+    for frame in 0..anim.frame_count {
+        let posed = inputs.posed(&anim, frame, None).unwrap().unwrap();
+        for p in &posed.positions {
+            assert!(
+                p.cmpge(lo - slack).all() && p.cmple(hi + slack).all(),
+                "frame {frame}: {p} outside the framed bounds {lo}..{hi}"
+            );
+        }
+    }
+}
+
+#[test]
+fn an_animated_frame_is_identical_whatever_the_tiles_and_threads() {
+    // The fox walking under an orbiting camera: the frame's posed scene and BVH are built per
+    // frame, and neither the tiles nor the threads change a bit; nor does a region render.
+    let anim = spec("Fox.glb", "orbit", 12, "animation = \"Walk\"", 24);
+    let inputs = Inputs::load(&anim).unwrap();
+    let render = |tile: u32, threads: usize, region: Option<Rect>| {
+        let mut a = anim.clone();
+        a.render.tile = tile;
+        let pool = thread_pool(threads).unwrap();
+        pool.install(|| render_frame(&a, &inputs, 5, region, &Silent))
+            .unwrap()
+            .0
+    };
+    let want = render(16, 1, None);
+    for (tile, threads) in [(8, 2), (64, 2), (24, 3)] {
+        common::assert_same_film(&render(tile, threads, None), &want);
+    }
+    // A region render's pixels are the whole frame's.
+    let region = Rect {
+        x0: 16,
+        y0: 8,
+        x1: 48,
+        y1: 40,
+    };
+    let part = render(16, 2, Some(region));
+    let (w, whole) = (64usize, want.layer(Channel::BEAUTY).unwrap());
+    let got = part.layer(Channel::BEAUTY).unwrap();
+    for y in region.y0..region.y1 {
+        for x in region.x0..region.x1 {
+            let i = y as usize * w + x as usize;
+            assert_eq!(got[i], whole[i], "pixel ({x}, {y})");
+        }
+    }
+}
+
+#[test]
+fn a_deforming_frame_does_not_read_the_previous_frames_visibility() {
+    // With --temporal, each frame of the walking fox is predicted from its own pixels (the
+    // previous frame's shadows moved with the fox): the chain renders exactly the frames a
+    // run without temporal prediction renders, and no pixel comes from the previous frame.
+    let mut anim = spec("Fox.glb", "orbit", 12, "animation = \"Walk\"", 24);
+    let inputs = Inputs::load(&anim).unwrap();
+    let alone: Vec<Film> = (0..3).map(|f| film(&anim, &inputs, f)).collect();
+    anim.render.temporal = true;
+    let mut prev: Option<Carried> = None;
+    for (f, want) in alone.iter().enumerate() {
+        let link = Temporal {
+            prev: prev.as_ref(),
+            carry: true,
+            no_validate: false,
+        };
+        let (film, stats, carried) =
+            render_frame_with(&anim, &inputs, f, None, &Silent, &link).unwrap();
+        assert_eq!(stats.counts.temporal_pixels, 0, "frame {f}");
+        common::assert_same_film(&film, want);
+        prev = carried;
+    }
+    // A still pose (the animation held past its end) is read again.
+    let mut held = spec(
+        "Fox.glb",
+        "none",
+        40,
+        "animation = \"Walk\"\nanimation_end = \"hold\"",
+        24,
+    );
+    held.render.temporal = true;
+    let inputs = Inputs::load(&held).unwrap();
+    let mut prev: Option<Carried> = None;
+    let mut reused = 0;
+    for f in 30..32 {
+        let link = Temporal {
+            prev: prev.as_ref(),
+            carry: true,
+            no_validate: false,
+        };
+        let (_, stats, carried) =
+            render_frame_with(&held, &inputs, f, None, &Silent, &link).unwrap();
+        reused += stats.counts.temporal_pixels;
+        prev = carried;
+    }
+    assert!(reused > 0, "the held pose reads the previous frame");
+}
