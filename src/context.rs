@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use crate::accel::{Accel, PACKET};
+use crate::accel::{Accel, Hit, PACKET};
 use crate::background::{Backdrop, ENVIRONMENT};
 use crate::camera::Camera;
 use crate::envmap::EnvMap;
@@ -234,11 +234,58 @@ impl<'a> FrameContext<'a> {
     /// pixel (x, y)).
     #[inline]
     pub fn surface(&self, x: u32, y: u32) -> Surface {
+        let (dir, cut) = self.camera_ray(x, y);
+        let hit = self.accel.intersect_cut(self.camera.position, dir, &cut);
+        self.surface_hit(dir, hit)
+    }
+
+    /// The surfaces seen by the samples of pixel (px, py) in strata `strata` (at most
+    /// [`PACKET`]; stratum s is column s mod k, row s div k), handed to `put` with their
+    /// place in `strata`: each what [`surface`](Self::surface) gives, bit for bit, their
+    /// primary rays traced together ([`Accel::intersect_packet_cut`]).
+    #[inline]
+    pub fn surfaces(
+        &self,
+        (px, py): (u32, u32),
+        strata: &[u32],
+        mut put: impl FnMut(usize, Surface),
+    ) {
+        let (n, k) = (strata.len(), self.samples.k);
+        let mut dirs = [Vec3::ZERO; PACKET];
+        let mut cuts: [AlphaTest; PACKET] =
+            std::array::from_fn(|_| AlphaTest::camera(self.scene, 0.0));
+        for (r, &s) in strata.iter().enumerate() {
+            let (i, j) = (s % k, s / k);
+            let (dx, dy) = self.samples.offset(px, py, i, j);
+            dirs[r] = self.camera.ray_dir_at(px, py, dx, dy);
+            cuts[r] = AlphaTest::camera(self.scene, coverage_threshold(px, py, i, j, k));
+        }
+        let mut hits = [None; PACKET];
+        self.accel.intersect_packet_cut(
+            self.camera.position,
+            &dirs[..n],
+            &cuts[..n],
+            &mut hits[..n],
+        );
+        for r in 0..n {
+            put(r, self.surface_hit(dirs[r], hits[r]));
+        }
+    }
+
+    /// The primary ray of sample (x, y): its unit direction, and the cut-out test of its
+    /// coverage threshold.
+    #[inline]
+    fn camera_ray(&self, x: u32, y: u32) -> (Vec3, AlphaTest<'a>) {
         let dir = self.sample_dir(x, y);
         let k = self.samples.k;
         let coverage = coverage_threshold(x / k, y / k, x % k, y % k, k);
-        let cut = AlphaTest::camera(self.scene, coverage);
-        let Some(hit) = self.accel.intersect_cut(self.camera.position, dir, &cut) else {
+        (dir, AlphaTest::camera(self.scene, coverage))
+    }
+
+    /// The surface a primary ray along `dir` found at `hit` (none: the background).
+    #[inline]
+    fn surface_hit(&self, dir: Vec3, hit: Option<Hit>) -> Surface {
+        let Some(hit) = hit else {
             return Surface {
                 dir,
                 ..Surface::default()
