@@ -313,10 +313,10 @@ impl FrameWork<'_> {
         // A packet: strata of one pixel, and their places in the region.
         let (mut strata, mut index) = ([0u32; PACKET], [0usize; PACKET]);
         let trace = |bufs: &mut TileBuffers, pixel, strata: &[u32], index: &[usize]| {
-            self.ctx.surfaces(pixel, strata, |r, surface| {
-                bufs.surf[index[r]] = surface;
-                bufs.primed[index[r]] = true;
-            });
+            self.ctx.surfaces(pixel, strata, &mut bufs.surf, index);
+            for &i in index {
+                bufs.primed[i] = true;
+            }
         };
         for py in region.y0 / k..region.y1.div_ceil(k) {
             for px in region.x0 / k..region.x1.div_ceil(k) {
@@ -421,7 +421,7 @@ fn shade(
                     let (x, y) = (px * k + i, py * k + j);
                     let q = bufs.region.index(x, y);
                     debug_assert!(bufs.needed[q], "method left sample ({x}, {y}) unevaluated");
-                    let s = bufs.surf[q];
+                    let s = &bufs.surf[q];
                     traced += bufs.rays[q] as f32;
                     counts.rays += bufs.rays[q] as u64;
                     let why = bufs.split[q];
@@ -441,7 +441,7 @@ fn shade(
                     }
                     hits += 1;
                     if let Some(m) = &mut mattes {
-                        m.add(&s);
+                        m.add(s);
                     }
                     nearest = nearest.min((s.p - eye).dot(forward));
                     n_sum += s.n;
