@@ -186,6 +186,71 @@ impl Accel {
         })
     }
 
+    /// [`intersect_cut`](Self::intersect_cut) for up to [`PACKET`] rays from one origin (a
+    /// pixel's camera rays), ray r along `dirs[r]` with its own cut-out test `cuts[r]`:
+    /// `hits[r]` is exactly what `intersect_cut(origin, dirs[r], &cuts[r])` returns (the same
+    /// triangle, t and barycentrics bits), found faster. The rays of a pixel leave one point in
+    /// nearly one direction, so they walk nearly the same nodes: the packet shares each node's
+    /// load, its child planes and its traversal step, and gives the CPU the rays' tests to
+    /// overlap where one ray waits on each node in turn.
+    pub fn intersect_packet_cut<C: Cutout>(
+        &self,
+        origin: Vec3,
+        dirs: &[Vec3],
+        cuts: &[C],
+        hits: &mut [Option<Hit>],
+    ) {
+        let n = dirs.len();
+        assert!(n <= PACKET, "a packet holds at most {PACKET} rays");
+        assert!(
+            cuts.len() >= n && hits.len() >= n,
+            "a test and an answer for every ray"
+        );
+        #[cfg(target_arch = "x86_64")]
+        if crate::simd::has_avx2() && !self.tris.is_empty() && n > 0 {
+            let rays: [Ray; PACKET] =
+                std::array::from_fn(|r| ray(origin, dirs[r.min(n - 1)], f32::INFINITY));
+            let mut best = [(f32::INFINITY, usize::MAX); PACKET];
+            // obvhs orders a node's children by the ray's octant; rays of one octant walk in
+            // one order, so each packet holds one octant's rays (a pixel's rays nearly always
+            // share theirs).
+            let octant = |r: usize| octant_inv4(rays[r].direction);
+            let mut left = if n == 32 { u32::MAX } else { (1u32 << n) - 1 };
+            while left != 0 {
+                let oct = octant(left.trailing_zeros() as usize);
+                let mut group = 0u32;
+                let mut m = left;
+                while m != 0 {
+                    let r = m.trailing_zeros() as usize;
+                    m &= m - 1;
+                    if octant(r) == oct {
+                        group |= 1 << r;
+                    }
+                }
+                left &= !group;
+                // SAFETY: AVX2 was detected on this CPU.
+                unsafe { avx2::closest_packet(self, &rays, group, oct, cuts, &mut best) };
+            }
+            for (r, h) in hits[..n].iter_mut().enumerate() {
+                let (t, prim) = best[r];
+                *h = (prim != usize::MAX).then(|| {
+                    let (u, v) = barycentrics(&self.tris[prim], rays[r].origin, rays[r].direction);
+                    Hit {
+                        t,
+                        tri: self.scene_index[prim],
+                        u,
+                        v,
+                    }
+                });
+            }
+            return;
+        }
+        // Without AVX2, one ray at a time: the same answers.
+        for r in 0..n {
+            hits[r] = self.intersect_cut(origin, dirs[r], &cuts[r]);
+        }
+    }
+
     /// The cut-out test of one query, with this hierarchy's cut-out triangles.
     #[inline(always)]
     fn cut_with<'a, C: Cutout + ?Sized>(&'a self, test: &'a C) -> Cut<'a, C> {
@@ -733,6 +798,16 @@ mod leaf {
     }
 }
 
+/// obvhs's octant code of a ray direction (`ray_get_octant_inv4`, which orders a node's
+/// children for the ray's walk).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn octant_inv4(dir: Vec3A) -> u32 {
+    (if dir.x < 0.0 { 0 } else { 0x0404_0404 })
+        | (if dir.y < 0.0 { 0 } else { 0x0202_0202 })
+        | (if dir.z < 0.0 { 0 } else { 0x0101_0101 })
+}
+
 /// obvhs's ray from `origin` along `dir` over t in [0, tmax), with negative zeros in the direction
 /// made positive: obvhs takes the inverse of −0 as −1/ε but picks a box's near and far planes by
 /// `d < 0`, false for −0, so a ray along an axis written with −0 (`-Vec3::Y`) missed every box.
@@ -1037,6 +1112,149 @@ mod avx2 {
             }
         }
         blocked
+    }
+
+    /// Closest hits of the rays of `group` (bits of `rays`, all of octant `oct_inv4`), one
+    /// walk for all: ray r's nearest hit (t, primitive) lands in `best[r]` (untouched when it
+    /// hits nothing). The walk is obvhs's `traverse!` order for that octant — a node's leaf
+    /// triangles tested as it is entered, then its inner children entered highest hit-mask bit
+    /// first — with ray r carried into a child exactly when its own test hit that child. So
+    /// the events that concern ray r are those of its walk alone, in the same order: the same
+    /// node tests (those of [`node_hits_avx2`], against its nearest hit so far), the same leaf
+    /// calls ([`leaf::hit_avx2`]), the same hit kept among equals.
+    #[target_feature(enable = "avx2")]
+    pub(super) fn closest_packet<C: Cutout>(
+        accel: &Accel,
+        rays: &[Ray; PACKET],
+        group: u32,
+        oct_inv4: u32,
+        cuts: &[C],
+        best: &mut [(f32, usize); PACKET],
+    ) {
+        use std::mem::MaybeUninit;
+        const STACK: usize = 256;
+        let bvh = &accel.bvh;
+        let first = &rays[group.trailing_zeros() as usize];
+        let (origin, d) = (first.origin, first.direction);
+        let mut stack = [MaybeUninit::<(u32, u32)>::uninit(); STACK];
+        stack[0].write((0, group));
+        let mut top = 1;
+        let mut gone = 0u32;
+        // SAFETY: each load reads exactly the 8 bytes of one plane array.
+        let widen = |v: &[u8; 8]| unsafe {
+            _mm256_cvtepi32_ps(_mm256_cvtepu8_epi32(_mm_loadl_epi64(
+                v.as_ptr() as *const __m128i
+            )))
+        };
+        let bytes = |v: u64| _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(v as i64));
+        while top > 0 {
+            top -= 1;
+            // SAFETY: entries below `top` were written.
+            let (ni, m) = unsafe { stack[top].assume_init() };
+            let m = m & !gone;
+            if m == 0 {
+                continue;
+            }
+            let node = &bvh.nodes[ni as usize];
+            // node_hits_avx2's slab ends, chosen once for the octant's signs.
+            let ends = |neg: bool, lo: &[u8; 8], hi: &[u8; 8]| {
+                if neg {
+                    (widen(hi), widen(lo))
+                } else {
+                    (widen(lo), widen(hi))
+                }
+            };
+            let (lo_x, hi_x) = ends(d.x < 0.0, &node.child_min_x, &node.child_max_x);
+            let (lo_y, hi_y) = ends(d.y < 0.0, &node.child_min_y, &node.child_max_y);
+            let (lo_z, hi_z) = ends(d.z < 0.0, &node.child_min_z, &node.child_max_z);
+            let extent = node.compute_extent();
+            let offset = Vec3A::from(node.p) - origin;
+            let (child_bits8, bit_index8) = node.get_child_and_index_bits(oct_inv4);
+            let child_bits = _mm256_sllv_epi32(bytes(child_bits8), bytes(bit_index8));
+            // Bit b: the rays that entered the inner child at hit-mask bit 24 + b.
+            let mut entered = [0u32; 8];
+            let mut mm = m;
+            while mm != 0 {
+                let r = mm.trailing_zeros() as usize;
+                mm &= mm - 1;
+                let ray = &rays[r];
+                let inv = extent * ray.inv_direction;
+                let org = offset * ray.inv_direction;
+                let slab = |q: __m256, inv: f32, org: f32| {
+                    _mm256_add_ps(_mm256_mul_ps(q, _mm256_set1_ps(inv)), _mm256_set1_ps(org))
+                };
+                let tmin = _mm256_max_ps(
+                    slab(lo_x, inv.x, org.x),
+                    _mm256_max_ps(slab(lo_y, inv.y, org.y), slab(lo_z, inv.z, org.z)),
+                );
+                let tmax = _mm256_min_ps(
+                    slab(hi_x, inv.x, org.x),
+                    _mm256_min_ps(slab(hi_y, inv.y, org.y), slab(hi_z, inv.z, org.z)),
+                );
+                let tmin = _mm256_max_ps(tmin, _mm256_set1_ps(ray.tmin));
+                let tmax = _mm256_min_ps(tmax, _mm256_set1_ps(best[r].0));
+                let hit = _mm256_castps_si256(_mm256_cmp_ps::<_CMP_LE_OQ>(tmin, tmax));
+                let bits = _mm256_and_si256(child_bits, hit);
+                let x = _mm_or_si128(
+                    _mm256_castsi256_si128(bits),
+                    _mm256_extracti128_si256::<1>(bits),
+                );
+                let x = _mm_or_si128(x, _mm_shuffle_epi32::<0b00_00_11_10>(x));
+                let x = _mm_or_si128(x, _mm_shuffle_epi32::<0b00_00_00_01>(x));
+                let hitmask = _mm_cvtsi128_si32(x) as u32;
+                let prims = hitmask & 0x00ff_ffff;
+                if prims != 0 {
+                    let ray = Ray {
+                        tmax: best[r].0,
+                        ..*ray
+                    };
+                    let cut = accel.cut_with(&cuts[r]);
+                    // SAFETY: the node's primitive group lies within the padded planes.
+                    let (t, i) = unsafe {
+                        leaf::hit_avx2(
+                            &accel.planes,
+                            node.primitive_base_idx as usize,
+                            prims,
+                            &ray,
+                            &cut,
+                        )
+                    };
+                    if t < ray.tmax {
+                        best[r] = (t, i);
+                    }
+                }
+                let mut inner = hitmask >> 24;
+                while inner != 0 {
+                    let b = inner.trailing_zeros() as usize;
+                    inner &= inner - 1;
+                    entered[b] |= 1 << r;
+                }
+            }
+            if top + 8 > STACK {
+                // Deeper than any hierarchy we build: these rays walk alone from the root
+                // instead (the same answers), and leave the packet.
+                let mut mm = m;
+                while mm != 0 {
+                    let r = mm.trailing_zeros() as usize;
+                    mm &= mm - 1;
+                    let cut = accel.cut_with(&cuts[r]);
+                    best[r] = accel
+                        .closest_avx2(&rays[r], &cut)
+                        .unwrap_or((f32::INFINITY, usize::MAX));
+                }
+                gone |= m;
+                continue;
+            }
+            // Highest bit entered first: pushed last.
+            for (b, &rr) in entered.iter().enumerate() {
+                if rr != 0 {
+                    let slot = b as u32 ^ (oct_inv4 & 0xff);
+                    let rel = (node.imask as u32 & ((1 << slot) - 1)).count_ones();
+                    stack[top].write((node.child_base_idx + rel, rr));
+                    top += 1;
+                }
+            }
+        }
     }
 
     /// [`node_hits`](super::node_hits) with eight children per instruction: each child's
@@ -1365,6 +1583,94 @@ mod tests {
             Accel::build(&[], &[]).occluded_packet(Vec3::ZERO, &[Vec3::Y]),
             0
         );
+    }
+
+    /// Stripes shifted by a per-ray amount: each camera ray has its own cut-out test (its
+    /// sample's coverage threshold).
+    struct Shifted(f32);
+
+    impl Cutout for Shifted {
+        fn stops(&self, tri: u32, u: f32, v: f32) -> bool {
+            let x = u * 5.0 + v * 3.0 + tri as f32 * 0.37 + self.0;
+            x - x.floor() < 0.55
+        }
+    }
+
+    #[test]
+    fn closest_hit_packets_find_exactly_the_single_rays_hits() {
+        // A random soup with two triangles in three cut out (each ray its own test), then a
+        // grid of quads whose shared edges and corners the rays aim at (hits tied between
+        // triangles, where the walk's order decides). Packets of every size: a pixel's
+        // nearly parallel rays, and rays in every octant mixed (axis-aligned ones with −0).
+        let mut rng = Lcg(2718);
+        let n = 4000;
+        let soup = soup_cut(&mut rng, n, 2.0, 0.3, &two_in_three(n));
+        let (mut p, mut t) = (Vec::new(), Vec::new());
+        let side = 24u32;
+        for j in 0..=side {
+            for i in 0..=side {
+                p.push(Vec3::new(
+                    i as f32 / side as f32,
+                    0.0,
+                    j as f32 / side as f32,
+                ));
+            }
+        }
+        for j in 0..side {
+            for i in 0..side {
+                let c = j * (side + 1) + i;
+                t.push([c, c + side + 1, c + 1]);
+                t.push([c + 1, c + side + 1, c + side + 2]);
+            }
+        }
+        let grid = Accel::build(&p, &t);
+        let (mut rays, mut hits) = (0, 0);
+        for (accel, targets) in [(&soup, false), (&grid, true)] {
+            for k in 0..300 {
+                let o = if targets {
+                    Vec3::new(0.5, 1.0 + rng.next(), 0.5)
+                } else {
+                    rng.vec() * 5.0 - 2.5
+                };
+                let n = 1 + k % PACKET;
+                let base = (rng.vec() * 2.0 - 1.0).normalize_or(Vec3::Y);
+                let dirs: Vec<Vec3> = (0..n)
+                    .map(|r| match (targets, k % 3) {
+                        // At grid corners and edge midpoints.
+                        (true, _) => {
+                            let a = (rng.next() * side as f32).floor() / side as f32;
+                            let b = (rng.next() * 2.0 * side as f32).floor() / (2 * side) as f32;
+                            (Vec3::new(a, 0.0, b) - o).normalize()
+                        }
+                        (false, 0) => (base + (rng.vec() - 0.5) * 0.002).normalize(),
+                        (false, 1) => [Vec3::X, -Vec3::Y, -Vec3::Z, Vec3::Y][r % 4],
+                        _ => (rng.vec() * 2.0 - 1.0).normalize_or(Vec3::Y),
+                    })
+                    .collect();
+                let cuts: Vec<Shifted> = (0..n).map(|_| Shifted(rng.next())).collect();
+                let mut packet = vec![None; n];
+                accel.intersect_packet_cut(o, &dirs, &cuts, &mut packet);
+                for (r, d) in dirs.iter().enumerate() {
+                    let single = accel.intersect_cut(o, *d, &cuts[r]);
+                    let bits = |h: Option<Hit>| {
+                        h.map(|h| (h.t.to_bits(), h.tri, h.u.to_bits(), h.v.to_bits()))
+                    };
+                    assert_eq!(bits(packet[r]), bits(single), "packet {k}, ray {r}");
+                    hits += usize::from(single.is_some());
+                }
+                rays += n;
+            }
+        }
+        // Both answers occur often, or agreement would prove little.
+        assert!(hits > rays / 5 && hits < rays * 4 / 5, "{hits} of {rays}");
+        let mut none = [Some(Hit {
+            t: 0.0,
+            tri: 0,
+            u: 0.0,
+            v: 0.0,
+        })];
+        Accel::build(&[], &[]).intersect_packet_cut(Vec3::ZERO, &[Vec3::Y], &[Opaque], &mut none);
+        assert_eq!(none, [None]);
     }
 
     /// Parallel rays from many origins (a light's queries from a patch of points): the

@@ -37,6 +37,10 @@ pub struct TileBuffers {
     pub surf: Vec<Surface>,
     /// Pixels the method evaluated (the tile's own pixels and its halo).
     pub needed: Vec<bool>,
+    /// Pixels whose surface is already in `surf`, their primary rays traced together with
+    /// their pixel's other samples' ([`FrameContext::surfaces`]) before the method begins
+    /// them.
+    pub primed: Vec<bool>,
     /// Pixels whose data is this tile's: evaluated here or copied from the frame's lattice.
     /// The other pixels' rows hold whatever an earlier tile left (see [`prepare`]).
     ///
@@ -88,6 +92,8 @@ impl TileBuffers {
         grow(&mut self.surf, n);
         self.needed.clear();
         self.needed.resize(n, false);
+        self.primed.clear();
+        self.primed.resize(n, false);
         self.valid.clear();
         self.valid.resize(n, false);
         self.voter.clear();
@@ -117,15 +123,18 @@ impl TileBuffers {
         self.blockers.begin(i);
     }
 
-    /// Evaluates pixel (x, y) of the region: its surface and above-horizon lights. Marks it
-    /// needed and returns its region index.
+    /// Evaluates pixel (x, y) of the region: its surface (traced now unless
+    /// [`primed`](Self::primed)) and above-horizon lights. Marks it needed and returns its
+    /// region index.
     #[inline]
     pub fn begin_pixel(&mut self, ctx: &FrameContext, x: u32, y: u32) -> usize {
         let i = self.region.index(x, y);
-        let s = ctx.surface(x, y);
-        self.surf[i] = s;
+        if !self.primed[i] {
+            self.surf[i] = ctx.surface(x, y);
+        }
         self.needed[i] = true;
         self.reset_pixel(i);
+        let s = &self.surf[i];
         let mut above = bits::rows_mut(&mut self.above, self.words);
         if !s.hit {
             above.row_mut(i).fill(0);
@@ -146,7 +155,7 @@ impl TileBuffers {
             }
             if ctx.has_points() {
                 // Point and spot lights: from this point, whatever the normal.
-                ctx.point_lights_above(&s, above.row_mut(i));
+                ctx.point_lights_above(s, above.row_mut(i));
             }
             self.last_begun = Some(i);
         }

@@ -17,6 +17,7 @@
 //! into its value; the filter is importance-sampled into the sample positions
 //! (`crate::samples`), so no pixel reads another's samples.
 
+use crate::accel::PACKET;
 use crate::bits;
 use crate::buffers::TileBuffers;
 use crate::catcher::{self, Catchers};
@@ -273,6 +274,9 @@ impl FrameWork<'_> {
                 }
             }
         }
+        if self.k() > 1 {
+            self.prime(slot);
+        }
         for p in shared..passes {
             let at = self.shadows.at(self.ctx, p);
             for k in slot.pass_start[p]..slot.pass_start[p + 1] {
@@ -293,6 +297,51 @@ impl FrameWork<'_> {
             counts,
         );
         (result, self.link.keep(self.ctx, &slot.bufs))
+    }
+}
+
+impl FrameWork<'_> {
+    /// Traces the primary rays of the samples the tile's passes will evaluate (`slot.need`,
+    /// not the lattice's), a pixel's together ([`FrameContext::surfaces`]: the same surfaces
+    /// as one ray at a time), and marks them primed for [`TileBuffers::begin_pixel`].
+    fn prime(&self, slot: &mut Slot) {
+        let (k, order) = (self.k(), self.order());
+        let shared = order.shared_passes();
+        let one_pass = order.passes() == shared + 1;
+        let Slot { bufs, need, .. } = slot;
+        let region = bufs.region;
+        // A packet: strata of one pixel, and their places in the region.
+        let (mut strata, mut index) = ([0u32; PACKET], [0usize; PACKET]);
+        let trace = |bufs: &mut TileBuffers, pixel, strata: &[u32], index: &[usize]| {
+            self.ctx.surfaces(pixel, strata, &mut bufs.surf, index);
+            for &i in index {
+                bufs.primed[i] = true;
+            }
+        };
+        for py in region.y0 / k..region.y1.div_ceil(k) {
+            for px in region.x0 / k..region.x1.div_ceil(k) {
+                let mut n = 0;
+                for s in 0..k * k {
+                    let (x, y) = (px * k + s % k, py * k + s / k);
+                    if !region.contains(x, y) {
+                        continue;
+                    }
+                    let i = region.index(x, y);
+                    if !need[i] || !(one_pass || order.pass_of(x, y) >= shared) {
+                        continue;
+                    }
+                    (strata[n], index[n]) = (s, i);
+                    n += 1;
+                    if n == PACKET {
+                        trace(bufs, (px, py), &strata, &index);
+                        n = 0;
+                    }
+                }
+                if n > 0 {
+                    trace(bufs, (px, py), &strata[..n], &index[..n]);
+                }
+            }
+        }
     }
 }
 
@@ -372,7 +421,7 @@ fn shade(
                     let (x, y) = (px * k + i, py * k + j);
                     let q = bufs.region.index(x, y);
                     debug_assert!(bufs.needed[q], "method left sample ({x}, {y}) unevaluated");
-                    let s = bufs.surf[q];
+                    let s = &bufs.surf[q];
                     traced += bufs.rays[q] as f32;
                     counts.rays += bufs.rays[q] as u64;
                     let why = bufs.split[q];
@@ -392,7 +441,7 @@ fn shade(
                     }
                     hits += 1;
                     if let Some(m) = &mut mattes {
-                        m.add(&s);
+                        m.add(s);
                     }
                     nearest = nearest.min((s.p - eye).dot(forward));
                     n_sum += s.n;
