@@ -9,6 +9,10 @@
 //! shadow_catcher = false        # the added ground shows only its shadows (it always does
 //!                               # over a transparent background)
 //! # catchers = ["Floor"]        # glTF nodes (or meshes) that are shadow catchers
+//! animation = "first"           # the file's animation: a name, an index, "first" (the
+//!                               # file's first, if any) or "none" (its rest pose)
+//! animation_start = 0.0         # seconds into it at frame 0 (frame N: N ÷ fps + this)
+//! animation_end = "loop"        # frames past its end: "loop", "hold" or "stop" (refused)
 //! [environment]
 //! builtin = "sky"               # or: file = "../assets/grace.hdr"
 //! rotation = 0.0                # degrees about +Y

@@ -310,6 +310,10 @@ pub const WRITES_IN_FLIGHT: usize = 3;
 
 /// Bytes per loaded vertex: position and normal (12 each), texture coordinates (8).
 const SCENE_VERTEX: u128 = 32;
+/// Bytes per vertex a file that animates, skins or morphs keeps for posing (`scene::rig`):
+/// its position, normal and tangent in its mesh's space (40), eight joints and weights (48),
+/// and one morph target's three displacements (36), rounded up.
+pub const RIG_VERTEX: u64 = 128;
 /// Bytes per loaded triangle: three indices and a material.
 const SCENE_TRIANGLE: u128 = 16;
 /// Bytes per triangle while a BVH is built, its triangle soup and the build's own arrays
@@ -458,6 +462,17 @@ impl Budget {
             posed: posed as u64,
             accels: (posed as u64).max(1),
             ..Budget::default()
+        }
+    }
+
+    /// The scene file animates its geometry: a render poses it every frame (whatever the
+    /// motion), so each frame in flight holds a posed copy of the scene and its BVH, as a
+    /// spin's frames do. Counted when the file is found to have animations, before its
+    /// buffers are read; a budget with no render (a bare load) poses nothing.
+    pub fn animated(&mut self) {
+        if self.request.is_some() {
+            self.posed = self.posed.max(FRAMES_IN_FLIGHT as u64);
+            self.accels = self.accels.max(self.posed);
         }
     }
 
@@ -724,6 +739,28 @@ mod tests {
         let s = spin.estimate();
         assert_eq!((s.scene, s.bvh), (3 * b.scene, 2 * b.bvh));
         assert!(s.total() > u128::from(MAX_MEMORY_BYTES), "{s:?}");
+    }
+
+    #[test]
+    fn an_animated_file_counts_a_posed_copy_per_frame_in_flight() {
+        let request = req(640, 480, 200);
+        let mut still = Budget::new(&request, 0);
+        still.scene = instanced(4);
+        let mut animated = still.clone();
+        animated.animated();
+        let (a, b) = (still.estimate(), animated.estimate());
+        let copies = FRAMES_IN_FLIGHT as u128;
+        assert_eq!((b.scene, b.bvh), ((1 + copies) * a.scene, copies * a.bvh));
+        // A spin already posing as many frames adds nothing more.
+        let mut spun = Budget::new(&request, FRAMES_IN_FLIGHT);
+        spun.scene = instanced(4);
+        let before = spun.estimate();
+        spun.animated();
+        assert_eq!(spun.estimate(), before);
+        // A bare load renders no frame.
+        let mut bare = Budget::default();
+        bare.animated();
+        assert_eq!((bare.posed, bare.accels), (0, 1));
     }
 
     #[test]

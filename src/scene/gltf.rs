@@ -90,6 +90,7 @@ pub(super) fn load_bytes(
         .sum();
     let held = bytes.len() as u64 + blob_len;
     size.file_bytes = held + declared;
+    rig_budget(&document, &mut size, budget);
     budget.scene(path, size, held)?;
     let buffers = load_buffers(path, &confinement, &document, blob)?;
     let read: u64 = buffers.iter().map(|b| b.len() as u64).sum();
@@ -2014,6 +2015,17 @@ pub(super) fn smooth_normals(positions: &[Vec3], tris: &[[u32; 3]]) -> Vec<Vec3>
             }
         })
         .collect()
+}
+
+/// What posing adds to the scene's memory: the rig's own copy of the vertices, and, when the
+/// file has animations, a posed copy of the scene and its BVH per frame in flight.
+fn rig_budget(document: &Document, size: &mut SceneSize, budget: &mut Budget) {
+    if super::rig_read::wanted(document) {
+        size.extra_vertex_bytes += size.vertices * crate::limits::RIG_VERTEX;
+    }
+    if document.animations().next().is_some() {
+        budget.animated();
+    }
 }
 
 /// Posing (super::rig): what the loader keeps of the nodes, skins, animations and moving
