@@ -10,12 +10,15 @@
 //! Barycentric coordinates `(u, v)` name the point `(1 − u − v)·p0 + u·p1 + v·p2`.
 
 mod alpha;
+mod draco;
+mod extensions;
 mod gltf;
 pub mod ground;
 mod material;
 mod origin;
 pub mod resource;
 mod shapes;
+pub mod sniff;
 mod tangents;
 mod texture;
 
