@@ -455,8 +455,12 @@ impl Animation {
             );
         }
         limits::check_file_size(path, "animation spec")?;
-        let text = std::fs::read_to_string(path)
+        let bytes = std::fs::read(path)
             .map_err(|e| input_error(path, format!("cannot read animation spec: {e}")))?;
+        not_a_spec(path, &bytes)?;
+        let text = String::from_utf8(bytes).map_err(|_| {
+            input_error(path, "is not UTF-8 text: an animation spec is a TOML file")
+        })?;
         Animation::parse(&text, path, flags)
     }
 
@@ -836,10 +840,22 @@ impl Animation {
         let radius = ((hi - lo) * 0.5).length().max(f32::MIN_POSITIVE);
         let (mut position, target, vfov) = if rig.from_file {
             let Some(c) = scene.camera else {
+                // A camera the loader set aside says why (orthographic, a zero yfov).
+                let why: Vec<&str> = scene
+                    .warnings
+                    .iter()
+                    .filter(|w| w.contains(": camera "))
+                    .map(|w| w.rsplit_once(": node ").map_or(w.as_str(), |(_, r)| r))
+                    .collect();
                 bail_input!(
                     &self.spec_path,
-                    "[camera] from_file = true, but {} has no camera",
-                    scene.source
+                    "[camera] from_file = true, but {} has no camera envshadow can use{}",
+                    scene.source,
+                    if why.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" (node {})", why.join("; node "))
+                    }
                 );
             };
             let dist = (centre - c.position).length().max(radius);
@@ -1185,6 +1201,24 @@ pub struct Pivot {
 
 /// Frames of a model's default turntable ([`Animation::of_model`]): 5° per frame.
 pub const MODEL_FRAMES: usize = 72;
+
+/// Refuses a file whose content is not a TOML spec (a model, a mesh, a web page), naming
+/// what it is rather than a TOML parser's line and column.
+fn not_a_spec(path: &Path, bytes: &[u8]) -> Result<()> {
+    use crate::scene::sniff::{Kind, kind, opening};
+    let what = match kind(bytes) {
+        Kind::Text => return Ok(()),
+        Kind::Glb { .. } => "a glTF model (GLB)".to_string(),
+        Kind::Json => "a JSON file (a .gltf model?)".to_string(),
+        Kind::Other(what) => what.to_string(),
+        Kind::Binary => format!("not text (starts with '{}')", opening(bytes)),
+    };
+    bail_input!(
+        path,
+        "{what}, not an animation spec: envshadow reads glTF 2.0 models (.gltf/.glb: \
+         `envshadow render model.glb`) and TOML animation specs"
+    )
+}
 
 /// Whether `path` names a glTF model (`.glb`, `.gltf`) rather than an animation spec.
 pub fn is_model(path: &Path) -> bool {

@@ -93,13 +93,20 @@ pub fn render_animation(
     let inputs = load(anim, progress)?;
     opts.cancel.check()?;
     let dir = &anim.output.dir;
-    std::fs::create_dir_all(dir)
-        .with_context(|| format!("creating output folder {}", dir.display()))?;
+    output::create_output_dir(dir)?;
     // One writer per folder, from the first file written to the last.
     let _lock = FolderLock::acquire(dir, opts.wait)?;
     // Holding the lock, no other writer is mid-write: whatever temporaries the folder holds
     // were left by a render that was killed, and would stay for good.
     output::remove_stale_temporaries(dir)?;
+    let warnings: Vec<String> = inputs
+        .scene
+        .warnings
+        .iter()
+        .chain(&inputs.env.warnings)
+        .cloned()
+        .collect();
+    sink.input_warnings(&warnings);
     sink.begin()?;
     inputs.lights.write_json(&dir.join("lights.json"))?;
     if !opts.resume {
@@ -199,7 +206,7 @@ fn load(anim: &Animation, progress: &dyn Progress) -> Result<Inputs> {
     for f in anim.frames.iter() {
         anim.camera(&inputs.scene, f)?;
     }
-    for w in &inputs.scene.warnings {
+    for w in inputs.scene.warnings.iter().chain(&inputs.env.warnings) {
         progress.warning(w);
     }
     if let Some(note) = scene_lights_note(anim, &inputs.scene) {
@@ -405,9 +412,17 @@ impl Run<'_> {
         fail: &(dyn Fn(anyhow::Error) + Sync),
     ) -> Done {
         let mut done = Done::default();
-        for (film, stats) in rx {
+        for (mut film, stats) in rx {
             if failed.load(Ordering::Relaxed) {
                 break;
+            }
+            let guarded = film.guard_finite(self.anim.output.half);
+            if guarded > 0 {
+                self.progress.warning(&format!(
+                    "frame {}: {guarded} pixel values were not finite (or negative where they \
+                     cannot be) and were clamped before writing",
+                    stats.frame
+                ));
             }
             let from = Instant::now();
             if let Err(e) = self.encoders.install(|| sink.write(&film, &stats)) {

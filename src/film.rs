@@ -150,6 +150,43 @@ impl Film {
         }
     }
 
+    /// The last guard before a frame is written: every value of every channel made finite
+    /// (NaN to 0, ±∞ to the largest finite value its file stores: f32's, or half's 65504 with
+    /// `half` where the channel is half), the beauty, alpha and albedo made ≥ 0. Returns how
+    /// many values it changed, for a warning: a non-finite pixel breaks a comp (a blur
+    /// spreads it as NaN), and the inputs that would make one are clamped at load.
+    pub fn guard_finite(&mut self, half: bool) -> u64 {
+        let mut changed = 0;
+        for (c, plane) in self.planes.0.iter_mut().enumerate() {
+            let Some(plane) = plane else {
+                continue;
+            };
+            let layer = &LAYERS[c];
+            let most = if half && layer.precision == Precision::Half {
+                65504.0
+            } else {
+                f32::MAX
+            };
+            let least = if NON_NEGATIVE.contains(&layer.channel) {
+                0.0
+            } else {
+                -most
+            };
+            for v in plane.iter_mut() {
+                let g = if v.is_nan() {
+                    0.0
+                } else {
+                    v.clamp(least, most)
+                };
+                if g.to_bits() != v.to_bits() && !(g == 0.0 && *v == 0.0) {
+                    *v = g;
+                    changed += 1;
+                }
+            }
+        }
+        changed
+    }
+
     /// Whether some pixel is less than opaque.
     pub fn has_transparency(&self) -> bool {
         self.plane(Channel::A)
@@ -557,6 +594,20 @@ const _: () = {
         i += 1;
     }
 };
+
+/// The channels no pixel may hold a negative value in ([`Film::guard_finite`]).
+const NON_NEGATIVE: [Channel; 10] = [
+    Channel::R,
+    Channel::G,
+    Channel::B,
+    Channel::A,
+    Channel::AlbedoR,
+    Channel::AlbedoG,
+    Channel::AlbedoB,
+    Channel::RefR,
+    Channel::RefG,
+    Channel::RefB,
+];
 
 /// Pixels' channels: one row-major plane per channel held, indexed by [`Channel`].
 #[derive(Clone, Debug, PartialEq)]

@@ -10,7 +10,7 @@ use crate::error::{Result, input_error};
 use crate::film::Film;
 use crate::output;
 use crate::output::rate::FrameRate;
-use crate::output::record::{FrameRecord, SettingsRecord};
+use crate::output::record::{FrameRecord, SettingsRecord, WARNINGS_KEY};
 use crate::output::runs::RunRecord;
 use crate::output::stats::{FrameStats, StatsFile};
 use crate::run::{FrameSink, RunOptions, RunSummary};
@@ -32,6 +32,9 @@ pub struct FrameFiles {
     resume: bool,
     /// The settings' fingerprint, which each frame's record names.
     settings: String,
+    /// The loader's warnings, recorded with the settings (`[warnings] N = …`): in
+    /// `settings.txt`, so the report shows them, and in every frame's EXR header.
+    warnings: Vec<String>,
     /// Frames finish in any order, on several writer threads: each sets its row and
     /// rewrites the file holding the lock, so the file last written has every row set.
     stats: Mutex<StatsFile>,
@@ -52,6 +55,7 @@ impl FrameFiles {
             region: opts.region,
             resume: opts.resume,
             settings: String::new(),
+            warnings: Vec::new(),
         }
     }
 }
@@ -63,6 +67,10 @@ impl FrameSink for FrameFiles {
         let mut now = self.anim.settings_record()?;
         if let Some(r) = self.region {
             now.lines.push(("--region".into(), r.to_string()));
+        }
+        for (k, w) in self.warnings.iter().enumerate() {
+            now.lines
+                .push((format!("{WARNINGS_KEY} {}", k + 1), w.clone()));
         }
         let old = SettingsRecord::read(&self.dir)?;
         // [ours] A resumed folder holds one render's frames: mixing sizes, light counts or
@@ -100,6 +108,10 @@ impl FrameSink for FrameFiles {
             stats.write(&self.dir.join("stats.csv"))?;
         }
         Ok(())
+    }
+
+    fn input_warnings(&mut self, warnings: &[String]) {
+        self.warnings = warnings.to_vec();
     }
 
     /// The frame's record names this run's settings and its EXR and PNG are the recorded files.

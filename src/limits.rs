@@ -430,6 +430,10 @@ pub struct Budget {
     map_file: u64,
     /// Bytes of the estimate the process holds before it loads anything (not asked for again).
     running: u128,
+    /// The part of `render` that is the threads' own (stacks, per-thread tables), and their
+    /// number: what the message blames when they are most of the estimate.
+    thread_bytes: u128,
+    threads: u128,
 }
 
 impl Default for Budget {
@@ -445,6 +449,8 @@ impl Default for Budget {
             map_texels: 0,
             map_file: 0,
             running: 0,
+            thread_bytes: 0,
+            threads: 0,
         }
     }
 }
@@ -457,6 +463,8 @@ impl Budget {
         let threads = 2 * u128::from(worker_threads(request.threads)) + OTHER_THREADS;
         Budget {
             render: estimate_bytes(request) + threads * THREAD_BYTES + PROCESS_BYTES,
+            thread_bytes: threads * THREAD_BYTES,
+            threads,
             request: Some(*request),
             running: PROCESS_BYTES,
             posed: posed as u64,
@@ -547,9 +555,23 @@ impl Budget {
         let e = self.estimate();
         let total = e.total();
         if total > u128::from(self.limit) {
+            // The threads' own memory is most of it: blame them, not the pixels.
+            let advice = if 2 * self.thread_bytes > total {
+                format!(
+                    "{} threads (the workers and as many encoders) take {} of it, {} each: \
+                     use fewer threads (--threads)",
+                    self.threads,
+                    human_bytes_u128(self.thread_bytes),
+                    human_bytes_u128(THREAD_BYTES)
+                )
+            } else {
+                "use fewer triangles or instances, smaller textures or maps, or fewer pixels, \
+                 samples or lights"
+                    .to_string()
+            };
             bail_input!(
                 source,
-                "the render would need about {} of memory, more than the {} allowed ({}); use fewer triangles or instances, smaller textures or maps, or fewer pixels, samples or lights",
+                "the render would need about {} of memory, more than the {} allowed ({}); {advice}",
                 human_bytes_u128(total),
                 human_bytes(self.limit),
                 self.breakdown(&e)

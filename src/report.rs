@@ -752,6 +752,8 @@ fn page(
     kv_table(&mut h, &totals.run);
     h.push_str("</div>\n</div>\n");
 
+    warnings_section(&mut h, dir);
+
     // The savings: percent traced per frame (and the error, validated).
     h.push_str("<h2>Shadow rays traced per frame</h2>\n");
     let lead: Vec<usize> = series
@@ -786,6 +788,29 @@ fn page(
     frame_detail(&mut h, rows, images, (rays_max, wrong_max, any_wrong));
     h.push_str("<p><small>Written by envshadow report from stats.csv, the frames and lights.json in this folder.</small></p>\n</body>\n</html>\n");
     h
+}
+
+/// What loading the inputs warned about (`settings.txt`'s `[warnings]` lines), as a list;
+/// nothing when there is none.
+fn warnings_section(h: &mut String, dir: &Path) {
+    let Ok(Some(record)) = output::record::SettingsRecord::read(dir) else {
+        return;
+    };
+    let prefix = format!("{} ", output::record::WARNINGS_KEY);
+    let warnings: Vec<&String> = record
+        .lines
+        .iter()
+        .filter(|(k, _)| k.starts_with(&prefix))
+        .map(|(_, v)| v)
+        .collect();
+    if warnings.is_empty() {
+        return;
+    }
+    h.push_str("<h2>Warnings</h2>\n<ul class=\"warnings\">\n");
+    for w in warnings {
+        let _ = writeln!(h, "<li>{}</li>", esc(w));
+    }
+    h.push_str("</ul>\n");
 }
 
 /// The run's settings and totals, for the table beside the animation; the share of the

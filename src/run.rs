@@ -53,6 +53,9 @@ pub trait FrameSink: Send + Sync {
     fn begin(&mut self) -> Result<()> {
         Ok(())
     }
+    /// What loading the inputs warned about, before [`begin`](Self::begin): a sink that
+    /// records the run keeps it with the run's settings.
+    fn input_warnings(&mut self, _warnings: &[String]) {}
     /// Whether `frame` is already complete here (`--resume` skips it).
     fn frame_done(&self, frame: usize) -> bool;
     /// Publishes one finished frame. Called inside a rayon pool of as many threads as the

@@ -30,6 +30,7 @@ pub(super) fn decode(
         check_plausible(path, w, h, bytes.len())?;
         largest = largest.max(w as u64 * h as u64);
     }
+    check_channels(path, &meta)?;
     budget.map(path, largest, bytes.len() as u64)?;
     // The texels are asked of the system inside the reader's callback, which cannot fail: a
     // refusal leaves them empty, the pixel callback writes nowhere, and it is reported below.
@@ -70,4 +71,43 @@ pub(super) fn decode(
         return Err(anyhow::Error::new(e).context(path.display().to_string()));
     }
     Ok((size.0, size.1, texels))
+}
+
+/// Refuses a file none of whose layers has R, G and B channels, listing the channels it has
+/// (a luminance-only `Y` map, a render's `diffuse.R`-style layers) rather than the reader's
+/// "no valid layer".
+fn check_channels(path: &Path, meta: &::exr::meta::MetaData) -> Result<()> {
+    let mut found = Vec::new();
+    for header in &meta.headers {
+        let layer = header
+            .own_attributes
+            .layer_name
+            .as_ref()
+            .map(|n| format!("{n}."))
+            .unwrap_or_default();
+        let names: Vec<String> = header
+            .channels
+            .list
+            .iter()
+            .map(|c| c.name.to_string())
+            .collect();
+        if ["R", "G", "B"].iter().all(|k| names.iter().any(|n| n == k)) {
+            return Ok(());
+        }
+        found.extend(names.into_iter().map(|n| format!("{layer}{n}")));
+    }
+    let found: Vec<String> = found
+        .iter()
+        .map(|n| crate::error::escaped(n).into_owned())
+        .collect();
+    bail_input!(
+        path,
+        "no layer with R, G and B channels, which an environment map needs (found: {}); \
+         save the map as RGB (a luminance-only or multi-layer EXR is not read)",
+        if found.is_empty() {
+            "no channels".to_string()
+        } else {
+            found.join(", ")
+        }
+    )
 }

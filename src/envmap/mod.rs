@@ -78,7 +78,13 @@ pub struct EnvMap {
     pub rotation_deg: f32,
     /// Intensity scale already applied to `texels`.
     pub intensity: f32,
+    /// What loading changed (texels clamped to [`MAX_RADIANCE`]), for the run's warnings.
+    pub warnings: Vec<String>,
 }
+
+/// Brightest texel a map may have. [ours] The sun's disc in absolute units is about 1.6e9;
+/// a Radiance texel of exponent 255 is 1.7e38, whose sums overflow f32 into infinite pixels.
+pub const MAX_RADIANCE: f32 = 1e12;
 
 impl EnvMap {
     /// Loads `.exr` (full-resolution level of tiled/mip-mapped files too) or `.hdr`.
@@ -177,6 +183,16 @@ impl EnvMap {
                 );
             }
         }
+        let mut texels = texels;
+        let mut warnings = Vec::new();
+        let bright = clamp_radiance(&mut texels);
+        if bright > 0 {
+            warnings.push(format!(
+                "{}: {bright} texel{} brighter than {MAX_RADIANCE:e} clamped to it",
+                crate::error::escaped(source),
+                if bright == 1 { "" } else { "s" }
+            ));
+        }
         Ok(EnvMap {
             width,
             height,
@@ -184,6 +200,7 @@ impl EnvMap {
             source: source.to_string(),
             rotation_deg: 0.0,
             intensity: 1.0,
+            warnings,
         })
     }
 
@@ -310,6 +327,18 @@ impl EnvMap {
             self.source, self.rotation_deg, self.intensity
         )
     }
+}
+
+/// Clamps every channel to [`MAX_RADIANCE`]; returns how many texels it changed.
+fn clamp_radiance(texels: &mut [Vec3]) -> usize {
+    let mut changed = 0;
+    for t in texels {
+        if t.max_element() > MAX_RADIANCE {
+            *t = t.min(Vec3::splat(MAX_RADIANCE));
+            changed += 1;
+        }
+    }
+    changed
 }
 
 /// Missing files and folders get a plain message instead of a decoder's.

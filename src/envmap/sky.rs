@@ -56,6 +56,7 @@ pub(super) fn builtin() -> EnvMap {
         source: "builtin:sky".to_string(),
         rotation_deg: 0.0,
         intensity: 1.0,
+        warnings: Vec::new(),
     };
     let mut sky_energy = 0.0f64;
     for y in 0..HEIGHT {

@@ -66,8 +66,7 @@ pub fn write_plan(anim: &Animation, spec: &Path, jobs: usize, by: Option<By>) ->
     let req = request(anim, jobs, by)?;
     let list = plan::plan(&req)?;
     let dir = &anim.output.dir;
-    std::fs::create_dir_all(dir)
-        .with_context(|| format!("creating output folder {}", dir.display()))?;
+    crate::output::create_output_dir(dir)?;
     let file = PlanFile {
         format: PLAN_FORMAT.into(),
         spec: spec.display().to_string(),

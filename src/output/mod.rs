@@ -211,6 +211,29 @@ fn encode_files(
     Ok([exr?, png?])
 }
 
+/// Creates a render's output folder (and those above it). A file standing where the folder
+/// or one above it should be is an input error naming it (exit 2), not the system's "File
+/// exists" (exit 1).
+pub fn create_output_dir(dir: &Path) -> Result<()> {
+    for above in dir.ancestors().filter(|a| !a.as_os_str().is_empty()) {
+        match fs::metadata(above) {
+            Ok(m) if m.is_dir() => break,
+            Ok(_) => {
+                return Err(crate::error::input_error(
+                    above,
+                    format!(
+                        "is a file, not a folder: the output folder {} cannot be made there; \
+                         choose another --out",
+                        crate::error::escaped_path(dir)
+                    ),
+                ));
+            }
+            Err(_) => continue,
+        }
+    }
+    fs::create_dir_all(dir).with_context(|| format!("creating output folder {}", dir.display()))
+}
+
 /// Publishes one frame into `dir`: its PNG (`frame_NNNN.png`, or as `format.names` names it),
 /// then its record (`records/frame_NNNN.json`, by the frame's index: `stats_row`, the
 /// `settings` fingerprint and both files' checksums), then its EXR, whose rename commits the frame — a kill at any instant

@@ -23,6 +23,8 @@ use crate::output::names::FrameNames;
 
 /// The settings file of a render folder.
 pub const SETTINGS_FILE: &str = "settings.txt";
+/// The settings record's key of the loader's warnings: `[warnings] 1 = …`, `[warnings] 2`, ….
+pub const WARNINGS_KEY: &str = "[warnings]";
 /// The folder of per-frame records inside a render folder.
 pub const RECORDS_DIR: &str = "records";
 /// [`FrameRecord::format`].

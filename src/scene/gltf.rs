@@ -23,6 +23,7 @@ use super::{
     AlphaMode, Part, Scene, SceneCamera, SceneLight, SceneLightKind, Texture, extend_optional,
     normal_matrix, tangents,
 };
+use super::{draco, extensions};
 use crate::bail_input;
 use crate::error::{Result, escaped, escaped_path, input_error};
 use crate::limits::{Budget, MAX_FILE_BYTES, NoMemory, SceneSize, read_regular, try_vec};
@@ -53,6 +54,8 @@ pub(super) fn load_bytes(
     budget: &mut Budget,
     allowed: &AllowedFolder,
 ) -> Result<Scene> {
+    // Another format, named as what it is, before any parser reports a position in it.
+    extensions::check_kind(path, bytes)?;
     // The gltf crate reports a short GLB as "could not completely read the object"; say more.
     if let (Some(b"glTF"), Some(declared)) = (bytes.get(..4), bytes.get(8..12)) {
         let declared = u32::from_le_bytes([declared[0], declared[1], declared[2], declared[3]]);
@@ -72,11 +75,14 @@ pub(super) fn load_bytes(
             );
         }
     }
+    let readable = extensions::check_json(path, bytes)?;
     let ::gltf::Gltf { document, blob } = ::gltf::Gltf::from_slice_without_validation(bytes)
         .map_err(|e| input_error(path, format!("not a valid glTF/GLB file: {e}")))?;
-    let root = document.into_json();
+    let mut root = document.into_json();
+    // Required extensions the loader reads, which the crate's validation does not know.
+    root.extensions_required.retain(|e| !readable.contains(e));
     check_position_references(path, &root)?;
-    let document = Document::from_json(root)
+    let document = extensions::validated(root)
         .map_err(|e| input_error(path, format!("not a valid glTF/GLB file: {e}")))?;
     let confinement = Confinement::of_model(path, allowed)?;
     let (mut size, used, origin) = count(path, &document)?;
@@ -93,6 +99,7 @@ pub(super) fn load_bytes(
     rig_budget(&document, &mut size, budget);
     budget.scene(path, size, held)?;
     let buffers = load_buffers(path, &confinement, &document, blob)?;
+    let decoded = draco::decode_all(path, &document, &buffers)?;
     let read: u64 = buffers.iter().map(|b| b.len() as u64).sum();
     let images = Images::read(path, &confinement, &document, &buffers, &used)?;
     size.file_bytes = bytes.len() as u64 + read + images.owned_bytes();
@@ -127,6 +134,7 @@ pub(super) fn load_bytes(
         placing: (0, None),
         unsupported_extensions_seen: Default::default(),
         warned: Default::default(),
+        decoded,
     };
     loader.start_rig()?;
     loader.walk()?;
@@ -394,6 +402,10 @@ fn is_triangles(mode: Mode) -> bool {
     )
 }
 
+/// Most a `KHR_lights_punctual` light's colour times intensity may reach (candela or lux).
+/// [ours] a thousand suns' illuminance; the most that keeps sums over lights finite in f32.
+const MAX_LIGHT_INTENSITY: f32 = 1e9;
+
 /// The extensions whose meaning the loader implements. A file that uses another gets one
 /// warning naming it (and, for a material's, each material that uses it); one that
 /// *requires* another is refused by the `gltf` crate's validation.
@@ -403,6 +415,10 @@ const SUPPORTED_EXTENSIONS: &[&str] = &[
     "KHR_materials_emissive_strength",
     "KHR_materials_ior",
     "KHR_materials_specular",
+    "KHR_materials_unlit",
+    "KHR_materials_pbrSpecularGlossiness",
+    "KHR_mesh_quantization",
+    draco::EXTENSION,
 ];
 
 /// One texture a material uses: which slot, the texture, the `TEXCOORD` set its info names,
@@ -487,6 +503,14 @@ fn texture_refs<'a>(material: &::gltf::Material<'a>) -> Vec<TextureRef<'a>> {
             Encoding::Srgb,
         );
     }
+    if let Some(sg) = material.pbr_specular_glossiness() {
+        info("diffuseTexture", sg.diffuse_texture(), Encoding::Srgb);
+        info(
+            "specularGlossinessTexture",
+            sg.specular_glossiness_texture(),
+            Encoding::Srgb,
+        );
+    }
     if let Some(n) = material.normal_texture() {
         let (transform, transform_tex_coord) =
             transform_of_json(n.extension_value("KHR_texture_transform"));
@@ -512,6 +536,47 @@ fn texture_refs<'a>(material: &::gltf::Material<'a>) -> Vec<TextureRef<'a>> {
         });
     }
     refs
+}
+
+/// Converts a `KHR_materials_unlit` or `KHR_materials_pbrSpecularGlossiness` material (its
+/// factors and texture slots already read into `m`) to what the renderer shades; returns what
+/// the conversion approximates, for a warning.
+///
+/// Unlit: the base colour (factor, texture) is emitted and nothing is reflected, so lights and
+/// shadows leave it as the file's viewer shows it. Spec-gloss: glTF-Transform's conversion —
+/// diffuse as base colour, metallic 0, roughness 1 − glossiness, the specular colour as
+/// `KHR_materials_specular`'s F0 colour at an infinite ior (F0 = the colour itself).
+fn converted(material: &::gltf::Material, m: &mut Material) -> Option<String> {
+    if material.unlit() {
+        m.emissive = m.base_color;
+        m.emissive_texture = m.base_color_texture;
+        m.base_color = Vec3::ZERO;
+        m.metallic = 0.0;
+        m.specular = 0.0;
+        m.specular_texture = None;
+        m.specular_color_texture = None;
+        m.metallic_roughness_texture = None;
+        m.occlusion_texture = None;
+        m.normal_texture = None;
+        return None;
+    }
+    let sg = material.pbr_specular_glossiness()?;
+    let [r, g, b, alpha] = sg.diffuse_factor();
+    m.base_color = Vec3::new(r, g, b);
+    m.base_alpha = alpha;
+    m.metallic = 0.0;
+    m.roughness = 1.0 - sg.glossiness_factor();
+    m.metallic_roughness_texture = None;
+    m.specular = 1.0;
+    m.specular_color = Vec3::from_array(sg.specular_factor());
+    m.ior = 1e6;
+    let mut note = "KHR_materials_pbrSpecularGlossiness converted to metallic-roughness \
+                    (diffuse as base colour, roughness 1 − glossiness, the specular colour as F0)"
+        .to_string();
+    if sg.specular_glossiness_texture().is_some() {
+        note.push_str("; the glossiness texture (alpha) is not read, glossinessFactor is used");
+    }
+    Some(note)
 }
 
 /// The `TEXCOORD` sets a primitive's material reads (0 and 1; others read 0, with a warning).
@@ -627,8 +692,36 @@ fn count(path: &Path, document: &Document) -> Result<Counted> {
     }
     let per_vertex = 8 * u64::from(uv1) + 16 * u64::from(tangents) + 16 * u64::from(colors);
     size.extra_vertex_bytes = size.vertices * per_vertex;
+    if let Some((lo, hi)) = bounds {
+        check_not_too_far(path, lo, hi)?;
+    }
     let origin = bounds.map_or(DVec3::ZERO, |(lo, hi)| super::render_origin(lo, hi));
     Ok((size, used, origin))
+}
+
+/// Refuses a model so far from the origin, for its size, that its coordinates cannot hold its
+/// shape: at x = 1e20 doubles are 16,384 apart (the file's floats 8.8e12), so a model of a few
+/// units would render as a sliver. [ours] 2^-30 of the distance: a model spanning less keeps
+/// fewer than a float's bits across it once placed.
+fn check_not_too_far(path: &Path, lo: DVec3, hi: DVec3) -> Result<()> {
+    if !(lo.is_finite() && hi.is_finite() && lo.cmple(hi).all()) {
+        return Ok(());
+    }
+    let far = lo.abs().max(hi.abs()).max_element();
+    let span = (hi - lo).max_element();
+    if far > 0.0 && span <= far * libm::ldexp(1.0, -30) {
+        bail_input!(
+            path,
+            "the model lies {:e} units from the origin but spans only {:e}: at that \
+             distance coordinates are too coarse to hold its shape (32-bit floats are \
+             {:e} apart there); move it nearer the origin (its nodes' translation or its \
+             positions)",
+            far as f32,
+            span as f32,
+            libm::ldexpf(1.0, libm::ilogbf(far as f32) - 23)
+        );
+    }
+    Ok(())
 }
 
 /// `bounds` grown by the corners of a POSITION accessor's declared `min`/`max` placed by
@@ -920,6 +1013,8 @@ struct Loader<'a> {
     /// Materials already warned about for a primitive attribute they lack or the renderer
     /// ignores (one warning per material and kind).
     warned: std::collections::HashSet<(u32, &'static str)>,
+    /// Accessors whose values a Draco stream holds ([`draco::decode_all`]), decoded.
+    decoded: HashMap<usize, Vec<f64>>,
 }
 
 impl Loader<'_> {
@@ -977,6 +1072,11 @@ impl Loader<'_> {
             return;
         }
         let ::gltf::camera::Projection::Perspective(p) = camera.projection() else {
+            self.warn(format!(
+                "node {node}: camera {} is orthographic, which envshadow does not render \
+                 (perspective cameras only), ignored",
+                camera.index()
+            ));
             return;
         };
         let position = (world.transform_point3(DVec3::ZERO) - self.scene.origin).as_vec3();
@@ -986,13 +1086,16 @@ impl Loader<'_> {
         // Orthogonalise: a sheared node would otherwise give an up tilted toward forward.
         let up = (up - forward * up.dot(forward)).normalize_or_zero();
         let vfov_deg = p.yfov().to_degrees();
-        if forward == Vec3::ZERO
-            || up == Vec3::ZERO
-            || !position.is_finite()
-            || !(vfov_deg > 0.0 && vfov_deg < 180.0)
-        {
+        let why = if !(vfov_deg > 0.0 && vfov_deg < 180.0) {
+            Some(format!("its yfov {} rad is not between 0 and π", p.yfov()))
+        } else if forward == Vec3::ZERO || up == Vec3::ZERO || !position.is_finite() {
+            Some("its node's transform leaves it no position or direction (zero scale)".into())
+        } else {
+            None
+        };
+        if let Some(why) = why {
             self.warn(format!(
-                "node {node}: camera {} is degenerate (zero scale or bad yfov), ignored",
+                "node {node}: camera {}: {why}, ignored",
                 camera.index()
             ));
             return;
@@ -1025,12 +1128,20 @@ impl Loader<'_> {
         if !color.is_finite() || color.min_element() < 0.0 {
             bail_input!(self.path, "{at}: color {color} is not finite and ≥ 0");
         }
-        let intensity = light.intensity();
+        let mut intensity = light.intensity();
         if !(intensity.is_finite() && intensity >= 0.0) {
             bail_input!(
                 self.path,
                 "{at}: intensity {intensity} is not finite and ≥ 0"
             );
+        }
+        if intensity * color.max_element() > MAX_LIGHT_INTENSITY {
+            let most = MAX_LIGHT_INTENSITY / color.max_element();
+            self.warn(format!(
+                "{at}: intensity {intensity} × color {color} clamped to intensity {most} \
+                 (at most {MAX_LIGHT_INTENSITY} in any channel, so that pixels stay finite)"
+            ));
+            intensity = most;
         }
         let range = light.range();
         if let Some(r) = range
@@ -1305,18 +1416,25 @@ impl Loader<'_> {
                 t.swap(1, 2);
             }
         }
-        // Zero-area triangles have no normal and cannot be hit; drop them.
-        let before = tris.len();
+        // Zero-area triangles have no normal and cannot be hit; drop them. So are triangles
+        // so large that their normal overflows f32: named apart, the cause is the scale.
+        let (before, mut huge) = (tris.len(), 0);
         tris.retain(|t| {
             let [a, b, c] = t.map(|i| world_pos[i as usize]);
             let n = (b - a).cross(c - a);
+            huge += usize::from(!n.is_finite());
             n != Vec3::ZERO && n.is_finite()
         });
-        if tris.len() < before {
+        let zero = before - tris.len() - huge;
+        if huge > 0 {
             self.warn(format!(
-                "{at}: {} zero-area triangles skipped",
-                before - tris.len()
+                "{at}: {huge} triangles skipped as too large to render (edges over about 1e19 \
+                 units once placed, whose normal overflows 32-bit floats): the model or its \
+                 node's scale is far too large; scale it down"
             ));
+        }
+        if zero > 0 {
+            self.warn(format!("{at}: {zero} zero-area triangles skipped"));
         }
     }
 
@@ -1526,6 +1644,16 @@ impl Loader<'_> {
         let alpha_mode = self.alpha_mode(index, &name, &material)?;
         let mut m = self.factors(index, &name, &material, alpha_mode)?;
         let mut unsupported = self.texture_slots(index, &material, &mut m)?;
+        if let Some(note) = converted(&material, &mut m) {
+            self.warn(format!("material {index} ({name:?}): {note}"));
+        }
+        let clamped = m.clamp_factors();
+        if !clamped.is_empty() {
+            self.warn(format!(
+                "material {index} ({name:?}): outside glTF's ranges: {}",
+                clamped.join("; ")
+            ));
+        }
         unsupported.extend(self.unsupported_material_extensions(&material));
         if !unsupported.is_empty() {
             self.warn(format!(
@@ -1677,7 +1805,10 @@ impl Loader<'_> {
                 "metallicRoughnessTexture" => m.metallic_roughness_texture = slot,
                 "emissiveTexture" => m.emissive_texture = slot,
                 "specularTexture" => m.specular_texture = slot,
-                "specularColorTexture" => m.specular_color_texture = slot,
+                "specularColorTexture" | "specularGlossinessTexture" => {
+                    m.specular_color_texture = slot
+                }
+                "diffuseTexture" => m.base_color_texture = slot,
                 "normalTexture" => m.normal_texture = slot,
                 _ => m.occlusion_texture = slot,
             }
@@ -1809,6 +1940,9 @@ impl Loader<'_> {
         let normalized = acc.normalized();
         let err = |msg: String| input_error(self.path, format!("{at}: accessor {a}: {msg}"));
         check_values(self.path, at, acc)?;
+        if let Some(values) = self.decoded.get(&a) {
+            return Ok(values.clone());
+        }
 
         let mut values = match acc.view() {
             Some(view) => {

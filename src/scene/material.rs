@@ -460,6 +460,63 @@ pub struct SurfaceMaterial {
     pub normal: Vec3,
 }
 
+/// Most emitted radiance a material may have (its emissive factor times
+/// `KHR_materials_emissive_strength`), and most a light's colour times intensity may reach.
+/// [ours] far above any real emitter in a scene's units, far enough below f32's range that
+/// sums over samples and lights stay finite.
+pub const MAX_EMISSION: f32 = 1e6;
+
+impl Material {
+    /// Brings the factors into the ranges glTF gives them (base colour, metallic, roughness,
+    /// occlusion strength, specular in [0, 1]; emission and specular colour ≥ 0, emission at
+    /// most [`MAX_EMISSION`]; ior 0 or ≥ 1) and says, for each key it changed, what it was:
+    /// a factor outside them makes negative or non-finite pixels.
+    pub fn clamp_factors(&mut self) -> Vec<String> {
+        let mut changed = Vec::new();
+        // NaN becomes 0 (spec-gloss factors reach here unchecked).
+        let within = |v: f32, most: f32| if v.is_nan() { 0.0 } else { v.clamp(0.0, most) };
+        let mut unit = |key: &str, v: &mut f32| {
+            let c = within(*v, 1.0);
+            if c.to_bits() != v.to_bits() {
+                changed.push(format!("{key} {v} clamped to {c}"));
+                *v = c;
+            }
+        };
+        let mut base = self.base_color.to_array();
+        for (k, v) in base.iter_mut().enumerate() {
+            unit(&format!("baseColorFactor[{k}]"), v);
+        }
+        self.base_color = Vec3::from_array(base);
+        unit("baseColorFactor[3]", &mut self.base_alpha);
+        unit("metallicFactor", &mut self.metallic);
+        unit("roughnessFactor", &mut self.roughness);
+        unit("occlusionTexture.strength", &mut self.occlusion_strength);
+        unit("KHR_materials_specular.specularFactor", &mut self.specular);
+        let mut colour = |key: &str, c: &mut Vec3, most: f32| {
+            let d = Vec3::from_array(c.to_array().map(|v| within(v, most)));
+            if d.to_array().map(f32::to_bits) != c.to_array().map(f32::to_bits) {
+                changed.push(format!("{key} {c} clamped to {d}"));
+                *c = d;
+            }
+        };
+        colour(
+            "emissiveFactor × emissiveStrength",
+            &mut self.emissive,
+            MAX_EMISSION,
+        );
+        colour(
+            "KHR_materials_specular.specularColorFactor",
+            &mut self.specular_color,
+            MAX_EMISSION,
+        );
+        if self.ior < 1.0 && self.ior != 0.0 {
+            changed.push(format!("KHR_materials_ior.ior {} raised to 1", self.ior));
+            self.ior = 1.0;
+        }
+        changed
+    }
+}
+
 /// The dielectric F0 of an index of refraction: `((ior − 1)/(ior + 1))²` (0.04 at 1.5).
 pub fn ior_f0(ior: f32) -> f32 {
     let r = (ior - 1.0) / (ior + 1.0);

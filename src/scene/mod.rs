@@ -11,6 +11,8 @@
 
 mod alpha;
 pub mod clip;
+mod draco;
+mod extensions;
 mod gltf;
 pub mod ground;
 mod material;
@@ -22,6 +24,7 @@ pub mod rig;
 mod rig_read;
 mod shapes;
 pub mod skin;
+pub mod sniff;
 mod tangents;
 mod texture;
 
