@@ -42,7 +42,7 @@ pub struct ExportArgs {
     /// The spec's settings export reads — light count and sampler, width and height, samples
     /// per pixel and the filter, material overrides — and the folder it writes (`--out DIR`,
     /// required): scene.ply, lights.json, primary.f32, surface.f32, materials.json,
-    /// frame.json, and alpha_T.f32 for each alpha texture of a cut-out material.
+    /// frame.json, env.f32, and alpha_T.f32 for each alpha texture of a cut-out material.
     #[command(flatten)]
     pub flags: AnimFlags,
 }
@@ -127,6 +127,8 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
 
     // The frame's lights: turned with the environment where it turns.
     lights.write_json(&dir.join("lights.json"))?;
+    write_env(&dir.join("env.f32"), &inputs.env)?;
+    let turn = anim.motion.environment_degrees(args.frame).unwrap_or(0.0);
     let meta = json!({
         "spec": anim.spec_path.display().to_string(),
         "frame": args.frame,
@@ -145,6 +147,12 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
         "triangles": scene.triangles.len(),
         "lights": inputs.lights.len(),
         "surface_floats": SURFACE_FLOATS,
+        // env.f32: the map's texels as envshadow decoded them (intensity applied), and the
+        // turn from the map's own frame to the world's (its rotation and this frame's turn).
+        "env_width": inputs.env.width,
+        "env_height": inputs.env.height,
+        "env_rotation_deg": inputs.env.rotation_deg + turn,
+        "env_source": inputs.env.source,
     });
     crate::output::write_atomic(
         &dir.join("frame.json"),
@@ -293,6 +301,22 @@ fn write_surface(path: &Path, ctx: &FrameContext) -> Result<()> {
                         }
                     }
                 }
+            }
+        }
+        f.into_inner().map_err(|e| e.into_error())?.sync_all()?;
+        Ok(())
+    })
+}
+
+/// env.f32: the environment map's texels, row 0 at the top (+Y), RGB little-endian f32, as
+/// envshadow looks them up (src/envmap: texel centres at ((x + ½)/w, (y + ½)/h), bilinear):
+/// what a reference renderer's emitter must show.
+fn write_env(path: &Path, env: &crate::envmap::EnvMap) -> Result<()> {
+    write_atomic_with(path, |tmp| {
+        let mut f = BufWriter::new(fs::File::create(tmp)?);
+        for t in &env.texels {
+            for c in t.to_array() {
+                f.write_all(&c.to_le_bytes())?;
             }
         }
         f.into_inner().map_err(|e| e.into_error())?.sync_all()?;
