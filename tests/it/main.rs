@@ -25,6 +25,7 @@ mod frames;
 mod fuzz_regressions;
 mod golden;
 mod hardening;
+mod hardening_edges;
 mod hardening_formats;
 mod hardening_messages;
 mod hardening_pixels;
