@@ -22,6 +22,7 @@ mod farm;
 mod figures;
 mod frames;
 mod fuzz_regressions;
+mod glossy;
 mod golden;
 mod hardening;
 mod help_drift;
