@@ -2,13 +2,16 @@
 //! prefiltered per roughness, and the GGX lobe's integrals for the split sum.
 //!
 //! Over N directional lights a narrow specular lobe sees a few lights or none — a low
-//! roughness makes the lights into dots. [ours] Below a roughness set by the lights' spacing
-//! ([`Glossy::light_share`]), the specular is the split-sum estimate (Karis 2013): the map
-//! convolved with the GGX lobe around the mirror direction ([`Glossy::radiance`]) times the
-//! lobe's integral for the material's Fresnel ([`Glossy::dfg`]), then weighted by the lobe's
-//! share of *visible* light measured over the lights (the `shade` module's sums), so predicted shadows
-//! still darken it and no shadow ray is added. Above that roughness the lights alone are
-//! used; between, the two are blended. docs/materials.md gives the measured errors.
+//! roughness makes the lights into dots. [ours] Per shading point, the lobe's α is compared
+//! with the lights' spacing around its mirror direction ([`Glossy::split`]: importance-sampled
+//! lights crowd where the map is bright and thin out where it is dim, so the same roughness
+//! may be resolved on one side of an object and not the other). Where they do not resolve it,
+//! the specular is the split-sum estimate (Karis 2013): the map convolved with the GGX lobe
+//! around the mirror direction ([`Glossy::radiance`]) times the lobe's integral for the
+//! material's Fresnel ([`Glossy::dfg`]), then weighted by the lobe's share of *visible* light
+//! measured over the lights near it (the `shade` module's sums), so predicted shadows still
+//! darken it and no shadow ray is added. Where they resolve it the lights alone are used;
+//! between, the two are blended smoothly. docs/materials.md gives the measured errors.
 //!
 //! Everything here is computed once at load, deterministically (pure `libm`, fixed sample
 //! sequences, each prefiltered texel a sum in a fixed order), so every host gets the same bits.
@@ -18,6 +21,7 @@ use rayon::prelude::*;
 
 use crate::brdf::alpha;
 use crate::envmap::{EnvMap, dir_to_uv, uv_to_dir};
+use crate::lights::LightSet;
 
 /// Roughness step between prefiltered levels.
 const STEP: f32 = 0.05;
@@ -26,7 +30,7 @@ const MAX_WIDTH: usize = 256;
 /// Narrowest prefiltered level.
 const MIN_WIDTH: usize = 32;
 /// Around its centre a lobe is summed over the level's own texels, out to where GGX's D falls
-/// to this share of its peak but no further than `NEAR_RADIUS`; beyond, over a coarse copy
+/// to this share of its peak but no further than `NEAR_RADIUS` or 4α; beyond, over a coarse copy
 /// of the map (`FAR_WIDTH` texels wide). GGX's tails are long, and a small bright source far
 /// from the centre (a studio light, the sun) can outweigh all of the lobe's core.
 const CUTOFF: f32 = 1e-3;
@@ -37,18 +41,23 @@ const DFG_SIZE: usize = 32;
 /// Samples per entry of that table (a Hammersley set).
 const DFG_SAMPLES: u32 = 1024;
 
-/// [ours] The lights give the specular of a lobe whose α is at least `LIGHTS_EXACT × δ`,
-/// δ = √(4π/N) the lights' mean spacing (radians); below `LIGHTS_NONE × δ` the lights' own
-/// specular is not used at all. Where the two estimates' errors against the whole map cross
-/// on a studio map with small bright lights (docs/materials.md,
-/// `materials::glossy_estimates_against_the_whole_map`): at 400 lights, roughness 0.21 and
-/// 0.15.
-const LIGHTS_EXACT: f32 = 0.25;
-const LIGHTS_NONE: f32 = 0.12;
+/// [ours] Per shading point, the lights give the specular of a lobe whose α is at least
+/// `LIGHTS_EXACT × δ`, δ the lights' local spacing around the lobe's mirror direction (the
+/// square root of their cells' solid angle there, see [`Spacing`]); below `LIGHTS_NONE × δ`
+/// the lights' own specular is not used at all; between, a smoothstep. Chosen against
+/// Mitsuba's converged render of the true map (docs/materials.md): wider switches leave more
+/// to the split sum, whose error on rough lobes at grazing views is larger than the lights'.
+const LIGHTS_EXACT: f32 = 0.5;
+const LIGHTS_NONE: f32 = 0.25;
 /// [ours] The lobe a glossy reflection's visible share of light is measured with is at least
-/// `LIGHTS_VISIBILITY × δ` wide (α): wide enough to hold several lights, so the share is a
-/// smooth soft shadow rather than blotches where one or two lights drop in and out.
-const LIGHTS_VISIBILITY: f32 = 1.0;
+/// `LIGHTS_VISIBILITY × δ` wide (α): wide enough to hold a few lights, so the share is a
+/// smooth soft shadow rather than blotches where one light drops in and out.
+const LIGHTS_VISIBILITY: f32 = 0.5;
+/// The spacing field's grid (lat-long, texels) and the angle its log solid angles are blurred
+/// over (radians, a Gaussian's σ): a lobe on a cell's border sees both cells, and the share
+/// must not jump there (a jump would draw the cells on a glossy surface).
+const SPACING_WIDTH: usize = 128;
+const SPACING_SIGMA: f32 = 4.0 * std::f32::consts::PI / 180.0;
 
 /// One prefiltered lat-long map (the map's own frame, as [`EnvMap`]'s texels).
 struct Level {
@@ -57,42 +66,53 @@ struct Level {
     texels: Vec<Vec3>,
 }
 
-/// The prefiltered environment, the lobe integrals, and the roughness range where they stand
-/// in for the lights.
+/// The prefiltered environment, the lobe integrals, and the lights' local spacing that decides,
+/// per shading point, where they stand in for the lights.
 pub struct Glossy {
     /// The unfiltered map (roughness 0: a mirror sees it as it is).
     env: EnvMap,
-    /// Roughness STEP, 2·STEP, … up to the first at or above `rough_lights`.
+    /// Roughness STEP, 2·STEP, … up to the first at or above the widest lobe the lights may
+    /// leave to the environment (`Glossy::roughness_bound`).
     levels: Vec<Level>,
-    /// `(∫ D Vis cos, ∫ D Vis cos (1 − v·h)⁵)` over the hemisphere, by (roughness, n·v).
+    /// `(∫ D Vis cos dω, ∫ D Vis cos (1 − v·h)⁵ dω)` over the hemisphere, by (roughness, n·v).
     dfg: Vec<[f32; 2]>,
-    /// At and above this roughness the lights alone give the specular.
-    rough_lights: f32,
-    /// At and below this one they give none of it (only the lobe's visible fraction).
-    rough_none: f32,
-    /// The narrowest lobe the visible fraction is measured with.
-    rough_visibility: f32,
+    /// The lights' spacing around each direction.
+    spacing: Spacing,
+}
+
+/// How one shading point's specular is split between the lights and the environment: the
+/// lights' share, and the roughness the lobe's visible fraction is measured at.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Split {
+    /// 1: the lights alone (exact over them); 0: the environment alone; between, a blend.
+    pub lights: f32,
+    /// The material's roughness, or the narrowest lobe that holds a few lights there.
+    pub visibility_roughness: f32,
 }
 
 impl Glossy {
-    /// The roughness range for `lights` lights, and nothing prefiltered: enough to ask
-    /// [`light_share`](Self::light_share) whether a material needs the rest.
-    pub fn roughness_range(lights: usize) -> (f32, f32) {
-        let spacing = (4.0 * std::f32::consts::PI / lights.max(1) as f32).sqrt();
-        let rough = |a: f32| a.sqrt().min(1.0);
-        (rough(LIGHTS_NONE * spacing), rough(LIGHTS_EXACT * spacing))
+    /// The roughness below which some lobe of `lights` may take its specular from the
+    /// environment: where the largest cell's spacing no longer resolves it. Nothing is
+    /// prefiltered: enough to ask whether a material needs the rest.
+    pub fn roughness_bound(lights: &LightSet) -> f32 {
+        let largest = lights
+            .lights
+            .iter()
+            .map(|l| l.solid_angle)
+            .fold(0.0f32, f32::max);
+        let spacing = if lights.lights.is_empty() {
+            2.0 * std::f32::consts::PI
+        } else {
+            largest.max(0.0).sqrt()
+        };
+        (LIGHTS_EXACT * spacing).sqrt().min(1.0)
     }
 
-    /// The narrowest roughness whose lobe the lights sample well enough for a visible share.
-    fn visibility_floor(lights: usize) -> f32 {
-        let spacing = (4.0 * std::f32::consts::PI / lights.max(1) as f32).sqrt();
-        (LIGHTS_VISIBILITY * spacing).sqrt().min(1.0)
-    }
-
-    /// Prefilters `env` for a light set of `lights` lights. Parallel over texel rows, each
-    /// texel summed alone: the same bits whatever the threads.
-    pub fn build(env: &EnvMap, lights: usize) -> Glossy {
-        let (rough_none, rough_lights) = Glossy::roughness_range(lights);
+    /// Prefilters `env` for the light set `lights` (the frame's lights before any turn of
+    /// the environment). Parallel over texel rows, each texel summed alone: the same bits
+    /// whatever the threads.
+    pub fn build(env: &EnvMap, lights: &LightSet) -> Glossy {
+        let bound = Glossy::roughness_bound(lights);
         let far_width = FAR_WIDTH.min(env.width.max(2));
         let far = (
             downsample(env, far_width, (far_width / 2).max(1)),
@@ -103,7 +123,7 @@ impl Glossy {
         loop {
             let roughness = STEP * k as f32;
             levels.push(prefilter(env, roughness, &far));
-            if roughness >= rough_lights || roughness >= 1.0 {
+            if roughness >= bound || roughness >= 1.0 {
                 break;
             }
             k += 1;
@@ -112,22 +132,28 @@ impl Glossy {
             env: env.clone(),
             levels,
             dfg: dfg_table(),
-            rough_lights,
-            rough_none,
-            rough_visibility: Glossy::visibility_floor(lights),
+            spacing: Spacing::build(lights),
         }
     }
 
-    /// How much of a material's specular the lights give at `roughness`: 1 at and above the
-    /// roughness they resolve, 0 at and below the one where they stop helping, linear between.
-    pub fn light_share(&self, roughness: f32) -> f32 {
-        share(roughness, self.rough_none, self.rough_lights)
+    /// The split of a lobe of `roughness` reflected along world direction `mirror` (in the
+    /// frame of the lights the prefilter was built for): by its α against the lights' local
+    /// spacing δ there, the lights alone at α ≥ `LIGHTS_EXACT·δ`, the environment alone at
+    /// α ≤ `LIGHTS_NONE·δ`, a smoothstep between.
+    pub fn split(&self, mirror: Vec3, roughness: f32) -> Split {
+        let delta = self.spacing.at(mirror);
+        let a = alpha(roughness);
+        let t = ((a / delta - LIGHTS_NONE) / (LIGHTS_EXACT - LIGHTS_NONE)).clamp(0.0, 1.0);
+        let vis_alpha = a.max(LIGHTS_VISIBILITY * delta);
+        Split {
+            lights: t * t * (3.0 - 2.0 * t),
+            visibility_roughness: libm::sqrtf(vis_alpha).min(1.0).max(roughness),
+        }
     }
 
-    /// The roughness the lobe's visible fraction is measured at: the material's, or the
-    /// narrowest lobe that holds several lights.
-    pub fn visibility_roughness(&self, roughness: f32) -> f32 {
-        roughness.max(self.rough_visibility)
+    /// The lights' local spacing δ (radians) around world direction `dir`.
+    pub fn spacing(&self, dir: Vec3) -> f32 {
+        self.spacing.at(dir)
     }
 
     /// The environment's radiance along world direction `dir`, averaged over the GGX lobe of
@@ -171,17 +197,6 @@ impl Glossy {
             *o = top * (1.0 - fy) + bottom * fy;
         }
         (out[0], out[1])
-    }
-}
-
-/// 1 at and above `hi`, 0 at and below `lo`, linear between.
-fn share(roughness: f32, lo: f32, hi: f32) -> f32 {
-    if roughness >= hi {
-        1.0
-    } else if roughness <= lo {
-        0.0
-    } else {
-        (roughness - lo) / (hi - lo)
     }
 }
 
@@ -246,8 +261,9 @@ fn downsample(env: &EnvMap, width: usize, height: usize) -> Vec<Vec3> {
 fn prefilter(env: &EnvMap, roughness: f32, far: &(Vec<Vec3>, Source)) -> Level {
     let a = alpha(roughness);
     let a2 = a * a;
-    // Texels about α wide (the lobe's half-vector spread), within the bounds, a power of two.
-    let want = (std::f32::consts::TAU / a).ceil() as usize;
+    // Texels about α/2 wide (the lobe's half-vector spread), within the bounds, a power of
+    // two: coarser texels move a small bright source by a good part of the lobe.
+    let want = (2.0 * std::f32::consts::TAU / a).ceil() as usize;
     let width = want
         .next_power_of_two()
         .clamp(MIN_WIDTH, MAX_WIDTH)
@@ -263,7 +279,10 @@ fn prefilter(env: &EnvMap, roughness: f32, far: &(Vec<Vec3>, Source)) -> Level {
         // (n·h)² = (1 − limit)/(1 − α²), and R·ω = 2(n·h)² − 1.
         (2.0 * (1.0 - limit) / (1.0 - a2) - 1.0).max(0.0)
     };
-    let near_cos = cutoff_cos.max(libm::cosf(NEAR_RADIUS));
+    // A rough lobe keeps much of its weight well past NEAR_RADIUS (a third of its peak at 25°
+    // for α = 0.25): its own texels out to 4α.
+    let near = NEAR_RADIUS.max(4.0 * a).min(std::f32::consts::FRAC_PI_2);
+    let near_cos = cutoff_cos.max(libm::cosf(near));
     let radius = libm::acosf(near_cos);
     let weight = |cos: f32, dw: f32| {
         let nh2 = (1.0 + cos) * 0.5;
@@ -384,6 +403,98 @@ impl Source {
     }
 }
 
+/// The lights' local spacing δ over the sphere: on a lat-long grid in the lights' frame, the
+/// square root of the geometric mean of the solid angles of the cells around each texel (each
+/// texel's cell by `cell_of`, blurred with a Gaussian of σ `SPACING_SIGMA` over the sphere),
+/// looked up bilinearly, so it varies smoothly across the cells' borders.
+struct Spacing {
+    width: usize,
+    height: usize,
+    delta: Vec<f32>,
+}
+
+impl Spacing {
+    fn build(lights: &LightSet) -> Spacing {
+        let (width, height) = (SPACING_WIDTH, SPACING_WIDTH / 2);
+        if lights.lights.is_empty() {
+            // No light resolves anything: the environment everywhere.
+            let all = 2.0 * std::f32::consts::PI;
+            return Spacing {
+                width,
+                height,
+                delta: vec![all; width * height],
+            };
+        }
+        let src = Source::new(width, height);
+        let log_solid: Vec<f32> = src
+            .dir
+            .iter()
+            .map(|&d| {
+                let j = lights.cell_of(d) as usize;
+                libm::logf(lights.lights[j].solid_angle.max(1e-12))
+            })
+            .collect();
+        let radius = 3.0 * SPACING_SIGMA;
+        let cos_radius = libm::cosf(radius);
+        let delta = (0..height)
+            .into_par_iter()
+            .flat_map_iter(|y| {
+                let (src, log_solid) = (&src, &log_solid);
+                (0..width).map(move |x| {
+                    let r = src.dir[y * width + x];
+                    let lat = std::f32::consts::FRAC_PI_2
+                        - (y as f32 + 0.5) / height as f32 * std::f32::consts::PI;
+                    let (rows, cols) = src.window(lat, radius, x);
+                    let (mut sum, mut total) = (0.0f32, 0.0f32);
+                    for row in rows {
+                        for c in cols.clone() {
+                            let i = row * width + c.rem_euclid(width as i64) as usize;
+                            let cos = r.dot(src.dir[i]);
+                            if cos >= cos_radius {
+                                let theta = libm::acosf(cos.min(1.0));
+                                let g = theta / SPACING_SIGMA;
+                                let w = libm::expf(-0.5 * g * g) * src.solid_angle[row];
+                                sum += log_solid[i] * w;
+                                total += w;
+                            }
+                        }
+                    }
+                    let mean = if total > 0.0 {
+                        sum / total
+                    } else {
+                        log_solid[y * width + x]
+                    };
+                    libm::expf(0.5 * mean)
+                })
+            })
+            .collect();
+        Spacing {
+            width,
+            height,
+            delta,
+        }
+    }
+
+    /// δ along unit direction `dir`: bilinear between texel centres, wrapping in longitude,
+    /// clamped at the poles.
+    fn at(&self, dir: Vec3) -> f32 {
+        let uv = dir_to_uv(dir);
+        let fx = uv.x * self.width as f32 - 0.5;
+        let fy = uv.y * self.height as f32 - 0.5;
+        let (x0f, y0f) = (fx.floor(), fy.floor());
+        let (tx, ty) = (fx - x0f, fy - y0f);
+        let (w, h) = (self.width as i64, self.height as i64);
+        let x0 = (x0f as i64).rem_euclid(w) as usize;
+        let x1 = (x0f as i64 + 1).rem_euclid(w) as usize;
+        let y0 = (y0f as i64).clamp(0, h - 1) as usize;
+        let y1 = (y0f as i64 + 1).clamp(0, h - 1) as usize;
+        let t = |x: usize, y: usize| self.delta[y * self.width + x];
+        let top = t(x0, y0) + (t(x1, y0) - t(x0, y0)) * tx;
+        let bottom = t(x0, y1) + (t(x1, y1) - t(x0, y1)) * tx;
+        top + (bottom - top) * ty
+    }
+}
+
 /// `(∫ D Vis cos dω, ∫ D Vis cos w dω)` for every (roughness, n·v) of the table: GGX
 /// importance-sampled with a Hammersley set, `l` the reflection of `v` about the sampled
 /// half vector, each sample `Vis · 4 (n·l)(v·h)/(n·h)` (D cancels with the density).
@@ -484,7 +595,8 @@ mod tests {
     #[test]
     fn a_uniform_map_stays_uniform_at_every_roughness() {
         let env = EnvMap::from_texels(64, 32, vec![Vec3::splat(2.0); 64 * 32], "uniform").unwrap();
-        let g = Glossy::build(&env, 50);
+        let lights = crate::lights::LightSet::build(&env, 50, crate::lights::Sampler::Sis).unwrap();
+        let g = Glossy::build(&env, &lights);
         for r in [0.0, 0.1, 0.2, 0.3, 0.55, 0.8] {
             for d in [Vec3::Y, Vec3::X, Vec3::new(0.3, -0.8, 0.5).normalize()] {
                 let got = g.radiance(d, r);
@@ -496,15 +608,80 @@ mod tests {
         }
     }
 
+    /// A map of radiance 0.1 with a bright patch around +Z: importance-sampled lights crowd
+    /// there.
+    fn patch_map() -> EnvMap {
+        let (w, h) = (128, 64);
+        let texels = (0..w * h)
+            .map(|i| {
+                let d = uv_to_dir(Vec2::new(
+                    ((i % w) as f32 + 0.5) / w as f32,
+                    ((i / w) as f32 + 0.5) / h as f32,
+                ));
+                Vec3::splat(if d.z > 0.9 { 50.0 } else { 0.1 })
+            })
+            .collect();
+        EnvMap::from_texels(w, h, texels, "patch").unwrap()
+    }
+
     #[test]
-    fn the_light_share_rises_with_roughness_and_with_lights() {
-        let (lo400, hi400) = Glossy::roughness_range(400);
-        let (lo50, hi50) = Glossy::roughness_range(50);
-        assert!(lo400 < hi400 && lo50 < hi50);
-        assert!(hi400 < hi50, "more lights resolve narrower lobes");
-        assert_eq!(share(hi400, lo400, hi400), 1.0);
-        assert_eq!(share(lo400, lo400, hi400), 0.0);
-        let mid = share((lo400 + hi400) / 2.0, lo400, hi400);
-        assert!((mid - 0.5).abs() < 1e-5);
+    fn the_lights_share_rises_with_roughness_and_with_the_lights_density() {
+        let env = patch_map();
+        let few = crate::lights::LightSet::build(&env, 50, crate::lights::Sampler::Sis).unwrap();
+        let many = crate::lights::LightSet::build(&env, 400, crate::lights::Sampler::Sis).unwrap();
+        let (g50, g400) = (Glossy::build(&env, &few), Glossy::build(&env, &many));
+        let (bright, dim) = (Vec3::Z, Vec3::NEG_Z);
+        assert!(
+            g400.spacing(bright) < g400.spacing(dim) * 0.5,
+            "the lights crowd at the patch: {} vs {}",
+            g400.spacing(bright),
+            g400.spacing(dim)
+        );
+        assert!(g400.spacing(dim) < g50.spacing(dim), "more lights, closer");
+        for g in [&g50, &g400] {
+            for d in [bright, dim] {
+                let shares: Vec<f32> = (0..=20)
+                    .map(|k| g.split(d, k as f32 / 20.0).lights)
+                    .collect();
+                assert!(shares.windows(2).all(|p| p[0] <= p[1]), "{shares:?}");
+                assert_eq!(shares[0], 0.0, "a mirror takes the environment");
+            }
+        }
+        // A roughness the crowded lights resolve and the sparse ones do not: α just above
+        // half the crowded lights' spacing.
+        let r = libm::sqrtf(0.5 * g400.spacing(bright) * 1.01);
+        assert_eq!(g400.split(bright, r).lights, 1.0);
+        assert!(g400.split(dim, r).lights < 0.1, "{:?}", g400.split(dim, r));
+        assert!(g400.split(dim, r).visibility_roughness > r);
+        assert_eq!(
+            g400.split(dim, 1.0).lights,
+            1.0,
+            "roughness 1 over 400 lights"
+        );
+        assert!(Glossy::roughness_bound(&many) < Glossy::roughness_bound(&few));
+    }
+
+    #[test]
+    fn the_lights_share_has_no_step_at_the_cells_borders() {
+        // Along a great circle through the patch and the dim side, in steps of 0.05°: the
+        // share moves by a small amount per step wherever it moves (a jump would draw the
+        // cells on a glossy surface).
+        let env = patch_map();
+        let lights =
+            crate::lights::LightSet::build(&env, 200, crate::lights::Sampler::Sis).unwrap();
+        let g = Glossy::build(&env, &lights);
+        for r in [0.2f32, 0.3, 0.4] {
+            let mut last = None;
+            for k in 0..7200 {
+                let a = k as f32 * 0.05f32.to_radians();
+                let d = Vec3::new(libm::sinf(a), 0.3, libm::cosf(a)).normalize();
+                let s = g.split(d, r).lights;
+                if let Some(p) = last {
+                    let step: f32 = s - p;
+                    assert!(step.abs() < 0.02, "roughness {r}, {k}: {p} → {s}");
+                }
+                last = Some(s);
+            }
+        }
     }
 }

@@ -121,18 +121,17 @@ impl Inputs {
 
     /// The environment prefiltered for glossy lobes, if any material may need it: one whose
     /// roughness factor (its texture can only lower it) is below what the map's lights
-    /// resolve.
+    /// resolve where they are sparsest.
     pub fn glossy(&self) -> Option<&Glossy> {
         self.glossy
             .get_or_init(|| {
-                let map_lights = self.lights.lights.len();
-                let (_, rough_lights) = Glossy::roughness_range(map_lights);
+                let bound = Glossy::roughness_bound(&self.lights);
                 let needed = self
                     .scene
                     .materials
                     .iter()
-                    .any(|m| m.model == Model::MetallicRoughness && m.roughness < rough_lights);
-                needed.then(|| Glossy::build(&self.env, map_lights))
+                    .any(|m| m.model == Model::MetallicRoughness && m.roughness < bound);
+                needed.then(|| Glossy::build(&self.env, &self.lights))
             })
             .as_ref()
     }

@@ -14,8 +14,8 @@ use crate::shade::{LambertCache, point_lights, point_sums, reflect, specular_sum
 
 /// A sample's radiance (its background aside): the visible lights in `vis` (those above its
 /// horizon in `above`) reflected by its material — Lambertian, or glTF metallic-roughness
-/// (`crate::brdf`) with, where `ctx.glossy` says the lights are too few for the lobe, the
-/// prefiltered environment weighted by the lobe's visible fraction — times its occlusion,
+/// (`crate::brdf`) with, where `ctx.glossy` says the lights around the lobe are too sparse for
+/// it, the prefiltered environment weighted by the lobe's visible fraction — times its occlusion,
 /// plus the scene file's point and spot lights in `vis` (the same BRDF, exact: one light at a
 /// time; occlusion is the environment's only), plus its emission. Lambertian samples with the
 /// normal and visible lights of the last one `cache` saw reuse its light sum (the same bits).
@@ -150,45 +150,51 @@ impl Shared {
         let Shared {
             n, v, roughness, ..
         } = *self;
-        let glossy = ctx.glossy;
-        let share = glossy.map_or(1.0, |g| g.light_share(roughness));
-        if share >= 1.0 {
-            // [ours] The lights resolve the lobe: exact over them, visibility included.
-            let (sums, _) = sums(&Lobe::new(n, v, roughness), false);
+        let lobe = Lobe::new(n, v, roughness);
+        let Some(g) = ctx.glossy else {
+            // The lights alone, exact over them, visibility included.
+            let (sums, _) = sums(&lobe, false);
+            return weights.diffuse(&sums) + weights.specular(sums.s2, sums.s3);
+        };
+        let mirror = n * (2.0 * lobe.n_dot_v) - v;
+        // The map and its spacing field turned as this frame's lights are (`[motion] kind =
+        // "environment"`).
+        let mirror = match ctx.env_turn {
+            None => mirror,
+            Some((sin, cos)) => crate::envmap::rotate_y(mirror, (-sin, cos)),
+        };
+        let split = g.split(mirror, roughness);
+        if split.lights >= 1.0 {
+            // [ours] The lights resolve the lobe here: exact over them, visibility included.
+            let (sums, _) = sums(&lobe, false);
             return weights.diffuse(&sums) + weights.specular(sums.s2, sums.s3);
         }
-        let Some(g) = glossy else {
-            unreachable!("share < 1 comes from a glossy environment")
-        };
-        // [ours] Too few lights for the lobe: the environment prefiltered for the roughness,
-        // seen along the mirror direction, times the lobe's share of visible light (measured
-        // with a lobe wide enough to hold several lights), blended with the lights' own
-        // specular between the two roughnesses `Glossy` names. The diffuse sums do not depend
-        // on the roughness.
-        let wide = Lobe::new(n, v, g.visibility_roughness(roughness));
+        // [ours] Too few lights around the lobe: the environment prefiltered for the
+        // roughness, seen along the mirror direction, times the lobe's share of visible light
+        // (measured with a lobe wide enough to hold a few of the lights there), blended with
+        // the lights' own specular across the switch. The diffuse sums do not depend on the
+        // roughness.
+        let wide = Lobe::new(n, v, split.visibility_roughness);
         let (wide_sums, unshadowed) = sums(&wide, true);
         let visible = if unshadowed > 0.0 {
             (crate::envmap::luminance(wide_sums.s2) / unshadowed).min(1.0)
         } else {
             1.0
         };
-        let lobe = Lobe::new(n, v, roughness);
         let (i2, i3) = g.dfg(lobe.n_dot_v, roughness);
-        let mirror = n * (2.0 * lobe.n_dot_v) - v;
-        // The map turned as this frame's lights are (`[motion] kind = "environment"`).
-        let mirror = match ctx.env_turn {
-            None => mirror,
-            Some((sin, cos)) => crate::envmap::rotate_y(mirror, (-sin, cos)),
-        };
         // Each member sees the visible share (the group's is the mean of its members').
         let env = g.radiance(mirror, roughness) * (visible * self.members);
         let from_env = weights.specular(env * i2, env * i3);
-        if share <= 0.0 {
+        if split.lights <= 0.0 {
             return weights.diffuse(&wide_sums) + from_env;
         }
-        let (sums, _) = sums(&lobe, false);
+        let (sums, _) = if wide == lobe {
+            (wide_sums, unshadowed)
+        } else {
+            sums(&lobe, false)
+        };
         weights.diffuse(&sums)
-            + weights.specular(sums.s2, sums.s3) * share
-            + from_env * (1.0 - share)
+            + weights.specular(sums.s2, sums.s3) * split.lights
+            + from_env * (1.0 - split.lights)
     }
 }

@@ -23,6 +23,7 @@ mod farm;
 mod figures;
 mod frames;
 mod fuzz_regressions;
+mod glossy;
 mod golden;
 mod hardening;
 mod hardening_edges;
