@@ -301,8 +301,10 @@ impl Rig {
         model.sort_unstable();
         model.dedup();
         let mut points = Vec::new();
+        // One copy posed again and again: only its positions are read (the moved
+        // primitives' are all rewritten by each pose).
+        let mut posed = scene.clone();
         for &t in times {
-            let mut posed = scene.clone();
             self.pose(&mut posed, Some((clip, t)), &which);
             let pose: Vec<Vec3> = model.iter().map(|&i| posed.positions[i as usize]).collect();
             points.extend(extremes(&pose));

@@ -405,3 +405,23 @@ fn a_deforming_frame_does_not_read_the_previous_frames_visibility() {
     }
     assert!(reused > 0, "the held pose reads the previous frame");
 }
+
+#[test]
+fn a_z_up_file_poses_stood_up() {
+    // `[scene] up = "z"` turns the loaded scene; its poses turn the same way.
+    let file = Scene::load(&data("samplers.gltf")).unwrap();
+    let stood = file.clone().stood_up(envshadow::scene::Up::Z);
+    for t in [0.25, 1.2] {
+        let want = file
+            .rig
+            .as_ref()
+            .unwrap()
+            .posed(&file, 0, t)
+            .stood_up(envshadow::scene::Up::Z);
+        let got = stood.rig.as_ref().unwrap().posed(&stood, 0, t);
+        for (g, w) in got.positions.iter().zip(&want.positions) {
+            assert!((*g - *w).length() < 1e-6, "at {t} s: {g} vs {w}");
+        }
+        assert_ne!(got.positions, stood.positions, "the pose moved something");
+    }
+}
