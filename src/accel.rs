@@ -638,7 +638,7 @@ mod leaf {
             let t = ((g(9) * a[0] + g(10) * a[1]) + g(11) * a[2]) * inv;
             if inv != 0.0
                 && !(negative && positive)
-                && det.abs() > 0.0
+                && (det < 0.0 || det > 0.0)
                 && (0.0..f32::INFINITY).contains(&t)
                 && t < best
                 && (cut.lanes(i) & 1 == 0 || cut.stops(i, u, v))
