@@ -57,11 +57,14 @@ fn how_to_convert(ext: &str) -> &'static str {
 pub(super) fn check_kind(path: &Path, bytes: &[u8]) -> Result<()> {
     match kind(bytes) {
         Kind::Glb { version: 2 } | Kind::Json => Ok(()),
-        Kind::Glb { version } => bail_input!(
+        Kind::Glb { version: 1 } => bail_input!(
             path,
-            "glTF {version}.0 is not supported (a GLB of version {version}): envshadow reads \
-             glTF 2.0; convert it, e.g. with `gltf-pipeline -i in.glb -o out.glb`"
+            "glTF 1.0 is not supported (a GLB of version 1): envshadow reads glTF 2.0; convert \
+             it, e.g. with `gltf-pipeline -i in.glb -o out.glb`"
         ),
+        // No glTF of another version exists: a damaged header, which the GLB reader names
+        // more exactly (a length below the header, a chunk past the end, …).
+        Kind::Glb { .. } => Ok(()),
         Kind::Other(what) => bail_input!(
             path,
             "not a glTF file (starts with '{}'): {what}; envshadow reads glTF 2.0 (.gltf/.glb)",
