@@ -200,19 +200,26 @@ impl Glossy {
     }
 }
 
+/// The four texels around `uv` on a `width`×`height` lat-long grid and the weights between
+/// them: bilinear between texel centres, wrapping in longitude, clamped at the poles (as
+/// [`EnvMap::radiance`]). `([x0, x1, y0, y1], tx, ty)`.
+fn taps(uv: Vec2, width: usize, height: usize) -> ([usize; 4], f32, f32) {
+    let fx = uv.x * width as f32 - 0.5;
+    let fy = uv.y * height as f32 - 0.5;
+    let (x0f, y0f) = (fx.floor(), fy.floor());
+    let (w, h) = (width as i64, height as i64);
+    let x0 = (x0f as i64).rem_euclid(w) as usize;
+    let x1 = (x0f as i64 + 1).rem_euclid(w) as usize;
+    let y0 = (y0f as i64).clamp(0, h - 1) as usize;
+    let y1 = (y0f as i64 + 1).clamp(0, h - 1) as usize;
+    ([x0, x1, y0, y1], fx - x0f, fy - y0f)
+}
+
 impl Level {
     /// Bilinear between texel centres, wrapping in longitude, clamped at the poles (as
     /// [`EnvMap::radiance`]).
     fn bilinear(&self, uv: Vec2) -> Vec3 {
-        let fx = uv.x * self.width as f32 - 0.5;
-        let fy = uv.y * self.height as f32 - 0.5;
-        let (x0f, y0f) = (fx.floor(), fy.floor());
-        let (tx, ty) = (fx - x0f, fy - y0f);
-        let (w, h) = (self.width as i64, self.height as i64);
-        let x0 = (x0f as i64).rem_euclid(w) as usize;
-        let x1 = (x0f as i64 + 1).rem_euclid(w) as usize;
-        let y0 = (y0f as i64).clamp(0, h - 1) as usize;
-        let y1 = (y0f as i64 + 1).clamp(0, h - 1) as usize;
+        let ([x0, x1, y0, y1], tx, ty) = taps(uv, self.width, self.height);
         let t = |x: usize, y: usize| self.texels[y * self.width + x];
         let top = t(x0, y0).lerp(t(x1, y0), tx);
         let bottom = t(x0, y1).lerp(t(x1, y1), tx);
@@ -478,16 +485,7 @@ impl Spacing {
     /// δ along unit direction `dir`: bilinear between texel centres, wrapping in longitude,
     /// clamped at the poles.
     fn at(&self, dir: Vec3) -> f32 {
-        let uv = dir_to_uv(dir);
-        let fx = uv.x * self.width as f32 - 0.5;
-        let fy = uv.y * self.height as f32 - 0.5;
-        let (x0f, y0f) = (fx.floor(), fy.floor());
-        let (tx, ty) = (fx - x0f, fy - y0f);
-        let (w, h) = (self.width as i64, self.height as i64);
-        let x0 = (x0f as i64).rem_euclid(w) as usize;
-        let x1 = (x0f as i64 + 1).rem_euclid(w) as usize;
-        let y0 = (y0f as i64).clamp(0, h - 1) as usize;
-        let y1 = (y0f as i64 + 1).clamp(0, h - 1) as usize;
+        let ([x0, x1, y0, y1], tx, ty) = taps(dir_to_uv(dir), self.width, self.height);
         let t = |x: usize, y: usize| self.delta[y * self.width + x];
         let top = t(x0, y0) + (t(x1, y0) - t(x0, y0)) * tx;
         let bottom = t(x0, y1) + (t(x1, y1) - t(x0, y1)) * tx;
