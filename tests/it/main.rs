@@ -26,6 +26,7 @@ mod fuzz_regressions;
 mod glossy;
 mod golden;
 mod hardening;
+mod hardening_edges;
 mod hardening_formats;
 mod hardening_messages;
 mod hardening_pixels;
