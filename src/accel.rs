@@ -1865,7 +1865,11 @@ mod tests {
                 continue;
             }
             let (t, _) = leaf_kernels(&accel, 0, 1, &ray, &Opaque, k);
-            assert_eq!(t < f32::INFINITY, by > 0.0, "ray {k} from {far}: {by} inside");
+            assert_eq!(
+                t < f32::INFINITY,
+                by > 0.0,
+                "ray {k} from {far}: {by} inside"
+            );
             asked += 1;
         }
         assert!(asked > 1000, "{asked}");

@@ -1,6 +1,6 @@
 //! What a glTF file is and which extensions it needs, checked before the `gltf` crate parses
 //! it: a file of another format, glTF 1.0, and an extension the renderer cannot do are refused
-//! with the cause first ("EXT_meshopt_compression is required …, re-export …") rather than
+//! with the cause first ("KHR_texture_basisu without a fallback …, re-export …") rather than
 //! a parser's position or a validation path; the extensions it can do are let through the
 //! crate's own check of `extensionsRequired`.
 
@@ -16,12 +16,14 @@ use crate::bail_input;
 use crate::error::{Result, escaped};
 
 /// Extensions a file may require that the loader reads: quantized attributes are read as the
-/// normalised or plain integers they are; Draco streams are decoded (`draco.rs`); KTX2 and WebP textures with a PNG/JPEG fallback use
+/// normalised or plain integers they are; Draco and meshopt streams are decoded (`draco.rs`,
+/// `meshopt.rs`); KTX2 and WebP textures with a PNG/JPEG fallback use
 /// the fallback (one without is refused by [`check_json`]); unlit and spec-gloss materials
 /// are converted (`gltf.rs`).
 const READ_WHEN_REQUIRED: &[&str] = &[
     "KHR_mesh_quantization",
     super::draco::EXTENSION,
+    super::meshopt::EXTENSION,
     "KHR_texture_basisu",
     "EXT_texture_webp",
     "KHR_materials_unlit",
@@ -42,14 +44,8 @@ const TEXTURE_FORMATS: &[(&str, &str)] = &[
 ];
 
 /// How to get a file the renderer reads, per unsupported extension.
-fn how_to_convert(ext: &str) -> &'static str {
-    match ext {
-        "EXT_meshopt_compression" => {
-            "re-export it without meshopt compression: `gltfpack -i in.glb -o out.glb` (no `-c`) \
-             writes quantized meshes, which envshadow reads"
-        }
-        _ => "re-export it without it (Blender's glTF exporter, or `gltf-transform`)",
-    }
+fn how_to_convert(_ext: &str) -> &'static str {
+    "re-export it without it (Blender's glTF exporter, or `gltf-transform`)"
 }
 
 /// Refuses what is not a glTF 2.0 file, by its first bytes: another format named as what it

@@ -23,7 +23,7 @@ use super::{
     AlphaMode, Part, Scene, SceneCamera, SceneLight, SceneLightKind, Texture, extend_optional,
     normal_matrix, tangents,
 };
-use super::{draco, extensions};
+use super::{draco, extensions, meshopt};
 use crate::bail_input;
 use crate::error::{Result, escaped, escaped_path, input_error};
 use crate::limits::{Budget, MAX_FILE_BYTES, NoMemory, SceneSize, read_regular, try_vec};
@@ -89,16 +89,18 @@ pub(super) fn load_bytes(
     // The file (and the GLB chunk's copy of it) and the buffers it declares are held while
     // loading.
     let blob_len = blob.as_ref().map_or(0, Vec::len) as u64;
+    // Meshopt's fallback buffers are made here and filled by decoding: held as a file's.
     let declared: u64 = document
         .buffers()
-        .filter(|b| matches!(b.source(), ::gltf::buffer::Source::Uri(_)))
+        .filter(|b| matches!(b.source(), ::gltf::buffer::Source::Uri(_)) || meshopt::is_fallback(b))
         .map(|b| b.length() as u64)
         .sum();
     let held = bytes.len() as u64 + blob_len;
     size.file_bytes = held + declared;
     rig_budget(&document, &mut size, budget);
     budget.scene(path, size, held)?;
-    let buffers = load_buffers(path, &confinement, &document, blob)?;
+    let mut buffers = load_buffers(path, &confinement, &document, blob)?;
+    meshopt::decode_all(path, &document, &mut buffers)?;
     let decoded = draco::decode_all(path, &document, &buffers)?;
     let read: u64 = buffers.iter().map(|b| b.len() as u64).sum();
     let images = Images::read(path, &confinement, &document, &buffers, &used)?;
@@ -235,6 +237,10 @@ fn load_buffers(
     for buffer in document.buffers() {
         let i = buffer.index();
         let data = match buffer.source() {
+            // Filled by meshopt::decode_all; a fallback given a URI is read (and filled too).
+            ::gltf::buffer::Source::Bin if meshopt::is_fallback(&buffer) => {
+                vec![0; buffer.length()]
+            }
             ::gltf::buffer::Source::Bin => match blob.take() {
                 Some(data) => data,
                 None => bail_input!(

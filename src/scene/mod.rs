@@ -16,6 +16,7 @@ mod extensions;
 mod gltf;
 pub mod ground;
 mod material;
+mod meshopt;
 pub mod morph;
 mod origin;
 pub mod playback;

@@ -1,7 +1,7 @@
-//! Issue 39, item 8: the files users have. gltfpack's quantized meshes, Draco meshes, unlit
-//! and spec-gloss materials and KTX2 textures with a PNG fallback render; a broken Draco
-//! stream, meshopt, KTX2 without a
-//! fallback and glTF 1.0 are refused with the cause first; a PLY, OBJ, Blender file or web
+//! Issue 39, item 8: the files users have. gltfpack's quantized and meshopt-compressed
+//! meshes, Draco meshes, unlit and spec-gloss materials and KTX2 textures with a PNG fallback
+//! render; broken Draco and meshopt streams, KTX2 without a fallback and glTF 1.0 are refused
+//! with the cause first; a PLY, OBJ, Blender file or web
 //! page given as a model or a spec is named as what it is. The files are made by
 //! tests/data/formats/make.py.
 
@@ -58,8 +58,10 @@ fn relative_rmse(a: &[f32], b: &[f32]) -> f64 {
 /// Issue 39, item 8: a cube as gltfpack writes it (KHR_mesh_quantization required: unsigned
 /// short positions placed by the node, padded normalized byte normals, normalized short UVs)
 /// and as Blender writes it with Draco compression (KHR_draco_mesh_compression required),
+/// as gltfpack writes it with meshopt compression (EXT_meshopt_compression required),
 /// and a cube with a KTX2 texture whose PNG fallback is the texture's source, render like
-/// their plain twins (relative RMSE ≤ 0.1 %); the quantized and Draco cubes were refused.
+/// their plain twins (relative RMSE ≤ 0.1 %); the quantized, Draco and meshopt cubes were
+/// refused.
 #[test]
 fn quantized_meshes_and_ktx2_fallbacks_render_like_their_plain_twins() {
     let tmp = tempfile::tempdir().unwrap();
@@ -70,6 +72,13 @@ fn quantized_meshes_and_ktx2_fallbacks_render_like_their_plain_twins() {
     let (draco, _) = beauty("cube-draco.gltf", &tmp.path().join("draco"));
     let e = relative_rmse(&draco, &plain);
     assert!(e <= 1e-3, "Draco cube: relative RMSE {e}");
+    // gltfpack's meshopt streams: float attributes (`-c -noq`), and quantized ones with the
+    // octahedral filter on the normals (`-cc`); both were refused.
+    for file in ["cube-meshopt.glb", "cube-meshopt-filters.glb"] {
+        let (meshopt, _) = beauty(file, &tmp.path().join(file));
+        let e = relative_rmse(&meshopt, &plain);
+        assert!(e <= 1e-3, "{file}: relative RMSE {e}");
+    }
     let (fallback, _) = beauty("cube-ktx2-fallback.gltf", &tmp.path().join("ktx2"));
     let (png, _) = beauty("cube-png.gltf", &tmp.path().join("png"));
     let e = relative_rmse(&fallback, &png);
@@ -127,8 +136,8 @@ fn unreadable_files_are_refused_naming_the_cause_first() {
             "Draco",
         ),
         (
-            "cube-meshopt.gltf",
-            "EXT_meshopt_compression is required by the file and not supported",
+            "cube-meshopt-broken.glb",
+            "EXT_meshopt_compression: bufferView 0: cannot decode the stream",
             "gltfpack -i in.glb -o out.glb",
         ),
         (

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes the small files tests/it/hardening_formats.rs reads (issue 39, item 8): a cube as
 plain floats and as gltfpack writes it with KHR_mesh_quantization, unlit and spec-gloss
-materials, files the renderer refuses (Draco, meshopt, a KTX2 texture without fallback,
+materials, meshopt cubes (by gltfpack), files the renderer refuses (broken Draco and meshopt, a KTX2 texture without fallback,
 glTF 1.0) and files of other formats under model names. Run from anywhere; rewrites the
 files beside it. Public domain (CC0), as the files it writes."""
 
@@ -183,6 +183,26 @@ def textured(name, with_fallback, ktx2=True):
           extensions=["KHR_texture_basisu"] if ktx2 else [], required=required, extra=extra)
 
 
+def meshopt():
+    """The plain cube through gltfpack (Debian's 0.18, the reference meshoptimizer encoder):
+    `-c -noq` float attributes and triangles as meshopt streams, `-cc` quantized with the
+    octahedral filter on normals; and the first with its first stream's header byte broken."""
+    import shutil
+    import subprocess
+    if shutil.which("gltfpack") is None:
+        print("gltfpack not installed (apt-get install gltfpack): meshopt files kept as they are")
+        return
+    src = os.path.join(HERE, "cube.gltf")
+    for name, flags in [("cube-meshopt.glb", ["-c", "-noq"]), ("cube-meshopt-filters.glb", ["-cc"])]:
+        subprocess.run(["gltfpack", "-i", src, "-o", os.path.join(HERE, name)] + flags, check=True)
+    with open(os.path.join(HERE, "cube-meshopt.glb"), "rb") as f:
+        glb = bytearray(f.read())
+    json_len = struct.unpack("<I", glb[12:16])[0]
+    glb[20 + json_len + 8] ^= 0xff  # the BIN chunk's first byte: the vertex stream's header
+    with open(os.path.join(HERE, "cube-meshopt-broken.glb"), "wb") as f:
+        f.write(glb)
+
+
 BROWN = {"pbrMetallicRoughness": {"baseColorFactor": [0.6, 0.5, 0.4, 1], "metallicFactor": 0}}
 
 
@@ -197,7 +217,7 @@ def main():
           extensions=["KHR_materials_pbrSpecularGlossiness"], required=["KHR_materials_pbrSpecularGlossiness"])
     draco("cube-draco.gltf")
     draco("cube-draco-broken.gltf", broken=True)
-    plain("cube-meshopt.gltf", extensions=["EXT_meshopt_compression"], required=["EXT_meshopt_compression"])
+    meshopt()
     textured("cube-ktx2-only.gltf", False)
     textured("cube-ktx2-fallback.gltf", True)
     textured("cube-png.gltf", True, ktx2=False)
