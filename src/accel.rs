@@ -682,7 +682,7 @@ mod leaf {
             let t = ((g(9) * (g(0) - o.x) + g(10) * (g(1) - o.y)) + g(11) * (g(2) - o.z)) * inv;
             if inv != 0.0
                 && !(negative && positive)
-                && (det < 0.0 || det > 0.0)
+                && det.abs() > 0.0
                 && (0.0..f32::INFINITY).contains(&t)
                 && t < best
                 && (cut.lanes(i) & 1 == 0 || cut.stops(i, u, v))

@@ -51,7 +51,7 @@ pub(super) fn decode_all(path: &Path, document: &Document, buffers: &mut [Vec<u8
         };
         let at = format!("{EXTENSION}: bufferView {}", view.index());
         let s = stream(path, &at, ext, buffers)?;
-        let bytes = s.count.checked_mul(s.stride).unwrap_or(usize::MAX);
+        let bytes = s.count.saturating_mul(s.stride);
         if bytes > view.length() {
             bail_input!(
                 path,
@@ -63,7 +63,10 @@ pub(super) fn decode_all(path: &Path, document: &Document, buffers: &mut [Vec<u8
         }
         let start = view.offset();
         let target = view.buffer().index();
-        if buffers[target].len() < start + bytes {
+        if start
+            .checked_add(bytes)
+            .is_none_or(|end| buffers[target].len() < end)
+        {
             bail_input!(
                 path,
                 "{at}: the view ends past its buffer {target} ({} bytes)",
