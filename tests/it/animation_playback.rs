@@ -37,7 +37,11 @@ struct Case {
 }
 
 /// Every case: the samplers file's two animations (every sampler kind; STEP and LINEAR
-/// between keys), Khronos's SimpleSkin and Fox (a skinned character, two of its three
+/// between keys), Khronos's InterpolationTest (its nine animations, one per sampler kind and
+/// path: STEP, and LINEAR translation and scale, between keys; CUBICSPLINE and LINEAR
+/// rotations at keys), SimpleSkin, RiggedSimple (a two-joint skin whose rotations are
+/// LINEAR: compared at its keys), AnimatedMorphCube (two morph targets on positions, normals
+/// and tangents, LINEAR weights: between keys) and Fox (a skinned character, two of its three
 /// animations).
 const CASES: &[Case] = &[
     Case {
@@ -51,9 +55,77 @@ const CASES: &[Case] = &[
         times: &[0.3, 0.8, 1.7, 2.5],
     },
     Case {
+        file: "InterpolationTest.glb",
+        animation: 0, // Step Scale (keys at 1/24, 5/12, 7/8, 5/4, 5/3 s)
+        times: &[0.0, 0.2, 0.6, 1.0, 1.5, 2.0],
+    },
+    Case {
+        file: "InterpolationTest.glb",
+        animation: 1, // Linear Scale
+        times: &[0.0, 0.2, 0.6, 1.1, 1.5],
+    },
+    Case {
+        file: "InterpolationTest.glb",
+        animation: 2, // CubicSpline Scale: at its keys
+        times: &[
+            0.0416666679084301,
+            0.4166666567325592,
+            0.875,
+            1.25,
+            1.6666666269302368,
+        ],
+    },
+    Case {
+        file: "InterpolationTest.glb",
+        animation: 3, // Step Rotation (keys at 0, 5/12, 7/8, 5/4, 41/24 s)
+        times: &[0.2, 0.6, 1.0, 1.5, 1.8],
+    },
+    Case {
+        file: "InterpolationTest.glb",
+        animation: 4, // CubicSpline Rotation: at its keys
+        times: &[0.0, 0.4166666567325592, 0.875, 1.25, 1.7083333730697632],
+    },
+    Case {
+        file: "InterpolationTest.glb",
+        animation: 5, // Linear Rotation: at its keys
+        times: &[0.0, 0.4166666567325592, 0.875, 1.25, 1.7083333730697632],
+    },
+    Case {
+        file: "InterpolationTest.glb",
+        animation: 6, // Step Translation (keys at 0, 11/24, 5/6, 31/24, 41/24 s)
+        times: &[0.2, 0.6, 1.0, 1.5, 1.8],
+    },
+    Case {
+        file: "InterpolationTest.glb",
+        animation: 7, // CubicSpline Translation: at its keys
+        times: &[
+            0.0,
+            0.4166666567325592,
+            0.8333333134651184,
+            1.25,
+            1.6666666269302368,
+        ],
+    },
+    Case {
+        file: "InterpolationTest.glb",
+        animation: 8, // Linear Translation
+        times: &[0.1, 0.3, 0.7, 1.0, 1.4],
+    },
+    Case {
         file: "SimpleSkin.gltf",
         animation: 0,
         times: &[1.0, 2.5],
+    },
+    Case {
+        file: "RiggedSimple.glb",
+        animation: 0,
+        // Its three keys (24 fps frames 1, 25 and 50), as the file's f32 times.
+        times: &[0.04166661947965622, 1.0416669845581055, 2.083333015441895],
+    },
+    Case {
+        file: "AnimatedMorphCube.glb",
+        animation: 0,
+        times: &[0.0, 0.55, 1.3, 2.02, 3.7],
     },
     Case {
         file: "Fox.glb",
@@ -143,6 +215,23 @@ fn compare(case: &Case, json: &str) -> f64 {
         case.times,
         "{}: Blender's answer holds other times",
         case.file
+    );
+    // Where our rest pose lies from each of Blender's poses: some pose must move the model
+    // well past the tolerance, or the case could not tell playback from none.
+    let rest: Vec<[f64; 3]> = scene
+        .positions
+        .iter()
+        .map(|p| (p.as_dvec3() + scene.origin).to_array())
+        .collect();
+    let moved = theirs
+        .iter()
+        .map(|(_, b)| farthest_from(&rest, b).max(farthest_from(b, &rest)) / size)
+        .fold(0.0, f64::max);
+    assert!(
+        moved > 1e-2,
+        "{} animation {}: no pose moves the model from its rest ({moved:.2e})",
+        case.file,
+        case.animation
     );
     let mut worst = 0.0f64;
     for (t, blender) in &theirs {
