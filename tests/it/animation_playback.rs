@@ -412,6 +412,49 @@ fn the_camera_frames_every_pose_not_the_rest_pose() {
 }
 
 #[test]
+fn the_ground_lies_under_every_pose_not_the_rest_pose() {
+    // The running fox reaches below its rest pose: the ground added under it lies at the
+    // lowest point of any frame's pose, so no paw sinks into it.
+    let anim = spec(
+        "Fox.glb",
+        "none",
+        24,
+        "animation = \"Run\"\nground = \"always\"",
+        24,
+    );
+    let inputs = Inputs::load(&anim).unwrap();
+    let scene = &inputs.scene;
+    let first = scene.added_ground.expect("a ground was added");
+    let ground: Vec<f32> = scene.triangles[first..]
+        .iter()
+        .flatten()
+        .map(|&i| scene.positions[i as usize].y)
+        .collect();
+    let level = ground[0];
+    assert!(ground.iter().all(|&y| y == level), "the ground is flat");
+    let lowest = |s: &Scene| {
+        s.model_triangles()
+            .iter()
+            .flatten()
+            .map(|&i| s.positions[i as usize].y)
+            .fold(f32::INFINITY, f32::min)
+    };
+    let posed = (0..anim.frame_count)
+        .map(|f| lowest(&inputs.posed(&anim, f, None).unwrap().unwrap()))
+        .fold(f32::INFINITY, f32::min);
+    let rest = lowest(scene);
+    let size = {
+        let (lo, hi) = scene.model_bounds();
+        (hi - lo).length()
+    };
+    assert!(
+        posed < rest - 1e-3 * size,
+        "the run reaches below the rest pose ({posed} vs {rest})"
+    );
+    assert_eq!(level, posed, "the ground lies at the lowest posed point");
+}
+
+#[test]
 fn an_animated_frame_is_identical_whatever_the_tiles_and_threads() {
     // The fox walking under an orbiting camera: the frame's posed scene and BVH are built per
     // frame, and neither the tiles nor the threads change a bit; nor does a region render.
