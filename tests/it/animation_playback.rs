@@ -454,6 +454,89 @@ fn the_ground_lies_under_every_pose_not_the_rest_pose() {
     assert_eq!(level, posed, "the ground lies at the lowest posed point");
 }
 
+/// The text of [`spec`]'s spec, written to `dir` for the commands that read a spec file.
+fn spec_file(dir: &Path, file: &str, scene_keys: &str) -> PathBuf {
+    let text = format!(
+        "[scene]\nfile = \"{}\"\n{scene_keys}\n[lights]\ncount = 24\n\
+         [motion]\nkind = \"orbit\"\nframes = 12\n\
+         [render]\nwidth = 64\nheight = 48\nspp = 1\n[output]\nfps = 24\n",
+        data(file).display()
+    );
+    let path = dir.join("anim.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn export_writes_the_frames_pose_as_a_render_poses_it() {
+    // The walking fox's frame 5: scene.ply holds the posed scene a render of that frame
+    // traces (Inputs::posed), not the rest pose.
+    let dir = tempfile::tempdir().unwrap();
+    let spec = spec_file(dir.path(), "Fox.glb", "animation = \"Walk\"");
+    let out = dir.path().join("exp");
+    let mut flags = AnimFlags::default();
+    flags.output.dir = Some(out.clone());
+    let args = envshadow::export::ExportArgs {
+        spec: spec.clone(),
+        frame: 5,
+        flags,
+    };
+    envshadow::export::run(&args).unwrap();
+    let anim = Animation::load(&spec, &AnimFlags::default()).unwrap();
+    let inputs = Inputs::load(&anim).unwrap();
+    let want = inputs.posed(&anim, 5, None).unwrap().unwrap();
+    assert_ne!(want.positions, inputs.scene.positions, "the frame is posed");
+    let (ply, start, _) = common::read_ply(&out.join("scene.ply"));
+    // 11 floats per vertex, the position first.
+    let got: Vec<glam::Vec3> = (0..want.positions.len())
+        .map(|v| {
+            let f = |k: usize| {
+                let at = start + v * 44 + 4 * k;
+                f32::from_le_bytes(ply[at..at + 4].try_into().unwrap())
+            };
+            glam::Vec3::new(f(0), f(1), f(2))
+        })
+        .collect();
+    assert_eq!(got, want.positions);
+}
+
+/// `envshadow bench`'s rows for frame 5 of `spec` (one thread, one repeat).
+fn bench_rows(spec: &Path) -> Vec<envshadow::bench::BenchRow> {
+    use clap::Parser;
+    #[derive(Parser)]
+    struct Cli {
+        #[command(flatten)]
+        bench: envshadow::bench::BenchArgs,
+    }
+    let spec = spec.to_str().unwrap();
+    let cli = Cli::parse_from(
+        ["bench", "--scene", spec, "--frame", "5", "--repeat", "1"]
+            .into_iter()
+            .chain(["--threads", "1"]),
+    );
+    envshadow::bench::measure(&cli.bench, |_| {}).unwrap()
+}
+
+#[test]
+fn bench_times_the_frames_pose_as_a_render_poses_it() {
+    // Under an orbiting camera the walking fox is posed every frame: bench reports each frame
+    // as building its own posed scene and BVH (its split's build column), as render_frame
+    // does; the fox at rest shares the run's one BVH.
+    let dir = tempfile::tempdir().unwrap();
+    let walking = bench_rows(&spec_file(dir.path(), "Fox.glb", "animation = \"Walk\""));
+    assert!(!walking.is_empty());
+    for r in &walking {
+        assert!(
+            r.build_in_frame,
+            "{}: the posed frame builds its BVH",
+            r.variant.label
+        );
+        assert!(r.split.is_some());
+    }
+    let still = bench_rows(&spec_file(dir.path(), "Fox.glb", "animation = \"none\""));
+    assert!(still.iter().all(|r| !r.build_in_frame));
+}
+
 #[test]
 fn an_animated_frame_is_identical_whatever_the_tiles_and_threads() {
     // The fox walking under an orbiting camera: the frame's posed scene and BVH are built per
