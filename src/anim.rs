@@ -635,10 +635,16 @@ impl Animation {
     /// The loaded `scene` as the spec asks for it: turned upright (`[scene] up`), its materials
     /// overridden (`[material]`, `--clay`, `--lambert`), its named
     /// catchers marked (`[scene] catchers`), and a ground added below the model where
-    /// `[scene] ground` asks for one — a shadow catcher over a transparent background or with
-    /// `shadow_catcher = true`, else diffuse grey.
+    /// `[scene] ground` asks for one ([`Animation::add_ground`]).
     pub fn prepare_scene(&self, scene: Scene) -> Result<Scene> {
-        use crate::scene::ground::{Ground, add_ground, has_ground};
+        let mut scene = self.prepare_model(scene)?;
+        self.add_ground(&mut scene);
+        Ok(scene)
+    }
+
+    /// [`Animation::prepare_scene`] short of the ground: what the model's poses (and so the
+    /// ground under them) are found from.
+    pub fn prepare_model(&self, scene: Scene) -> Result<Scene> {
         let settings = &self.scene_settings;
         let mut scene = scene.stood_up(settings.up);
         // The file's materials as `[material]` and --clay / --lambert say (before a ground of
@@ -669,17 +675,25 @@ impl Animation {
                 }
             );
         }
+        Ok(scene)
+    }
+
+    /// Adds a ground below the model where `[scene] ground` asks for one — a shadow catcher
+    /// over a transparent background or with `shadow_catcher = true`, else diffuse grey. It
+    /// lies under [`Scene::model_bounds`]: the union of the poses once the framing holds them.
+    pub fn add_ground(&self, scene: &mut Scene) {
+        use crate::scene::ground::{Ground, add_ground, has_ground};
+        let settings = &self.scene_settings;
         let add = match settings.ground {
             Ground::None => false,
             Ground::Always => true,
-            Ground::Auto => !has_ground(&scene),
+            Ground::Auto => !has_ground(scene),
         };
         if add {
             let catcher = settings.shadow_catcher
                 || self.render.background == crate::background::Background::Transparent;
-            add_ground(&mut scene, catcher);
+            add_ground(scene, catcher);
         }
-        Ok(scene)
     }
 
     /// This animation with the render settings of `layer` (one combination of a measuring

@@ -25,6 +25,7 @@ use crate::inputs::Inputs;
 use crate::predict::Method;
 use crate::raydump::{self, REPLAY_CHUNK};
 use crate::run::Silent;
+use crate::scene::Scene;
 use crate::settings::{LightsSweep, RenderSweep};
 use crate::sweep::{Variant, light_layers, load_scene, tuning, variants};
 
@@ -115,7 +116,7 @@ pub struct Accuracy {
 /// Where a frame's time went, in seconds (medians).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Split {
-    /// Building the BVH of the frame's geometry.
+    /// Posing the frame's geometry (a spin, the file's animation) and building its BVH.
     pub build: f64,
     /// Tracing the method's shadow rays alone.
     pub shadow: f64,
@@ -214,20 +215,22 @@ pub fn replay(accel: &Accel, rays: &[ShadowRay], grouping: Grouping) -> u64 {
         .sum()
 }
 
-/// Whether the frame's geometry is the unposed scene (its BVH is built once per run).
-fn still_geometry(anim: &Animation, inputs: &Inputs, frame: usize) -> Result<bool> {
+/// The frame's geometry as `render_frame` poses it (the file's animation, then a spin), or
+/// None for the unposed scene.
+fn frame_scene(anim: &Animation, inputs: &Inputs, frame: usize) -> Result<Option<Scene>> {
     let pivot = anim.pivot(&inputs.scene)?;
-    Ok(anim.scene_transform(frame, pivot).is_none())
+    inputs.posed(anim, frame, anim.scene_transform(frame, pivot))
 }
 
-/// The frame's BVH, built as `render_frame` builds it.
+/// Whether the frame's geometry is the unposed scene (its BVH is built once per run).
+fn still_geometry(anim: &Animation, inputs: &Inputs, frame: usize) -> Result<bool> {
+    Ok(frame_scene(anim, inputs, frame)?.is_none())
+}
+
+/// The frame's posed scene and BVH, built as `render_frame` builds them.
 fn frame_accel(anim: &Animation, inputs: &Inputs, frame: usize) -> Result<Accel> {
-    let pivot = anim.pivot(&inputs.scene)?;
-    Ok(match anim.scene_transform(frame, pivot) {
-        Some(m) => {
-            let posed = inputs.scene.transformed(m);
-            posed.accel()
-        }
+    Ok(match frame_scene(anim, inputs, frame)? {
+        Some(posed) => posed.accel(),
         None => inputs.scene.accel(),
     })
 }

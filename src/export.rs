@@ -101,15 +101,10 @@ pub fn run(args: &ExportArgs) -> Result<Exported> {
         ));
     }
     let inputs = Inputs::load(&anim)?;
+    // The frame's geometry as a render poses it: the file's animation, then a spin.
     let pivot = anim.pivot(&inputs.scene)?;
-    let posed;
-    let scene = match anim.scene_transform(args.frame, pivot) {
-        Some(m) => {
-            posed = inputs.scene.transformed(m);
-            &posed
-        }
-        None => &inputs.scene,
-    };
+    let posed = inputs.posed(&anim, args.frame, anim.scene_transform(args.frame, pivot))?;
+    let scene = posed.as_ref().unwrap_or(&inputs.scene);
     let camera = anim.camera(&inputs.scene, args.frame)?;
     let samples = anim.render.samples();
     let dir = &dir;

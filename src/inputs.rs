@@ -172,12 +172,14 @@ impl Inputs {
                     .with_context(|| format!("while loading {}", anim.spec_path.display()))?
             }
         };
-        let scene = anim.prepare_scene(scene)?;
+        let scene = anim.prepare_model(scene)?;
         let playing = playing(anim, &scene)?;
-        let scene = match playing {
+        let mut scene = match playing {
             Some(p) => with_framing(anim, scene, p),
             None => scene,
         };
+        // After the framing: a ground lies under every pose, not the rest pose only.
+        anim.add_ground(&mut scene);
         // A spin poses the scene every frame: refused here if that could overflow (found by
         // fuzzing the posed scene: tests/data/fuzz/posed_scene/huge-pivot).
         for s in anim.motion.segments() {

@@ -37,7 +37,11 @@ struct Case {
 }
 
 /// Every case: the samplers file's two animations (every sampler kind; STEP and LINEAR
-/// between keys), Khronos's SimpleSkin and Fox (a skinned character, two of its three
+/// between keys), Khronos's InterpolationTest (its nine animations, one per sampler kind and
+/// path: STEP, and LINEAR translation and scale, between keys; CUBICSPLINE and LINEAR
+/// rotations at keys), SimpleSkin, RiggedSimple (a two-joint skin whose rotations are
+/// LINEAR: compared at its keys), AnimatedMorphCube (two morph targets on positions, normals
+/// and tangents, LINEAR weights: between keys) and Fox (a skinned character, two of its three
 /// animations).
 const CASES: &[Case] = &[
     Case {
@@ -51,9 +55,77 @@ const CASES: &[Case] = &[
         times: &[0.3, 0.8, 1.7, 2.5],
     },
     Case {
+        file: "InterpolationTest.glb",
+        animation: 0, // Step Scale (keys at 1/24, 5/12, 7/8, 5/4, 5/3 s)
+        times: &[0.0, 0.2, 0.6, 1.0, 1.5, 2.0],
+    },
+    Case {
+        file: "InterpolationTest.glb",
+        animation: 1, // Linear Scale
+        times: &[0.0, 0.2, 0.6, 1.1, 1.5],
+    },
+    Case {
+        file: "InterpolationTest.glb",
+        animation: 2, // CubicSpline Scale: at its keys
+        times: &[
+            0.0416666679084301,
+            0.4166666567325592,
+            0.875,
+            1.25,
+            1.6666666269302368,
+        ],
+    },
+    Case {
+        file: "InterpolationTest.glb",
+        animation: 3, // Step Rotation (keys at 0, 5/12, 7/8, 5/4, 41/24 s)
+        times: &[0.2, 0.6, 1.0, 1.5, 1.8],
+    },
+    Case {
+        file: "InterpolationTest.glb",
+        animation: 4, // CubicSpline Rotation: at its keys
+        times: &[0.0, 0.4166666567325592, 0.875, 1.25, 1.7083333730697632],
+    },
+    Case {
+        file: "InterpolationTest.glb",
+        animation: 5, // Linear Rotation: at its keys
+        times: &[0.0, 0.4166666567325592, 0.875, 1.25, 1.7083333730697632],
+    },
+    Case {
+        file: "InterpolationTest.glb",
+        animation: 6, // Step Translation (keys at 0, 11/24, 5/6, 31/24, 41/24 s)
+        times: &[0.2, 0.6, 1.0, 1.5, 1.8],
+    },
+    Case {
+        file: "InterpolationTest.glb",
+        animation: 7, // CubicSpline Translation: at its keys
+        times: &[
+            0.0,
+            0.4166666567325592,
+            0.8333333134651184,
+            1.25,
+            1.6666666269302368,
+        ],
+    },
+    Case {
+        file: "InterpolationTest.glb",
+        animation: 8, // Linear Translation
+        times: &[0.1, 0.3, 0.7, 1.0, 1.4],
+    },
+    Case {
         file: "SimpleSkin.gltf",
         animation: 0,
         times: &[1.0, 2.5],
+    },
+    Case {
+        file: "RiggedSimple.glb",
+        animation: 0,
+        // Its three keys (24 fps frames 1, 25 and 50), as the file's f32 times.
+        times: &[0.04166661947965622, 1.0416669845581055, 2.083333015441895],
+    },
+    Case {
+        file: "AnimatedMorphCube.glb",
+        animation: 0,
+        times: &[0.0, 0.55, 1.3, 2.02, 3.7],
     },
     Case {
         file: "Fox.glb",
@@ -143,6 +215,23 @@ fn compare(case: &Case, json: &str) -> f64 {
         case.times,
         "{}: Blender's answer holds other times",
         case.file
+    );
+    // Where our rest pose lies from each of Blender's poses: some pose must move the model
+    // well past the tolerance, or the case could not tell playback from none.
+    let rest: Vec<[f64; 3]> = scene
+        .positions
+        .iter()
+        .map(|p| (p.as_dvec3() + scene.origin).to_array())
+        .collect();
+    let moved = theirs
+        .iter()
+        .map(|(_, b)| farthest_from(&rest, b).max(farthest_from(b, &rest)) / size)
+        .fold(0.0, f64::max);
+    assert!(
+        moved > 1e-2,
+        "{} animation {}: no pose moves the model from its rest ({moved:.2e})",
+        case.file,
+        case.animation
     );
     let mut worst = 0.0f64;
     for (t, blender) in &theirs {
@@ -320,6 +409,132 @@ fn the_camera_frames_every_pose_not_the_rest_pose() {
             );
         }
     }
+}
+
+#[test]
+fn the_ground_lies_under_every_pose_not_the_rest_pose() {
+    // The running fox reaches below its rest pose: the ground added under it lies at the
+    // lowest point of any frame's pose, so no paw sinks into it.
+    let anim = spec(
+        "Fox.glb",
+        "none",
+        24,
+        "animation = \"Run\"\nground = \"always\"",
+        24,
+    );
+    let inputs = Inputs::load(&anim).unwrap();
+    let scene = &inputs.scene;
+    let first = scene.added_ground.expect("a ground was added");
+    let ground: Vec<f32> = scene.triangles[first..]
+        .iter()
+        .flatten()
+        .map(|&i| scene.positions[i as usize].y)
+        .collect();
+    let level = ground[0];
+    assert!(ground.iter().all(|&y| y == level), "the ground is flat");
+    let lowest = |s: &Scene| {
+        s.model_triangles()
+            .iter()
+            .flatten()
+            .map(|&i| s.positions[i as usize].y)
+            .fold(f32::INFINITY, f32::min)
+    };
+    let posed = (0..anim.frame_count)
+        .map(|f| lowest(&inputs.posed(&anim, f, None).unwrap().unwrap()))
+        .fold(f32::INFINITY, f32::min);
+    let rest = lowest(scene);
+    let size = {
+        let (lo, hi) = scene.model_bounds();
+        (hi - lo).length()
+    };
+    assert!(
+        posed < rest - 1e-3 * size,
+        "the run reaches below the rest pose ({posed} vs {rest})"
+    );
+    assert_eq!(level, posed, "the ground lies at the lowest posed point");
+}
+
+/// The text of [`spec`]'s spec, written to `dir` for the commands that read a spec file.
+fn spec_file(dir: &Path, file: &str, scene_keys: &str) -> PathBuf {
+    let text = format!(
+        "[scene]\nfile = \"{}\"\n{scene_keys}\n[lights]\ncount = 24\n\
+         [motion]\nkind = \"orbit\"\nframes = 12\n\
+         [render]\nwidth = 64\nheight = 48\nspp = 1\n[output]\nfps = 24\n",
+        data(file).display()
+    );
+    let path = dir.join("anim.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn export_writes_the_frames_pose_as_a_render_poses_it() {
+    // The walking fox's frame 5: scene.ply holds the posed scene a render of that frame
+    // traces (Inputs::posed), not the rest pose.
+    let dir = tempfile::tempdir().unwrap();
+    let spec = spec_file(dir.path(), "Fox.glb", "animation = \"Walk\"");
+    let out = dir.path().join("exp");
+    let mut flags = AnimFlags::default();
+    flags.output.dir = Some(out.clone());
+    let args = envshadow::export::ExportArgs {
+        spec: spec.clone(),
+        frame: 5,
+        flags,
+    };
+    envshadow::export::run(&args).unwrap();
+    let anim = Animation::load(&spec, &AnimFlags::default()).unwrap();
+    let inputs = Inputs::load(&anim).unwrap();
+    let want = inputs.posed(&anim, 5, None).unwrap().unwrap();
+    assert_ne!(want.positions, inputs.scene.positions, "the frame is posed");
+    let (ply, start, _) = common::read_ply(&out.join("scene.ply"));
+    // 11 floats per vertex, the position first.
+    let got: Vec<glam::Vec3> = (0..want.positions.len())
+        .map(|v| {
+            let f = |k: usize| {
+                let at = start + v * 44 + 4 * k;
+                f32::from_le_bytes(ply[at..at + 4].try_into().unwrap())
+            };
+            glam::Vec3::new(f(0), f(1), f(2))
+        })
+        .collect();
+    assert_eq!(got, want.positions);
+}
+
+/// `envshadow bench`'s rows for frame 5 of `spec` (one thread, one repeat).
+fn bench_rows(spec: &Path) -> Vec<envshadow::bench::BenchRow> {
+    use clap::Parser;
+    #[derive(Parser)]
+    struct Cli {
+        #[command(flatten)]
+        bench: envshadow::bench::BenchArgs,
+    }
+    let spec = spec.to_str().unwrap();
+    let cli = Cli::parse_from(
+        ["bench", "--scene", spec, "--frame", "5", "--repeat", "1"]
+            .into_iter()
+            .chain(["--threads", "1"]),
+    );
+    envshadow::bench::measure(&cli.bench, |_| {}).unwrap()
+}
+
+#[test]
+fn bench_times_the_frames_pose_as_a_render_poses_it() {
+    // Under an orbiting camera the walking fox is posed every frame: bench reports each frame
+    // as building its own posed scene and BVH (its split's build column), as render_frame
+    // does; the fox at rest shares the run's one BVH.
+    let dir = tempfile::tempdir().unwrap();
+    let walking = bench_rows(&spec_file(dir.path(), "Fox.glb", "animation = \"Walk\""));
+    assert!(!walking.is_empty());
+    for r in &walking {
+        assert!(
+            r.build_in_frame,
+            "{}: the posed frame builds its BVH",
+            r.variant.label
+        );
+        assert!(r.split.is_some());
+    }
+    let still = bench_rows(&spec_file(dir.path(), "Fox.glb", "animation = \"none\""));
+    assert!(still.iter().all(|r| !r.build_in_frame));
 }
 
 #[test]
