@@ -676,8 +676,6 @@ mod leaf {
             let det = (e0 + e1) + e2;
             let negative = e0 < 0.0 || e1 < 0.0 || e2 < 0.0;
             let positive = e0 > 0.0 || e1 > 0.0 || e2 > 0.0;
-            let inv_det = 1.0 / det;
-            let (u, v) = (e1 * inv_det, e2 * inv_det);
             let inv = 1.0 / ((g(9) * d.x + g(10) * d.y) + g(11) * d.z);
             let t = ((g(9) * (g(0) - o.x) + g(10) * (g(1) - o.y)) + g(11) * (g(2) - o.z)) * inv;
             if inv != 0.0
@@ -685,7 +683,10 @@ mod leaf {
                 && det.abs() > 0.0
                 && (0.0..f32::INFINITY).contains(&t)
                 && t < best
-                && (cut.lanes(i) & 1 == 0 || cut.stops(i, u, v))
+                && (cut.lanes(i) & 1 == 0 || {
+                    let inv_det = 1.0 / det;
+                    cut.stops(i, e1 * inv_det, e2 * inv_det)
+                })
             {
                 (best, index) = (t, i);
             }
@@ -747,8 +748,6 @@ mod leaf {
                         _mm_cmplt_ps(det, zero),
                         _mm_cmpgt_ps(det, zero),
                     ));
-                    let inv_det = _mm_div_ps(_mm_set1_ps(1.0), det);
-                    let (u, v) = (_mm_mul_ps(e1, inv_det), _mm_mul_ps(e2, inv_det));
                     let dot = |ax, ay, az, bx, by, bz| {
                         _mm_add_ps(
                             _mm_add_ps(_mm_mul_ps(ax, bx), _mm_mul_ps(ay, by)),
@@ -768,16 +767,21 @@ mod leaf {
                         let mut ts = [0.0f32; 4];
                         _mm_storeu_ps(ts.as_mut_ptr(), t);
                         let cuts = cut.lanes(i) & hits;
-                        let (mut us, mut vs) = ([0.0f32; 4], [0.0f32; 4]);
+                        // The barycentrics only where a cut-out test reads them: the
+                        // scalar kernel's operations, lane by lane.
+                        let (mut e1s, mut e2s, mut dets) = ([0.0f32; 4], [0.0f32; 4], [0.0f32; 4]);
                         if cuts != 0 {
-                            _mm_storeu_ps(us.as_mut_ptr(), u);
-                            _mm_storeu_ps(vs.as_mut_ptr(), v);
+                            _mm_storeu_ps(e1s.as_mut_ptr(), e1);
+                            _mm_storeu_ps(e2s.as_mut_ptr(), e2);
+                            _mm_storeu_ps(dets.as_mut_ptr(), det);
                         }
                         while hits != 0 {
                             let l = hits.trailing_zeros() as usize;
-                            if ts[l] < best
-                                && (cuts >> l & 1 == 0 || cut.stops(i + l, us[l], vs[l]))
-                            {
+                            let stops = || {
+                                let inv_det = 1.0 / dets[l];
+                                cut.stops(i + l, e1s[l] * inv_det, e2s[l] * inv_det)
+                            };
+                            if ts[l] < best && (cuts >> l & 1 == 0 || stops()) {
                                 (best, index) = (ts[l], i + l);
                             }
                             hits &= hits - 1;
@@ -849,8 +853,6 @@ mod leaf {
                     let positive =
                         _mm256_movemask_ps(_mm256_or_ps(_mm256_or_ps(gt(e0), gt(e1)), gt(e2)));
                     let nonzero = _mm256_movemask_ps(_mm256_or_ps(lt(det), gt(det)));
-                    let inv_det = _mm256_div_ps(_mm256_set1_ps(1.0), det);
-                    let (u, v) = (_mm256_mul_ps(e1, inv_det), _mm256_mul_ps(e2, inv_det));
                     let dot = |ax, ay, az, bx, by, bz| {
                         _mm256_add_ps(
                             _mm256_add_ps(_mm256_mul_ps(ax, bx), _mm256_mul_ps(ay, by)),
@@ -873,16 +875,21 @@ mod leaf {
                         let mut ts = [0.0f32; 8];
                         _mm256_storeu_ps(ts.as_mut_ptr(), t);
                         let cuts = cut.lanes(i) & hits;
-                        let (mut us, mut vs) = ([0.0f32; 8], [0.0f32; 8]);
+                        // The barycentrics only where a cut-out test reads them: the
+                        // scalar kernel's operations, lane by lane.
+                        let (mut e1s, mut e2s, mut dets) = ([0.0f32; 8], [0.0f32; 8], [0.0f32; 8]);
                         if cuts != 0 {
-                            _mm256_storeu_ps(us.as_mut_ptr(), u);
-                            _mm256_storeu_ps(vs.as_mut_ptr(), v);
+                            _mm256_storeu_ps(e1s.as_mut_ptr(), e1);
+                            _mm256_storeu_ps(e2s.as_mut_ptr(), e2);
+                            _mm256_storeu_ps(dets.as_mut_ptr(), det);
                         }
                         while hits != 0 {
                             let l = hits.trailing_zeros() as usize;
-                            if ts[l] < best
-                                && (cuts >> l & 1 == 0 || cut.stops(i + l, us[l], vs[l]))
-                            {
+                            let stops = || {
+                                let inv_det = 1.0 / dets[l];
+                                cut.stops(i + l, e1s[l] * inv_det, e2s[l] * inv_det)
+                            };
+                            if ts[l] < best && (cuts >> l & 1 == 0 || stops()) {
                                 (best, index) = (ts[l], i + l);
                             }
                             hits &= hits - 1;
