@@ -9,7 +9,7 @@ cd "$(dirname "$0")/.."
 secs=${1:-600}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -gt 0 ] || targets=(anim_spec posed_scene gltf envmap_exr envmap_hdr lights_json)
+[ ${#targets[@]} -gt 0 ] || targets=(anim_spec posed_scene gltf draco envmap_exr envmap_hdr lights_json)
 cargo +nightly fuzz build
 bin=fuzz/target/x86_64-unknown-linux-gnu/release
 # The committed seeds are small; make_seeds also writes the large ones (not committed).

@@ -10,7 +10,7 @@ use crate::error::{Result, input_error};
 use crate::film::Film;
 use crate::output;
 use crate::output::rate::FrameRate;
-use crate::output::record::{FrameRecord, SettingsRecord, WARNINGS_KEY};
+use crate::output::record::{FrameRecord, SettingsRecord, warning_lines};
 use crate::output::runs::RunRecord;
 use crate::output::stats::{FrameStats, StatsFile};
 use crate::run::{FrameSink, RunOptions, RunSummary};
@@ -68,10 +68,7 @@ impl FrameSink for FrameFiles {
         if let Some(r) = self.region {
             now.lines.push(("--region".into(), r.to_string()));
         }
-        for (k, w) in self.warnings.iter().enumerate() {
-            now.lines
-                .push((format!("{WARNINGS_KEY} {}", k + 1), w.clone()));
-        }
+        now.lines.extend(warning_lines(&self.warnings));
         let old = SettingsRecord::read(&self.dir)?;
         // [ours] A resumed folder holds one render's frames: mixing sizes, light counts or
         // methods would make its frames and rows disagree without a word.

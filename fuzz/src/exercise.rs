@@ -56,6 +56,17 @@ pub fn gltf(data: &[u8], path: &Path) -> Result<()> {
     Ok(())
 }
 
+/// A Draco stream as the glTF loader decodes a primitive's (`envshadow::scene::draco`): the
+/// first two bytes (little-endian) are the largest count the primitive's accessors declare,
+/// which bounds the decode; the rest is the stream. Inputs under two bytes are skipped.
+pub fn draco(data: &[u8], path: &Path) -> Result<usize> {
+    let Some((declared, stream)) = data.split_first_chunk::<2>() else {
+        return Ok(0);
+    };
+    let largest = u64::from(u16::from_le_bytes(*declared));
+    envshadow::scene::draco::decode_stream(path, stream, largest)
+}
+
 /// A spec's spin as a render poses the scene ([`Animation::scene_transform`] about its pivot,
 /// then the BVH over the posed copy, as `render_tile_list` in src/coordinator.rs does) at its
 /// first, middle and last frames, with rays through each.

@@ -126,6 +126,67 @@ fn gltf_seeds(dir: &Path, assets: &Path) {
     if let Ok(b) = std::fs::read(assets.join("bunny_res4.glb")) {
         write(dir, "bunny_res4.glb", &b);
     }
+    uri_seeds(dir);
+    format_seeds(dir);
+}
+
+/// The triangle with its buffer and image named by each spelling URI resolution must refuse
+/// or accept, in the folder `files::model_folder` writes (`fuzz.gltf` in `ROOT/model/`, a
+/// triangle buffer at `ROOT/outside.bin`, links in and out): a parent folder plainly and
+/// percent-encoded, an absolute path, `file://` URIs, a link out, another scheme; a link in,
+/// a percent-encoded name and a path that leaves the folder and comes back.
+/// tests/it/fuzz_regressions.rs checks which load.
+fn uri_seeds(dir: &Path) {
+    for (name, buffer, image) in [
+        ("uri-parent.gltf", "../outside.bin", "texture.png"),
+        (
+            "uri-percent-parent.gltf",
+            "%2e%2e/outside.bin",
+            "texture.png",
+        ),
+        ("uri-absolute.gltf", "/etc/passwd", "texture.png"),
+        ("uri-file-scheme.gltf", "file:///etc/passwd", "texture.png"),
+        (
+            "uri-file-host.gltf",
+            "file://host/etc/passwd",
+            "texture.png",
+        ),
+        ("uri-link-out.gltf", "outside-link.bin", "texture.png"),
+        (
+            "uri-http.gltf",
+            "http://example.com/buffer.bin",
+            "texture.png",
+        ),
+        (
+            "uri-image-file-scheme.gltf",
+            "buffer.bin",
+            "file:///etc/passwd",
+        ),
+        (
+            "uri-image-parent.gltf",
+            "buffer.bin",
+            "%2E%2E/%2E%2E/etc/passwd",
+        ),
+        ("uri-link-in.gltf", "inside-link.bin", "texture.png"),
+        ("uri-percent-name.gltf", "%62uffer%2Ebin", "texture%2epng"),
+        ("uri-back-in.gltf", "../model/buffer.bin", "./texture.png"),
+    ] {
+        let image = format!(r#"{{"uri": "{image}"}}"#);
+        write(dir, name, gltf_json(Some(buffer), &image, "", 4).as_bytes());
+    }
+}
+
+/// The format test files of issue 39 (tests/data/formats/: quantized, Draco, unlit,
+/// spec-gloss, KTX2, meshopt, glTF 1.0, a page saved as GLB), as `issue39-NAME`.
+fn format_seeds(dir: &Path) {
+    let formats = Path::new("tests/data/formats");
+    let entries = std::fs::read_dir(formats).expect("run from the repository root");
+    for p in entries.map(|e| e.unwrap().path()) {
+        if p.extension().is_some_and(|e| e == "gltf" || e == "glb") {
+            let name = p.file_name().unwrap().to_str().unwrap();
+            write(dir, &format!("issue39-{name}"), &std::fs::read(&p).unwrap());
+        }
+    }
 }
 
 /// The triangle's glTF JSON and binary chunk with `png` in the chunk after the triangle's

@@ -22,7 +22,7 @@ use crate::film::{Film, Holds};
 use crate::frame_files::exr_header;
 use crate::output::exr::{fill_film, read_frame};
 use crate::output::rate::FrameRate;
-use crate::output::record::SettingsRecord;
+use crate::output::record::{SettingsRecord, warning_lines};
 use crate::output::stats::{FrameStats, StatsFile};
 use crate::output::write_atomic;
 use crate::output::{publish_frame, write_frame_files};
@@ -72,8 +72,11 @@ pub fn assemble(dir: &Path) -> Result<Assembled> {
     }
     // The folder a one-process render would leave: settings.txt and each frame committed
     // with its record, so `render --resume` into it trusts these frames.
+    // The loader's warnings follow the settings, as `FrameFiles` records them.
     let record = (!settings.record.is_empty()).then(|| SettingsRecord {
-        lines: settings.record.clone(),
+        lines: (settings.record.iter().cloned())
+            .chain(warning_lines(&judged.warnings))
+            .collect(),
     });
     if let Some(r) = &record {
         r.write(dir)?;
@@ -111,7 +114,8 @@ pub fn assemble(dir: &Path) -> Result<Assembled> {
             };
             let format = settings.frame_format();
             let number = format.names.number(f);
-            let header = exr_header(&stats, number, settings.fps, &settings.record);
+            let lines = record.as_ref().map_or(&settings.record, |r| &r.lines);
+            let header = exr_header(&stats, number, settings.fps, lines);
             match &record {
                 Some(r) => {
                     publish_frame(dir, &film, &header, &format, &r.fingerprint())?;
@@ -173,6 +177,8 @@ struct Judged {
     lights: Option<Vec<u8>>,
     /// With `--cryptomatte`: the manifests of `cryptomatte.json`, the same in every valid job.
     cryptomatte: Option<Arc<[String; 2]>>,
+    /// What loading the inputs warned about, the same in every valid job's manifest.
+    warnings: Vec<String>,
     /// The plan's video frame rate.
     video_fps: Option<FrameRate>,
 }
@@ -225,6 +231,7 @@ impl Judged {
         } else {
             None
         };
+        let warnings = shared_warnings(&sources, &mut folder_problem);
         sources.retain(|s| !folder_problem.contains_key(&s.folder));
         let frames: BTreeSet<usize> = expected.iter().flat_map(|j| j.frames.iter()).collect();
         Ok(Judged {
@@ -237,6 +244,7 @@ impl Judged {
             folder_problem,
             lights,
             cryptomatte,
+            warnings,
             video_fps: plan_file.as_ref().and_then(|p| p.video_fps),
         })
     }
@@ -550,6 +558,31 @@ fn shared_file(
         }
     }
     shared
+}
+
+/// The loader's warnings every job's manifest records: the same inputs warn the same, so a
+/// job whose differ (other input files on its host) is a problem of its folder.
+fn shared_warnings(
+    sources: &[Source],
+    folder_problem: &mut BTreeMap<String, String>,
+) -> Vec<String> {
+    let Some(first) = sources.first() else {
+        return Vec::new();
+    };
+    for s in &sources[1..] {
+        if s.manifest.warnings != first.manifest.warnings {
+            folder_problem.entry(s.folder.clone()).or_insert_with(|| {
+                format!(
+                    "loading its inputs warned of other things than job folder {}'s ({} warnings, {} there): were the input files the same on {}?",
+                    first.folder,
+                    s.manifest.warnings.len(),
+                    first.manifest.warnings.len(),
+                    s.manifest.host
+                )
+            });
+        }
+    }
+    first.manifest.warnings.clone()
 }
 
 /// The Cryptomatte manifests every job published ([`shared_file`]); a job whose file is not

@@ -130,6 +130,12 @@ pub struct Manifest {
     pub settings: Settings,
     pub plan: Option<PlanRef>,
     pub job: Job,
+    /// What loading the inputs warned about (the `[warnings]` a one-process render records):
+    /// assembling loads no inputs, so the assembled settings and frame headers take them from
+    /// here. The same in every job of a run (absent in manifests written before them, and
+    /// when loading warned of nothing).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 /// `tiles_NNNN.json`: one frame of one job.
@@ -284,6 +290,11 @@ impl JobWriter {
 }
 
 impl FrameSink for JobWriter {
+    /// Kept in `job.json`, for the assembled frames to record.
+    fn input_warnings(&mut self, warnings: &[String]) {
+        self.manifest.warnings = warnings.to_vec();
+    }
+
     /// Publishes `job.json`.
     fn begin(&mut self) -> Result<()> {
         write_manifest(&self.dir, &self.manifest)

@@ -175,6 +175,8 @@ pub fn render_job(
         settings: settings.clone(),
         plan: plan_ref,
         job: job.clone(),
+        // Set by the writer once the inputs are loaded, before it publishes the manifest.
+        warnings: Vec::new(),
     };
     if resume
         && let Ok(old) = job::read_manifest(&dir)

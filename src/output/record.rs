@@ -25,6 +25,14 @@ use crate::output::names::FrameNames;
 pub const SETTINGS_FILE: &str = "settings.txt";
 /// The settings record's key of the loader's warnings: `[warnings] 1 = …`, `[warnings] 2`, ….
 pub const WARNINGS_KEY: &str = "[warnings]";
+/// The settings record's lines of the loader's `warnings`, in order: `[warnings] 1`, ….
+pub fn warning_lines(warnings: &[String]) -> impl Iterator<Item = (String, String)> + '_ {
+    warnings
+        .iter()
+        .enumerate()
+        .map(|(k, w)| (format!("{WARNINGS_KEY} {}", k + 1), w.clone()))
+}
+
 /// The folder of per-frame records inside a render folder.
 pub const RECORDS_DIR: &str = "records";
 /// [`FrameRecord::format`].

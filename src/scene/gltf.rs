@@ -550,8 +550,9 @@ fn texture_refs<'a>(material: &::gltf::Material<'a>) -> Vec<TextureRef<'a>> {
 ///
 /// Unlit: the base colour (factor, texture) is emitted and nothing is reflected, so lights and
 /// shadows leave it as the file's viewer shows it. Spec-gloss: glTF-Transform's conversion —
-/// diffuse as base colour, metallic 0, roughness 1 − glossiness, the specular colour as
-/// `KHR_materials_specular`'s F0 colour at an infinite ior (F0 = the colour itself).
+/// diffuse as base colour, metallic 0, roughness 1 − glossiness (its factor times the
+/// specularGlossinessTexture's A), the specular colour as `KHR_materials_specular`'s F0
+/// colour at an infinite ior (F0 = the colour itself).
 fn converted(material: &::gltf::Material, m: &mut Material) -> Option<String> {
     if material.unlit() {
         m.emissive = m.base_color;
@@ -573,16 +574,17 @@ fn converted(material: &::gltf::Material, m: &mut Material) -> Option<String> {
     m.metallic = 0.0;
     m.roughness = 1.0 - sg.glossiness_factor();
     m.metallic_roughness_texture = None;
+    // The specularGlossinessTexture, read as the specular colour texture (RGB, sRGB), has
+    // the glossiness in its A.
+    m.glossiness_from_specular_texture = sg.specular_glossiness_texture().is_some();
     m.specular = 1.0;
     m.specular_color = Vec3::from_array(sg.specular_factor());
     m.ior = 1e6;
-    let mut note = "KHR_materials_pbrSpecularGlossiness converted to metallic-roughness \
-                    (diffuse as base colour, roughness 1 − glossiness, the specular colour as F0)"
-        .to_string();
-    if sg.specular_glossiness_texture().is_some() {
-        note.push_str("; the glossiness texture (alpha) is not read, glossinessFactor is used");
-    }
-    Some(note)
+    Some(
+        "KHR_materials_pbrSpecularGlossiness converted to metallic-roughness (diffuse as base \
+         colour, roughness 1 − glossiness, the specular colour as F0)"
+            .to_string(),
+    )
 }
 
 /// The `TEXCOORD` sets a primitive's material reads (0 and 1; others read 0, with a warning).

@@ -133,6 +133,10 @@ pub struct Material {
     pub specular_color: Vec3,
     /// … and that colour's texture (sRGB).
     pub specular_color_texture: Option<TextureSlot>,
+    /// Spec-gloss (`KHR_materials_pbrSpecularGlossiness`): the specular colour texture's A
+    /// (linear) is the glossiness, scaling `1 − roughness` (roughness = 1 − glossinessFactor ×
+    /// A), unless an override took the roughness.
+    pub glossiness_from_specular_texture: bool,
 }
 
 impl Default for Material {
@@ -163,6 +167,7 @@ impl Default for Material {
             specular_texture: None,
             specular_color: Vec3::ONE,
             specular_color_texture: None,
+            glossiness_from_specular_texture: false,
         }
     }
 }
@@ -641,6 +646,13 @@ impl Scene {
                 roughness *= t.y;
             }
         }
+        let specular_color_texel = read(&m.specular_color_texture);
+        if m.glossiness_from_specular_texture
+            && m.roughness_from_texture
+            && let Some(t) = specular_color_texel
+        {
+            roughness = 1.0 - (1.0 - roughness) * t.w;
+        }
         let occlusion = match read(&m.occlusion_texture) {
             Some(t) => 1.0 + m.occlusion_strength * (t.x - 1.0),
             None => 1.0,
@@ -654,7 +666,7 @@ impl Scene {
             specular *= t.w;
         }
         let mut specular_color = m.specular_color;
-        if let Some(t) = read(&m.specular_color_texture) {
+        if let Some(t) = specular_color_texel {
             specular_color *= t.xyz();
         }
         let f0 = (specular_color * ior_f0(m.ior)).min(Vec3::ONE) * specular;

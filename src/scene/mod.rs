@@ -11,7 +11,7 @@
 
 mod alpha;
 pub mod clip;
-mod draco;
+pub mod draco;
 mod extensions;
 mod gltf;
 pub mod ground;

@@ -217,6 +217,79 @@ fn cryptomatte_jobs_assemble_into_the_one_process_frames() {
     assert!(err.contains("no cryptomatte.json"), "{err}");
 }
 
+/// Issue 39: the loader's warnings (here a base colour factor clamped and an ignored
+/// extension) reach an assembled farm render's `settings.txt` and frame headers
+/// (`envshadow/warnings.N`) as they reach a one-process render's: the jobs keep them in
+/// `job.json`, since assembling loads no inputs. Before, the farm's frames lost them.
+#[test]
+fn loader_warnings_reach_the_assembled_settings_and_frame_headers() {
+    let tmp = tempfile::tempdir().unwrap();
+    let t = |name: &str| tmp.path().join(name).to_str().unwrap().to_string();
+    let text = fs::read_to_string(Path::new(ROOT).join("tests/data/formats/cube.gltf")).unwrap();
+    let mut doc: serde_json::Value = serde_json::from_str(&text).unwrap();
+    doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] =
+        serde_json::json!([1.5, 0.5, 0.25, 1.0]);
+    doc["extensionsUsed"] = serde_json::json!(["EXT_not_a_real_extension"]);
+    fs::write(tmp.path().join("cube.gltf"), doc.to_string()).unwrap();
+    let flags = [
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--lights",
+        "20",
+        "--tile",
+        "32",
+        "--threads",
+        "1",
+    ];
+    let (model, cube, r, o) = (t("cube.gltf"), t("cube.toml"), t("ref"), t("farm"));
+    let mut spec = vec!["render", &model, "--write-spec", &cube, "-q"];
+    spec.extend_from_slice(&flags);
+    ok(&envshadow(&spec));
+    let run = |args: &[&str]| {
+        let mut v = args.to_vec();
+        v.extend_from_slice(&["--frames", "0..2"]);
+        v.extend_from_slice(&flags);
+        ok(&envshadow(&v));
+    };
+    run(&["render", &cube, "--out", &r, "--no-report", "-q"]);
+    run(&[
+        "plan", &cube, "--out", &o, "--jobs", "2", "--by", "tiles", "-q",
+    ]);
+    for k in ["0", "1"] {
+        run(&[
+            "render", &cube, "--out", &o, "--job", k, "--of", "2", "--by", "tiles", "-q",
+        ]);
+    }
+    ok(&envshadow(&["assemble", &o, "--no-report"]));
+    let (refdir, out) = (Path::new(&r), Path::new(&o));
+    let settings = fs::read_to_string(refdir.join("settings.txt")).unwrap();
+    assert!(
+        settings.contains("[warnings] 1 = ") && settings.contains("clamped"),
+        "{settings}"
+    );
+    assert!(settings.contains("EXT_not_a_real_extension"), "{settings}");
+    assert_eq!(
+        settings,
+        fs::read_to_string(out.join("settings.txt")).unwrap()
+    );
+    for f in 0..2 {
+        for ext in ["exr", "png"] {
+            let name = format!("frame_{f:04}.{ext}");
+            let a = fs::read(refdir.join(&name)).unwrap();
+            let b = fs::read(out.join(&name)).unwrap();
+            assert!(a == b, "{name} differs from the one-process render");
+        }
+        let exr = fs::read(out.join(format!("frame_{f:04}.exr"))).unwrap();
+        let key = b"envshadow/warnings.1";
+        assert!(
+            exr.windows(key.len()).any(|w| w == key),
+            "frame {f}: no {key:?}"
+        );
+    }
+}
+
 /// Issue 20, item 1: `render --job K --of N --resume` renders again exactly the frames whose
 /// files are missing, truncated or corrupt (the SHA-256 that tiles_NNNN.json records is
 /// checked, not only the size), and `assemble --pending` names the jobs a re-run must render.

@@ -107,13 +107,102 @@ fn posed_scene_inputs() {
 #[test]
 fn gltf_inputs() {
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(dir.path().join("buffer.bin"), files::triangle_buffer()).unwrap();
-    std::fs::write(dir.path().join("texture.png"), files::texture_png()).unwrap();
-    let path = dir.path().join("fuzz.gltf");
+    let path = files::model_folder(dir.path()).join("fuzz.gltf");
     replay("gltf", |input| {
         let bytes = std::fs::read(input).unwrap();
         check_error(exercise::gltf(&bytes, &path), "fuzz.gltf", input);
     });
+}
+
+/// The `uri-*` seeds reach URI resolution in the fuzz target's folder both ways: each spelling
+/// that leaves the folder (a file outside exists, so only the check refuses it) is refused
+/// naming its URI, and the ones that stay inside load. Without this, a seed set that never got
+/// past the JSON would pass the replay above.
+#[test]
+fn uri_seeds_reach_resolution_and_only_the_inside_ones_load() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = files::model_folder(dir.path()).join("fuzz.gltf");
+    let seeds = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz/seeds/gltf");
+    let loads = [
+        "uri-link-in.gltf",
+        "uri-percent-name.gltf",
+        "uri-back-in.gltf",
+    ];
+    let refused = [
+        (
+            "uri-parent.gltf",
+            "'../outside.bin' lies outside the model's folder",
+        ),
+        (
+            "uri-percent-parent.gltf",
+            "'%2e%2e/outside.bin' lies outside",
+        ),
+        ("uri-absolute.gltf", "'/etc/passwd' lies outside"),
+        ("uri-file-scheme.gltf", "'file:///etc/passwd' lies outside"),
+        ("uri-file-host.gltf", "names a file on another host"),
+        ("uri-link-out.gltf", "'outside-link.bin' lies outside"),
+        ("uri-http.gltf", "unsupported URI scheme"),
+        (
+            "uri-image-file-scheme.gltf",
+            "'file:///etc/passwd' lies outside",
+        ),
+        (
+            "uri-image-parent.gltf",
+            "'%2E%2E/%2E%2E/etc/passwd' lies outside",
+        ),
+    ];
+    let mut failures = Failures::new();
+    for name in loads {
+        failures.case(name, || {
+            let bytes = std::fs::read(seeds.join(name)).unwrap();
+            if let Err(e) = exercise::gltf(&bytes, &path) {
+                panic!("refused: {e:#}");
+            }
+        });
+    }
+    for (name, why) in refused {
+        failures.case(name, || {
+            let bytes = std::fs::read(seeds.join(name)).unwrap();
+            match exercise::gltf(&bytes, &path) {
+                Ok(()) => panic!("loaded"),
+                Err(e) => assert!(format!("{e:#}").contains(why), "{e:#}"),
+            }
+        });
+    }
+    failures.assert_none();
+}
+
+#[test]
+fn draco_inputs() {
+    replay("draco", |input| {
+        let bytes = std::fs::read(input).unwrap();
+        let r = exercise::draco(&bytes, Path::new("fuzz/mesh.gltf")).map(|_| ());
+        check_error(r, "fuzz/mesh.gltf", input);
+    });
+}
+
+/// The `draco` seeds reach past the decoder's header into every connectivity and attribute
+/// decoder (their values read out) under the limits they declare; only the stream cut short
+/// and the point cloud (not a mesh) are refused.
+#[test]
+fn draco_seeds_decode_within_their_declared_limits() {
+    let seeds = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz/seeds/draco");
+    let mut failures = Failures::new();
+    for input in inputs("draco") {
+        let name = input.file_name().unwrap().to_str().unwrap().to_string();
+        if !input.starts_with(&seeds) {
+            continue;
+        }
+        failures.case(&name, || {
+            let bytes = std::fs::read(&input).unwrap();
+            let r = exercise::draco(&bytes, Path::new("fuzz/mesh.gltf"));
+            match name.as_str() {
+                "cube-draco-broken.drc" | "points.drc" => assert!(r.is_err(), "{name} decoded"),
+                _ => assert!(r.unwrap() > 0, "{name} decoded to nothing"),
+            }
+        });
+    }
+    failures.assert_none();
 }
 
 fn map_inputs(target: &str, name: &str) {

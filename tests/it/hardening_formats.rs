@@ -122,6 +122,47 @@ fn unlit_and_spec_gloss_materials_render() {
     );
 }
 
+/// Issue 39, item 8: a spec-gloss material's glossiness is its glossinessFactor times the
+/// specularGlossinessTexture's alpha, so roughness = 1 − factor × A where the texture is
+/// sampled (it was 1 − factor, the texture's alpha ignored); without the texture, 1 − factor.
+#[test]
+fn spec_gloss_roughness_reads_the_glossiness_texture_alpha() {
+    let tmp = tempfile::tempdir().unwrap();
+    // 2 × 2 texels of one colour, alpha (glossiness) 64 / 255.
+    let img = image::RgbaImage::from_pixel(2, 2, image::Rgba([10, 10, 10, 64]));
+    img.save(tmp.path().join("gloss.png")).unwrap();
+    let text = std::fs::read_to_string(data("cube-specgloss.gltf")).unwrap();
+    let mut doc: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let sg = &mut doc["materials"][0]["extensions"]["KHR_materials_pbrSpecularGlossiness"];
+    sg["glossinessFactor"] = serde_json::json!(0.8);
+    let plain = tmp.path().join("plain.gltf");
+    std::fs::write(&plain, doc.to_string()).unwrap();
+    let sg = &mut doc["materials"][0]["extensions"]["KHR_materials_pbrSpecularGlossiness"];
+    sg["specularGlossinessTexture"] = serde_json::json!({"index": 0});
+    doc["textures"] = serde_json::json!([{"source": 0}]);
+    doc["images"] = serde_json::json!([{"uri": "gloss.png"}]);
+    let textured = tmp.path().join("textured.gltf");
+    std::fs::write(&textured, doc.to_string()).unwrap();
+    let roughness = |model: &Path| {
+        let scene = envshadow::scene::Scene::load(model).unwrap();
+        let tri = (0..scene.triangles.len())
+            .find(|&t| scene.materials[scene.tri_material[t] as usize].name != "ground")
+            .unwrap();
+        scene
+            .material_at(tri, (0.25, 0.25), 0.0, glam::Vec3::Y)
+            .sample
+            .roughness
+    };
+    let r = roughness(&plain);
+    assert!((r - 0.2).abs() < 1e-5, "without the texture: {r}");
+    let r = roughness(&textured);
+    let want = 1.0 - 0.8 * 64.0 / 255.0;
+    assert!(
+        (r - want).abs() < 1e-3,
+        "with the texture: {r}, want {want}"
+    );
+}
+
 /// Issue 39, item 8: what the renderer cannot read is refused in one line that names the
 /// extension (or the version, or the format) before anything else and says how to convert
 /// the file; another format given as a model or a spec is named by its content.
