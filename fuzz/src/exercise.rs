@@ -138,6 +138,11 @@ fn trace(scene: &Scene) {
         Vec3::NEG_Z,
     ] {
         let origin = centre + d * ((hi - lo).length() + 1.0);
+        // A scene near f32's range puts the origin past it; a render refuses such a scene
+        // (its camera is not finite), and the ray's own check is a debug assertion.
+        if !origin.is_finite() {
+            continue;
+        }
         let _ = accel.intersect(origin, -d);
         let _ = accel.occluded(origin, -d);
     }

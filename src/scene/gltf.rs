@@ -164,6 +164,24 @@ pub(super) fn load_bytes(
     Ok(scene)
 }
 
+/// `image.source()` where it cannot panic: the `gltf` crate unwraps an image's view index, its
+/// `mimeType` when it has a view, and its `uri` when it has none, which its validation does
+/// not all check (a fuzzed file panicked on the `mimeType`).
+fn image_source<'a>(
+    document: &'a Document,
+    image: &::gltf::Image<'a>,
+) -> std::result::Result<::gltf::image::Source<'a>, String> {
+    let json = &document.as_json().images[image.index()];
+    match (&json.buffer_view, &json.mime_type, &json.uri) {
+        (Some(v), _, _) if v.value() >= document.views().len() => {
+            Err(format!("bufferView {} does not exist", v.value()))
+        }
+        (Some(_), None, _) => Err("has a bufferView but no mimeType".into()),
+        (None, _, None) => Err("has neither a uri nor a bufferView".into()),
+        _ => Ok(image.source()),
+    }
+}
+
 /// The files a glTF file's buffers and images name (`data:` URIs aside), resolved and checked
 /// as loading reads them ([`Confinement::resolve`]), each once, in the file's order. A GLB
 /// whose header is broken names none: loading it says what is wrong.
@@ -182,10 +200,14 @@ pub(super) fn external_files(path: &Path, allowed: &AllowedFolder) -> Result<Vec
         ::gltf::buffer::Source::Uri(uri) => Some((format!("buffer {}", b.index()), uri)),
         ::gltf::buffer::Source::Bin => None,
     });
-    let images = document.images().filter_map(|i| match i.source() {
-        ::gltf::image::Source::Uri { uri, .. } => Some((format!("image {}", i.index()), uri)),
-        ::gltf::image::Source::View { .. } => None,
-    });
+    let mut images = Vec::new();
+    for i in document.images() {
+        let what = format!("image {}", i.index());
+        match image_source(&document, &i).map_err(|e| input_error(path, format!("{what}: {e}")))? {
+            ::gltf::image::Source::Uri { uri, .. } => images.push((what, uri)),
+            ::gltf::image::Source::View { .. } => {}
+        }
+    }
     let mut files: Vec<PathBuf> = Vec::new();
     for (what, uri) in buffers.chain(images) {
         if uri.starts_with("data:") {
@@ -732,6 +754,54 @@ fn check_not_too_far(path: &Path, lo: DVec3, hi: DVec3) -> Result<()> {
     Ok(())
 }
 
+/// Refuses a vertex outside its POSITION accessor's declared `min`/`max` (by more than a
+/// thousandth of their span: exporters round them): the specification requires them exact,
+/// and the render origin, the memory estimate and the far-scene check are computed from them
+/// before any vertex is read. A damaged file whose vertices lie 10³⁷ away from their declared
+/// box made the camera not finite, and the BVH builder's own checks fail (found by fuzzing).
+/// Normalised accessors declare their bounds in stored integers, and are left alone.
+fn check_declared_bounds(
+    path: &Path,
+    at: &str,
+    positions: &[[f32; 3]],
+    acc: &Accessor,
+) -> Result<()> {
+    let bound = |v: Option<::gltf::json::Value>| -> Option<[f64; 3]> {
+        let a = v?;
+        let a = a.as_array()?;
+        (a.len() == 3).then_some(())?;
+        Some([a[0].as_f64()?, a[1].as_f64()?, a[2].as_f64()?])
+    };
+    let (Some(lo), Some(hi)) = (bound(acc.min()), bound(acc.max())) else {
+        return Ok(());
+    };
+    if acc.normalized() {
+        return Ok(());
+    }
+    let span = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
+    let size = (0..3)
+        .map(|k| lo[k].abs().max(hi[k].abs()))
+        .fold(0.0, f64::max);
+    let slack = 1e-3 * span + 1e-6 * size;
+    for (i, p) in positions.iter().enumerate() {
+        let outside = (0..3).any(|k| {
+            let x = f64::from(p[k]);
+            !(x >= lo[k] - slack && x <= hi[k] + slack)
+        });
+        if outside {
+            bail_input!(
+                path,
+                "{at}: accessor {} (POSITION): vertex {i} at {:?} lies outside the accessor's \
+                 declared bounds (min {lo:?}, max {hi:?}), which glTF requires exact: the file \
+                 is damaged, or its exporter wrote wrong bounds",
+                acc.index(),
+                p
+            );
+        }
+    }
+    Ok(())
+}
+
 /// `bounds` grown by the corners of a POSITION accessor's declared `min`/`max` placed by
 /// `world`; None when it declares none (the glTF spec requires them; without them the scene
 /// keeps its world coordinates, losing only precision far from the origin).
@@ -850,7 +920,9 @@ impl Images {
             let Some(image) = document.images().nth(index) else {
                 bail_input!(path, "{at}: no such image");
             };
-            let encoded = match image.source() {
+            let source = image_source(document, &image)
+                .map_err(|e| input_error(path, format!("{at}: {e}")))?;
+            let encoded = match source {
                 ::gltf::image::Source::Uri { uri, .. } => {
                     Encoded::Owned(read_uri(path, confinement, uri, &at, MAX_FILE_BYTES)?)
                 }
@@ -1278,6 +1350,7 @@ impl Loader<'_> {
                 positions[i]
             );
         }
+        check_declared_bounds(self.path, at, &positions, pos_acc)?;
         Ok(positions)
     }
 
