@@ -62,6 +62,9 @@ pub struct TileBuffers {
     pub split: Vec<RaySplit>,
     /// Pixels predicted from the previous frame (`--temporal`).
     pub temporal: Vec<bool>,
+    /// Per pixel predicted from the previous frame, its lights whose previous visibility was
+    /// dropped because what a file's animation moved may cross their rays.
+    pub stale: Vec<u32>,
     /// Blockers, for the warping methods.
     pub blockers: Blockers,
     /// The last pixel begun on a surface: one with the same normal has the same lights above
@@ -104,6 +107,7 @@ impl TileBuffers {
         grow(&mut self.rays, n);
         grow(&mut self.split, n);
         grow(&mut self.temporal, n);
+        grow(&mut self.stale, n);
         self.blockers.reserve(n);
         self.last_begun = None;
     }
@@ -120,6 +124,7 @@ impl TileBuffers {
         self.rays[i] = 0;
         self.split[i] = RaySplit::default();
         self.temporal[i] = false;
+        self.stale[i] = 0;
         self.blockers.begin(i);
     }
 

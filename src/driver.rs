@@ -431,6 +431,7 @@ fn shade(
                     if bufs.temporal[q] {
                         counts.temporal_pixels += 1;
                         counts.temporal_rays += bufs.rays[q] as u64;
+                        counts.temporal_stale += u64::from(bufs.stale[q]);
                     }
                     if !s.hit {
                         let (r, a) = catcher::miss(ctx, s.dir);

@@ -44,6 +44,11 @@ pub struct Counts {
     /// other pixels' rays are the spatially predicted ones.
     pub temporal_pixels: u64,
     pub temporal_rays: u64,
+    /// Of those pixels' (pixel, light) pairs the previous frame was sure of, those dropped
+    /// because what a file's animation moved may cross their rays. Not a `stats.csv` column
+    /// (its columns are the farm's and the golden renders'); said by `-v`.
+    #[serde(default)]
+    pub temporal_stale: u64,
     /// Where the tile's rays went: at pixels tracing every light, and queued by flooding (the
     /// rest were queued by the prediction); flooded rays that caught a wrong prediction.
     #[serde(default)]
@@ -66,6 +71,7 @@ impl AddAssign for Counts {
         self.wrong_traced += o.wrong_traced;
         self.temporal_pixels += o.temporal_pixels;
         self.temporal_rays += o.temporal_rays;
+        self.temporal_stale += o.temporal_stale;
         self.rays_every_light += o.rays_every_light;
         self.rays_flooded += o.rays_flooded;
         self.flood_fixes += o.flood_fixes;

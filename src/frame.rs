@@ -18,6 +18,8 @@ use crate::film::{Film, TileResult};
 use crate::history::{Carried, CarryPatch};
 use crate::inputs::Inputs;
 use crate::lattice::Lattice;
+use crate::motion::MotionKind;
+use crate::moved::Moved;
 use crate::output::stats::FrameStats;
 use crate::run::{Progress, TileDone};
 use crate::temporal::{Before, Now};
@@ -126,12 +128,14 @@ pub fn render_tile_list(
         .with_environment_turn(anim.motion.environment_degrees(frame));
     // The link in time, decided once for the frame.
     let prev_lights;
-    // A deforming animation moves shadows over still surfaces too: the previous frame's
-    // visibility does not vote on a frame whose geometry changed (it is predicted from its
-    // own pixels, as a key frame is, and still carries for the next).
-    let prev = match temporal.prev {
-        Some(c) if inputs.deforms_between(anim, c.frame, frame)? => None,
-        p => p,
+    let animated = inputs.animated_triangles();
+    let change = temporal
+        .prev
+        .map(|c| change_since(anim, frame, c, scene, &animated));
+    let (prev, moved) = match change {
+        Some(Change::Moved(m)) => (temporal.prev, Some(m)),
+        Some(Change::Unknown) => (None, None),
+        _ => (temporal.prev, None),
     };
     let before = match prev {
         Some(carried) => {
@@ -140,6 +144,7 @@ pub fn render_tile_list(
                 carried,
                 camera: anim.camera(&inputs.scene, carried.frame)?,
                 lights: &prev_lights,
+                moved: moved.as_ref(),
             })
         }
         None => None,
@@ -177,6 +182,10 @@ pub fn render_tile_list(
     let mut film = Film::new(width, height, work.holds());
     film.cryptomatte = ids.map(|i| std::sync::Arc::new(i.manifests(scene.triangle_count())));
     let mut carried = link.carried(frame, width, height, ctx.words());
+    // A pose of the file's animation: the next frame compares its positions with these.
+    if let (Some(c), false) = (&mut carried, animated.is_empty()) {
+        c.keep_positions(&scene.positions);
+    }
     for (r, patch) in &results {
         film.add(r);
         if let (Some(c), Some(p)) = (&mut carried, patch) {
@@ -201,6 +210,50 @@ pub fn render_tile_list(
         vfov_deg: camera.vfov_deg,
     };
     Ok((film, stats, carried))
+}
+
+/// How the geometry changed since the carried frame.
+enum Change {
+    /// Nothing moved (no animation plays, or its pose held): the previous frame votes
+    /// everywhere.
+    Still,
+    /// The file's animation moved these triangles: the previous frame votes only where its
+    /// rays cannot meet them ([`crate::moved`]).
+    Moved(Moved),
+    /// It moved something the previous frame's view cannot place: the previous frame does
+    /// not vote (the frame is predicted from its own pixels, as a key frame is).
+    Unknown,
+}
+
+/// What the file's animation moved between the carried frame `before` and `frame` (posed as
+/// `scene`), of the triangles `animated` it may move.
+///
+/// [ours] A spin or a turning environment at a deforming frame is left to the frame itself
+/// (`Unknown`): the spin's votes are pulled through the turn in the object's space and the
+/// environment's are read in place, neither from where the moved triangles were.
+fn change_since(
+    anim: &Animation,
+    frame: usize,
+    before: &Carried,
+    scene: &crate::scene::Scene,
+    animated: &[std::ops::Range<usize>],
+) -> Change {
+    if animated.is_empty() {
+        return Change::Still;
+    }
+    let Some(positions) = before.positions() else {
+        return Change::Unknown;
+    };
+    match Moved::between(positions, scene, animated) {
+        None => Change::Still,
+        Some(_)
+            if anim.motion.segment_at(frame).kind != MotionKind::Orbit
+                && anim.motion.segment_at(frame).kind != MotionKind::Still =>
+        {
+            Change::Unknown
+        }
+        Some(m) => Change::Moved(m),
+    }
 }
 
 /// Runs the frame's shared phases (the grid's coarse levels) over every tile the rendered

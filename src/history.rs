@@ -11,6 +11,7 @@ use crate::buffers::TileBuffers;
 use crate::camera::Camera;
 use crate::context::Surface;
 use crate::lights::{LightSet, Tracks};
+use crate::moved::Moved;
 use crate::tile::Rect;
 
 /// Which lights a frame marks for the next one as *edge lights*: lights a shadow edge may
@@ -46,6 +47,9 @@ pub struct Carried {
     p: Vec<Vec3>,
     n: Vec<Vec3>,
     bits: Vec<u64>,
+    /// The frame's vertex positions, kept when a file's animation posed it, so the next
+    /// frame finds what moved ([`Moved`]); empty otherwise.
+    positions: Vec<Vec3>,
 }
 
 /// The carried data of one tile's pixels, to be inserted into its frame's [`Carried`].
@@ -72,7 +76,18 @@ impl Carried {
             p: vec![Vec3::ZERO; n],
             n: vec![Vec3::ZERO; n],
             bits: vec![0; n * rows * words],
+            positions: Vec::new(),
         }
+    }
+
+    /// Keeps the frame's vertex positions (a pose of the file's animation) for the next frame.
+    pub fn keep_positions(&mut self, positions: &[Vec3]) {
+        self.positions = positions.to_vec();
+    }
+
+    /// The frame's vertex positions, if kept ([`keep_positions`](Self::keep_positions)).
+    pub fn positions(&self) -> Option<&[Vec3]> {
+        (!self.positions.is_empty()).then_some(&self.positions[..])
     }
 
     /// Adds one tile's pixels.
@@ -102,6 +117,12 @@ impl Carried {
         (self.bits[base + m], self.bits[base + self.words + m], edge)
     }
 
+    /// The surface point pixel `q` saw (world space of its frame).
+    #[inline]
+    pub fn point(&self, q: usize) -> Vec3 {
+        self.p[q]
+    }
+
     /// Whether the light-space shadow edges are kept (a spinning object).
     pub fn has_edges(&self) -> bool {
         self.rows > 2
@@ -109,7 +130,7 @@ impl Carried {
 
     /// Bytes held.
     pub fn bytes(&self) -> usize {
-        self.hit.len() * (1 + 24) + self.bits.len() * 8
+        self.hit.len() * (1 + 24) + self.bits.len() * 8 + self.positions.len() * 12
     }
 }
 
@@ -215,6 +236,9 @@ pub struct Prev<'a> {
     /// frame and the previous light its votes come from (spin; 0 for an orbit): lights this
     /// close to a pixel's tangent plane are at its horizon edge.
     grazing: f32,
+    /// What a file's animation moved since the previous frame: its visibility does not
+    /// predict a ray that may cross it.
+    moved: Option<&'a Moved>,
 }
 
 impl<'a> Prev<'a> {
@@ -239,7 +263,18 @@ impl<'a> Prev<'a> {
                 / camera.height as f32,
             remap,
             grazing: 0.0,
+            moved: None,
         }
+    }
+
+    /// This view with what the file's animation moved since the previous frame.
+    pub fn with_moved(self, moved: Option<&'a Moved>) -> Prev<'a> {
+        Prev { moved, ..self }
+    }
+
+    /// What the file's animation moved since the previous frame, if anything.
+    pub fn moved(&self) -> Option<&'a Moved> {
+        self.moved
     }
 
     /// This view with `grazing` (see [`grazing`](Self::grazing)).
@@ -271,6 +306,17 @@ impl<'a> Prev<'a> {
         &self.remap
     }
 
+    /// How far from `s`'s point the previous frame's voters may lie, and off its tangent plane:
+    /// 2.5 and 0.5 pixel footprints at the point's depth (grazing surfaces stretch the first).
+    #[inline]
+    fn reach(&self, s: &Surface) -> (f32, f32) {
+        let view = s.p - self.eye;
+        let dist = view.length();
+        let footprint = dist * self.pixel_angle;
+        let cos = (s.n.dot(view) / dist).abs().max(0.25);
+        (2.5 * footprint / cos, 0.5 * footprint)
+    }
+
     /// The previous frame's pixels (up to four around the reprojected point) that saw the
     /// surface point of `s`: near it, on its tangent plane, with a similar normal.
     pub fn voters(&self, s: &Surface, out: &mut [usize; 4]) -> usize {
@@ -284,12 +330,7 @@ impl<'a> Prev<'a> {
         if !(fx >= -1.0 && fy >= -1.0 && fx < c.width as f32 && fy < c.height as f32) {
             return 0;
         }
-        // One pixel's footprint at the point's depth; grazing surfaces stretch it.
-        let view = s.p - self.eye;
-        let dist = view.length();
-        let footprint = dist * self.pixel_angle;
-        let cos = (s.n.dot(view) / dist).abs().max(0.25);
-        let (near, plane) = (2.5 * footprint / cos, 0.5 * footprint);
+        let (near, plane) = self.reach(s);
         let mut k = 0;
         for (dx, dy) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
             let (x, y) = (fx as i64 + dx, fy as i64 + dy);

@@ -85,14 +85,23 @@ impl Inputs {
         }
     }
 
-    /// Whether the geometry of frame `to` differs from frame `from`'s by the played
-    /// animation (not by a spin, which moves it rigidly): then `from`'s visibility does not
-    /// predict `to`'s anywhere, since a moved occluder moves shadows over still surfaces too.
-    pub fn deforms_between(&self, anim: &Animation, from: usize, to: usize) -> Result<bool> {
-        if !self.playing.is_some_and(|p| p.deforms) {
-            return Ok(false);
+    /// The triangles the played animation may move (those of the primitives it poses), as
+    /// ranges of the scene's: none when no animation plays or it moves no vertex. Between two
+    /// frames, only these are compared ([`crate::moved::Moved`]).
+    pub fn animated_triangles(&self) -> Vec<std::ops::Range<usize>> {
+        let (Some(p), Some(rig)) = (self.playing, &self.scene.rig) else {
+            return Vec::new();
+        };
+        if !p.deforms {
+            return Vec::new();
         }
-        Ok(self.clip_at(anim, from)? != self.clip_at(anim, to)?)
+        let data = &rig.data;
+        data.moved_primitives(p.clip)
+            .iter()
+            .zip(&data.primitives)
+            .filter(|(m, _)| **m)
+            .map(|(_, prim)| prim.triangles.clone())
+            .collect()
     }
 
     /// The scene `frame` shows, when it is not the still scene: the played animation's pose

@@ -54,6 +54,7 @@ pub mod lattice;
 pub mod lights;
 pub mod limits;
 pub mod motion;
+pub mod moved;
 pub mod offset;
 pub mod output;
 pub mod paper;

@@ -25,6 +25,7 @@ use crate::anim::{Animation, MotionKind, Pivot};
 use crate::camera::Camera;
 use crate::history::{Carried, Edges, Prev};
 use crate::lights::{LightSet, Tracks};
+use crate::moved::Moved;
 use crate::predict::{Link, Read};
 
 /// Whether `frame` starts a chain (is predicted from its own pixels only).
@@ -86,6 +87,8 @@ pub struct Before<'a, 'b> {
     pub carried: &'a Carried,
     pub camera: Camera,
     pub lights: &'b LightSet,
+    /// What a file's animation moved since (None: nothing did).
+    pub moved: Option<&'a Moved>,
 }
 
 /// Frame `now`'s link in time, decided here once from the motion at that frame: what it reads
@@ -124,6 +127,7 @@ fn read<'a>(anim: &Animation, now: &Now, kind: MotionKind, before: Before<'a, '_
         carried,
         camera: prev_camera,
         lights: prev_lights,
+        moved,
     } = before;
     debug_assert_eq!(carried.frame + 1, now.frame);
     let then = anim.scene_transform(carried.frame, now.pivot);
@@ -165,7 +169,9 @@ fn read<'a>(anim: &Animation, now: &Now, kind: MotionKind, before: Before<'a, '_
     // [ours] Lights grazing the surface by less than that angle are voted on from a direction
     // that may lie on the other side of a grazing shadow (docs/temporal.md, "Flat panels").
     let grazing = libm::sqrtf((1.0 - worst * worst).max(0.0));
-    let prev = Prev::new(carried, to_prev, prev_camera, now.camera, remap).with_grazing(grazing);
+    let prev = Prev::new(carried, to_prev, prev_camera, now.camera, remap)
+        .with_grazing(grazing)
+        .with_moved(moved);
     Read::Reproject(prev)
 }
 

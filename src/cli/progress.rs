@@ -152,7 +152,7 @@ impl Progress for Reporter {
             self.line(&format!(
                 "frame {}: {} rays = {} where the prediction was unsure + {} at pixels tracing \
                  every light + {} flooded ({} of them fixed a wrong prediction); {} pixels from \
-                 the previous frame ({} rays); halo {} pixels, {} rays",
+                 the previous frame ({} rays{}); halo {} pixels, {} rays",
                 s.frame,
                 c.rays,
                 c.rays_unsure(),
@@ -161,6 +161,7 @@ impl Progress for Reporter {
                 c.flood_fixes,
                 c.temporal_pixels,
                 c.temporal_rays,
+                stale_note(c.temporal_stale),
                 c.halo_pixels,
                 c.halo_rays
             ));
@@ -198,3 +199,13 @@ impl Progress for Reporter {
 pub struct Quiet;
 
 impl Progress for Quiet {}
+
+/// What `-v` says of the previous frame's pairs a file's animation made stale: nothing when
+/// none were (a rigid frame's line is as it was).
+fn stale_note(stale: u64) -> String {
+    if stale == 0 {
+        String::new()
+    } else {
+        format!(", {stale} of its pairs dropped where the animation moved")
+    }
+}

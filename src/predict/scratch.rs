@@ -27,8 +27,9 @@ pub struct Scratch {
 }
 
 /// Rows of `Scratch::ext`: the temporal prediction (blocked, sure, edge), before and after
-/// pulling it through a spinning object's turn, and the pixel's grazing lights.
-pub(super) const EXT_ROWS: usize = 7;
+/// pulling it through a spinning object's turn, the pixel's grazing lights, and the lights
+/// whose rays may cross what a file's animation moved.
+pub(super) const EXT_ROWS: usize = 8;
 
 impl Scratch {
     /// Sizes the scratch for `lights` lights.

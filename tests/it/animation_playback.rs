@@ -574,27 +574,57 @@ fn an_animated_frame_is_identical_whatever_the_tiles_and_threads() {
 }
 
 #[test]
-fn a_deforming_frame_does_not_read_the_previous_frames_visibility() {
-    // With --temporal, each frame of the walking fox is predicted from its own pixels (the
-    // previous frame's shadows moved with the fox): the chain renders exactly the frames a
-    // run without temporal prediction renders, and no pixel comes from the previous frame.
+fn a_deforming_frame_reads_the_previous_frame_only_where_nothing_moved_across() {
+    // With --temporal, the walking fox's frames read the previous frame on the still ground,
+    // except the pairs whose rays may cross where the fox was or is (src/moved.rs): they trace
+    // fewer rays than the frames rendered alone, and their wrong pairs against brute force stay
+    // within the acceptance's 0.05 % of the queries above the frame alone's (at this size and
+    // 24 lights the spatial method alone misses 0.2 %; at 640×480 both are under 0.01 %,
+    // docs/temporal.md).
     let mut anim = spec("Fox.glb", "orbit", 12, "animation = \"Walk\"", 24);
+    anim.render.width = 160;
+    anim.render.height = 120;
     let inputs = Inputs::load(&anim).unwrap();
-    let alone: Vec<Film> = (0..3).map(|f| film(&anim, &inputs, f)).collect();
+    let alone: Vec<_> = (0..4)
+        .map(|f| render_frame(&anim, &inputs, f, None, &Silent).unwrap().1)
+        .collect();
     anim.render.temporal = true;
     let mut prev: Option<Carried> = None;
+    let (mut rays, mut rays_alone) = (0, 0);
     for (f, want) in alone.iter().enumerate() {
         let link = Temporal {
             prev: prev.as_ref(),
             carry: true,
             no_validate: false,
         };
-        let (film, stats, carried) =
+        let (_, stats, carried) =
             render_frame_with(&anim, &inputs, f, None, &Silent, &link).unwrap();
-        assert_eq!(stats.counts.temporal_pixels, 0, "frame {f}");
-        common::assert_same_film(&film, want);
+        let c = stats.counts;
+        if f == 0 {
+            // The chain's first frame has no previous frame: as alone.
+            assert_eq!(c, want.counts);
+        } else {
+            assert!(c.temporal_pixels > 0, "frame {f} reads the previous frame");
+            assert!(
+                c.temporal_stale > 0,
+                "frame {f}: pairs the fox moved across dropped"
+            );
+            rays += c.rays;
+            rays_alone += want.counts.rays;
+        }
+        let wrong = (c.wrong_visible + c.wrong_blocked) as f64;
+        let alone = (want.counts.wrong_visible + want.counts.wrong_blocked) as f64;
+        assert!(
+            wrong <= alone + 5e-4 * c.queries as f64,
+            "frame {f}: {wrong} wrong pairs of {} ({alone} alone)",
+            c.queries
+        );
         prev = carried;
     }
+    assert!(
+        rays < rays_alone,
+        "{rays} rays with --temporal, {rays_alone} without"
+    );
     // A still pose (the animation held past its end) is read again.
     let mut held = spec(
         "Fox.glb",

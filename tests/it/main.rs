@@ -10,6 +10,7 @@
 #![allow(clippy::disallowed_methods)]
 
 mod alpha;
+mod animation_farm;
 mod animation_playback;
 mod bench_script;
 mod chaos;
