@@ -644,6 +644,42 @@ mod leaf {
         }
     }
 
+    /// Whether a hit on primitive `i` stops the ray: always, unless the triangle is cut out;
+    /// then where the query's test says so at `u = e1 / det`, `v = e2 / det` (the weights of
+    /// v1 and v2), computed only here, where they are read. Every kernel decides through it.
+    #[inline(always)]
+    fn stops<C: Cutout + ?Sized>(cut: &Cut<C>, cut_out: bool, i: usize, e: [f32; 3]) -> bool {
+        let [e1, e2, det] = e;
+        !cut_out || {
+            let inv_det = 1.0 / det;
+            cut.stops(i, e1 * inv_det, e2 * inv_det)
+        }
+    }
+
+    /// The SIMD kernels' lanes `hits` of the group from primitive `i`, in order: each taken
+    /// into `best` when nearer and it [`stops`] the ray. `cuts` are the cut-out lanes, for
+    /// which `e` holds e1, e2 and det.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn take_lanes<C: Cutout + ?Sized, const N: usize>(
+        cut: &Cut<C>,
+        i: usize,
+        mut hits: u32,
+        cuts: u32,
+        ts: &[f32; N],
+        e: &[[f32; N]; 3],
+        best: &mut (f32, usize),
+    ) {
+        while hits != 0 {
+            let l = hits.trailing_zeros() as usize;
+            let lane = [e[0][l], e[1][l], e[2][l]];
+            if ts[l] < best.0 && stops(cut, cuts >> l & 1 != 0, i + l, lane) {
+                *best = (ts[l], i + l);
+            }
+            hits &= hits - 1;
+        }
+    }
+
     /// One triangle, in plain f32 (the reference the SIMD lanes follow; non-x86 hosts).
     #[cfg_attr(all(target_arch = "x86_64", not(test)), allow(dead_code))]
     pub(super) fn hit_scalar<C: Cutout + ?Sized>(
@@ -683,10 +719,7 @@ mod leaf {
                 && det.abs() > 0.0
                 && (0.0..f32::INFINITY).contains(&t)
                 && t < best
-                && (cut.lanes(i) & 1 == 0 || {
-                    let inv_det = 1.0 / det;
-                    cut.stops(i, e1 * inv_det, e2 * inv_det)
-                })
+                && stops(cut, cut.lanes(i) & 1 != 0, i, [e1, e2, det])
             {
                 (best, index) = (t, i);
             }
@@ -710,7 +743,7 @@ mod leaf {
         use std::arch::x86_64::*;
         let (o, d) = (ray.origin, ray.direction);
         let s = Shear::of(d);
-        let (mut best, mut index) = (ray.tmax, 0);
+        let mut best = (ray.tmax, 0);
         let mut m = mask;
         let mut i = base;
         unsafe {
@@ -762,37 +795,26 @@ mod leaf {
                         & _mm_movemask_ps(_mm_cmplt_ps(t, _mm_set1_ps(f32::INFINITY)))
                         & nonzero
                         & !(negative & positive);
-                    let mut hits = ok as u32 & lanes;
+                    let hits = ok as u32 & lanes;
                     if hits != 0 {
                         let mut ts = [0.0f32; 4];
                         _mm_storeu_ps(ts.as_mut_ptr(), t);
                         let cuts = cut.lanes(i) & hits;
-                        // The barycentrics only where a cut-out test reads them: the
-                        // scalar kernel's operations, lane by lane.
-                        let (mut e1s, mut e2s, mut dets) = ([0.0f32; 4], [0.0f32; 4], [0.0f32; 4]);
+                        // The edge functions only where a cut-out test reads them.
+                        let mut e = [[0.0f32; 4]; 3];
                         if cuts != 0 {
-                            _mm_storeu_ps(e1s.as_mut_ptr(), e1);
-                            _mm_storeu_ps(e2s.as_mut_ptr(), e2);
-                            _mm_storeu_ps(dets.as_mut_ptr(), det);
-                        }
-                        while hits != 0 {
-                            let l = hits.trailing_zeros() as usize;
-                            let stops = || {
-                                let inv_det = 1.0 / dets[l];
-                                cut.stops(i + l, e1s[l] * inv_det, e2s[l] * inv_det)
-                            };
-                            if ts[l] < best && (cuts >> l & 1 == 0 || stops()) {
-                                (best, index) = (ts[l], i + l);
+                            for (out, v) in e.iter_mut().zip([e1, e2, det]) {
+                                _mm_storeu_ps(out.as_mut_ptr(), v);
                             }
-                            hits &= hits - 1;
                         }
+                        take_lanes(cut, i, hits, cuts, &ts, &e, &mut best);
                     }
                 }
                 m >>= 4;
                 i += 4;
             }
         }
-        (best, index)
+        best
     }
 
     /// Eight triangles per step with AVX2 (no FMA: the same roundings as SSE2).
@@ -812,7 +834,7 @@ mod leaf {
         use std::arch::x86_64::*;
         let (o, d) = (ray.origin, ray.direction);
         let s = Shear::of(d);
-        let (mut best, mut index) = (ray.tmax, 0);
+        let mut best = (ray.tmax, 0);
         let mut m = mask;
         let mut i = base;
         unsafe {
@@ -870,37 +892,26 @@ mod leaf {
                         ))
                         & nonzero
                         & !(negative & positive);
-                    let mut hits = ok as u32 & lanes;
+                    let hits = ok as u32 & lanes;
                     if hits != 0 {
                         let mut ts = [0.0f32; 8];
                         _mm256_storeu_ps(ts.as_mut_ptr(), t);
                         let cuts = cut.lanes(i) & hits;
-                        // The barycentrics only where a cut-out test reads them: the
-                        // scalar kernel's operations, lane by lane.
-                        let (mut e1s, mut e2s, mut dets) = ([0.0f32; 8], [0.0f32; 8], [0.0f32; 8]);
+                        // The edge functions only where a cut-out test reads them.
+                        let mut e = [[0.0f32; 8]; 3];
                         if cuts != 0 {
-                            _mm256_storeu_ps(e1s.as_mut_ptr(), e1);
-                            _mm256_storeu_ps(e2s.as_mut_ptr(), e2);
-                            _mm256_storeu_ps(dets.as_mut_ptr(), det);
-                        }
-                        while hits != 0 {
-                            let l = hits.trailing_zeros() as usize;
-                            let stops = || {
-                                let inv_det = 1.0 / dets[l];
-                                cut.stops(i + l, e1s[l] * inv_det, e2s[l] * inv_det)
-                            };
-                            if ts[l] < best && (cuts >> l & 1 == 0 || stops()) {
-                                (best, index) = (ts[l], i + l);
+                            for (out, v) in e.iter_mut().zip([e1, e2, det]) {
+                                _mm256_storeu_ps(out.as_mut_ptr(), v);
                             }
-                            hits &= hits - 1;
                         }
+                        take_lanes(cut, i, hits, cuts, &ts, &e, &mut best);
                     }
                 }
                 m >>= 8;
                 i += 8;
             }
         }
-        (best, index)
+        best
     }
 }
 
