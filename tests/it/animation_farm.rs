@@ -5,11 +5,12 @@
 
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
 
 use envshadow::output::stats::{FrameStats, read_stats};
 
 use crate::common;
+use crate::farm::{envshadow, ok};
 
 const BIN: &str = env!("CARGO_BIN_EXE_envshadow");
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
@@ -27,24 +28,6 @@ fn write_spec(dir: &Path) -> PathBuf {
     let spec = dir.join("fox.toml");
     fs::write(&spec, text).unwrap();
     spec
-}
-
-fn envshadow(args: &[&str]) -> Output {
-    Command::new(BIN)
-        .args(args)
-        .current_dir(ROOT)
-        .output()
-        .expect("running envshadow")
-}
-
-fn ok(o: &Output) {
-    assert!(
-        o.status.success(),
-        "exit {:?}\nstdout: {}\nstderr: {}",
-        o.status.code(),
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    );
 }
 
 /// A one-process render of `spec` into `out` with `flags`.

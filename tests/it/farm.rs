@@ -32,7 +32,7 @@ const FLAGS: &[&str] = &[
     "1",
 ];
 
-fn envshadow(args: &[&str]) -> Output {
+pub(crate) fn envshadow(args: &[&str]) -> Output {
     Command::new(BIN)
         .args(args)
         .current_dir(ROOT)
@@ -40,7 +40,7 @@ fn envshadow(args: &[&str]) -> Output {
         .expect("running envshadow")
 }
 
-fn ok(o: &Output) -> String {
+pub(crate) fn ok(o: &Output) -> String {
     assert!(
         o.status.success(),
         "exit {:?}\nstdout: {}\nstderr: {}",
