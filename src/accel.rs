@@ -12,6 +12,7 @@
 //! shadow queries also take the ray's end (`tmax`: a point light's distance). Hits on other
 //! triangles never call the test, so an opaque scene pays one predictable branch per hit group.
 
+use std::sync::Arc;
 use std::time::Duration;
 
 use glam::{Vec3, Vec3A};
@@ -56,18 +57,22 @@ impl Cutout for Opaque {
     }
 }
 
-/// A bounding volume hierarchy over a triangle soup, built once per frame geometry.
+/// The scene's triangles for ray queries: one hierarchy over them all, or two when a file's
+/// animation moves some of them (issue 41) — the still triangles' hierarchy, built once and
+/// shared by every frame, and the moving ones', rebuilt per frame ([`Accel::reposed`]). A
+/// query walks each hierarchy in turn, still first: a closest hit keeps the nearer (the still
+/// one among equals), a shadow ray is blocked by either. With one hierarchy the answers are
+/// those of that hierarchy alone, bit for bit.
 pub struct Accel {
-    bvh: CwBvh,
-    /// Triangles in the BVH's primitive order, so a leaf indexes them directly.
-    tris: Vec<Triangle>,
-    /// BVH primitive order → the scene's triangle index.
-    scene_index: Vec<u32>,
-    /// The same triangles as precomputed planes for the shadow-ray leaf kernels.
-    planes: TriPlanes,
-    /// Cut-out triangles as a bitset in the BVH's primitive order, padded like the planes;
-    /// empty when there are none.
-    cut: Vec<u64>,
+    still: Arc<Hierarchy>,
+    moving: Option<Moving>,
+}
+
+/// The hierarchy of the triangles an animation moves, and which they are.
+struct Moving {
+    hierarchy: Hierarchy,
+    /// The scene triangles it holds, ascending.
+    which: Arc<Vec<u32>>,
 }
 
 impl Accel {
@@ -84,64 +89,69 @@ impl Accel {
         triangles: &[[u32; 3]],
         cut_out: &[bool],
     ) -> Accel {
-        let soup: Vec<Triangle> = triangles
-            .iter()
-            .map(|t| Triangle {
-                v0: positions[t[0] as usize].into(),
-                v1: positions[t[1] as usize].into(),
-                v2: positions[t[2] as usize].into(),
-            })
-            .collect();
-        if soup.is_empty() {
-            return Accel {
-                bvh: CwBvh::default(),
-                tris: Vec::new(),
-                scene_index: Vec::new(),
-                planes: TriPlanes::new(&[]),
-                cut: Vec::new(),
-            };
+        let all: Vec<u32> = (0..triangles.len() as u32).collect();
+        Accel {
+            still: Arc::new(Hierarchy::build(positions, triangles, &all, cut_out)),
+            moving: None,
         }
-        let bvh = build_cwbvh_from_tris(
-            &soup,
-            // Measured on the default method's rays (callgrind, bunny, 400 lights): slower presets
-            // and smaller leaves change traversal work by under 4 % for 1.2–3× the build time,
-            // and the BVH is rebuilt every frame.
-            BvhBuildParams::medium_build(),
-            &mut Duration::default(),
-        );
-        let tris: Vec<Triangle> = bvh
-            .primitive_indices
-            .iter()
-            .map(|&i| soup[i as usize])
-            .collect();
-        let scene_index = bvh.primitive_indices.clone();
-        let planes = TriPlanes::new(&tris);
-        let mut cut = Vec::new();
-        if cut_out.iter().any(|&c| c) {
-            cut = vec![0u64; planes.stride.div_ceil(64) + 1];
-            for (i, &t) in scene_index.iter().enumerate() {
-                if cut_out.get(t as usize) == Some(&true) {
-                    cut[i / 64] |= 1 << (i % 64);
-                }
-            }
+    }
+
+    /// [`build_with_cutouts`](Self::build_with_cutouts) in two hierarchies: the triangles
+    /// `moving[tri]` marks (those an animation moves) apart from the others, so that a frame
+    /// of another pose rebuilds only theirs ([`reposed`](Self::reposed)). One hierarchy, shared
+    /// by every pose, when none moves.
+    pub fn build_split(
+        positions: &[Vec3],
+        triangles: &[[u32; 3]],
+        cut_out: &[bool],
+        moving: &[bool],
+    ) -> Accel {
+        let (moves, stays): (Vec<u32>, Vec<u32>) =
+            (0..triangles.len() as u32).partition(|&t| moving.get(t as usize) == Some(&true));
+        if moves.is_empty() {
+            return Accel::build_with_cutouts(positions, triangles, cut_out);
         }
         Accel {
-            bvh,
-            tris,
-            scene_index,
-            planes,
-            cut,
+            still: Arc::new(Hierarchy::build(positions, triangles, &stays, cut_out)),
+            moving: Some(Moving {
+                hierarchy: Hierarchy::build(positions, triangles, &moves, cut_out),
+                which: Arc::new(moves),
+            }),
         }
+    }
+
+    /// This [`build_split`](Self::build_split) hierarchy for another pose of the same scene
+    /// (`positions` of the same triangles): the still triangles' hierarchy is shared, the
+    /// moving ones' rebuilt over their new positions. The still triangles are checked to lie
+    /// bit for bit where they lay (an animation leaves what it does not move as it was); if
+    /// one does not, the whole is rebuilt, so the answers are always this pose's.
+    pub fn reposed(&self, positions: &[Vec3], triangles: &[[u32; 3]], cut_out: &[bool]) -> Accel {
+        if !self.still.lies_in(positions, triangles) {
+            return Accel::build_with_cutouts(positions, triangles, cut_out);
+        }
+        Accel {
+            still: Arc::clone(&self.still),
+            moving: self.moving.as_ref().map(|m| Moving {
+                hierarchy: Hierarchy::build(positions, triangles, &m.which, cut_out),
+                which: Arc::clone(&m.which),
+            }),
+        }
+    }
+
+    /// The hierarchies, still first.
+    #[inline(always)]
+    fn parts(&self) -> impl Iterator<Item = &Hierarchy> {
+        std::iter::once(&*self.still).chain(self.moving.as_ref().map(|m| &m.hierarchy))
     }
 
     /// Whether any triangle is cut out.
     pub fn has_cutouts(&self) -> bool {
-        !self.cut.is_empty()
+        self.parts().any(|h| !h.cut.is_empty())
     }
 
     /// Number of triangles in the hierarchy.
     pub fn triangle_count(&self) -> usize {
-        self.tris.len()
+        self.parts().map(|h| h.tris.len()).sum()
     }
 
     /// The closest hit along `origin + t·dir`, t in (0, ∞), every triangle opaque.
@@ -157,33 +167,17 @@ impl Accel {
         dir: Vec3,
         cut: &C,
     ) -> Option<Hit> {
-        if self.tris.is_empty() {
-            return None;
+        let mut ray = ray(origin, dir, f32::INFINITY);
+        let mut found = None;
+        for h in self.parts() {
+            if let Some((t, prim)) = h.closest(&ray, cut) {
+                // A later hierarchy's hit must come nearer.
+                ray.tmax = t;
+                found = Some((h, t, prim));
+            }
         }
-        let ray = ray(origin, dir, f32::INFINITY);
-        let cut = self.cut_with(cut);
-        #[cfg(target_arch = "x86_64")]
-        let found = if crate::simd::has_avx2() {
-            // SAFETY: AVX2 was detected on this CPU.
-            unsafe { self.closest_avx2(&ray, &cut) }
-        } else {
-            self.closest_with(&ray, node_hits, |p, base, mask, ray| {
-                // SAFETY: the group's lanes lie within the padded planes.
-                unsafe { leaf::hit_sse2(p, base, mask, ray, &cut) }
-            })
-        };
-        #[cfg(not(target_arch = "x86_64"))]
-        let found = self.closest_with(&ray, node_hits, |p, base, mask, ray| {
-            leaf::hit_scalar(p, base, mask, ray, &cut)
-        });
-        let (t, prim) = found?;
-        let (u, v) = barycentrics(&self.tris[prim], ray.origin, ray.direction);
-        Some(Hit {
-            t,
-            tri: self.scene_index[prim],
-            u,
-            v,
-        })
+        let (h, t, prim) = found?;
+        Some(h.hit(prim, t, &ray))
     }
 
     /// [`intersect_cut`](Self::intersect_cut) for up to [`PACKET`] rays from one origin (a
@@ -207,47 +201,337 @@ impl Accel {
             "a test and an answer for every ray"
         );
         #[cfg(target_arch = "x86_64")]
-        if crate::simd::has_avx2() && !self.tris.is_empty() && n > 0 {
+        if crate::simd::has_avx2() && n > 0 {
             let rays: [Ray; PACKET] =
                 std::array::from_fn(|r| ray(origin, dirs[r.min(n - 1)], f32::INFINITY));
+            // Per ray: the nearest hit so far, and the hierarchy it lies in.
             let mut best = [(f32::INFINITY, usize::MAX); PACKET];
-            // obvhs orders a node's children by the ray's octant; rays of one octant walk in
-            // one order, so each packet holds one octant's rays (a pixel's rays nearly always
-            // share theirs).
-            let octant = |r: usize| octant_inv4(rays[r].direction);
-            let mut left = if n == 32 { u32::MAX } else { (1u32 << n) - 1 };
-            while left != 0 {
-                let oct = octant(left.trailing_zeros() as usize);
-                let mut group = 0u32;
-                let mut m = left;
-                while m != 0 {
-                    let r = m.trailing_zeros() as usize;
-                    m &= m - 1;
-                    if octant(r) == oct {
-                        group |= 1 << r;
+            let mut owner = [0usize; PACKET];
+            for (k, h) in self.parts().enumerate() {
+                // Each hierarchy starts from the nearest hit of those before it.
+                let mut mine = best.map(|(t, _)| (t, usize::MAX));
+                h.closest_packet(&rays, n, cuts, &mut mine);
+                for r in 0..n {
+                    if mine[r].1 != usize::MAX {
+                        best[r] = mine[r];
+                        owner[r] = k;
                     }
                 }
-                left &= !group;
-                // SAFETY: AVX2 was detected on this CPU.
-                unsafe { avx2::closest_packet(self, &rays, group, oct, cuts, &mut best) };
             }
+            let parts: Vec<&Hierarchy> = self.parts().collect();
             for (r, h) in hits[..n].iter_mut().enumerate() {
                 let (t, prim) = best[r];
-                *h = (prim != usize::MAX).then(|| {
-                    let (u, v) = barycentrics(&self.tris[prim], rays[r].origin, rays[r].direction);
-                    Hit {
-                        t,
-                        tri: self.scene_index[prim],
-                        u,
-                        v,
-                    }
-                });
+                *h = (prim != usize::MAX).then(|| parts[owner[r]].hit(prim, t, &rays[r]));
             }
             return;
         }
         // Without AVX2, one ray at a time: the same answers.
         for r in 0..n {
             hits[r] = self.intersect_cut(origin, dirs[r], &cuts[r]);
+        }
+    }
+
+    /// The triangles in the hierarchy's order (for ray dumps that other tracers replay).
+    pub fn triangles(&self) -> impl Iterator<Item = [Vec3; 3]> + '_ {
+        self.parts().flat_map(|h| h.triangles())
+    }
+
+    /// True when anything lies along `origin + t·dir` for t in (0, ∞), every triangle opaque:
+    /// the shadow-ray test.
+    #[inline]
+    pub fn occluded(&self, origin: Vec3, dir: Vec3) -> bool {
+        self.occluded_within(origin, dir, f32::INFINITY, &Opaque)
+    }
+
+    /// True when something `cut` lets stop the ray lies along `origin + t·dir` for t in
+    /// (0, `tmax`): the shadow-ray test towards a light `tmax` away (∞ for a directional one).
+    #[inline]
+    pub fn occluded_within<C: Cutout + ?Sized>(
+        &self,
+        origin: Vec3,
+        dir: Vec3,
+        tmax: f32,
+        cut: &C,
+    ) -> bool {
+        self.parts()
+            .any(|h| h.occluded_within(origin, dir, tmax, cut))
+    }
+
+    /// [`occluded`](Self::occluded) for up to [`PACKET`] rays from one origin (a pixel's rays
+    /// to several lights), traced together: bit r is set when `dirs[r]` is occluded. The same
+    /// answers as one ray at a time, found faster: rays from one point share much of their
+    /// walk through the hierarchy (on the bunny at 400 lights, 1.7× on the default method's
+    /// rays and 1.9–2.3× on brute force's; BENCHMARKS.md).
+    pub fn occluded_packet(&self, origin: Vec3, dirs: &[Vec3]) -> u32 {
+        self.occluded_packet_within(origin, dirs, &[f32::INFINITY; PACKET], &Opaque)
+    }
+
+    /// [`occluded_packet`](Self::occluded_packet) with each ray's end (`tmax[r]` for
+    /// `dirs[r]`; `tmax` at least as long as `dirs`) and the cut-out test: the answers of
+    /// [`occluded_within`](Self::occluded_within), one ray at a time.
+    pub fn occluded_packet_within<C: Cutout + ?Sized>(
+        &self,
+        origin: Vec3,
+        dirs: &[Vec3],
+        tmax: &[f32],
+        cut: &C,
+    ) -> u32 {
+        self.trace_packet::<true, C>(&[origin], dirs, tmax, cut)
+    }
+
+    /// Up to [`PACKET`] shadow rays, each from its own origin, traced together: bit r is set
+    /// when the ray from `origins[r]` along `dirs[r]` is blocked before `tmax[r]`. The same
+    /// answers as [`occluded_within`](Self::occluded_within) one ray at a time. Built for the
+    /// parallel rays of one directional light from nearby points (a tile's queries of that
+    /// light), which walk nearly the same nodes; rays from one origin are the other case.
+    pub fn occluded_rays_within<C: Cutout + ?Sized>(
+        &self,
+        origins: &[Vec3],
+        dirs: &[Vec3],
+        tmax: &[f32],
+        cut: &C,
+    ) -> u32 {
+        assert!(origins.len() == dirs.len(), "an origin for every ray");
+        self.trace_packet::<false, C>(origins, dirs, tmax, cut)
+    }
+
+    /// The packet query through every hierarchy: the still one's blocked rays are answered,
+    /// the others go on, gathered into a packet of their own, to the moving one.
+    fn trace_packet<const SHARED: bool, C: Cutout + ?Sized>(
+        &self,
+        origins: &[Vec3],
+        dirs: &[Vec3],
+        tmax: &[f32],
+        cut: &C,
+    ) -> u32 {
+        let blocked = self
+            .still
+            .trace_packet::<SHARED, C>(origins, dirs, tmax, cut);
+        let Some(m) = &self.moving else {
+            return blocked;
+        };
+        let n = dirs.len();
+        let open = !blocked & if n == PACKET { u32::MAX } else { (1 << n) - 1 };
+        if open == 0 {
+            return blocked;
+        }
+        let (mut o, mut d, mut t) = ([Vec3::ZERO; PACKET], [Vec3::ZERO; PACKET], [0f32; PACKET]);
+        let mut from = [0usize; PACKET];
+        let mut k = 0;
+        for r in (0..n).filter(|r| open & (1 << r) != 0) {
+            (o[k], d[k], t[k], from[k]) =
+                (origins[if SHARED { 0 } else { r }], dirs[r], tmax[r], r);
+            k += 1;
+        }
+        let more = m.hierarchy.trace_packet::<SHARED, C>(
+            &o[..if SHARED { 1 } else { k }],
+            &d[..k],
+            &t[..k],
+            cut,
+        );
+        (0..k)
+            .filter(|j| more & (1 << j) != 0)
+            .fold(blocked, |b, j| b | 1 << from[j])
+    }
+
+    /// Like [`occluded`](Self::occluded) but returns the distance to a blocker along the ray
+    /// (the nearest hit among the first leaf triangles the traversal finds hit, not
+    /// necessarily the nearest of all): the blocker point `origin + t·dir` is what the warping
+    /// predictors re-aim.
+    pub fn blocker_distance(&self, origin: Vec3, dir: Vec3) -> Option<f32> {
+        self.blocker_distance_within(origin, dir, f32::INFINITY, &Opaque)
+    }
+
+    /// [`blocker_distance`](Self::blocker_distance) for t in (0, `tmax`) with the cut-out
+    /// test: blocked exactly when [`occluded_within`](Self::occluded_within) says so.
+    pub fn blocker_distance_within<C: Cutout + ?Sized>(
+        &self,
+        origin: Vec3,
+        dir: Vec3,
+        tmax: f32,
+        cut: &C,
+    ) -> Option<f32> {
+        self.parts()
+            .find_map(|h| h.blocker_distance_within(origin, dir, tmax, cut))
+    }
+
+    /// The blocking point of [`blocker_distance`](Self::blocker_distance).
+    pub fn blocker(&self, origin: Vec3, dir: Vec3) -> Option<Vec3> {
+        self.blocker_distance(origin, dir).map(|t| origin + dir * t)
+    }
+
+    /// The one hierarchy of a scene built whole (the tests' view of its internals).
+    #[cfg(test)]
+    fn single(&self) -> &Hierarchy {
+        assert!(self.moving.is_none(), "one hierarchy");
+        &self.still
+    }
+}
+
+/// A bounding volume hierarchy over some of a scene's triangles, built once per frame geometry.
+struct Hierarchy {
+    bvh: CwBvh,
+    /// Triangles in the BVH's primitive order, so a leaf indexes them directly.
+    tris: Vec<Triangle>,
+    /// BVH primitive order → the scene's triangle index.
+    scene_index: Vec<u32>,
+    /// The same triangles as precomputed planes for the shadow-ray leaf kernels.
+    planes: TriPlanes,
+    /// Cut-out triangles as a bitset in the BVH's primitive order, padded like the planes;
+    /// empty when there are none.
+    cut: Vec<u64>,
+}
+
+impl Hierarchy {
+    /// The hierarchy over the scene triangles `which`, those marked in `cut_out` cut out.
+    fn build(
+        positions: &[Vec3],
+        triangles: &[[u32; 3]],
+        which: &[u32],
+        cut_out: &[bool],
+    ) -> Hierarchy {
+        let soup: Vec<Triangle> = which
+            .iter()
+            .map(|&i| {
+                let t = triangles[i as usize];
+                Triangle {
+                    v0: positions[t[0] as usize].into(),
+                    v1: positions[t[1] as usize].into(),
+                    v2: positions[t[2] as usize].into(),
+                }
+            })
+            .collect();
+        if soup.is_empty() {
+            return Hierarchy {
+                bvh: CwBvh::default(),
+                tris: Vec::new(),
+                scene_index: Vec::new(),
+                planes: TriPlanes::new(&[]),
+                cut: Vec::new(),
+            };
+        }
+        let bvh = build_cwbvh_from_tris(
+            &soup,
+            // Measured on the default method's rays (callgrind, bunny, 400 lights): slower presets
+            // and smaller leaves change traversal work by under 4 % for 1.2–3× the build time,
+            // and the BVH is rebuilt every frame.
+            BvhBuildParams::medium_build(),
+            &mut Duration::default(),
+        );
+        let tris: Vec<Triangle> = bvh
+            .primitive_indices
+            .iter()
+            .map(|&i| soup[i as usize])
+            .collect();
+        let scene_index: Vec<u32> = bvh
+            .primitive_indices
+            .iter()
+            .map(|&i| which[i as usize])
+            .collect();
+        let planes = TriPlanes::new(&tris);
+        let mut cut = Vec::new();
+        if cut_out.iter().any(|&c| c) {
+            cut = vec![0u64; planes.stride.div_ceil(64) + 1];
+            for (i, &t) in scene_index.iter().enumerate() {
+                if cut_out.get(t as usize) == Some(&true) {
+                    cut[i / 64] |= 1 << (i % 64);
+                }
+            }
+            if !cut.iter().any(|&w| w != 0) {
+                cut.clear();
+            }
+        }
+        Hierarchy {
+            bvh,
+            tris,
+            scene_index,
+            planes,
+            cut,
+        }
+    }
+
+    /// Whether each triangle of this hierarchy lies where `positions` and `triangles` put it,
+    /// bit for bit.
+    fn lies_in(&self, positions: &[Vec3], triangles: &[[u32; 3]]) -> bool {
+        self.tris.iter().zip(&self.scene_index).all(|(held, &t)| {
+            let v = triangles
+                .get(t as usize)
+                .map(|t| t.map(|i| positions.get(i as usize)));
+            let bits = |p: Vec3A| p.to_array().map(f32::to_bits);
+            matches!(v, Some([Some(a), Some(b), Some(c)])
+                if [a, b, c].map(|p| bits((*p).into())) == [held.v0, held.v1, held.v2].map(bits))
+        })
+    }
+
+    /// The nearest hit (t, primitive) before `ray.tmax` that `cut` lets stop the ray.
+    #[inline]
+    fn closest<C: Cutout + ?Sized>(&self, ray: &Ray, cut: &C) -> Option<(f32, usize)> {
+        if self.tris.is_empty() {
+            return None;
+        }
+        let cut = self.cut_with(cut);
+        #[cfg(target_arch = "x86_64")]
+        let found = if crate::simd::has_avx2() {
+            // SAFETY: AVX2 was detected on this CPU.
+            unsafe { self.closest_avx2(ray, &cut) }
+        } else {
+            self.closest_with(ray, node_hits, |p, base, mask, ray| {
+                // SAFETY: the group's lanes lie within the padded planes.
+                unsafe { leaf::hit_sse2(p, base, mask, ray, &cut) }
+            })
+        };
+        #[cfg(not(target_arch = "x86_64"))]
+        let found = self.closest_with(ray, node_hits, |p, base, mask, ray| {
+            leaf::hit_scalar(p, base, mask, ray, &cut)
+        });
+        found
+    }
+
+    /// The hit at distance `t` of `ray` on primitive `prim`, with its scene triangle and
+    /// barycentrics.
+    fn hit(&self, prim: usize, t: f32, ray: &Ray) -> Hit {
+        let (u, v) = barycentrics(&self.tris[prim], ray.origin, ray.direction);
+        Hit {
+            t,
+            tri: self.scene_index[prim],
+            u,
+            v,
+        }
+    }
+
+    /// The closest hits of the first `n` of `rays` (all from one origin), ray r with the
+    /// cut-out test `cuts[r]`: where this hierarchy holds a hit nearer than `best[r].0`,
+    /// `best[r]` becomes it (t, primitive); otherwise it is left as it was.
+    #[cfg(target_arch = "x86_64")]
+    fn closest_packet<C: Cutout>(
+        &self,
+        rays: &[Ray; PACKET],
+        n: usize,
+        cuts: &[C],
+        best: &mut [(f32, usize); PACKET],
+    ) {
+        if self.tris.is_empty() {
+            return;
+        }
+        // obvhs orders a node's children by the ray's octant; rays of one octant walk in
+        // one order, so each packet holds one octant's rays (a pixel's rays nearly always
+        // share theirs).
+        let octant = |r: usize| octant_inv4(rays[r].direction);
+        let mut left = if n == 32 { u32::MAX } else { (1u32 << n) - 1 };
+        while left != 0 {
+            let oct = octant(left.trailing_zeros() as usize);
+            let mut group = 0u32;
+            let mut m = left;
+            while m != 0 {
+                let r = m.trailing_zeros() as usize;
+                m &= m - 1;
+                if octant(r) == oct {
+                    group |= 1 << r;
+                }
+            }
+            left &= !group;
+            // SAFETY: AVX2 was detected on this CPU (the caller checked).
+            unsafe { avx2::closest_packet(self, rays, group, oct, cuts, best) };
         }
     }
 
@@ -306,23 +590,16 @@ impl Accel {
     }
 
     /// The triangles in the hierarchy's order (for ray dumps that other tracers replay).
-    pub fn triangles(&self) -> impl Iterator<Item = [Vec3; 3]> + '_ {
+    fn triangles(&self) -> impl Iterator<Item = [Vec3; 3]> + '_ {
         self.tris
             .iter()
             .map(|t| [t.v0.into(), t.v1.into(), t.v2.into()])
     }
 
-    /// True when anything lies along `origin + t·dir` for t in (0, ∞), every triangle opaque:
-    /// the shadow-ray test.
-    #[inline]
-    pub fn occluded(&self, origin: Vec3, dir: Vec3) -> bool {
-        self.occluded_within(origin, dir, f32::INFINITY, &Opaque)
-    }
-
     /// True when something `cut` lets stop the ray lies along `origin + t·dir` for t in
     /// (0, `tmax`): the shadow-ray test towards a light `tmax` away (∞ for a directional one).
     #[inline]
-    pub fn occluded_within<C: Cutout + ?Sized>(
+    fn occluded_within<C: Cutout + ?Sized>(
         &self,
         origin: Vec3,
         dir: Vec3,
@@ -334,44 +611,6 @@ impl Accel {
         }
         let ray = ray(origin, dir, tmax);
         self.any_hit(&ray, &self.cut_with(cut)).is_some()
-    }
-
-    /// [`occluded`](Self::occluded) for up to [`PACKET`] rays from one origin (a pixel's rays
-    /// to several lights), traced together: bit r is set when `dirs[r]` is occluded. The same
-    /// answers as one ray at a time, found faster: rays from one point share much of their
-    /// walk through the hierarchy (on the bunny at 400 lights, 1.7× on the default method's
-    /// rays and 1.9–2.3× on brute force's; BENCHMARKS.md).
-    pub fn occluded_packet(&self, origin: Vec3, dirs: &[Vec3]) -> u32 {
-        self.occluded_packet_within(origin, dirs, &[f32::INFINITY; PACKET], &Opaque)
-    }
-
-    /// [`occluded_packet`](Self::occluded_packet) with each ray's end (`tmax[r]` for
-    /// `dirs[r]`; `tmax` at least as long as `dirs`) and the cut-out test: the answers of
-    /// [`occluded_within`](Self::occluded_within), one ray at a time.
-    pub fn occluded_packet_within<C: Cutout + ?Sized>(
-        &self,
-        origin: Vec3,
-        dirs: &[Vec3],
-        tmax: &[f32],
-        cut: &C,
-    ) -> u32 {
-        self.trace_packet::<true, C>(&[origin], dirs, tmax, cut)
-    }
-
-    /// Up to [`PACKET`] shadow rays, each from its own origin, traced together: bit r is set
-    /// when the ray from `origins[r]` along `dirs[r]` is blocked before `tmax[r]`. The same
-    /// answers as [`occluded_within`](Self::occluded_within) one ray at a time. Built for the
-    /// parallel rays of one directional light from nearby points (a tile's queries of that
-    /// light), which walk nearly the same nodes; rays from one origin are the other case.
-    pub fn occluded_rays_within<C: Cutout + ?Sized>(
-        &self,
-        origins: &[Vec3],
-        dirs: &[Vec3],
-        tmax: &[f32],
-        cut: &C,
-    ) -> u32 {
-        assert!(origins.len() == dirs.len(), "an origin for every ray");
-        self.trace_packet::<false, C>(origins, dirs, tmax, cut)
     }
 
     /// The packet query behind both forms: `origins` holds one origin for every ray or, with
@@ -476,17 +715,9 @@ impl Accel {
         found
     }
 
-    /// Like [`occluded`](Self::occluded) but returns the distance to a blocker along the ray
-    /// (the nearest hit among the first leaf triangles the traversal finds hit, not
-    /// necessarily the nearest of all): the blocker point `origin + t·dir` is what the warping
-    /// predictors re-aim.
-    pub fn blocker_distance(&self, origin: Vec3, dir: Vec3) -> Option<f32> {
-        self.blocker_distance_within(origin, dir, f32::INFINITY, &Opaque)
-    }
-
     /// [`blocker_distance`](Self::blocker_distance) for t in (0, `tmax`) with the cut-out
     /// test: blocked exactly when [`occluded_within`](Self::occluded_within) says so.
-    pub fn blocker_distance_within<C: Cutout + ?Sized>(
+    fn blocker_distance_within<C: Cutout + ?Sized>(
         &self,
         origin: Vec3,
         dir: Vec3,
@@ -498,11 +729,6 @@ impl Accel {
         }
         let ray = ray(origin, dir, tmax);
         self.any_hit(&ray, &self.cut_with(cut))
-    }
-
-    /// The blocking point of [`blocker_distance`](Self::blocker_distance).
-    pub fn blocker(&self, origin: Vec3, dir: Vec3) -> Option<Vec3> {
-        self.blocker_distance(origin, dir).map(|t| origin + dir * t)
     }
 }
 
@@ -1037,7 +1263,7 @@ mod avx2 {
     /// node for all the rays that entered it, and independent work for the CPU to overlap.
     #[target_feature(enable = "avx2")]
     pub(super) fn occluded_packet<const SHARED: bool, C: Cutout + ?Sized>(
-        accel: &Accel,
+        accel: &Hierarchy,
         origins: &[Vec3],
         dirs: &[Vec3],
         tmax: &[f32],
@@ -1178,7 +1404,7 @@ mod avx2 {
     #[target_feature(enable = "avx2")]
     #[inline]
     fn leaf_hits<C: Cutout + ?Sized>(
-        accel: &Accel,
+        accel: &Hierarchy,
         node: &CwBvhNode,
         child_rays: &[u32; 8],
         origin: impl Fn(usize) -> Vec3A,
@@ -1241,7 +1467,7 @@ mod avx2 {
     /// calls ([`leaf::hit_avx2`]), the same hit kept among equals.
     #[target_feature(enable = "avx2")]
     pub(super) fn closest_packet<C: Cutout>(
-        accel: &Accel,
+        accel: &Hierarchy,
         rays: &[Ray; PACKET],
         group: u32,
         oct_inv4: u32,
@@ -1529,6 +1755,12 @@ mod tests {
 
     /// [`soup`] with triangle `i` cut out where `cut_out[i]`.
     fn soup_cut(rng: &mut Lcg, n: u32, half: f32, size: f32, cut_out: &[bool]) -> Accel {
+        let (p, t) = soup_triangles(rng, n, half, size);
+        Accel::build_with_cutouts(&p, &t, cut_out)
+    }
+
+    /// The positions and triangles of [`soup`].
+    fn soup_triangles(rng: &mut Lcg, n: u32, half: f32, size: f32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
         let mut p = Vec::new();
         let mut t = Vec::new();
         for i in 0..n {
@@ -1538,7 +1770,95 @@ mod tests {
             }
             t.push([3 * i, 3 * i + 1, 3 * i + 2]);
         }
-        Accel::build_with_cutouts(&p, &t, cut_out)
+        (p, t)
+    }
+
+    /// Every query of `split` against `whole` (the same triangles in one hierarchy) on random
+    /// rays through the soup's box, with the cut-out test `Stripes`: the same answers, bit for
+    /// bit (random triangles never tie).
+    fn same_answers(split: &Accel, whole: &Accel, rng: &mut Lcg) {
+        for k in 0..400 {
+            let o = rng.vec() * 8.0 - 4.0;
+            let dirs: Vec<Vec3> = (0..PACKET)
+                .map(|_| (rng.vec() * 2.0 - 1.0).normalize_or(Vec3::Y))
+                .collect();
+            let tmax: Vec<f32> = (0..PACKET)
+                .map(|r| if r % 3 == 0 { 2.0 } else { f32::INFINITY })
+                .collect();
+            let d = dirs[0];
+            assert_eq!(
+                split.intersect_cut(o, d, &Stripes),
+                whole.intersect_cut(o, d, &Stripes),
+                "ray {k}"
+            );
+            assert_eq!(
+                split
+                    .blocker_distance_within(o, d, tmax[0], &Stripes)
+                    .is_some(),
+                whole.occluded_within(o, d, tmax[0], &Stripes),
+                "ray {k}"
+            );
+            assert_eq!(
+                split.occluded_packet_within(o, &dirs, &tmax, &Stripes),
+                whole.occluded_packet_within(o, &dirs, &tmax, &Stripes),
+                "packet {k}"
+            );
+            let origins: Vec<Vec3> = dirs.iter().map(|&d| o + d * 0.5).collect();
+            let along = vec![d; PACKET];
+            assert_eq!(
+                split.occluded_rays_within(&origins, &along, &tmax, &Stripes),
+                whole.occluded_rays_within(&origins, &along, &tmax, &Stripes),
+                "parallel packet {k}"
+            );
+            let cuts: Vec<Stripes> = (0..PACKET).map(|_| Stripes).collect();
+            let (mut a, mut b) = ([None; PACKET], [None; PACKET]);
+            split.intersect_packet_cut(o, &dirs, &cuts, &mut a);
+            whole.intersect_packet_cut(o, &dirs, &cuts, &mut b);
+            assert_eq!(a, b, "camera packet {k}");
+        }
+    }
+
+    #[test]
+    fn a_split_hierarchy_answers_as_one_over_every_triangle_in_every_pose() {
+        let mut rng = Lcg(17);
+        let n = 600;
+        let (mut p, t) = soup_triangles(&mut rng, n, 3.0, 0.8);
+        let cut_out = two_in_three(n);
+        let moving: Vec<bool> = (0..n).map(|i| i % 4 == 1).collect();
+        let split = Accel::build_split(&p, &t, &cut_out, &moving);
+        assert!(split.moving.is_some(), "two hierarchies");
+        same_answers(
+            &split,
+            &Accel::build_with_cutouts(&p, &t, &cut_out),
+            &mut rng,
+        );
+        // Another pose: the moving triangles shift, the still hierarchy is shared.
+        for (i, tri) in t.iter().enumerate() {
+            if moving[i] {
+                for &v in tri {
+                    p[v as usize] += Vec3::new(0.7, -0.3, 0.2);
+                }
+            }
+        }
+        let posed = split.reposed(&p, &t, &cut_out);
+        assert!(
+            Arc::ptr_eq(&posed.still, &split.still),
+            "the still part is shared"
+        );
+        same_answers(
+            &posed,
+            &Accel::build_with_cutouts(&p, &t, &cut_out),
+            &mut rng,
+        );
+        // A still triangle that moved after all: the whole is rebuilt, and still right.
+        p[0] += Vec3::X;
+        let rebuilt = split.reposed(&p, &t, &cut_out);
+        assert!(rebuilt.moving.is_none(), "rebuilt whole");
+        same_answers(
+            &rebuilt,
+            &Accel::build_with_cutouts(&p, &t, &cut_out),
+            &mut rng,
+        );
     }
 
     /// A cut-out test with holes in every triangle: stripes across (u, v), shifted per
@@ -1560,12 +1880,12 @@ mod tests {
     /// The nearest hit of the ray on any one triangle that `cut` lets stop it, t < tmax, by
     /// testing every triangle alone with the scalar kernel (the reference for the traversals).
     fn brute_force<C: Cutout>(accel: &Accel, ray: &Ray, cut: &C) -> Option<(f32, u32)> {
-        let cut = accel.cut_with(cut);
+        let cut = accel.single().cut_with(cut);
         let mut best: Option<(f32, u32)> = None;
-        for i in 0..accel.tris.len() {
-            let (t, _) = leaf::hit_scalar(&accel.planes, i, 1, ray, &cut);
+        for i in 0..accel.single().tris.len() {
+            let (t, _) = leaf::hit_scalar(&accel.single().planes, i, 1, ray, &cut);
             if t < ray.tmax && best.is_none_or(|(b, _)| t < b) {
-                best = Some((t, accel.scene_index[i]));
+                best = Some((t, accel.single().scene_index[i]));
             }
         }
         best
@@ -1621,8 +1941,8 @@ mod tests {
             let o = rng.vec() * 6.0 - 3.0;
             let d = (rng.vec() * 2.0 - 1.0).normalize_or(Vec3::Y);
             let ray = Ray::new(o.into(), d.into(), 0.0, f32::INFINITY);
-            let oct = accel.bvh.new_traversal(ray.direction).oct_inv4;
-            for node in &accel.bvh.nodes {
+            let oct = accel.single().bvh.new_traversal(ray.direction).oct_inv4;
+            for node in &accel.single().bvh.nodes {
                 let reference = node_hits_reference(node, &ray, oct);
                 assert_eq!(node_hits(node, &ray, oct), reference);
                 #[cfg(target_arch = "x86_64")]
@@ -1634,8 +1954,13 @@ mod tests {
             }
             // Every triangle tested alone (obvhs's own triangle test): the nearest hit, and
             // whether there is any.
-            let nearest = (0..accel.tris.len())
-                .map(|i| (accel.tris[i].intersect(&ray), accel.scene_index[i]))
+            let nearest = (0..accel.single().tris.len())
+                .map(|i| {
+                    (
+                        accel.single().tris[i].intersect(&ray),
+                        accel.single().scene_index[i],
+                    )
+                })
                 .filter(|h| h.0 < f32::INFINITY)
                 .min_by(|a, b| a.0.total_cmp(&b.0));
             assert_eq!(accel.occluded(o, d), nearest.is_some());
@@ -1830,17 +2155,17 @@ mod tests {
         test: &C,
         k: usize,
     ) -> (f32, usize) {
-        let cut = accel.cut_with(test);
-        let scalar = leaf::hit_scalar(&accel.planes, base, mask, ray, &cut);
+        let cut = accel.single().cut_with(test);
+        let scalar = leaf::hit_scalar(&accel.single().planes, base, mask, ray, &cut);
         #[cfg(target_arch = "x86_64")]
         {
             let bitwise = |(t, i): (f32, usize)| (t.to_bits(), i);
             // SAFETY: base + 24 lies within the padded planes.
-            let sse = unsafe { leaf::hit_sse2(&accel.planes, base, mask, ray, &cut) };
+            let sse = unsafe { leaf::hit_sse2(&accel.single().planes, base, mask, ray, &cut) };
             assert_eq!(bitwise(sse), bitwise(scalar), "ray {k}");
             if is_x86_feature_detected!("avx2") {
                 // SAFETY: as above, and AVX2 was detected.
-                let avx = unsafe { leaf::hit_avx2(&accel.planes, base, mask, ray, &cut) };
+                let avx = unsafe { leaf::hit_avx2(&accel.single().planes, base, mask, ray, &cut) };
                 assert_eq!(bitwise(avx), bitwise(scalar), "ray {k}");
             }
         }
@@ -1878,7 +2203,7 @@ mod tests {
                 continue; // grazing: the edge's margin is a sliver of the view
             }
             let ray = Ray::new(far.into(), d.into(), 0.0, f32::INFINITY);
-            let by = inside_distance(&accel.tris[0], &ray);
+            let by = inside_distance(&accel.single().tris[0], &ray);
             if by.abs() < 1e-2 {
                 continue;
             }
@@ -1930,7 +2255,7 @@ mod tests {
         // must then show: the ray passes within 1e-4 of its edge (f32 rounding).
         let mut rng = Lcg(777);
         let accel = soup(&mut rng, 600, 1.0, 0.5);
-        let n = accel.tris.len();
+        let n = accel.single().tris.len();
         let mut hits = 0;
         for k in 0..4000 {
             let o = rng.vec() * 8.0 - 4.0;
@@ -1938,7 +2263,7 @@ mod tests {
             let mask = (rng.next() * (1 << 24) as f32) as u32 | 1;
             // Aim at one of the group's triangles: inside it, or (every fourth ray) through a
             // vertex, where the edge rules decide.
-            let aim = &accel.tris[base + (rng.next() * 23.0) as usize];
+            let aim = &accel.single().tris[base + (rng.next() * 23.0) as usize];
             let (a, b) = (rng.next(), rng.next());
             let target: Vec3 = if k % 4 == 0 {
                 aim.v1.into()
@@ -1955,7 +2280,7 @@ mod tests {
             let (mut reference, mut reference_index) = (f32::INFINITY, 0);
             for b in 0..24 {
                 if mask >> b & 1 == 1 {
-                    let t = accel.tris[base + b].intersect(&ray);
+                    let t = accel.single().tris[base + b].intersect(&ray);
                     if t < reference {
                         (reference, reference_index) = (t, base + b);
                     }
@@ -1970,7 +2295,7 @@ mod tests {
                 } else {
                     reference_index
                 };
-                let inside = inside_by(&accel.tris[disputed], &ray);
+                let inside = inside_by(&accel.single().tris[disputed], &ray);
                 assert!(
                     inside.abs() < 1e-4,
                     "ray {k}: t {} against obvhs's {reference}, {inside} inside triangle {disputed}",
@@ -1979,7 +2304,7 @@ mod tests {
                 continue;
             }
             if scalar.0 < f32::INFINITY {
-                assert_eq!(accel.tris[scalar.1].intersect(&ray), scalar.0);
+                assert_eq!(accel.single().tris[scalar.1].intersect(&ray), scalar.0);
             }
             hits += usize::from(scalar.0 < f32::INFINITY);
         }
@@ -2095,14 +2420,14 @@ mod tests {
         let mut rng = Lcg(4711);
         let n = 600;
         let accel = soup_cut(&mut rng, n, 1.0, 0.5, &two_in_three(n));
-        let cut = accel.cut_with(&Stripes);
-        let count = accel.tris.len();
+        let cut = accel.single().cut_with(&Stripes);
+        let count = accel.single().tris.len();
         let (mut hits, mut passed) = (0, 0);
         for k in 0..4000 {
             let o = rng.vec() * 8.0 - 4.0;
             let base = (rng.next() * (count - 24) as f32) as usize;
             let mask = (rng.next() * (1 << 24) as f32) as u32 | 1;
-            let aim = &accel.tris[base + (rng.next() * 23.0) as usize];
+            let aim = &accel.single().tris[base + (rng.next() * 23.0) as usize];
             let (a, b) = (rng.next() * 0.5, rng.next() * 0.5);
             let target: Vec3 = (aim.v0 + (aim.v1 - aim.v0) * a + (aim.v2 - aim.v0) * b).into();
             let d = (target - o).normalize_or(Vec3::Y);
@@ -2111,11 +2436,11 @@ mod tests {
             let mut any_hit = false;
             for b in 0..24 {
                 if mask >> b & 1 == 1 {
-                    let alone = leaf::hit_scalar(&accel.planes, base + b, 1, &ray, &cut);
+                    let alone = leaf::hit_scalar(&accel.single().planes, base + b, 1, &ray, &cut);
                     if alone.0 < reference.0 {
                         reference = alone;
                     }
-                    any_hit |= accel.tris[base + b].intersect(&ray) < f32::INFINITY;
+                    any_hit |= accel.single().tris[base + b].intersect(&ray) < f32::INFINITY;
                 }
             }
             let scalar = leaf_kernels(&accel, base, mask, &ray, &Stripes, k);

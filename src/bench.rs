@@ -229,8 +229,10 @@ fn still_geometry(anim: &Animation, inputs: &Inputs, frame: usize) -> Result<boo
 
 /// The frame's posed scene and BVH, built as `render_frame` builds them.
 fn frame_accel(anim: &Animation, inputs: &Inputs, frame: usize) -> Result<Accel> {
-    Ok(match frame_scene(anim, inputs, frame)? {
-        Some(posed) => posed.accel(),
+    let pivot = anim.pivot(&inputs.scene)?;
+    let spin = anim.scene_transform(frame, pivot);
+    Ok(match inputs.posed_geometry(anim, frame, spin)? {
+        Some((_, accel)) => accel,
         None => inputs.scene.accel(),
     })
 }

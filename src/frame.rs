@@ -104,10 +104,7 @@ pub fn render_tile_list(
     // A moving or animated object gets its own posed scene and BVH; a still one shares the
     // run's.
     let built = Instant::now();
-    let moved = inputs.posed(anim, frame, pose)?.map(|scene| {
-        let accel = scene.accel();
-        (scene, accel)
-    });
+    let moved = inputs.posed_geometry(anim, frame, pose)?;
     if moved.is_some() {
         progress.detail(&format!(
             "frame {frame}: posed scene and BVH built in {:.1} ms",

@@ -32,6 +32,10 @@ pub struct Inputs {
     /// The BVH of the unposed scene, built by the first frame that needs it: frames whose
     /// geometry does not move (orbit turntables, still cameras) share one build per run.
     still: OnceLock<Accel>,
+    /// The BVH of the posed scene split into the triangles the played animation moves and
+    /// the others ([`Accel::build_split`]), built by the first posed frame: every later pose
+    /// shares the still part and rebuilds the moving one.
+    split: OnceLock<Accel>,
     /// The prefiltered environment, made by the first frame that needs it: only when some
     /// material is glossier than the lights resolve (see [`Glossy`]).
     glossy: OnceLock<Option<Glossy>>,
@@ -59,6 +63,7 @@ impl Inputs {
             lights,
             backdrop: Backdrop::Environment,
             still: OnceLock::new(),
+            split: OnceLock::new(),
             glossy: OnceLock::new(),
             playing: None,
         }
@@ -126,6 +131,36 @@ impl Inputs {
             }
             (None, Some(m)) => Some(self.scene.transformed(m)),
         })
+    }
+
+    /// The scene `frame` shows and its BVH, when it is not the still scene ([`posed`](Self::posed)).
+    /// A pose of the played animation shares the hierarchy of the triangles the animation
+    /// does not move with every other pose and rebuilds only the moving ones' (issue 41); a
+    /// spin moves every triangle, so a spun frame's BVH is built whole.
+    pub fn posed_geometry(
+        &self,
+        anim: &Animation,
+        frame: usize,
+        spin: Option<Mat4>,
+    ) -> Result<Option<(Scene, Accel)>> {
+        let Some(scene) = self.posed(anim, frame, spin)? else {
+            return Ok(None);
+        };
+        let cut_out = scene.cut_out_triangles();
+        let accel = match spin {
+            Some(_) => Accel::build_with_cutouts(&scene.positions, &scene.triangles, &cut_out),
+            None => {
+                let split = self.split.get_or_init(|| {
+                    let mut moving = vec![false; scene.triangle_count()];
+                    for r in self.animated_triangles() {
+                        moving[r].fill(true);
+                    }
+                    Accel::build_split(&scene.positions, &scene.triangles, &cut_out, &moving)
+                });
+                split.reposed(&scene.positions, &scene.triangles, &cut_out)
+            }
+        };
+        Ok(Some((scene, accel)))
     }
 
     /// The environment prefiltered for glossy lobes, if any material may need it: one whose
