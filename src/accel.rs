@@ -66,6 +66,8 @@ impl Cutout for Opaque {
 pub struct Accel {
     still: Arc<Hierarchy>,
     moving: Option<Moving>,
+    /// How many triangles making this value built a hierarchy over (none shared).
+    built: usize,
 }
 
 /// The hierarchy of the triangles an animation moves, and which they are.
@@ -93,6 +95,7 @@ impl Accel {
         Accel {
             still: Arc::new(Hierarchy::build(positions, triangles, &all, cut_out)),
             moving: None,
+            built: triangles.len(),
         }
     }
 
@@ -117,6 +120,7 @@ impl Accel {
                 hierarchy: Hierarchy::build(positions, triangles, &moves, cut_out),
                 which: Arc::new(moves),
             }),
+            built: triangles.len(),
         }
     }
 
@@ -135,7 +139,14 @@ impl Accel {
                 hierarchy: Hierarchy::build(positions, triangles, &m.which, cut_out),
                 which: Arc::clone(&m.which),
             }),
+            built: self.moving.as_ref().map_or(0, |m| m.which.len()),
         }
+    }
+
+    /// How many triangles making this value built a hierarchy over: all for a whole build,
+    /// the moving ones for [`reposed`](Self::reposed) (none when nothing moves).
+    pub fn built_triangles(&self) -> usize {
+        self.built
     }
 
     /// The hierarchies, still first.
@@ -368,6 +379,21 @@ impl Accel {
     }
 }
 
+/// The scene triangles `which` as obvhs's triangles.
+fn soup_of(positions: &[Vec3], triangles: &[[u32; 3]], which: &[u32]) -> Vec<Triangle> {
+    which
+        .iter()
+        .map(|&i| {
+            let t = triangles[i as usize];
+            Triangle {
+                v0: positions[t[0] as usize].into(),
+                v1: positions[t[1] as usize].into(),
+                v2: positions[t[2] as usize].into(),
+            }
+        })
+        .collect()
+}
+
 /// A bounding volume hierarchy over some of a scene's triangles, built once per frame geometry.
 struct Hierarchy {
     bvh: CwBvh,
@@ -390,17 +416,7 @@ impl Hierarchy {
         which: &[u32],
         cut_out: &[bool],
     ) -> Hierarchy {
-        let soup: Vec<Triangle> = which
-            .iter()
-            .map(|&i| {
-                let t = triangles[i as usize];
-                Triangle {
-                    v0: positions[t[0] as usize].into(),
-                    v1: positions[t[1] as usize].into(),
-                    v2: positions[t[2] as usize].into(),
-                }
-            })
-            .collect();
+        let soup = soup_of(positions, triangles, which);
         if soup.is_empty() {
             return Hierarchy {
                 bvh: CwBvh::default(),
@@ -413,11 +429,17 @@ impl Hierarchy {
         let bvh = build_cwbvh_from_tris(
             &soup,
             // Measured on the default method's rays (callgrind, bunny, 400 lights): slower presets
-            // and smaller leaves change traversal work by under 4 % for 1.2–3× the build time,
-            // and the BVH is rebuilt every frame.
+            // and smaller leaves change traversal work by under 4 % for 1.2–3× the build time.
+            // Rebuilt, not refitted, per pose: refitting a walk cycle's hierarchy cost more in
+            // its frames' rays than it saved in building (BENCHMARKS.md, issue 41).
             BvhBuildParams::medium_build(),
             &mut Duration::default(),
         );
+        Hierarchy::from_cwbvh(bvh, &soup, which, cut_out)
+    }
+
+    /// The hierarchy of `bvh`, built over `soup` (the scene triangles `which`).
+    fn from_cwbvh(bvh: CwBvh, soup: &[Triangle], which: &[u32], cut_out: &[bool]) -> Hierarchy {
         let tris: Vec<Triangle> = bvh
             .primitive_indices
             .iter()

@@ -231,8 +231,8 @@ fn still_geometry(anim: &Animation, inputs: &Inputs, frame: usize) -> Result<boo
 fn frame_accel(anim: &Animation, inputs: &Inputs, frame: usize) -> Result<Accel> {
     let pivot = anim.pivot(&inputs.scene)?;
     let spin = anim.scene_transform(frame, pivot);
-    Ok(match inputs.posed_geometry(anim, frame, spin)? {
-        Some((_, accel)) => accel,
+    Ok(match inputs.posed(anim, frame, spin)? {
+        Some(posed) => inputs.posed_accel(&posed, spin.is_some()),
         None => inputs.scene.accel(),
     })
 }

@@ -103,14 +103,22 @@ pub fn render_tile_list(
     let pose = anim.scene_transform(frame, pivot);
     // A moving or animated object gets its own posed scene and BVH; a still one shares the
     // run's.
-    let built = Instant::now();
-    let moved = inputs.posed_geometry(anim, frame, pose)?;
-    if moved.is_some() {
-        progress.detail(&format!(
-            "frame {frame}: posed scene and BVH built in {:.1} ms",
-            built.elapsed().as_secs_f64() * 1e3
-        ));
-    }
+    let started = Instant::now();
+    let moved = match inputs.posed(anim, frame, pose)? {
+        Some(scene) => {
+            let posed = started.elapsed();
+            let accel = inputs.posed_accel(&scene, pose.is_some());
+            progress.detail(&format!(
+                "frame {frame}: scene posed in {:.1} ms, BVH built in {:.1} ms ({} of {} triangles rebuilt)",
+                posed.as_secs_f64() * 1e3,
+                (started.elapsed() - posed).as_secs_f64() * 1e3,
+                accel.built_triangles(),
+                accel.triangle_count()
+            ));
+            Some((scene, accel))
+        }
+        None => None,
+    };
     let (scene, accel) = match &moved {
         Some((scene, accel)) => (scene, accel),
         None => (&inputs.scene, inputs.still_accel()),

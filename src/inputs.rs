@@ -133,34 +133,23 @@ impl Inputs {
         })
     }
 
-    /// The scene `frame` shows and its BVH, when it is not the still scene ([`posed`](Self::posed)).
-    /// A pose of the played animation shares the hierarchy of the triangles the animation
-    /// does not move with every other pose and rebuilds only the moving ones' (issue 41); a
-    /// spin moves every triangle, so a spun frame's BVH is built whole.
-    pub fn posed_geometry(
-        &self,
-        anim: &Animation,
-        frame: usize,
-        spin: Option<Mat4>,
-    ) -> Result<Option<(Scene, Accel)>> {
-        let Some(scene) = self.posed(anim, frame, spin)? else {
-            return Ok(None);
-        };
-        let cut_out = scene.cut_out_triangles();
-        let accel = match spin {
-            Some(_) => Accel::build_with_cutouts(&scene.positions, &scene.triangles, &cut_out),
-            None => {
-                let split = self.split.get_or_init(|| {
-                    let mut moving = vec![false; scene.triangle_count()];
-                    for r in self.animated_triangles() {
-                        moving[r].fill(true);
-                    }
-                    Accel::build_split(&scene.positions, &scene.triangles, &cut_out, &moving)
-                });
-                split.reposed(&scene.positions, &scene.triangles, &cut_out)
+    /// The BVH of `posed`, the scene a frame shows ([`posed`](Self::posed)), `spun` when a
+    /// spin moved it. A pose of the played animation shares the hierarchy of the triangles the
+    /// animation does not move with every other pose and rebuilds only the moving ones'
+    /// (issue 41); a spin moves every triangle, so a spun frame's BVH is built whole.
+    pub fn posed_accel(&self, posed: &Scene, spun: bool) -> Accel {
+        let cut_out = posed.cut_out_triangles();
+        if spun {
+            return Accel::build_with_cutouts(&posed.positions, &posed.triangles, &cut_out);
+        }
+        let split = self.split.get_or_init(|| {
+            let mut moving = vec![false; posed.triangle_count()];
+            for r in self.animated_triangles() {
+                moving[r].fill(true);
             }
-        };
-        Ok(Some((scene, accel)))
+            Accel::build_split(&posed.positions, &posed.triangles, &cut_out, &moving)
+        });
+        split.reposed(&posed.positions, &posed.triangles, &cut_out)
     }
 
     /// The environment prefiltered for glossy lobes, if any material may need it: one whose

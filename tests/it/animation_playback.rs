@@ -538,6 +538,38 @@ fn bench_times_the_frames_pose_as_a_render_poses_it() {
 }
 
 #[test]
+fn a_pose_rebuilds_only_the_hierarchy_of_the_triangles_the_animation_moves() {
+    // The walking fox on its added ground: every pose shares the ground's hierarchy and
+    // rebuilds the fox's alone (issue 41), and the split answers as a whole build would.
+    let anim = spec("Fox.glb", "orbit", 12, "animation = \"Walk\"", 24);
+    let inputs = Inputs::load(&anim).unwrap();
+    let moving: usize = inputs.animated_triangles().iter().map(|r| r.len()).sum();
+    let total = inputs.scene.triangle_count();
+    assert!(0 < moving && moving < total, "{moving} of {total} move");
+    for frame in [3, 7] {
+        let posed = inputs.posed(&anim, frame, None).unwrap().expect("posed");
+        let accel = inputs.posed_accel(&posed, false);
+        assert_eq!((accel.built_triangles(), accel.triangle_count()), (moving, total));
+        let whole = posed.accel();
+        let camera = anim.camera(&inputs.scene, frame).unwrap();
+        let o = camera.position;
+        for (x, y) in (0..camera.height).flat_map(|y| (0..camera.width).map(move |x| (x, y))) {
+            let d = camera.ray_dir(x, y);
+            let hit = accel.intersect(o, d);
+            assert_eq!(hit, whole.intersect(o, d), "frame {frame} pixel ({x}, {y})");
+            // And a shadow ray from the hit, straight up.
+            if let Some(h) = hit {
+                let p = o + d * (h.t * 0.999);
+                assert_eq!(accel.occluded(p, glam::Vec3::Y), whole.occluded(p, glam::Vec3::Y));
+            }
+        }
+    }
+    // A spin moves every triangle: its frames build the whole.
+    let posed = inputs.posed(&anim, 3, None).unwrap().expect("posed");
+    assert_eq!(inputs.posed_accel(&posed, true).built_triangles(), total);
+}
+
+#[test]
 fn an_animated_frame_is_identical_whatever_the_tiles_and_threads() {
     // The fox walking under an orbiting camera: the frame's posed scene and BVH are built per
     // frame, and neither the tiles nor the threads change a bit; nor does a region render.
