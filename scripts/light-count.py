@@ -81,8 +81,8 @@ dir = "{os.path.join(os.path.dirname(path), 'out')}"
 """)
 
 
-def scene_spec(name, assets, work, width, height):
-    """(spec path, label) for a scene argument NAME[@MAP]."""
+def scene_spec(name, assets, work, width, height, motion=None):
+    """(spec path, label) for a scene argument NAME[@MAP]; `motion` as write_spec's."""
     model_name, _, map_name = name.partition("@")
     map_name = map_name or "studio_small_03_1k"
     env = os.path.join(assets, map_name + ".hdr")
@@ -96,7 +96,7 @@ def scene_spec(name, assets, work, width, height):
     d = os.path.join(work, name.replace("@", "-"))
     os.makedirs(d, exist_ok=True)
     spec = os.path.join(d, "spec.toml")
-    write_spec(spec, model, env, width, height, extra)
+    write_spec(spec, model, env, width, height, extra, motion)
     return spec, f"{model_name}, {map_name}"
 
 
