@@ -124,7 +124,9 @@ def cached_reference(export_dir, meta, materials, passes, seeds, cache):
         return {"reference": z["reference"], "halves": list(z["halves"]),
                 "compared": z["compared"], "seconds": list(z["seconds"])}
     _, worst = rm.envmap_emitter(export_dir, meta)
-    if worst > 1e-3:
+    # A turned map's lookups differ by f32 rounding of the turned directions near the map's
+    # sharp edges (1.1e-3 on the studio map turned 2 deg); a wrong convention by 3.7 or more.
+    if worst > 1e-2:
         sys.exit(f"{export_dir}: the emitter does not show envshadow's map ({worst:.1e})")
     conv = rm.converged(export_dir, meta, materials, passes, seeds)
     np.savez(cache, reference=conv["reference"], halves=np.stack(conv["halves"]),
