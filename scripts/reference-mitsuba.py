@@ -249,6 +249,30 @@ def reference(export, meta, materials, passes, seed):
     return pixels(radiance), pixels(free), compared, pmat[..., 0], seconds
 
 
+def converged(export, meta, materials, passes, seeds):
+    """The reference as the mean of one `reference` per seed (independent halves): a dict of
+    its pixels ("reference", "unshadowed"), the pixels compared ("compared"), each pixel's
+    material, each half's pixels ("halves") and each seed's seconds."""
+    runs = [reference(export, meta, materials, passes, seed) for seed in seeds]
+    return {
+        "reference": sum(r[0] for r in runs) / len(runs),
+        "unshadowed": sum(r[1] for r in runs) / len(runs),
+        "compared": runs[0][2],
+        "material": runs[0][3],
+        "halves": [r[0] for r in runs],
+        "seconds": [r[4] for r in runs],
+    }
+
+
+def reference_noise(halves, ref, sel):
+    """The reference's own relative RMSE over `sel`, in percent, from two independent halves
+    (the mean's error is about |a - b| / 2); nan with one half."""
+    if len(halves) < 2:
+        return float("nan")
+    d = (halves[0] - halves[1])[sel] / 2.0
+    return 100 * float(np.sqrt(np.mean(d ** 2))) / float(ref[sel].mean())
+
+
 def shadow_origin_of(mesh, si, ng, hit, meta):
     return cm.shadow_origin(mesh, si, ng, hit, meta)
 
@@ -304,14 +328,11 @@ def main():
     if worst > 1e-3:
         sys.exit("the emitter does not show envshadow's map: the convention check failed")
     seeds = [int(s) for s in args.seeds.split(",")]
-    halves = []
-    for seed in seeds:
-        halves.append(reference(args.export, meta, materials, args.passes, seed))
-        print(f"seed {seed}: {args.passes} passes in {halves[-1][4]:.1f} s")
-    ref = sum(hv[0] for hv in halves) / len(halves)
-    free = sum(hv[1] for hv in halves) / len(halves)
-    compared = halves[0][2]
-    material = halves[0][3]
+    conv = converged(args.export, meta, materials, args.passes, seeds)
+    for seed, secs in zip(seeds, conv["seconds"]):
+        print(f"seed {seed}: {args.passes} passes in {secs:.1f} s")
+    ref, free, compared = conv["reference"], conv["unshadowed"], conv["compared"]
+    material, halves = conv["material"], conv["halves"]
     np.save(os.path.join(args.work, "reference.npy"), ref.astype(np.float32))
     np.save(os.path.join(args.work, "unshadowed.npy"), free.astype(np.float32))
     np.save(os.path.join(args.work, "compared.npy"), compared)
@@ -324,11 +345,7 @@ def main():
             sels.append((mat["name"], sel))
 
     def noise(sel):
-        # The mean of two independent halves: its error is about |a - b| / 2.
-        if len(halves) < 2:
-            return float("nan")
-        d = (halves[0][0] - halves[1][0])[sel] / 2.0
-        return 100 * float(np.sqrt(np.mean(d ** 2))) / float(ref[sel].mean())
+        return reference_noise(halves, ref, sel)
 
     images = {}
     sample_flags = ["--spp", str(meta.get("spp", 1))]
