@@ -24,8 +24,10 @@ pub struct Lattice {
     bits: Vec<u64>,
     rays: Vec<u32>,
     split: Vec<RaySplit>,
-    /// Predicted from the previous frame (`--temporal`).
+    /// Predicted from the previous frame (`--temporal`), and how many of its pairs were
+    /// dropped there (a tile counts them as its own pixels').
     temporal: Vec<bool>,
+    stale: Vec<u32>,
     blockers: Blockers,
 }
 
@@ -38,6 +40,7 @@ pub struct LatticePatch {
     rays: Vec<u32>,
     split: Vec<RaySplit>,
     temporal: Vec<bool>,
+    stale: Vec<u32>,
     blk_len: Vec<u32>,
     blk_light: Vec<u16>,
     blk_dist: Vec<f32>,
@@ -65,6 +68,7 @@ impl Lattice {
             rays: vec![0; n],
             split: vec![RaySplit::default(); n],
             temporal: vec![false; n],
+            stale: vec![0; n],
             blockers,
         }
     }
@@ -123,6 +127,7 @@ impl Lattice {
         bufs.rays[i] = self.rays[k];
         bufs.split[i] = self.split[k];
         bufs.temporal[i] = self.temporal[k];
+        bufs.stale[i] = self.stale[k];
         bufs.blockers.begin(i);
         for (j, t) in self.blockers.of(k) {
             bufs.blockers.push(i, j, t);
@@ -144,6 +149,7 @@ impl Lattice {
             self.rays[k] = patch.rays[n];
             self.split[k] = patch.split[n];
             self.temporal[k] = patch.temporal[n];
+            self.stale[k] = patch.stale[n];
             self.blockers.begin(k);
             for _ in 0..patch.blk_len[n] {
                 self.blockers
@@ -169,6 +175,7 @@ impl LatticePatch {
         self.rays.push(bufs.rays[i]);
         self.split.push(bufs.split[i]);
         self.temporal.push(bufs.temporal[i]);
+        self.stale.push(bufs.stale[i]);
         let mut n = 0;
         for (j, t) in bufs.blockers.of(i) {
             self.blk_light.push(j as u16);
@@ -203,6 +210,7 @@ mod tests {
             rays: vec![0; n],
             split: vec![RaySplit::default(); n],
             temporal: vec![false; n],
+            stale: vec![0; n],
             ..TileBuffers::default()
         };
         b.blockers.reset(n);
@@ -217,6 +225,7 @@ mod tests {
         rays: u32,
         split: RaySplit,
         temporal: bool,
+        stale: u32,
         blockers: Vec<(usize, f32)>,
     }
 
@@ -228,6 +237,7 @@ mod tests {
             rays: b.rays[i],
             split: b.split[i],
             temporal: b.temporal[i],
+            stale: b.stale[i],
             blockers: b.blockers.of(i).collect(),
         }
     }
@@ -244,6 +254,7 @@ mod tests {
         b.rays[i] = p.rays;
         b.split[i] = p.split;
         b.temporal[i] = p.temporal;
+        b.stale[i] = p.stale;
         b.blockers.begin(i);
         for &(j, t) in &p.blockers {
             b.blockers.push(i, j, t);
@@ -278,6 +289,7 @@ mod tests {
                 fixes: seed + 2,
             },
             temporal: seed % 2 == 1,
+            stale: 20 + seed,
             blockers: blockers.to_vec(),
         }
     }

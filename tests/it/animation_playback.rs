@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
 
 use envshadow::anim::{AnimFlags, Animation};
 use envshadow::coordinator::thread_pool;
-use envshadow::film::{Channel, Film};
+use envshadow::film::{Channel, Counts, Film};
 use envshadow::frame::{Temporal, render_frame, render_frame_with};
 use envshadow::history::Carried;
 use envshadow::inputs::Inputs;
@@ -657,7 +657,34 @@ fn a_deforming_frame_reads_the_previous_frame_only_where_nothing_moved_across() 
         rays < rays_alone,
         "{rays} rays with --temporal, {rays_alone} without"
     );
-    // A still pose (the animation held past its end) is read again.
+}
+
+/// Renders `frames` of `anim` as one `--temporal` chain on the current thread pool; returns
+/// each frame's counts.
+fn chain_counts(anim: &Animation, inputs: &Inputs, frames: std::ops::Range<usize>) -> Vec<Counts> {
+    let mut prev: Option<Carried> = None;
+    let mut out = Vec::new();
+    for f in frames {
+        let link = Temporal {
+            prev: prev.as_ref(),
+            carry: true,
+            no_validate: false,
+        };
+        let (_, stats, carried) = render_frame_with(anim, inputs, f, None, &Silent, &link).unwrap();
+        out.push(stats.counts);
+        prev = carried;
+    }
+    out
+}
+
+#[test]
+fn a_held_pose_drops_no_previous_pair_whatever_the_threads_rendered_before() {
+    // Walk is 0.708 s long: at 24 fps frames 17 on hold its last pose, so frames 30 and 31 show
+    // one pose and frame 31 reads frame 30 as a still scene's: every pair may vote, none is
+    // dropped. The grid's coarse levels are evaluated once per frame and copied into the tiles
+    // (src/lattice.rs), which once lost the dropped-pair count: a copied pixel showed what the
+    // thread's buffers held from an earlier deforming frame (tens of pairs "dropped" on a
+    // held frame, only after the walking fox had been rendered on the same threads).
     let mut held = spec(
         "Fox.glb",
         "none",
@@ -667,20 +694,68 @@ fn a_deforming_frame_reads_the_previous_frame_only_where_nothing_moved_across() 
     );
     held.render.temporal = true;
     let inputs = Inputs::load(&held).unwrap();
-    let mut prev: Option<Carried> = None;
-    let mut reused = 0;
-    for f in 30..32 {
-        let link = Temporal {
-            prev: prev.as_ref(),
-            carry: true,
-            no_validate: false,
-        };
-        let (_, stats, carried) =
-            render_frame_with(&held, &inputs, f, None, &Silent, &link).unwrap();
-        reused += stats.counts.temporal_pixels;
-        prev = carried;
+    let fresh = thread_pool(1)
+        .unwrap()
+        .install(|| chain_counts(&held, &inputs, 30..32));
+    // The same frames on a thread that rendered the walking fox first.
+    let mut walking = spec("Fox.glb", "orbit", 12, "animation = \"Walk\"", 24);
+    walking.render.temporal = true;
+    // Another size: the copied pixels fall where its tiles' own pixels were.
+    walking.render.width = 160;
+    walking.render.height = 120;
+    let walking_inputs = Inputs::load(&walking).unwrap();
+    let after = thread_pool(2).unwrap().install(|| {
+        let moving = chain_counts(&walking, &walking_inputs, 0..3);
+        assert!(
+            moving[1..].iter().all(|c| c.temporal_stale > 0),
+            "the walking fox drops pairs"
+        );
+        chain_counts(&held, &inputs, 30..32)
+    });
+    let c = &fresh[1];
+    assert!(
+        c.temporal_pixels > 0,
+        "the held pose reads the previous frame"
+    );
+    assert_eq!(c.temporal_stale, 0, "no pair dropped on a held pose");
+    assert!(c.rays < fresh[0].rays, "reading it saves rays");
+    assert_eq!(
+        after, fresh,
+        "what the threads rendered before changes nothing"
+    );
+}
+
+#[test]
+fn the_pairs_a_deforming_frame_drops_are_counted_alike_whatever_the_tiles_and_threads() {
+    // The dropped pairs of the grid's coarse levels, evaluated once per frame, are counted by
+    // the tiles they are copied into: as the frame's other counts, they do not depend on
+    // which tile or thread evaluated them (they once showed what the thread's buffers held).
+    let mut anim = spec("Fox.glb", "orbit", 12, "animation = \"Walk\"", 24);
+    anim.render.temporal = true;
+    anim.render.width = 96;
+    anim.render.height = 72;
+    let inputs = Inputs::load(&anim).unwrap();
+    // The halo's counts are the tiles' own (their extra work), the others the frame's.
+    let counts = |tile: u32, threads: usize| {
+        let mut a = anim.clone();
+        a.render.tile = tile;
+        let mut c = thread_pool(threads)
+            .unwrap()
+            .install(|| chain_counts(&a, &inputs, 0..3));
+        for c in &mut c {
+            (c.halo_pixels, c.halo_rays) = (0, 0);
+        }
+        c
+    };
+    let want = counts(16, 1);
+    assert!(want[1..].iter().all(|c| c.temporal_stale > 0), "{want:?}");
+    for (tile, threads) in [(32, 2), (24, 3), (96, 1)] {
+        assert_eq!(
+            counts(tile, threads),
+            want,
+            "tile {tile}, {threads} threads"
+        );
     }
-    assert!(reused > 0, "the held pose reads the previous frame");
 }
 
 #[test]
