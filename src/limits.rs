@@ -775,7 +775,10 @@ mod tests {
         let (a, b) = (still.estimate(), animated.estimate());
         let copies = FRAMES_IN_FLIGHT as u128;
         // A BVH per frame in flight, and the split one of the first pose that they share.
-        assert_eq!((b.scene, b.bvh), ((1 + copies) * a.scene, (copies + 1) * a.bvh));
+        assert_eq!(
+            (b.scene, b.bvh),
+            ((1 + copies) * a.scene, (copies + 1) * a.bvh)
+        );
         // A spin already posing as many frames adds only that shared BVH.
         let mut spun = Budget::new(&request, FRAMES_IN_FLIGHT);
         spun.scene = instanced(4);

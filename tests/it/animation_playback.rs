@@ -549,7 +549,10 @@ fn a_pose_rebuilds_only_the_hierarchy_of_the_triangles_the_animation_moves() {
     for frame in [3, 7] {
         let posed = inputs.posed(&anim, frame, None).unwrap().expect("posed");
         let accel = inputs.posed_accel(&posed, false);
-        assert_eq!((accel.built_triangles(), accel.triangle_count()), (moving, total));
+        assert_eq!(
+            (accel.built_triangles(), accel.triangle_count()),
+            (moving, total)
+        );
         let whole = posed.accel();
         let camera = anim.camera(&inputs.scene, frame).unwrap();
         let o = camera.position;
@@ -560,7 +563,10 @@ fn a_pose_rebuilds_only_the_hierarchy_of_the_triangles_the_animation_moves() {
             // And a shadow ray from the hit, straight up.
             if let Some(h) = hit {
                 let p = o + d * (h.t * 0.999);
-                assert_eq!(accel.occluded(p, glam::Vec3::Y), whole.occluded(p, glam::Vec3::Y));
+                assert_eq!(
+                    accel.occluded(p, glam::Vec3::Y),
+                    whole.occluded(p, glam::Vec3::Y)
+                );
             }
         }
     }
