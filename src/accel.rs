@@ -59,22 +59,58 @@ impl Cutout for Opaque {
 
 /// The scene's triangles for ray queries: one hierarchy over them all, or two when a file's
 /// animation moves some of them (issue 41) — the still triangles' hierarchy, built once and
-/// shared by every frame, and the moving ones', rebuilt per frame ([`Accel::reposed`]). A
+/// shared by every frame, and the moving ones', rebuilt per frame ([`Split`]). A
 /// query walks each hierarchy in turn, still first: a closest hit keeps the nearer (the still
 /// one among equals), a shadow ray is blocked by either. With one hierarchy the answers are
 /// those of that hierarchy alone, bit for bit.
 pub struct Accel {
     still: Arc<Hierarchy>,
-    moving: Option<Moving>,
+    /// The moving triangles' hierarchy ([`Split`]), if any.
+    moving: Option<Hierarchy>,
     /// How many triangles making this value built a hierarchy over (none shared).
     built: usize,
 }
 
-/// The hierarchy of the triangles an animation moves, and which they are.
-struct Moving {
-    hierarchy: Hierarchy,
-    /// The scene triangles it holds, ascending.
-    which: Arc<Vec<u32>>,
+/// A scene's triangles split into those an animation moves and the others, with the others'
+/// hierarchy built once: each pose's [`Accel`] shares it and builds only the moving ones'.
+pub struct Split {
+    still: Arc<Hierarchy>,
+    /// The moving scene triangles, ascending; empty when none moves.
+    moving: Vec<u32>,
+}
+
+impl Split {
+    /// The split of the scene triangles that `moving[tri]` marks, the still ones' hierarchy
+    /// built over `positions` (any pose: an animation leaves what it does not move as it was).
+    pub fn new(
+        positions: &[Vec3],
+        triangles: &[[u32; 3]],
+        cut_out: &[bool],
+        moving: &[bool],
+    ) -> Split {
+        let (moves, stays): (Vec<u32>, Vec<u32>) =
+            (0..triangles.len() as u32).partition(|&t| moving.get(t as usize) == Some(&true));
+        Split {
+            still: Arc::new(Hierarchy::build(positions, triangles, &stays, cut_out)),
+            moving: moves,
+        }
+    }
+
+    /// The BVH of one pose (`positions` of the same triangles): the still triangles' hierarchy
+    /// shared, the moving ones' built over their positions. The still triangles are checked to
+    /// lie bit for bit where they lay; if one does not, the whole is built, so the answers are
+    /// always this pose's.
+    pub fn accel(&self, positions: &[Vec3], triangles: &[[u32; 3]], cut_out: &[bool]) -> Accel {
+        if !self.still.lies_in(positions, triangles) {
+            return Accel::build_with_cutouts(positions, triangles, cut_out);
+        }
+        Accel {
+            still: Arc::clone(&self.still),
+            moving: (!self.moving.is_empty())
+                .then(|| Hierarchy::build(positions, triangles, &self.moving, cut_out)),
+            built: self.moving.len(),
+        }
+    }
 }
 
 impl Accel {
@@ -99,52 +135,8 @@ impl Accel {
         }
     }
 
-    /// [`build_with_cutouts`](Self::build_with_cutouts) in two hierarchies: the triangles
-    /// `moving[tri]` marks (those an animation moves) apart from the others, so that a frame
-    /// of another pose rebuilds only theirs ([`reposed`](Self::reposed)). One hierarchy, shared
-    /// by every pose, when none moves.
-    pub fn build_split(
-        positions: &[Vec3],
-        triangles: &[[u32; 3]],
-        cut_out: &[bool],
-        moving: &[bool],
-    ) -> Accel {
-        let (moves, stays): (Vec<u32>, Vec<u32>) =
-            (0..triangles.len() as u32).partition(|&t| moving.get(t as usize) == Some(&true));
-        if moves.is_empty() {
-            return Accel::build_with_cutouts(positions, triangles, cut_out);
-        }
-        Accel {
-            still: Arc::new(Hierarchy::build(positions, triangles, &stays, cut_out)),
-            moving: Some(Moving {
-                hierarchy: Hierarchy::build(positions, triangles, &moves, cut_out),
-                which: Arc::new(moves),
-            }),
-            built: triangles.len(),
-        }
-    }
-
-    /// This [`build_split`](Self::build_split) hierarchy for another pose of the same scene
-    /// (`positions` of the same triangles): the still triangles' hierarchy is shared, the
-    /// moving ones' rebuilt over their new positions. The still triangles are checked to lie
-    /// bit for bit where they lay (an animation leaves what it does not move as it was); if
-    /// one does not, the whole is rebuilt, so the answers are always this pose's.
-    pub fn reposed(&self, positions: &[Vec3], triangles: &[[u32; 3]], cut_out: &[bool]) -> Accel {
-        if !self.still.lies_in(positions, triangles) {
-            return Accel::build_with_cutouts(positions, triangles, cut_out);
-        }
-        Accel {
-            still: Arc::clone(&self.still),
-            moving: self.moving.as_ref().map(|m| Moving {
-                hierarchy: Hierarchy::build(positions, triangles, &m.which, cut_out),
-                which: Arc::clone(&m.which),
-            }),
-            built: self.moving.as_ref().map_or(0, |m| m.which.len()),
-        }
-    }
-
     /// How many triangles making this value built a hierarchy over: all for a whole build,
-    /// the moving ones for [`reposed`](Self::reposed) (none when nothing moves).
+    /// the moving ones for [`Split::accel`] (none when nothing moves).
     pub fn built_triangles(&self) -> usize {
         self.built
     }
@@ -152,7 +144,16 @@ impl Accel {
     /// The hierarchies, still first.
     #[inline(always)]
     fn parts(&self) -> impl Iterator<Item = &Hierarchy> {
-        std::iter::once(&*self.still).chain(self.moving.as_ref().map(|m| &m.hierarchy))
+        std::iter::once(&*self.still).chain(self.moving.as_ref())
+    }
+
+    /// Hierarchy `k` of [`parts`](Self::parts).
+    #[inline]
+    fn part(&self, k: usize) -> &Hierarchy {
+        match (k, &self.moving) {
+            (1, Some(m)) => m,
+            _ => &self.still,
+        }
     }
 
     /// Whether any triangle is cut out.
@@ -229,10 +230,9 @@ impl Accel {
                     }
                 }
             }
-            let parts: Vec<&Hierarchy> = self.parts().collect();
             for (r, h) in hits[..n].iter_mut().enumerate() {
                 let (t, prim) = best[r];
-                *h = (prim != usize::MAX).then(|| parts[owner[r]].hit(prim, t, &rays[r]));
+                *h = (prim != usize::MAX).then(|| self.part(owner[r]).hit(prim, t, &rays[r]));
             }
             return;
         }
@@ -334,12 +334,8 @@ impl Accel {
                 (origins[if SHARED { 0 } else { r }], dirs[r], tmax[r], r);
             k += 1;
         }
-        let more = m.hierarchy.trace_packet::<SHARED, C>(
-            &o[..if SHARED { 1 } else { k }],
-            &d[..k],
-            &t[..k],
-            cut,
-        );
+        let more =
+            m.trace_packet::<SHARED, C>(&o[..if SHARED { 1 } else { k }], &d[..k], &t[..k], cut);
         (0..k)
             .filter(|j| more & (1 << j) != 0)
             .fold(blocked, |b, j| b | 1 << from[j])
@@ -1847,10 +1843,11 @@ mod tests {
         let (mut p, t) = soup_triangles(&mut rng, n, 3.0, 0.8);
         let cut_out = two_in_three(n);
         let moving: Vec<bool> = (0..n).map(|i| i % 4 == 1).collect();
-        let split = Accel::build_split(&p, &t, &cut_out, &moving);
-        assert!(split.moving.is_some(), "two hierarchies");
+        let split = Split::new(&p, &t, &cut_out, &moving);
+        let first = split.accel(&p, &t, &cut_out);
+        assert!(first.moving.is_some(), "two hierarchies");
         same_answers(
-            &split,
+            &first,
             &Accel::build_with_cutouts(&p, &t, &cut_out),
             &mut rng,
         );
@@ -1862,7 +1859,7 @@ mod tests {
                 }
             }
         }
-        let posed = split.reposed(&p, &t, &cut_out);
+        let posed = split.accel(&p, &t, &cut_out);
         assert!(
             Arc::ptr_eq(&posed.still, &split.still),
             "the still part is shared"
@@ -1874,7 +1871,7 @@ mod tests {
         );
         // A still triangle that moved after all: the whole is rebuilt, and still right.
         p[0] += Vec3::X;
-        let rebuilt = split.reposed(&p, &t, &cut_out);
+        let rebuilt = split.accel(&p, &t, &cut_out);
         assert!(rebuilt.moving.is_none(), "rebuilt whole");
         same_answers(
             &rebuilt,

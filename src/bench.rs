@@ -218,8 +218,12 @@ pub fn replay(accel: &Accel, rays: &[ShadowRay], grouping: Grouping) -> u64 {
 /// The frame's geometry as `render_frame` poses it (the file's animation, then a spin), or
 /// None for the unposed scene.
 fn frame_scene(anim: &Animation, inputs: &Inputs, frame: usize) -> Result<Option<Scene>> {
-    let pivot = anim.pivot(&inputs.scene)?;
-    inputs.posed(anim, frame, anim.scene_transform(frame, pivot))
+    inputs.posed(anim, frame, frame_spin(anim, inputs, frame)?)
+}
+
+/// The spin that `frame` turns the scene by, if any.
+fn frame_spin(anim: &Animation, inputs: &Inputs, frame: usize) -> Result<Option<glam::Mat4>> {
+    Ok(anim.scene_transform(frame, anim.pivot(&inputs.scene)?))
 }
 
 /// Whether the frame's geometry is the unposed scene (its BVH is built once per run).
@@ -229,8 +233,7 @@ fn still_geometry(anim: &Animation, inputs: &Inputs, frame: usize) -> Result<boo
 
 /// The frame's posed scene and BVH, built as `render_frame` builds them.
 fn frame_accel(anim: &Animation, inputs: &Inputs, frame: usize) -> Result<Accel> {
-    let pivot = anim.pivot(&inputs.scene)?;
-    let spin = anim.scene_transform(frame, pivot);
+    let spin = frame_spin(anim, inputs, frame)?;
     Ok(match inputs.posed(anim, frame, spin)? {
         Some(posed) => inputs.posed_accel(&posed, spin.is_some()),
         None => inputs.scene.accel(),

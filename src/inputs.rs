@@ -8,7 +8,7 @@ use std::sync::OnceLock;
 
 use anyhow::Context;
 
-use crate::accel::Accel;
+use crate::accel::{Accel, Split};
 use glam::Mat4;
 
 use crate::anim::{Animation, EnvSource, MotionKind, SceneSource};
@@ -32,10 +32,9 @@ pub struct Inputs {
     /// The BVH of the unposed scene, built by the first frame that needs it: frames whose
     /// geometry does not move (orbit turntables, still cameras) share one build per run.
     still: OnceLock<Accel>,
-    /// The BVH of the posed scene split into the triangles the played animation moves and
-    /// the others ([`Accel::build_split`]), built by the first posed frame: every later pose
-    /// shares the still part and rebuilds the moving one.
-    split: OnceLock<Accel>,
+    /// The posed scene split into the triangles the played animation moves and the others,
+    /// whose hierarchy the first posed frame builds and every pose shares ([`Split`]).
+    split: OnceLock<Split>,
     /// The prefiltered environment, made by the first frame that needs it: only when some
     /// material is glossier than the lights resolve (see [`Glossy`]).
     glossy: OnceLock<Option<Glossy>>,
@@ -147,9 +146,9 @@ impl Inputs {
             for r in self.animated_triangles() {
                 moving[r].fill(true);
             }
-            Accel::build_split(&posed.positions, &posed.triangles, &cut_out, &moving)
+            Split::new(&posed.positions, &posed.triangles, &cut_out, &moving)
         });
-        split.reposed(&posed.positions, &posed.triangles, &cut_out)
+        split.accel(&posed.positions, &posed.triangles, &cut_out)
     }
 
     /// The environment prefiltered for glossy lobes, if any material may need it: one whose

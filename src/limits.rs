@@ -475,9 +475,8 @@ impl Budget {
 
     /// The scene file animates its geometry: a render poses it every frame (whatever the
     /// motion), so each frame in flight holds a posed copy of the scene and its BVH, as a
-    /// spin's frames do, and the run keeps one more BVH: the split one of its first pose,
-    /// whose still part every pose shares (`Accel::reposed`; counted whole, as if every
-    /// triangle moved). Counted when the file is found to have animations, before its
+    /// spin's frames do, and the run keeps one more BVH: the still triangles' hierarchy that
+    /// every pose shares (`accel::Split`; counted whole, as if no triangle moved). Counted when the file is found to have animations, before its
     /// buffers are read; a budget with no render (a bare load) poses nothing.
     pub fn animated(&mut self) {
         if self.request.is_some() {
