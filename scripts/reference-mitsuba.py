@@ -308,6 +308,10 @@ def main():
                     help="estimator passes per seed (two directions each)")
     ap.add_argument("--seeds", default="1,2", help="two seeds: two independent halves")
     ap.add_argument("--shadowed", type=float, default=0.05)
+    ap.add_argument("--clamp", type=float,
+                    help="also the error with every channel of both images clamped at this "
+                         "value (a display's white): a mirror's few pixels that reflect a lamp, "
+                         "thousands of times brighter than the rest, decide the plain RMSE")
     ap.add_argument("--work", required=True)
     ap.add_argument("--threads", type=int, default=0)
     args = ap.parse_args()
@@ -367,10 +371,20 @@ def main():
           f"material in both renderers; shadowed: the shadows lower the pixel's light by more "
           f"than {100 * args.shadowed:.0f} %):\n")
     names = list(images)
+    if args.clamp is not None:
+        print(f"Each cell: plain / clamped at {args.clamp:g}.\n")
     print("| pixels | count | reference noise | " + " | ".join(names) + " |")
     print("|---|---:|---:|" + "---:|" * len(names))
+
+    def cell(img, sel):
+        plain = f"{cm.rel_rmse(img, ref, sel):.2f} %"
+        if args.clamp is None:
+            return plain
+        c = args.clamp
+        return plain + f" / {cm.rel_rmse(np.minimum(img, c), np.minimum(ref, c), sel):.2f} %"
+
     for label, sel in sels:
-        cells = [f"{cm.rel_rmse(images[k], ref, sel):.2f} %" for k in names]
+        cells = [cell(images[k], sel) for k in names]
         print(f"| {label} | {int(sel.sum())} | {noise(sel):.2f} % | " + " | ".join(cells) + " |")
 
 

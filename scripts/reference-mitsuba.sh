@@ -6,6 +6,7 @@
 #
 # usage: scripts/reference-mitsuba.sh [SPEC.toml] [--scenes NAME,NAME] [--size WxH] [--spp N]
 #                                     [--passes P] [--work DIR] [--render NAME=FLAGS]...
+#                                     [--clamp C]
 # Defaults: the corpus scenes metal_rough_spheres and golf_ball (../shared/assets/corpus or
 # $CORPUS) under studio_small_03_1k.hdr, 320x240, 4 spp, the files' own lights left out
 # ([lights] scene_lights = false: the reference sees the map only); 512 passes per seed;
@@ -27,6 +28,7 @@ WORK=target/reference-mitsuba
 VENV="${MITSUBA_VENV:-target/mitsuba-venv}"
 CORPUS="${CORPUS:-$ROOT/../shared/assets/corpus}"
 RENDERS=()
+EXTRA=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --scenes) SCENES="${2//,/ }"; shift 2 ;;
@@ -35,7 +37,8 @@ while [ $# -gt 0 ]; do
     --passes) PASSES="$2"; shift 2 ;;
     --work) WORK="$2"; shift 2 ;;
     --render) RENDERS+=(--render "$2"); shift 2 ;;
-    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
+    --clamp) EXTRA+=(--clamp "$2"); shift 2 ;;
+    -h|--help) sed -n '2,16p' "$0"; exit 0 ;;
     -*) echo "reference-mitsuba.sh: unknown option $1" >&2; exit 2 ;;
     *) SPEC="$1"; shift ;;
   esac
@@ -67,7 +70,7 @@ reference() {
   local spec="$1" dir="$2"
   ./target/release/envshadow export "$spec" --frame 0 --out "$dir/export" -q
   "$VENV/bin/python" "$SCRIPT_DIR/reference-mitsuba.py" "$dir/export" --spec "$spec" \
-    --passes "$PASSES" --work "$dir" "${RENDERS[@]}"
+    --passes "$PASSES" --work "$dir" "${RENDERS[@]}" ${EXTRA[@]+"${EXTRA[@]}"}
 }
 
 if [ -n "$SPEC" ]; then

@@ -576,9 +576,8 @@ struct Shader<'a> {
     member: Vec<usize>,
     members: usize,
     truth: Vec<u64>,
-    /// One group's rows, its visible and above-horizon lights, back to back.
+    /// One group's rows of visible lights, back to back.
     group_vis: Vec<u64>,
-    group_above: Vec<u64>,
     group_of: Vec<u8>,
     group_surf: Vec<Surface>,
 }
@@ -595,7 +594,6 @@ impl<'a> Shader<'a> {
             members: 0,
             truth: vec![0; (spp + 1) * words],
             group_vis: Vec::with_capacity(spp * words),
-            group_above: Vec::with_capacity(spp * words),
             group_of: vec![0; spp],
             group_surf: Vec::with_capacity(spp),
         }
@@ -717,7 +715,6 @@ impl<'a> Shader<'a> {
                 continue;
             }
             self.group_vis.clear();
-            self.group_above.clear();
             self.group_surf.clear();
             for (i, &q) in members.iter().enumerate() {
                 if self.group_of[i] != g {
@@ -725,15 +722,8 @@ impl<'a> Shader<'a> {
                 }
                 self.group_surf.push(bufs.surf[q]);
                 self.group_vis.extend_from_slice(row(i, q));
-                self.group_above
-                    .extend_from_slice(bits::rows(&bufs.above, w).row(q));
             }
-            lit += group_radiance(
-                ctx,
-                &self.group_surf,
-                bits::rows(&self.group_vis, w),
-                bits::rows(&self.group_above, w),
-            );
+            lit += group_radiance(ctx, &self.group_surf, bits::rows(&self.group_vis, w));
         }
         lit
     }

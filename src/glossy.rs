@@ -8,9 +8,10 @@
 //! may be resolved on one side of an object and not the other). Where they do not resolve it,
 //! the specular is the split-sum estimate (Karis 2013): the map convolved with the GGX lobe
 //! around the mirror direction ([`Glossy::radiance`]) times the lobe's integral for the
-//! material's Fresnel ([`Glossy::dfg`]), then weighted by the lobe's share of *visible* light
-//! measured over the lights near it (the `shade` module's sums), so predicted shadows still
-//! darken it and no shadow ray is added. Where they resolve it the lights alone are used;
+//! material's Fresnel ([`Glossy::dfg`]), then weighted by the share of the lobe's light that
+//! reaches the point unblocked, measured by a few rays into the lobe (the reflection module: the
+//! lights' bits would blur a narrow lobe's occluders over their spacing, and a mirror would
+//! reflect what an object hides). Where they resolve it the lights alone are used;
 //! between, the two are blended smoothly. docs/materials.md gives the measured errors.
 //!
 //! Everything here is computed once at load, deterministically (pure `libm`, fixed sample
@@ -49,10 +50,6 @@ const DFG_SAMPLES: u32 = 1024;
 /// to the split sum, whose error on rough lobes at grazing views is larger than the lights'.
 const LIGHTS_EXACT: f32 = 0.5;
 const LIGHTS_NONE: f32 = 0.25;
-/// [ours] The lobe a glossy reflection's visible share of light is measured with is at least
-/// `LIGHTS_VISIBILITY × δ` wide (α): wide enough to hold a few lights, so the share is a
-/// smooth soft shadow rather than blotches where one light drops in and out.
-const LIGHTS_VISIBILITY: f32 = 0.5;
 /// The spacing field's grid (lat-long, texels) and the angle its log solid angles are blurred
 /// over (radians, a Gaussian's σ): a lobe on a cell's border sees both cells, and the share
 /// must not jump there (a jump would draw the cells on a glossy surface).
@@ -80,14 +77,11 @@ pub struct Glossy {
     spacing: Spacing,
 }
 
-/// How one shading point's specular is split between the lights and the environment: the
-/// lights' share, and the roughness the lobe's visible fraction is measured at.
+/// How one shading point's specular is split between the lights and the environment.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Split {
     /// 1: the lights alone (exact over them); 0: the environment alone; between, a blend.
     pub lights: f32,
-    /// The material's roughness, or the narrowest lobe that holds a few lights there.
-    pub visibility_roughness: f32,
 }
 
 impl Glossy {
@@ -144,10 +138,8 @@ impl Glossy {
         let delta = self.spacing.at(mirror);
         let a = alpha(roughness);
         let t = ((a / delta - LIGHTS_NONE) / (LIGHTS_EXACT - LIGHTS_NONE)).clamp(0.0, 1.0);
-        let vis_alpha = a.max(LIGHTS_VISIBILITY * delta);
         Split {
             lights: t * t * (3.0 - 2.0 * t),
-            visibility_roughness: libm::sqrtf(vis_alpha).min(1.0).max(roughness),
         }
     }
 
@@ -650,7 +642,6 @@ mod tests {
         let r = libm::sqrtf(0.5 * g400.spacing(bright) * 1.01);
         assert_eq!(g400.split(bright, r).lights, 1.0);
         assert!(g400.split(dim, r).lights < 0.1, "{:?}", g400.split(dim, r));
-        assert!(g400.split(dim, r).visibility_roughness > r);
         assert_eq!(
             g400.split(dim, 1.0).lights,
             1.0,

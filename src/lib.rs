@@ -62,6 +62,7 @@ pub mod plot;
 pub mod predict;
 pub mod radiance;
 pub mod raydump;
+pub mod reflection;
 pub mod report;
 pub mod run;
 pub mod samples;

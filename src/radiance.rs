@@ -9,6 +9,7 @@ use glam::Vec3;
 use crate::bits::Rows;
 use crate::brdf::{Lobe, MeanWeights, Reflectance, Sums, Weights};
 use crate::context::{FrameContext, Surface};
+use crate::reflection::{RaySet, lobe_light};
 use crate::shade::counted::counted_specular;
 use crate::shade::{LambertCache, point_lights, point_sums, reflect, specular_sums};
 
@@ -73,13 +74,13 @@ fn point_radiance(ctx: &FrameContext, s: &Surface, vis: &[u64]) -> Vec3 {
 }
 
 /// The summed radiance of `members`, samples of one pixel that share a glTF-material surface
-/// (`crate::shading_rate`; Lambertian samples are shaded alone), with visible lights `vis` and lights above their horizons `above`
+/// (`crate::shading_rate`; Lambertian samples are shaded alone), with visible lights `vis`
 /// (a row each, in the members' order): [`radiance_at`] of each, added, but with the map's
 /// lights evaluated once for the group — at the members' mean normal, view direction and
 /// roughness, each light counted once per member that sees it — and reflected by the mean of
 /// the members' weights (occlusion included). The scene file's point and spot lights, which
 /// differ from point to point, and emission stay each member's own.
-pub fn group_radiance(ctx: &FrameContext, members: &[Surface], vis: Rows, above: Rows) -> Vec3 {
+pub fn group_radiance(ctx: &FrameContext, members: &[Surface], vis: Rows) -> Vec3 {
     let sl = &ctx.shade_lights;
     let count = members.len() as f32;
     let lead = &members[0];
@@ -95,10 +96,10 @@ pub fn group_radiance(ctx: &FrameContext, members: &[Surface], vis: Rows, above:
         n: n.normalize_or(lead.n),
         v: (-dir).normalize_or(-lead.dir),
         roughness: roughness / count,
-        members: count,
+        members,
     };
-    let mut lit = shared.radiance(ctx, &weights.mean(), |lobe, unshadowed| {
-        counted_specular(sl, lobe, vis, unshadowed.then_some(above))
+    let mut lit = shared.radiance(ctx, &weights.mean(), |lobe| {
+        counted_specular(sl, lobe, vis, None).0
     });
     for (i, s) in members.iter().enumerate() {
         if ctx.has_points() {
@@ -120,32 +121,31 @@ fn metallic_roughness(ctx: &FrameContext, s: &Surface, vis: &[u64], above: &[u64
         n: s.n,
         v: -s.dir,
         roughness: m.roughness,
-        members: 1.0,
+        members: std::slice::from_ref(s),
     };
     let weights = Weights::new(s.albedo, m);
-    lobe.radiance(ctx, &weights, |l, unshadowed| {
-        specular_sums(sl, l, vis, above, unshadowed)
-    })
+    lobe.radiance(ctx, &weights, |l| specular_sums(sl, l, vis, above, false).0)
 }
 
-/// What the samples shaded together share: their lobe's normal, view direction and roughness,
-/// and how many they are (one for a sample shaded alone).
-struct Shared {
+/// What the samples shaded together share: their lobe's normal, view direction and roughness;
+/// and the samples (one for a sample shaded alone), whose own points the lobe's reflection
+/// rays leave from.
+struct Shared<'a> {
     n: Vec3,
     v: Vec3,
     roughness: f32,
-    members: f32,
+    members: &'a [Surface],
 }
 
-impl Shared {
-    /// The metallic-roughness radiance of the lights whose sums `sums` gives for a lobe (with
-    /// `true`: also the unshadowed specular luminance), reflected by `weights`: the members'
-    /// radiance summed.
+impl Shared<'_> {
+    /// The metallic-roughness radiance of the lights whose sums `sums` gives for a lobe,
+    /// reflected by `weights`, with the glossy environment where the lights are too sparse for
+    /// the lobe: the members' radiance summed.
     fn radiance(
         &self,
         ctx: &FrameContext,
         weights: &impl Reflectance,
-        sums: impl Fn(&Lobe, bool) -> (Sums, f32),
+        sums: impl Fn(&Lobe) -> Sums,
     ) -> Vec3 {
         let Shared {
             n, v, roughness, ..
@@ -153,7 +153,7 @@ impl Shared {
         let lobe = Lobe::new(n, v, roughness);
         let Some(g) = ctx.glossy else {
             // The lights alone, exact over them, visibility included.
-            let (sums, _) = sums(&lobe, false);
+            let sums = sums(&lobe);
             return weights.diffuse(&sums) + weights.specular(sums.s2, sums.s3);
         };
         let mirror = n * (2.0 * lobe.n_dot_v) - v;
@@ -164,35 +164,33 @@ impl Shared {
             Some((sin, cos)) => crate::envmap::rotate_y(mirror, (-sin, cos)),
         };
         let split = g.split(mirror, roughness);
+        let sums = sums(&lobe);
         if split.lights >= 1.0 {
             // [ours] The lights resolve the lobe here: exact over them, visibility included.
-            let (sums, _) = sums(&lobe, false);
             return weights.diffuse(&sums) + weights.specular(sums.s2, sums.s3);
         }
         // [ours] Too few lights around the lobe: the environment prefiltered for the
-        // roughness, seen along the mirror direction, times the lobe's share of visible light
-        // (measured with a lobe wide enough to hold a few of the lights there), blended with
-        // the lights' own specular across the switch. The diffuse sums do not depend on the
-        // roughness.
-        let wide = Lobe::new(n, v, split.visibility_roughness);
-        let (wide_sums, unshadowed) = sums(&wide, true);
-        let visible = if unshadowed > 0.0 {
-            (crate::envmap::luminance(wide_sums.s2) / unshadowed).min(1.0)
+        // roughness, seen along the mirror direction, times the share of the lobe's light that
+        // reaches each member unblocked — measured by rays into the lobe from the member's own
+        // point (`crate::reflection`), not by the lights' bits, which blur a narrow lobe's
+        // occluders over the lights' spacing — blended with the lights' own specular across
+        // the switch.
+        let members = self.members;
+        let set = RaySet::new(&lobe, roughness, members.len(), members[0].p);
+        let (open, all) = members
+            .iter()
+            .enumerate()
+            .map(|(m, s)| lobe_light(ctx, g, s, &lobe, &set, m))
+            .fold((0.0, 0.0), |(a, b), (o, l)| (a + o, b + l));
+        let share = if all > 0.0 {
+            (open / all).min(1.0)
         } else {
             1.0
         };
+        let visible = share * members.len() as f32;
         let (i2, i3) = g.dfg(lobe.n_dot_v, roughness);
-        // Each member sees the visible share (the group's is the mean of its members').
-        let env = g.radiance(mirror, roughness) * (visible * self.members);
+        let env = g.radiance(mirror, roughness) * visible;
         let from_env = weights.specular(env * i2, env * i3);
-        if split.lights <= 0.0 {
-            return weights.diffuse(&wide_sums) + from_env;
-        }
-        let (sums, _) = if wide == lobe {
-            (wide_sums, unshadowed)
-        } else {
-            sums(&lobe, false)
-        };
         weights.diffuse(&sums)
             + weights.specular(sums.s2, sums.s3) * split.lights
             + from_env * (1.0 - split.lights)

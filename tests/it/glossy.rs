@@ -1,5 +1,6 @@
 //! Glossy lobes narrower than the lights can resolve (issue 42): shadows still darken the
-//! reflection where the environment stands in for the lights, and the export carries the map
+//! reflection where the environment stands in for the lights, a mirror reflects its occluders
+//! sharply, and the export carries the map
 //! a reference renderer needs. (Where the lights stand in and where they do not is tested in
 //! `glossy::tests`; the dots' disappearance is measured against Mitsuba in docs/materials.md.)
 
@@ -88,8 +89,9 @@ fn render_spheres(
 }
 
 /// Where the environment stands in for the lights, a slab that hides the upper sky still
-/// darkens the reflection (the environment term is weighted by the lobe's visible share of
-/// the lights near it): a mirror-like metal sphere under the slab is darker than without it.
+/// darkens the reflection (the environment term is weighted by the share of the lobe's light
+/// its rays find unblocked): a mirror-like metal sphere under the slab is darker than without
+/// it.
 #[test]
 fn shadows_still_darken_a_reflection_taken_from_the_environment() {
     let materials = [(1.0, 0.1), (0.0, 0.1)];
@@ -145,5 +147,62 @@ fn the_export_carries_the_map_as_envshadow_decoded_it() {
     assert_eq!(
         meta["env_rotation_deg"].as_f64().unwrap() as f32,
         inputs.env.rotation_deg + turn
+    );
+}
+
+/// Issue 42: a mirror reflects exactly what blocks it. Under the slab, every pixel of a mirror
+/// sphere whose reflected ray rises into the slab is black (the metal has no diffuse part, and
+/// the ray into the lobe finds the slab), however near the slab's edge on the sphere; the
+/// pixels whose reflected ray falls below the horizon see the lower sky. Before the lobe's rays
+/// (the share of visible light measured over the lights near the lobe, a lobe 0.5 δ wide), the
+/// reflection of the slab's edge was blurred over the lights' spacing into the black zone.
+#[test]
+fn a_mirror_reflects_its_occluder_as_sharply_as_it_sees_it() {
+    let width = 80;
+    let env = EnvMap::load(&common::asset("studio_small_03_1k.hdr")).unwrap();
+    let set = LightSet::build(&env, 200, Sampler::Sis).unwrap();
+    let inputs = Inputs::new(spheres(&[(1.0, 0.0)], true), env, set);
+    let anim = common::animation(&format!(
+        "[camera]\nposition = [0.0, 0.0, 6.0]\ntarget = [0.0, 0.0, 0.0]\nvfov = 9.0\n\
+         [motion]\nkind = \"none\"\n[render]\nwidth = {width}\nheight = 40\nmethod = \"brute\"\n"
+    ));
+    let (film, _) = render_frame(&anim, &inputs, 0, None, &Silent).unwrap();
+    let cam = anim.camera(&inputs.scene, 0).unwrap();
+    let (mut blocked, mut open) = (Vec::new(), Vec::new());
+    for y in 0..40u32 {
+        for x in 0..width {
+            // The pixel's ray against the sphere (centre 0, radius 0.4), well inside its
+            // outline, and the ray it reflects.
+            let (o, d) = (cam.position, cam.ray_dir(x, y));
+            let t = -o.dot(d);
+            let miss = (o + d * t).length();
+            if miss > 0.4 * 0.85 {
+                continue;
+            }
+            let p = o + d * (t - (0.16 - miss * miss).sqrt());
+            let n = p.normalize();
+            let mirror = d - n * (2.0 * d.dot(n));
+            let b = film.beauty((y * width + x) as usize);
+            let lum =
+                0.2126 * f64::from(b[0]) + 0.7152 * f64::from(b[1]) + 0.0722 * f64::from(b[2]);
+            if mirror.y > 0.1 {
+                blocked.push(lum);
+            } else if mirror.y < -0.1 {
+                open.push(lum);
+            }
+        }
+    }
+    assert!(
+        blocked.len() > 50 && open.len() > 50,
+        "{} {}",
+        blocked.len(),
+        open.len()
+    );
+    let mean = open.iter().sum::<f64>() / open.len() as f64;
+    assert!(mean > 0.01, "the lower sky is reflected: {mean}");
+    let worst = blocked.iter().cloned().fold(0.0, f64::max);
+    assert!(
+        worst <= 1e-3 * mean,
+        "a pixel reflecting the slab is lit: {worst} against {mean} for the open ones"
     );
 }
