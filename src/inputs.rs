@@ -141,7 +141,7 @@ impl Inputs {
         if spun {
             return Accel::build_with_cutouts(&posed.positions, &posed.triangles, &cut_out);
         }
-        let split = self.split.get_or_init(|| {
+        let split = built(&self.split, || {
             let mut moving = vec![false; posed.triangle_count()];
             for r in self.animated_triangles() {
                 moving[r].fill(true);
@@ -155,17 +155,16 @@ impl Inputs {
     /// roughness factor (its texture can only lower it) is below what the map's lights
     /// resolve where they are sparsest.
     pub fn glossy(&self) -> Option<&Glossy> {
-        self.glossy
-            .get_or_init(|| {
-                let bound = Glossy::roughness_bound(&self.lights);
-                let needed = self
-                    .scene
-                    .materials
-                    .iter()
-                    .any(|m| m.model == Model::MetallicRoughness && m.roughness < bound);
-                needed.then(|| Glossy::build(&self.env, &self.lights))
-            })
-            .as_ref()
+        built(&self.glossy, || {
+            let bound = Glossy::roughness_bound(&self.lights);
+            let needed = self
+                .scene
+                .materials
+                .iter()
+                .any(|m| m.model == Model::MetallicRoughness && m.roughness < bound);
+            needed.then(|| Glossy::build(&self.env, &self.lights))
+        })
+        .as_ref()
     }
 
     /// These inputs with rays that leave the scene seeing `backdrop`.
@@ -184,7 +183,7 @@ impl Inputs {
 
     /// The unposed scene's BVH, built once.
     pub fn still_accel(&self) -> &Accel {
-        self.still.get_or_init(|| self.scene.accel())
+        built(&self.still, || self.scene.accel())
     }
 
     /// Loads the scene and environment and samples the lights. Each file is counted against
@@ -360,4 +359,57 @@ pub fn scene_lights_note(anim: &Animation, scene: &Scene) -> Option<String> {
             names.join(", ")
         )
     })
+}
+
+/// The value of `cell`, built by `build` if no frame has yet. Not `OnceLock::get_or_init`: the
+/// builds run on the render pool (a BVH, the glossy prefilter), and a worker waiting inside
+/// them for its parallel parts steals another frame's job, which then asks for the same cell
+/// and waits on the very initialisation it sits on — a deadlock (two frames in flight on the
+/// animated fox, `animation_farm::a_farm_run_of_an_animated_model_equals_one_process`). So the
+/// build runs outside the cell: two frames that ask at once may both build (the same value
+/// from the same inputs, bit for bit), and the first to finish is kept.
+fn built<T>(cell: &OnceLock<T>, build: impl FnOnce() -> T) -> &T {
+    if let Some(v) = cell.get() {
+        return v;
+    }
+    let _ = cell.set(build());
+    cell.get().expect("set just above")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A build that, waiting on the pool, runs another frame's job asking for the same cell
+    /// (as a BVH or prefilter build does when it steals work): with `OnceLock::get_or_init`
+    /// the inner request waits forever on the outer build; `built` finishes, and both
+    /// requests see one value.
+    #[test]
+    fn a_build_that_runs_another_frames_request_for_the_same_value_does_not_deadlock() {
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(1)
+                .build()
+                .unwrap();
+            let cell: OnceLock<u32> = OnceLock::new();
+            let (outer, inner) = pool.install(|| {
+                rayon::join(
+                    || {
+                        *built(&cell, || {
+                            // The other half of the join, queued on this worker, runs here.
+                            let _ = rayon::yield_now();
+                            7
+                        })
+                    },
+                    || *built(&cell, || 7),
+                )
+            });
+            let _ = tx.send((outer, inner, cell.get().copied()));
+        });
+        let got = rx
+            .recv_timeout(std::time::Duration::from_secs(60))
+            .expect("the two requests deadlocked");
+        assert_eq!(got, (7, 7, Some(7)));
+    }
 }
