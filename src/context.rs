@@ -147,15 +147,21 @@ impl<'a> FrameContext<'a> {
         }
     }
 
+    /// World direction `dir` in the frame of the map before this frame's turn
+    /// ([`with_environment_turn`](Self::with_environment_turn)): where to look the map up.
+    #[inline]
+    pub fn unturned(&self, dir: Vec3) -> Vec3 {
+        match self.env_turn {
+            None => dir,
+            Some((s, c)) => crate::envmap::rotate_y(dir, (-s, c)),
+        }
+    }
+
     /// The environment's radiance seen along unit direction `dir` (a background sample):
     /// the map turned as this frame's lights are.
     #[inline]
     pub fn background(&self, dir: Vec3) -> Vec3 {
-        let dir = match self.env_turn {
-            None => dir,
-            Some((s, c)) => crate::envmap::rotate_y(dir, (-s, c)),
-        };
-        self.backdrop.radiance(self.env, dir)
+        self.backdrop.radiance(self.env, self.unturned(dir))
     }
 
     /// This context with the pixels' samples at `samples`, and textures filtered to what one

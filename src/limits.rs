@@ -476,8 +476,9 @@ impl Budget {
     /// The scene file animates its geometry: a render poses it every frame (whatever the
     /// motion), so each frame in flight holds a posed copy of the scene and its BVH, as a
     /// spin's frames do, and the run keeps one more BVH: the still triangles' hierarchy that
-    /// every pose shares (`accel::Split`; counted whole, as if no triangle moved). Counted when the file is found to have animations, before its
-    /// buffers are read; a budget with no render (a bare load) poses nothing.
+    /// every pose shares (`accel::Split`; counted whole, as if no triangle moved). Counted
+    /// when the file is found to have animations, before its buffers are read; a budget with
+    /// no render (a bare load) poses nothing.
     pub fn animated(&mut self) {
         if self.request.is_some() {
             self.posed = self.posed.max(FRAMES_IN_FLIGHT as u64);

@@ -151,20 +151,15 @@ impl Shared<'_> {
             n, v, roughness, ..
         } = *self;
         let lobe = Lobe::new(n, v, roughness);
+        let sums = sums(&lobe);
         let Some(g) = ctx.glossy else {
             // The lights alone, exact over them, visibility included.
-            let sums = sums(&lobe);
             return weights.diffuse(&sums) + weights.specular(sums.s2, sums.s3);
         };
-        let mirror = n * (2.0 * lobe.n_dot_v) - v;
         // The map and its spacing field turned as this frame's lights are (`[motion] kind =
         // "environment"`).
-        let mirror = match ctx.env_turn {
-            None => mirror,
-            Some((sin, cos)) => crate::envmap::rotate_y(mirror, (-sin, cos)),
-        };
+        let mirror = ctx.unturned(n * (2.0 * lobe.n_dot_v) - v);
         let split = g.split(mirror, roughness);
-        let sums = sums(&lobe);
         if split.lights >= 1.0 {
             // [ours] The lights resolve the lobe here: exact over them, visibility included.
             return weights.diffuse(&sums) + weights.specular(sums.s2, sums.s3);

@@ -35,6 +35,8 @@ const FILTER: f32 = 0.25;
 /// members, at least one each — one Hammersley set over the group, turned by a hash of the
 /// first member's point, member m taking its points `m·per .. (m + 1)·per`.
 pub struct RaySet {
+    /// Two unit vectors completing the lobe's normal to a basis.
+    tangents: (Vec3, Vec3),
     per: usize,
     of: usize,
     turn: (f32, f32),
@@ -42,7 +44,8 @@ pub struct RaySet {
 }
 
 impl RaySet {
-    /// The set for `members` samples (the first at `lead`) sharing `lobe` of `roughness`.
+    /// The set for `members` samples (the first at `lead`) sharing `lobe` of `roughness`
+    /// ([`lobe_light`] takes the same lobe).
     pub fn new(lobe: &Lobe, roughness: f32, members: usize, lead: Vec3) -> RaySet {
         let total = if lobe.a2 < WIDE_ALPHA * WIDE_ALPHA {
             1
@@ -53,6 +56,7 @@ impl RaySet {
         let per = total.div_ceil(members).min(PACKET);
         let of = per * members;
         RaySet {
+            tangents: basis(lobe.n),
             per,
             of,
             turn: rotation(lead),
@@ -77,7 +81,7 @@ pub fn lobe_light(
     member: usize,
 ) -> (f32, f32) {
     let a2 = lobe.a2;
-    let (t, b) = basis(lobe.n);
+    let (t, b) = set.tangents;
     let (r1, r2) = set.turn;
     let mut dirs = [Vec3::ZERO; PACKET];
     let mut light = [0.0f32; PACKET];
@@ -101,11 +105,7 @@ pub fn lobe_light(
         // Its part of the lobe's integral, D Vis cos over the half vectors' density
         // (4 Vis (n·l)(v·h)/(n·h), as `crate::glossy`'s table sums), times the light there.
         let w = 2.0 * nl * vh / (cos_h * (nl * lobe.kv + lobe.n_dot_v * kl(nl, a2)));
-        let map_dir = match ctx.env_turn {
-            None => l,
-            Some((sin, cos)) => crate::envmap::rotate_y(l, (-sin, cos)),
-        };
-        let y = w * crate::envmap::luminance(g.radiance(map_dir, set.looked_up));
+        let y = w * crate::envmap::luminance(g.radiance(ctx.unturned(l), set.looked_up));
         if s.ng.dot(l) <= 0.0 {
             below += y;
             continue;
