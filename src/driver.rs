@@ -625,7 +625,7 @@ impl<'a> Shader<'a> {
             let sum = self.cache.light_sum(&ctx.shade_lights, s.n, vis);
             self.caches.1.sample(ctx, s, above, sum)
         } else {
-            (radiance_at(ctx, s, vis, above, &mut self.cache), 1.0)
+            (radiance_at(ctx, s, vis, &mut self.cache), 1.0)
         }
     }
 
@@ -678,7 +678,7 @@ impl<'a> Shader<'a> {
             let sum = exact_cache.light_sum(&ctx.shade_lights, s.n, truth);
             catchers.sample(ctx, s, above, sum).0
         } else {
-            radiance_at(ctx, s, truth, above, exact_cache)
+            radiance_at(ctx, s, truth, exact_cache)
         };
         (wv + wb, exact)
     }
@@ -705,13 +705,12 @@ impl<'a> Shader<'a> {
             let (first, &q) = of.next().expect("a group has a first member");
             if of.next().is_none() {
                 // A sample alone is shaded as at the sample rate: the same bits, no copies.
-                let above = bits::rows(&bufs.above, w).row(q);
                 let cache = if traced {
                     &mut self.caches.0
                 } else {
                     &mut self.cache
                 };
-                lit += radiance_at(ctx, &bufs.surf[q], row(first, q), above, cache);
+                lit += radiance_at(ctx, &bufs.surf[q], row(first, q), cache);
                 continue;
             }
             self.group_vis.clear();

@@ -13,20 +13,13 @@ use crate::reflection::{RaySet, lobe_light};
 use crate::shade::counted::counted_specular;
 use crate::shade::{LambertCache, point_lights, point_sums, reflect, specular_sums};
 
-/// A sample's radiance (its background aside): the visible lights in `vis` (those above its
-/// horizon in `above`) reflected by its material — Lambertian, or glTF metallic-roughness
+/// A sample's radiance (its background aside): the visible lights in `vis` reflected by its material — Lambertian, or glTF metallic-roughness
 /// (`crate::brdf`) with, where `ctx.glossy` says the lights around the lobe are too sparse for
 /// it, the prefiltered environment weighted by the lobe's visible fraction — times its occlusion,
 /// plus the scene file's point and spot lights in `vis` (the same BRDF, exact: one light at a
 /// time; occlusion is the environment's only), plus its emission. Lambertian samples with the
 /// normal and visible lights of the last one `cache` saw reuse its light sum (the same bits).
-pub fn radiance_at(
-    ctx: &FrameContext,
-    s: &Surface,
-    vis: &[u64],
-    above: &[u64],
-    cache: &mut LambertCache,
-) -> Vec3 {
+pub fn radiance_at(ctx: &FrameContext, s: &Surface, vis: &[u64], cache: &mut LambertCache) -> Vec3 {
     let sl = &ctx.shade_lights;
     let m = &s.material;
     let points = ctx.has_points();
@@ -41,7 +34,7 @@ pub fn radiance_at(
         }
         reflect(s.albedo, sum)
     } else {
-        metallic_roughness(ctx, s, vis, above)
+        metallic_roughness(ctx, s, vis)
     };
     // Occlusion darkens the environment's light (all of the light set's); 1 and no emission
     // leave the bits alone.
@@ -98,9 +91,7 @@ pub fn group_radiance(ctx: &FrameContext, members: &[Surface], vis: Rows) -> Vec
         roughness: roughness / count,
         members,
     };
-    let mut lit = shared.radiance(ctx, &weights.mean(), |lobe| {
-        counted_specular(sl, lobe, vis, None).0
-    });
+    let mut lit = shared.radiance(ctx, &weights.mean(), |lobe| counted_specular(sl, lobe, vis));
     for (i, s) in members.iter().enumerate() {
         if ctx.has_points() {
             lit += point_radiance(ctx, s, vis.row(i));
@@ -114,7 +105,7 @@ pub fn group_radiance(ctx: &FrameContext, members: &[Surface], vis: Rows) -> Vec
 
 /// The glTF metallic-roughness radiance of sample `s` from the frame's directional lights (see
 /// [`radiance_at`]).
-fn metallic_roughness(ctx: &FrameContext, s: &Surface, vis: &[u64], above: &[u64]) -> Vec3 {
+fn metallic_roughness(ctx: &FrameContext, s: &Surface, vis: &[u64]) -> Vec3 {
     let sl = &ctx.shade_lights;
     let m = &s.material;
     let lobe = Shared {
@@ -124,7 +115,7 @@ fn metallic_roughness(ctx: &FrameContext, s: &Surface, vis: &[u64], above: &[u64
         members: std::slice::from_ref(s),
     };
     let weights = Weights::new(s.albedo, m);
-    lobe.radiance(ctx, &weights, |l| specular_sums(sl, l, vis, above, false).0)
+    lobe.radiance(ctx, &weights, |l| specular_sums(sl, l, vis))
 }
 
 /// What the samples shaded together share: their lobe's normal, view direction and roughness;

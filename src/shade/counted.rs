@@ -47,35 +47,21 @@ fn lanes(plane: &[f32], base: usize) -> &[f32; 8] {
 }
 
 /// The metallic-roughness light sums ([`Sums`]) of the group's visible lights for `lobe`, each
-/// light's terms counted once per member that sees it; with `above`, also `Σ c'_j Y_j cos D
-/// Vis` over the lights above the members' horizons (`c'_j`: the members that have light j
-/// above), the group's unshadowed specular luminance (else 0). Lights below the lobe's own
-/// horizon add nothing, whatever the members' horizons.
-pub fn counted_specular(
-    sl: &ShadeLights,
-    lobe: &Lobe,
-    vis: Rows,
-    above: Option<Rows>,
-) -> (Sums, f32) {
+/// light's terms counted once per member that sees it. Lights below the lobe's own horizon
+/// add nothing, whatever the members' horizons.
+pub fn counted_specular(sl: &ShadeLights, lobe: &Lobe, vis: Rows) -> Sums {
     assert!(vis.words() * 64 <= sl.x.len());
-    assert!(above.is_none_or(|a| a.words() == vis.words() && a.len() == vis.len()));
-    let u = above.unwrap_or(vis);
     #[cfg(target_arch = "x86_64")]
     // SAFETY: AVX2 where detected.
     let lanes = unsafe {
-        match (crate::simd::has_avx2(), above.is_some()) {
-            (true, false) => specular_avx2::<false>(sl, lobe, vis, u),
-            (true, true) => specular_avx2::<true>(sl, lobe, vis, u),
-            (false, false) => specular_body::<false>(sl, lobe, vis, u),
-            (false, true) => specular_body::<true>(sl, lobe, vis, u),
+        if crate::simd::has_avx2() {
+            specular_avx2(sl, lobe, vis)
+        } else {
+            specular_body(sl, lobe, vis)
         }
     };
     #[cfg(not(target_arch = "x86_64"))]
-    let lanes = if above.is_some() {
-        specular_body::<true>(sl, lobe, vis, u)
-    } else {
-        specular_body::<false>(sl, lobe, vis, u)
-    };
+    let lanes = specular_body(sl, lobe, vis);
     specular_totals(&lanes)
 }
 
@@ -95,18 +81,12 @@ fn terms(sl: &ShadeLights, lobe: &Lobe, base: usize) -> ([f32; 8], [f32; 8], [f3
     (cos, w, dv)
 }
 
-/// [`counted_specular`]'s 13 × 8 lanes (s0, s1, s2, s3 as r, g, b each, then the unshadowed
-/// one). `U`: also the unshadowed sum, walking `above`'s lights (else `vis`'s).
+/// [`counted_specular`]'s 12 × 8 lanes (s0, s1, s2, s3 as r, g, b each).
 #[inline(always)]
-fn specular_body<const U: bool>(
-    sl: &ShadeLights,
-    lobe: &Lobe,
-    vis: Rows,
-    above: Rows,
-) -> [[f32; 8]; 13] {
-    let mut acc = [[0.0f32; 8]; 13];
+fn specular_body(sl: &ShadeLights, lobe: &Lobe, vis: Rows) -> [[f32; 8]; 12] {
+    let mut acc = [[0.0f32; 8]; 12];
     for k in 0..vis.words() {
-        let any = if U { any(above, k) } else { any(vis, k) };
+        let any = any(vis, k);
         for b in 0..8u32 {
             let shift = 8 * b;
             if (any >> shift) & 0xff == 0 {
@@ -126,13 +106,6 @@ fn specular_body<const U: bool>(
                     acc[9 + ch][l] += ecd * w[l];
                 }
             }
-            if U {
-                let ca = counts(above, k, shift);
-                let lum = lanes(&sl.lum, base);
-                for l in 0..8 {
-                    acc[12][l] += lum[l] * (cos[l] * ca[l]) * dv[l];
-                }
-            }
         }
     }
     acc
@@ -144,13 +117,8 @@ fn specular_body<const U: bool>(
 /// The CPU has AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn specular_avx2<const U: bool>(
-    sl: &ShadeLights,
-    lobe: &Lobe,
-    vis: Rows,
-    above: Rows,
-) -> [[f32; 8]; 13] {
-    specular_body::<U>(sl, lobe, vis, above)
+unsafe fn specular_avx2(sl: &ShadeLights, lobe: &Lobe, vis: Rows) -> [[f32; 8]; 12] {
+    specular_body(sl, lobe, vis)
 }
 
 #[cfg(test)]
@@ -172,16 +140,10 @@ mod tests {
         for (i, (n, bits)) in cases.iter().enumerate() {
             let v = Vec3::new(0.2, 0.5, 0.8).normalize();
             let lobe = Lobe::new(*n, v, 0.1 + (i % 9) as f32 * 0.1);
-            let mut above = [0u64; 4];
-            crate::shade::above_horizon(&sl, *n, &mut above);
             let one = crate::bits::rows(bits, 4);
-            let a = crate::bits::rows(&above, 4);
-            let (want, wu) = crate::shade::specular_sums(&sl, &lobe, bits, &above, true);
-            let (got, gu) = counted_specular(&sl, &lobe, one, Some(a));
+            let want = crate::shade::specular_sums(&sl, &lobe, bits);
+            let got = counted_specular(&sl, &lobe, one);
             assert_eq!(bitwise(&got), bitwise(&want), "case {i}");
-            assert_eq!(gu.to_bits(), wu.to_bits(), "case {i}");
-            let (plain, _) = counted_specular(&sl, &lobe, one, None);
-            assert_eq!(bitwise(&plain), bitwise(&want), "case {i}");
         }
     }
 
@@ -198,10 +160,10 @@ mod tests {
             .map(|(_, b)| std::array::from_fn(|k| b[k] & up[k]))
             .collect();
         let flat = rows(&members);
-        let (got, _) = counted_specular(&sl, &lobe, crate::bits::rows(&flat, 4), None);
+        let got = counted_specular(&sl, &lobe, crate::bits::rows(&flat, 4));
         let mut want = Sums::default();
         for m in &members {
-            let (s, _) = crate::shade::specular_sums(&sl, &lobe, m, m, false);
+            let s = crate::shade::specular_sums(&sl, &lobe, m);
             want.s0 += s.s0;
             want.s1 += s.s1;
             want.s2 += s.s2;
@@ -215,7 +177,7 @@ mod tests {
         }
         // The members' own bits, lights below the lobe's horizon included: those add nothing.
         let raw = rows(&cases[..16].iter().map(|c| c.1).collect::<Vec<_>>());
-        let (all, _) = counted_specular(&sl, &lobe, crate::bits::rows(&raw, 4), None);
+        let all = counted_specular(&sl, &lobe, crate::bits::rows(&raw, 4));
         assert_eq!(bitwise(&all), bitwise(&got));
     }
 
@@ -229,9 +191,9 @@ mod tests {
                 let flat = rows(group);
                 let r = crate::bits::rows(&flat, 4);
                 let lobe = Lobe::new(cases[i].0, Vec3::Z, 0.05 + (i % 7) as f32 * 0.15);
-                let base = specular_body::<true>(&sl, &lobe, r, r);
+                let base = specular_body(&sl, &lobe, r);
                 // SAFETY: AVX2 was detected.
-                let avx = unsafe { specular_avx2::<true>(&sl, &lobe, r, r) };
+                let avx = unsafe { specular_avx2(&sl, &lobe, r) };
                 assert_eq!(
                     base.map(|l| l.map(f32::to_bits)),
                     avx.map(|l| l.map(f32::to_bits))

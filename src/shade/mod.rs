@@ -9,7 +9,6 @@ pub mod counted;
 use glam::Vec3;
 
 use crate::brdf::{Lobe, MAX_DV, Sums, light_terms};
-use crate::envmap::LUMINANCE;
 use crate::lights::{Light, LightSet, PointLight};
 
 /// Light directions and energies as padded flat arrays (length a multiple of 64, zero lights at
@@ -22,8 +21,6 @@ pub struct ShadeLights {
     r: Vec<f32>,
     g: Vec<f32>,
     b: Vec<f32>,
-    /// Luminance of the energy: the weight of a light in a lobe's visible fraction.
-    lum: Vec<f32>,
 }
 
 impl ShadeLights {
@@ -43,7 +40,6 @@ impl ShadeLights {
             r: pad(&|l| l.energy.x),
             g: pad(&|l| l.energy.y),
             b: pad(&|l| l.energy.z),
-            lum: pad(&|l| l.energy.dot(LUMINANCE)),
         }
     }
 }
@@ -313,68 +309,48 @@ fn and(x: f32, mask: u32) -> f32 {
 }
 
 /// The light sums of the metallic-roughness BRDF (`crate::brdf::Sums`) over the lights of
-/// `vis` for `lobe`, and, with `unshadowed`, `Σ Y cos D Vis` over every light of `above`
-/// (Y the energy's luminance; else 0). Eight lights at a time into eight lanes, added in a
-/// fixed order, as [`light_sum`].
-pub fn specular_sums(
-    sl: &ShadeLights,
-    lobe: &Lobe,
-    vis: &[u64],
-    above: &[u64],
-    unshadowed: bool,
-) -> (Sums, f32) {
-    assert!(vis.len() * 64 <= sl.x.len() && above.len() == vis.len());
+/// `vis` for `lobe`. Eight lights at a time into eight lanes, added in a fixed order, as
+/// [`light_sum`].
+pub fn specular_sums(sl: &ShadeLights, lobe: &Lobe, vis: &[u64]) -> Sums {
+    assert!(vis.len() * 64 <= sl.x.len());
     #[cfg(target_arch = "x86_64")]
-    // SAFETY: the light planes hold every light of the bitsets (asserted); AVX2 where detected.
+    // SAFETY: the light planes hold every light of the bitset (asserted); AVX2 where detected.
     let lanes = unsafe {
-        match (crate::simd::has_avx2(), unshadowed) {
-            (true, false) => specular_avx2::<false>(sl, lobe, vis, above),
-            (true, true) => specular_avx2::<true>(sl, lobe, vis, above),
-            (false, false) => specular_sse2::<false>(sl, lobe, vis, above),
-            (false, true) => specular_sse2::<true>(sl, lobe, vis, above),
+        if crate::simd::has_avx2() {
+            specular_avx2(sl, lobe, vis)
+        } else {
+            specular_sse2(sl, lobe, vis)
         }
     };
     #[cfg(not(target_arch = "x86_64"))]
-    let lanes = if unshadowed {
-        specular_lanes::<true>(sl, lobe, vis, above)
-    } else {
-        specular_lanes::<false>(sl, lobe, vis, above)
-    };
+    let lanes = specular_lanes(sl, lobe, vis);
     specular_totals(&lanes)
 }
 
-/// The 13 × 8 lane sums of the specular kernels (s0, s1, s2, s3 as r, g, b each, then the
-/// unshadowed one) added up: each sum's eight lanes in a fixed order.
-fn specular_totals(lanes: &[[f32; 8]; 13]) -> (Sums, f32) {
+/// The 12 × 8 lane sums of the specular kernels (s0, s1, s2, s3 as r, g, b each) added up:
+/// each sum's eight lanes in a fixed order.
+fn specular_totals(lanes: &[[f32; 8]; 12]) -> Sums {
     let sum = |a: &[f32; 8]| ((a[0] + a[1]) + (a[2] + a[3])) + ((a[4] + a[5]) + (a[6] + a[7]));
     let rgb = |k: usize| Vec3::new(sum(&lanes[k]), sum(&lanes[k + 1]), sum(&lanes[k + 2]));
-    let sums = Sums {
+    Sums {
         s0: rgb(0),
         s1: rgb(3),
         s2: rgb(6),
         s3: rgb(9),
-    };
-    (sums, sum(&lanes[12]))
+    }
 }
 
-/// The 13 × 8 lane sums of [`specular_sums`] (s0, s1, s2, s3 as r, g, b each, then the
-/// unshadowed one), one light at a time: the reference the SIMD kernels follow operation for
-/// operation. `U`: also the unshadowed sum, walking `above` (else `vis`).
+/// The 12 × 8 lane sums of [`specular_sums`] (s0, s1, s2, s3 as r, g, b each), one light at
+/// a time: the reference the SIMD kernels follow operation for operation.
 #[cfg_attr(all(target_arch = "x86_64", not(test)), allow(dead_code))]
-fn specular_lanes<const U: bool>(
-    sl: &ShadeLights,
-    lobe: &Lobe,
-    vis: &[u64],
-    above: &[u64],
-) -> [[f32; 8]; 13] {
-    let mut acc = [[0.0f32; 8]; 13];
+fn specular_lanes(sl: &ShadeLights, lobe: &Lobe, vis: &[u64]) -> [[f32; 8]; 12] {
+    let mut acc = [[0.0f32; 8]; 12];
     for k in 0..vis.len() {
         let mut wv = vis[k];
-        let mut wa = if U { above[k] } else { wv };
         let mut base = k * 64;
-        while wa != 0 {
-            let (bv, ba) = ((wv & 0xff) as usize, (wa & 0xff) as usize);
-            if ba != 0 {
+        while wv != 0 {
+            let bv = (wv & 0xff) as usize;
+            if bv != 0 {
                 for l in 0..8 {
                     let j = base + l;
                     let t = light_terms(lobe, Vec3::new(sl.x[j], sl.y[j], sl.z[j]));
@@ -388,14 +364,9 @@ fn specular_lanes<const U: bool>(
                         acc[6 + c][l] += ecd;
                         acc[9 + c][l] += ecd * w;
                     }
-                    if U {
-                        let ma = BYTE_BITS[ba][l];
-                        acc[12][l] += sl.lum[j] * and(t.cos, ma) * and(t.dv, ma);
-                    }
                 }
             }
             wv >>= 8;
-            wa >>= 8;
             base += 8;
         }
     }
@@ -405,16 +376,11 @@ fn specular_lanes<const U: bool>(
 /// [`specular_lanes`] with SSE2, lanes 0–3 and 4–7 in two registers per sum.
 ///
 /// # Safety
-/// The light planes hold at least `vis.len() * 64` lights; `above` is as long as `vis`.
+/// The light planes hold at least `vis.len() * 64` lights.
 #[cfg(target_arch = "x86_64")]
-unsafe fn specular_sse2<const U: bool>(
-    sl: &ShadeLights,
-    lobe: &Lobe,
-    vis: &[u64],
-    above: &[u64],
-) -> [[f32; 8]; 13] {
+unsafe fn specular_sse2(sl: &ShadeLights, lobe: &Lobe, vis: &[u64]) -> [[f32; 8]; 12] {
     use std::arch::x86_64::*;
-    let mut out = [[0.0f32; 8]; 13];
+    let mut out = [[0.0f32; 8]; 12];
     unsafe {
         let set = _mm_set1_ps;
         let (nx, ny, nz) = (set(lobe.n.x), set(lobe.n.y), set(lobe.n.z));
@@ -422,14 +388,13 @@ unsafe fn specular_sse2<const U: bool>(
         let (nv, a2, oma2) = (set(lobe.n_dot_v), set(lobe.a2), set(lobe.one_minus_a2));
         let (kv, c, quarter, one, max_dv) =
             (set(lobe.kv), set(lobe.c), set(0.25), set(1.0), set(MAX_DV));
-        let mut acc = [_mm_setzero_ps(); 26];
+        let mut acc = [_mm_setzero_ps(); 24];
         for k in 0..vis.len() {
             let mut wv = vis[k];
-            let mut wa = if U { above[k] } else { wv };
             let mut base = k * 64;
-            while wa != 0 {
-                let (bv, ba) = ((wv & 0xff) as usize, (wa & 0xff) as usize);
-                if ba != 0 {
+            while wv != 0 {
+                let bv = (wv & 0xff) as usize;
+                if bv != 0 {
                     for h in 0..2 {
                         let j = base + 4 * h;
                         let ld = |v: &[f32]| _mm_loadu_ps(v.as_ptr().add(j));
@@ -473,20 +438,13 @@ unsafe fn specular_sse2<const U: bool>(
                             acc[a(6 + ch)] = _mm_add_ps(acc[a(6 + ch)], ecd);
                             acc[a(9 + ch)] = _mm_add_ps(acc[a(9 + ch)], _mm_mul_ps(ecd, wm));
                         }
-                        if U {
-                            let ma = mask(ba);
-                            let y = _mm_mul_ps(ld(&sl.lum), _mm_and_ps(cos, ma));
-                            acc[24 + h] =
-                                _mm_add_ps(acc[24 + h], _mm_mul_ps(y, _mm_and_ps(dv, ma)));
-                        }
                     }
                 }
                 wv >>= 8;
-                wa >>= 8;
                 base += 8;
             }
         }
-        for k in 0..13 {
+        for k in 0..12 {
             _mm_storeu_ps(out[k].as_mut_ptr(), acc[2 * k]);
             _mm_storeu_ps(out[k].as_mut_ptr().add(4), acc[2 * k + 1]);
         }
@@ -500,14 +458,9 @@ unsafe fn specular_sse2<const U: bool>(
 /// As [`specular_sse2`], on a CPU with AVX2.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn specular_avx2<const U: bool>(
-    sl: &ShadeLights,
-    lobe: &Lobe,
-    vis: &[u64],
-    above: &[u64],
-) -> [[f32; 8]; 13] {
+unsafe fn specular_avx2(sl: &ShadeLights, lobe: &Lobe, vis: &[u64]) -> [[f32; 8]; 12] {
     use std::arch::x86_64::*;
-    let mut out = [[0.0f32; 8]; 13];
+    let mut out = [[0.0f32; 8]; 12];
     unsafe {
         let set = |x: f32| _mm256_set1_ps(x);
         let (nx, ny, nz) = (set(lobe.n.x), set(lobe.n.y), set(lobe.n.z));
@@ -515,14 +468,13 @@ unsafe fn specular_avx2<const U: bool>(
         let (nv, a2, oma2) = (set(lobe.n_dot_v), set(lobe.a2), set(lobe.one_minus_a2));
         let (kv, c, quarter, one, max_dv) =
             (set(lobe.kv), set(lobe.c), set(0.25), set(1.0), set(MAX_DV));
-        let mut acc = [_mm256_setzero_ps(); 13];
+        let mut acc = [_mm256_setzero_ps(); 12];
         for k in 0..vis.len() {
             let mut wv = vis[k];
-            let mut wa = if U { above[k] } else { wv };
             let mut base = k * 64;
-            while wa != 0 {
-                let (bv, ba) = ((wv & 0xff) as usize, (wa & 0xff) as usize);
-                if ba != 0 {
+            while wv != 0 {
+                let bv = (wv & 0xff) as usize;
+                if bv != 0 {
                     let ld = |v: &[f32]| _mm256_loadu_ps(v.as_ptr().add(base));
                     let mask = |b: usize| {
                         _mm256_castsi256_ps(_mm256_loadu_si256(
@@ -566,18 +518,12 @@ unsafe fn specular_avx2<const U: bool>(
                         acc[6 + ch] = _mm256_add_ps(acc[6 + ch], ecd);
                         acc[9 + ch] = _mm256_add_ps(acc[9 + ch], _mm256_mul_ps(ecd, wm));
                     }
-                    if U {
-                        let ma = mask(ba);
-                        let y = _mm256_mul_ps(ld(&sl.lum), _mm256_and_ps(cos, ma));
-                        acc[12] = _mm256_add_ps(acc[12], _mm256_mul_ps(y, _mm256_and_ps(dv, ma)));
-                    }
                 }
                 wv >>= 8;
-                wa >>= 8;
                 base += 8;
             }
         }
-        for k in 0..13 {
+        for k in 0..12 {
             _mm256_storeu_ps(out[k].as_mut_ptr(), acc[k]);
         }
     }
@@ -767,7 +713,6 @@ mod tests {
             r: pad(energy.iter().map(|e| e.x).collect()),
             g: pad(energy.iter().map(|e| e.y).collect()),
             b: pad(energy.iter().map(|e| e.z).collect()),
-            lum: pad(energy.iter().map(|e| e.dot(LUMINANCE)).collect()),
         };
         let mut cases = Vec::new();
         for _ in 0..300 {
@@ -830,30 +775,20 @@ mod tests {
     #[test]
     fn specular_kernels_give_the_reference_lanes_bit_for_bit() {
         let (sl, cases) = setup();
-        let bitwise = |a: [[f32; 8]; 13]| a.map(|c| c.map(f32::to_bits));
+        let bitwise = |a: [[f32; 8]; 12]| a.map(|c| c.map(f32::to_bits));
         for (k, (n, vis)) in cases.iter().enumerate() {
-            let mut above = [0u64; 4];
-            above_horizon(&sl, *n, &mut above);
             for lobe in lobes(*n, k) {
-                let plain = specular_lanes::<false>(&sl, &lobe, vis, &above);
-                let unshadowed = specular_lanes::<true>(&sl, &lobe, vis, &above);
+                let plain = specular_lanes(&sl, &lobe, vis);
                 assert!(plain.iter().flatten().all(|v| v.is_finite()));
-                assert!(unshadowed.iter().flatten().all(|v| v.is_finite()));
-                // Walking `above` instead of `vis` changes none of the shadowed sums.
-                assert_eq!(bitwise(plain)[..12], bitwise(unshadowed)[..12]);
                 #[cfg(target_arch = "x86_64")]
                 {
                     // SAFETY: the planes hold 256 lights, the bitsets cover 256.
                     unsafe {
-                        let sse = specular_sse2::<false>(&sl, &lobe, vis, &above);
+                        let sse = specular_sse2(&sl, &lobe, vis);
                         assert_eq!(bitwise(sse), bitwise(plain), "case {k}");
-                        let sse = specular_sse2::<true>(&sl, &lobe, vis, &above);
-                        assert_eq!(bitwise(sse), bitwise(unshadowed), "case {k}");
                         if std::arch::is_x86_feature_detected!("avx2") {
-                            let avx = specular_avx2::<false>(&sl, &lobe, vis, &above);
+                            let avx = specular_avx2(&sl, &lobe, vis);
                             assert_eq!(bitwise(avx), bitwise(plain), "case {k}");
-                            let avx = specular_avx2::<true>(&sl, &lobe, vis, &above);
-                            assert_eq!(bitwise(avx), bitwise(unshadowed), "case {k}");
                         }
                     }
                 }
@@ -868,8 +803,6 @@ mod tests {
         let (sl, cases) = setup();
         let base = Vec3::new(0.7, 0.5, 0.2);
         for (k, (n, vis)) in cases.iter().enumerate().take(60) {
-            let mut above = [0u64; 4];
-            above_horizon(&sl, *n, &mut above);
             for lobe in lobes(*n, k).into_iter().take(3) {
                 let roughness = [0.0, 0.05, 0.3, 0.7, 1.0][k % 5];
                 let m = crate::scene::MaterialSample {
@@ -878,7 +811,7 @@ mod tests {
                     roughness,
                     ..Default::default()
                 };
-                let (sums, _) = specular_sums(&sl, &lobe, vis, &above, false);
+                let sums = specular_sums(&sl, &lobe, vis);
                 let got = Weights::new(base, &m).radiance(&sums);
                 let mut want = Vec3::ZERO;
                 for j in 0..200 {
