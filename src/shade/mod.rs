@@ -345,8 +345,8 @@ fn specular_totals(lanes: &[[f32; 8]; 12]) -> Sums {
 #[cfg_attr(all(target_arch = "x86_64", not(test)), allow(dead_code))]
 fn specular_lanes(sl: &ShadeLights, lobe: &Lobe, vis: &[u64]) -> [[f32; 8]; 12] {
     let mut acc = [[0.0f32; 8]; 12];
-    for k in 0..vis.len() {
-        let mut wv = vis[k];
+    for (k, &word) in vis.iter().enumerate() {
+        let mut wv = word;
         let mut base = k * 64;
         while wv != 0 {
             let bv = (wv & 0xff) as usize;
@@ -389,8 +389,8 @@ unsafe fn specular_sse2(sl: &ShadeLights, lobe: &Lobe, vis: &[u64]) -> [[f32; 8]
         let (kv, c, quarter, one, max_dv) =
             (set(lobe.kv), set(lobe.c), set(0.25), set(1.0), set(MAX_DV));
         let mut acc = [_mm_setzero_ps(); 24];
-        for k in 0..vis.len() {
-            let mut wv = vis[k];
+        for (k, &word) in vis.iter().enumerate() {
+            let mut wv = word;
             let mut base = k * 64;
             while wv != 0 {
                 let bv = (wv & 0xff) as usize;
@@ -469,8 +469,8 @@ unsafe fn specular_avx2(sl: &ShadeLights, lobe: &Lobe, vis: &[u64]) -> [[f32; 8]
         let (kv, c, quarter, one, max_dv) =
             (set(lobe.kv), set(lobe.c), set(0.25), set(1.0), set(MAX_DV));
         let mut acc = [_mm256_setzero_ps(); 12];
-        for k in 0..vis.len() {
-            let mut wv = vis[k];
+        for (k, &word) in vis.iter().enumerate() {
+            let mut wv = word;
             let mut base = k * 64;
             while wv != 0 {
                 let bv = (wv & 0xff) as usize;
