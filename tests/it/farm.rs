@@ -533,9 +533,8 @@ fn farm_with(bin: &Path, hosts: &Hosts, out: &Path, extra: &[&str]) -> Running {
 
 /// A farm.sh run: its process, and threads reading its stdout and stderr as it writes them.
 /// A pipe nobody reads fills at 64 KiB and then blocks the writer: farm.sh copies parallel's
-/// and ssh's messages to its stderr, which the tests used to read only at the end. The likely
-/// cause of the SIGHUP test's hangs in fresh-clone CI runs (three, never with the test alone):
-/// with the filter blocked, parallel's answer to the hang-up cannot reach farm.log.
+/// and ssh's messages to its stderr, which the tests used to read only at the end: with the
+/// filter blocked, nothing more would reach farm.log, which some tests wait on.
 struct Running {
     child: Child,
     out: std::thread::JoinHandle<Vec<u8>>,
