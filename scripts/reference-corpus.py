@@ -89,7 +89,6 @@ def passes_for(err, noise, error_at, n0, e0, most):
 def measure(args, name, materials_mode, spp, assets, method):
     extra = LAMBERT if materials_mode == "lambert" else ""
     work = os.path.join(args.work, materials_mode)
-    model_name, _, map_name = name.partition("@")
     # light-count.py's scene_spec, with the Lambertian override added after the camera.
     spec, label = lc.scene_spec(name, assets, work, args.width, args.height)
     if extra:
